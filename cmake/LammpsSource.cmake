@@ -1,0 +1,73 @@
+# Locate (or download once) the LAMMPS 4Feb2025 source and stage a build tree with PKG-GRIDDEM in it.
+#
+# LAMMPS's CMake only builds packages that sit in its own src/ folder and are named in its
+# STANDARD_PACKAGES list, so the build stages a private copy of cmake/, src/ and lib/ under the build
+# folder, links our package into src/GRIDDEM and adds GRIDDEM to that list. The user's source tree is
+# never written to.
+
+set(GRIDDEM_LAMMPS_TARBALL "lammps_20250204+dfsg.1.orig.tar.xz")
+set(GRIDDEM_LAMMPS_SHA256 "3671165bd52fad36734e0a9136c5bc5ecb225e03988f8c89aa13366a8b53b1c7")
+set(GRIDDEM_DOWNLOAD_DIR "${PROJECT_SOURCE_DIR}/.deps" CACHE PATH
+  "Where the LAMMPS source tarball is downloaded to and unpacked (kept across configures)")
+set(LAMMPS_SOURCE_DIR "" CACHE PATH
+  "Top folder of an existing LAMMPS 4Feb2025 source tree (holds cmake/ and src/); empty: download it")
+
+if(NOT LAMMPS_SOURCE_DIR)
+  set(_tarball "${GRIDDEM_DOWNLOAD_DIR}/${GRIDDEM_LAMMPS_TARBALL}")
+  set(_unpacked "${GRIDDEM_DOWNLOAD_DIR}/lammps-4Feb2025")
+  if(NOT EXISTS "${_unpacked}/src/version.h")
+    if(NOT EXISTS "${_tarball}")
+      message(STATUS "Downloading the LAMMPS source package (Debian trixie lammps 20250204+dfsg.1)")
+      execute_process(COMMAND "${PROJECT_SOURCE_DIR}/tools/fetch-lammps-source" "${GRIDDEM_DOWNLOAD_DIR}"
+        RESULT_VARIABLE _rc)
+      if(NOT _rc EQUAL 0 OR NOT EXISTS "${_tarball}")
+        message(FATAL_ERROR "Could not download the LAMMPS source (see above). "
+          "Point -DLAMMPS_SOURCE_DIR=<path> at a LAMMPS 4Feb2025 source tree instead.")
+      endif()
+    endif()
+    file(SHA256 "${_tarball}" _sum)
+    if(NOT _sum STREQUAL GRIDDEM_LAMMPS_SHA256)
+      file(REMOVE "${_tarball}")
+      message(FATAL_ERROR "${_tarball} has sha256 ${_sum}, expected ${GRIDDEM_LAMMPS_SHA256}; removed it, configure again to re-download")
+    endif()
+    message(STATUS "Unpacking ${_tarball}")
+    file(ARCHIVE_EXTRACT INPUT "${_tarball}" DESTINATION "${GRIDDEM_DOWNLOAD_DIR}"
+      PATTERNS "lammps-4Feb2025/cmake" "lammps-4Feb2025/src" "lammps-4Feb2025/lib"
+               "lammps-4Feb2025/bench" "lammps-4Feb2025/potentials")
+  endif()
+  set(LAMMPS_SOURCE_DIR "${_unpacked}" CACHE PATH "" FORCE)
+endif()
+
+if(NOT EXISTS "${LAMMPS_SOURCE_DIR}/src/version.h" OR NOT EXISTS "${LAMMPS_SOURCE_DIR}/cmake/CMakeLists.txt")
+  message(FATAL_ERROR "LAMMPS_SOURCE_DIR=${LAMMPS_SOURCE_DIR} is not a LAMMPS source tree (no src/version.h, cmake/CMakeLists.txt)")
+endif()
+file(STRINGS "${LAMMPS_SOURCE_DIR}/src/version.h" _version REGEX "LAMMPS_VERSION")
+if(NOT _version MATCHES "4 Feb 2025")
+  message(WARNING "GRIDDEM is developed against LAMMPS 4 Feb 2025; ${LAMMPS_SOURCE_DIR} has ${_version}")
+endif()
+
+# Stage: a copy of the LAMMPS tree, refreshed when the source folder changes.
+set(GRIDDEM_LAMMPS_TREE "${CMAKE_BINARY_DIR}/lammps-tree")
+set(_stamp "${GRIDDEM_LAMMPS_TREE}/.griddem-staged-from")
+set(_staged_from "")
+if(EXISTS "${_stamp}")
+  file(READ "${_stamp}" _staged_from)
+endif()
+if(NOT _staged_from STREQUAL LAMMPS_SOURCE_DIR)
+  message(STATUS "Staging LAMMPS from ${LAMMPS_SOURCE_DIR} into ${GRIDDEM_LAMMPS_TREE}")
+  file(REMOVE_RECURSE "${GRIDDEM_LAMMPS_TREE}")
+  file(MAKE_DIRECTORY "${GRIDDEM_LAMMPS_TREE}")
+  foreach(_dir cmake src lib)
+    file(COPY "${LAMMPS_SOURCE_DIR}/${_dir}" DESTINATION "${GRIDDEM_LAMMPS_TREE}")
+  endforeach()
+  file(READ "${GRIDDEM_LAMMPS_TREE}/cmake/CMakeLists.txt" _lists)
+  string(REPLACE "set(STANDARD_PACKAGES\n" "set(STANDARD_PACKAGES\n  GRIDDEM\n" _lists "${_lists}")
+  if(NOT _lists MATCHES "GRIDDEM")
+    message(FATAL_ERROR "Could not add GRIDDEM to STANDARD_PACKAGES in ${LAMMPS_SOURCE_DIR}/cmake/CMakeLists.txt")
+  endif()
+  file(WRITE "${GRIDDEM_LAMMPS_TREE}/cmake/CMakeLists.txt" "${_lists}")
+  file(WRITE "${_stamp}" "${LAMMPS_SOURCE_DIR}")
+endif()
+
+# The package folder is a symbolic link, so editing src/PKG-GRIDDEM needs no re-staging.
+file(CREATE_LINK "${PROJECT_SOURCE_DIR}/src/PKG-GRIDDEM" "${GRIDDEM_LAMMPS_TREE}/src/GRIDDEM" SYMBOLIC)

@@ -1,0 +1,163 @@
+/* Grid geometry and counting-sort binning; see griddem_grid.h. */
+#include "griddem_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <stdint.h>
+#include <string.h>
+
+double griddem_cell_edge(int mode, double rmin, double rmax, double value)
+{
+  switch (mode) {
+    case GRIDDEM_CELL_EXACT: return 2.0 * rmin / sqrt(3.0);
+    case GRIDDEM_CELL_MULTI: return 2.0 * rmax;
+    default: return value;
+  }
+}
+
+int griddem_stencil_reach(double h, double cut)
+{
+  int reach = (int) ceil(cut / h);
+  return reach < 1 ? 1 : reach;
+}
+
+int griddem_first_nonfinite(int n, const double *x)
+{
+  for (int i = 0; i < n; i++)
+    if (!isfinite(x[3 * i]) || !isfinite(x[3 * i + 1]) || !isfinite(x[3 * i + 2])) return i;
+  return -1;
+}
+
+static long axis_index(double x, double anchor, double hinv)
+{
+  return (long) floor((x - anchor) * hinv);
+}
+
+static long cells_for(const griddem_grid *g, const double *lo, const double *hi, double h, long *k0,
+                      int *n)
+{
+  const double hinv = 1.0 / h;
+  long total = 1;
+  for (int d = 0; d < 3; d++) {
+    k0[d] = axis_index(lo[d], g->anchor[d], hinv);
+    const long cells = axis_index(hi[d], g->anchor[d], hinv) - k0[d] + 1;
+    n[d] = cells > 1000000000L ? 1000000000 : (int) cells;
+    total = (total < 4000000000000L / n[d]) ? total * n[d] : 4000000000000L;
+  }
+  return total;
+}
+
+int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
+                       long max_cells)
+{
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; d++) {
+    g->anchor[d] = anchor[d];
+    lo[d] = hi[d] = n > 0 ? x[d] : anchor[d];
+  }
+  for (int i = 1; i < n; i++)
+    for (int d = 0; d < 3; d++) {
+      const double v = x[3 * i + d];
+      if (v < lo[d]) lo[d] = v;
+      if (v > hi[d]) hi[d] = v;
+    }
+  int coarsened = 0;
+  long total = cells_for(g, lo, hi, h, g->k0, g->n);
+  while (total > max_cells) {
+    h *= 1.25;
+    coarsened = 1;
+    total = cells_for(g, lo, hi, h, g->k0, g->n);
+  }
+  g->h = h;
+  g->hinv = 1.0 / h;
+  for (int d = 0; d < 3; d++) g->lo[d] = anchor[d] + (double) g->k0[d] * h;
+  g->ncell = total;
+  return coarsened;
+}
+
+static inline long axis_cell(const griddem_grid *g, int d, double x)
+{
+  long c = axis_index(x, g->anchor[d], g->hinv) - g->k0[d];
+  if (c < 0) c = 0;
+  if (c >= g->n[d]) c = g->n[d] - 1;
+  return c;
+}
+
+long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
+{
+  return axis_cell(g, 0, x) + (long) g->n[0] * (axis_cell(g, 1, y) + (long) g->n[1] * axis_cell(g, 2, z));
+}
+
+static inline int64_t key_of(const void *key, int key_bytes, int i)
+{
+  return key_bytes == 8 ? ((const int64_t *) key)[i] : (int64_t) ((const int *) key)[i];
+}
+
+int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
+                       const void *key, int key_bytes)
+{
+  if (g->ncell + 1 > b->ncell_cap) {
+    free(b->cell_start);
+    b->ncell_cap = g->ncell + 1;
+    b->cell_start = (int *) malloc(sizeof(int) * (size_t) b->ncell_cap);
+    if (!b->cell_start) return -1;
+  }
+  if (n > b->n_cap) {
+    free(b->order);
+    free(b->cell);
+    b->n_cap = n + n / 4 + 16;
+    b->order = (int *) malloc(sizeof(int) * (size_t) b->n_cap);
+    b->cell = (long *) malloc(sizeof(long) * (size_t) b->n_cap);
+    if (!b->order || !b->cell) return -1;
+  }
+  b->ncell = g->ncell;
+  b->n = n;
+  int *start = b->cell_start;
+  memset(start, 0, sizeof(int) * (size_t) (g->ncell + 1));
+
+  for (int i = 0; i < n; i++) {
+    const long c = griddem_cell_of(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    b->cell[i] = c;
+    start[c + 1]++;
+  }
+  long occupied = 0;
+  int most = 0;
+  for (long c = 0; c < g->ncell; c++) {
+    const int count = start[c + 1];
+    if (count) occupied++;
+    if (count > most) most = count;
+    start[c + 1] += start[c];
+  }
+  b->occupied = occupied;
+  b->max_occupancy = most;
+
+  /* scatter; start[c] is advanced as slots fill and shifted back afterwards */
+  for (int i = 0; i < n; i++) b->order[start[b->cell[i]]++] = i;
+  for (long c = g->ncell; c > 0; c--) start[c] = start[c - 1];
+  start[0] = 0;
+
+  /* insertion sort by key within each cell: cells hold few centres */
+  if (key && most > 1) {
+    for (long c = 0; c < g->ncell; c++) {
+      for (int s = start[c] + 1; s < start[c + 1]; s++) {
+        const int moving = b->order[s];
+        const int64_t k = key_of(key, key_bytes, moving);
+        int t = s;
+        while (t > start[c] && key_of(key, key_bytes, b->order[t - 1]) > k) {
+          b->order[t] = b->order[t - 1];
+          t--;
+        }
+        b->order[t] = moving;
+      }
+    }
+  }
+  return 0;
+}
+
+void griddem_bins_free(griddem_bins *b)
+{
+  free(b->cell_start);
+  free(b->order);
+  free(b->cell);
+  memset(b, 0, sizeof(*b));
+}

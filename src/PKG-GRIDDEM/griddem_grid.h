@@ -1,0 +1,74 @@
+/* GRIDDEM grid geometry and binning: a uniform grid over a box, and a counting sort of particle
+ * centres by cell (compressed rows: cell c holds sorted slots cell_start[c] .. cell_start[c+1]-1).
+ * The sorted order is the "image channel" layout: slots of one cell are contiguous, and so are the
+ * slots of a whole row of cells along x, which the stencil sweep scans as one range. */
+#ifndef GRIDDEM_GRID_H
+#define GRIDDEM_GRID_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* How the cell edge is chosen. */
+enum griddem_cell_mode {
+  GRIDDEM_CELL_EXACT = 0, /* NN4DEM: edge d_min/sqrt(3), so a cell holds one centre unless overlapping */
+  GRIDDEM_CELL_MULTI = 1, /* edge = largest contact distance 2*r_max: 3^3 stencil, several per cell */
+  GRIDDEM_CELL_FIXED = 2  /* edge given by the user */
+};
+
+typedef struct griddem_grid {
+  double anchor[3]; /* cell faces lie at anchor + k*h for integer k, whatever the points */
+  long k0[3];       /* k of the first cell on each axis */
+  double lo[3];     /* lower corner: anchor + k0*h */
+  double h;      /* cell edge */
+  double hinv;
+  int n[3];      /* cells per axis */
+  long ncell;
+} griddem_grid;
+
+/* Cell edge for a mode; value is the edge for GRIDDEM_CELL_FIXED. */
+double griddem_cell_edge(int mode, double rmin, double rmax, double value);
+
+/* Cells a stencil must reach on each side so that every centre within distance cut of a centre
+ * in the middle cell is visited: ceil(cut/h). */
+int griddem_stencil_reach(double h, double cut);
+
+/* Index of the first coordinate (of 3*n interleaved) that is not finite, or -1. */
+int griddem_first_nonfinite(int n, const double *x);
+
+/* Grid with edge h, faces aligned to anchor, covering the bounding box of n interleaved points.
+ * Aligning to a fixed anchor makes a point's cell depend on its position only, not on which other
+ * points (ghosts) a process holds, so sums come out in the same order on any decomposition.
+ * If more than max_cells cells would be needed, the edge is enlarged until they fit (dilute scenes
+ * must not allocate space they do not fill); returns 1 then, 0 otherwise. Points must be finite. */
+int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
+                       long max_cells);
+
+/* Cell of a point; points on or past the upper faces go to the last cell. */
+long griddem_cell_of(const griddem_grid *g, double x, double y, double z);
+
+typedef struct griddem_bins {
+  long ncell;       /* cells binned into */
+  int n;            /* points binned */
+  int *cell_start;  /* [ncell+1] */
+  int *order;       /* [n] original index of each sorted slot */
+  long *cell;       /* [n] cell of each original point */
+  long ncell_cap;
+  int n_cap;
+  long occupied;    /* cells holding at least one centre */
+  int max_occupancy;/* most centres in one cell ("slots used") */
+} griddem_bins;
+
+/* Counting sort of n interleaved points into g's cells; within a cell, slots are ordered by key
+ * (particle tags: the order then does not depend on how the host stores its particles).
+ * key is 32- or 64-bit per key_bytes, or NULL to keep input order.
+ * Returns 0, or -1 when memory cannot be had. */
+int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
+                       const void *key, int key_bytes);
+void griddem_bins_free(griddem_bins *b);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,81 @@
+/* Binning: the counting sort is a permutation, cells are in order, slots within a cell are in
+ * key order, occupancy statistics match a direct count, and dilute boxes are coarsened. */
+#include "check.h"
+#include "griddem_grid.h"
+
+#include <stdlib.h>
+
+int main(void)
+{
+  enum { N = 2000 };
+  static double x[3 * N];
+  static int tag[N];
+  for (int i = 0; i < N; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = -3.0 + 7.0 * check_uniform();
+    tag[i] = N - i; /* reverse of storage order */
+  }
+  const double anchor[3] = {0.1, -0.2, 0.3};
+  griddem_grid g;
+  griddem_bins b = {0};
+  CHECK(griddem_grid_cover(&g, anchor, N, x, 0.5, 1L << 30) == 0, "no coarsening wanted");
+  CHECK(g.n[0] == 15 || g.n[0] == 16, "cells along x: %d", g.n[0]);
+  CHECK(griddem_bin_points(&b, &g, N, x, tag, 4) == 0, "binning");
+
+  static int seen[N];
+  static int count[16 * 16 * 16];
+  int monotone = 1, in_cell = 1, keyed = 1;
+  for (int s = 0; s < N; s++) seen[b.order[s]]++;
+  int perm = 1;
+  for (int i = 0; i < N; i++) perm &= seen[i] == 1;
+  CHECK(perm, "order is a permutation");
+  for (long c = 0; c < g.ncell; c++) {
+    if (b.cell_start[c] > b.cell_start[c + 1]) monotone = 0;
+    for (int s = b.cell_start[c]; s < b.cell_start[c + 1]; s++) {
+      const int i = b.order[s];
+      if (griddem_cell_of(&g, x[3 * i], x[3 * i + 1], x[3 * i + 2]) != c) in_cell = 0;
+      if (s > b.cell_start[c] && tag[b.order[s - 1]] >= tag[i]) keyed = 0;
+    }
+  }
+  CHECK(monotone && b.cell_start[g.ncell] == N, "cell_start is a prefix sum");
+  CHECK(in_cell, "every slot lies in its cell");
+  CHECK(keyed, "slots in a cell are in tag order");
+
+  /* a cell's faces are at anchor + k*h: the point's cell follows from its coordinates alone */
+  int aligned = 1;
+  for (int i = 0; i < N; i++) {
+    const long c = griddem_cell_of(&g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    const long cx = c % g.n[0];
+    const double face = anchor[0] + (double) (g.k0[0] + cx) * g.h;
+    if (!(x[3 * i] >= face - 1e-12 && x[3 * i] < face + g.h + 1e-12)) aligned = 0;
+    count[c]++;
+  }
+  CHECK(aligned, "cells aligned to the anchor");
+  int most = 0;
+  long occupied = 0;
+  for (long c = 0; c < g.ncell; c++) {
+    if (count[c] > most) most = count[c];
+    if (count[c]) occupied++;
+  }
+  CHECK(b.max_occupancy == most, "max occupancy %d vs %d", b.max_occupancy, most);
+  CHECK(b.occupied == occupied, "occupied %ld vs %ld", b.occupied, occupied);
+
+  /* two points far apart: the cap forces a coarser edge instead of a huge allocation */
+  const double far[6] = {0.0, 0.0, 0.0, 1000.0, 1000.0, 1000.0};
+  CHECK(griddem_grid_cover(&g, anchor, 2, far, 0.01, 1000000) == 1, "coarsened");
+  CHECK(g.ncell <= 1000000 && g.h > 0.01, "ncell %ld h %g", g.ncell, g.h);
+
+  /* stencil reach: NN4DEM's exact mode on equal spheres is the 5-wide stencil */
+  const double h = griddem_cell_edge(GRIDDEM_CELL_EXACT, 1.0, 1.0, 0.0);
+  CHECK_CLOSE(h, 2.0 / sqrt(3.0), 1e-15, 0.0);
+  CHECK(2 * griddem_stencil_reach(h, 2.0) + 1 == 5, "stencil width");
+  CHECK(2 * griddem_stencil_reach(griddem_cell_edge(GRIDDEM_CELL_MULTI, 1.0, 2.0, 0.0), 4.0) + 1 == 3,
+        "multi-slot stencil width");
+
+  double bad[9] = {0, 0, 0, 1, 1, 1, 2, NAN, 2};
+  CHECK(griddem_first_nonfinite(3, bad) == 2, "NaN found at index 2");
+  bad[7] = 2.0;
+  CHECK(griddem_first_nonfinite(3, bad) == -1, "no NaN");
+
+  griddem_bins_free(&b);
+  return check_summary();
+}
