@@ -1,0 +1,158 @@
+/* ----------------------------------------------------------------------
+   GRIDDEM package: fix griddem.
+   Holds the grid options, the per-atom tangential contact history (which migrates with its atom
+   between processes and is written to restart files) and the grid diagnostics as a global vector.
+------------------------------------------------------------------------- */
+
+#include "fix_griddem.h"
+
+#include "atom.h"
+#include "error.h"
+#include "griddem_grid.h"
+#include "griddem_sweep.h"
+#include "memory.h"
+
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(16),
+    history(nullptr), stats()
+{
+  int iarg = 3;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "cell") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem cell", error);
+      if (strcmp(arg[iarg + 1], "exact") == 0)
+        cell_mode = GRIDDEM_CELL_EXACT;
+      else if (strcmp(arg[iarg + 1], "multi") == 0)
+        cell_mode = GRIDDEM_CELL_MULTI;
+      else {
+        cell_mode = GRIDDEM_CELL_FIXED;
+        cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+        if (cell_edge <= 0.0)
+          error->all(FLERR, "Fix griddem cell must be exact, multi or a positive edge, not {}",
+                     arg[iarg + 1]);
+      }
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "contacts") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem contacts", error);
+      slots = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (slots < 0 || slots > 10000)
+        error->all(FLERR, "Fix griddem contacts must be between 0 and 10000, not {}", slots);
+      iarg += 2;
+    } else
+      error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
+  }
+  stride = GRIDDEM_HISTORY_STRIDE(slots);
+
+  vector_flag = 1;
+  size_vector = 6;
+  global_freq = 1;
+  extvector = 0;
+  restart_peratom = 1;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nmax; i++) history[i][0] = 0.0;
+}
+
+FixGriddem::~FixGriddem()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+  memory->destroy(history);
+}
+
+int FixGriddem::setmask()
+{
+  return 0;
+}
+
+void FixGriddem::grow_arrays(int nmax)
+{
+  memory->grow(history, nmax, stride, "griddem:history");
+}
+
+void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
+{
+  memcpy(history[j], history[i], sizeof(double) * (1 + 4 * (int) history[i][0]));
+}
+
+// exchange and restart carry only the entries in use: count, then 4 values per contact
+
+int FixGriddem::pack_exchange(int i, double *buf)
+{
+  const int n = 1 + 4 * (int) history[i][0];
+  memcpy(buf, history[i], sizeof(double) * n);
+  return n;
+}
+
+int FixGriddem::unpack_exchange(int nlocal, double *buf)
+{
+  const int n = 1 + 4 * (int) buf[0];
+  memcpy(history[nlocal], buf, sizeof(double) * n);
+  return n;
+}
+
+int FixGriddem::pack_restart(int i, double *buf)
+{
+  // buf[0] counts the values including itself, as other fixes read it to skip this record
+  const int n = 1 + 4 * (int) history[i][0];
+  buf[0] = n + 1;
+  memcpy(buf + 1, history[i], sizeof(double) * n);
+  return n + 1;
+}
+
+void FixGriddem::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  const int n = static_cast<int>(extra[nlocal][m]) - 1;
+  const int count = (n - 1) / 4;
+  if (count > slots)
+    error->one(FLERR, "Fix griddem: atom {} has {} contacts in the restart file, more than contacts {}",
+               atom->tag[nlocal], count, slots);
+  memcpy(history[nlocal], &extra[nlocal][m + 1], sizeof(double) * n);
+}
+
+int FixGriddem::size_restart(int nlocal)
+{
+  return 2 + 4 * (int) history[nlocal][0];
+}
+
+int FixGriddem::maxsize_restart()
+{
+  return 1 + stride;
+}
+
+double FixGriddem::memory_usage()
+{
+  return (double) atom->nmax * stride * sizeof(double);
+}
+
+/* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,
+   4 cell edge, 5 contacts (pairs), 6 most contacts of one atom */
+
+double FixGriddem::compute_vector(int n)
+{
+  double value = 0.0;
+  switch (n) {
+    case 0: MPI_Allreduce(&stats.occupied_cells, &value, 1, MPI_DOUBLE, MPI_SUM, world); break;
+    case 1: MPI_Allreduce(&stats.max_occupancy, &value, 1, MPI_DOUBLE, MPI_MAX, world); break;
+    case 2: MPI_Allreduce(&stats.max_cells_moved, &value, 1, MPI_DOUBLE, MPI_MAX, world); break;
+    case 3: MPI_Allreduce(&stats.cell_edge, &value, 1, MPI_DOUBLE, MPI_MAX, world); break;
+    case 4:
+      // each contact is seen from both of its atoms
+      MPI_Allreduce(&stats.contacts, &value, 1, MPI_DOUBLE, MPI_SUM, world);
+      value *= 0.5;
+      break;
+    case 5: MPI_Allreduce(&stats.max_contacts, &value, 1, MPI_DOUBLE, MPI_MAX, world); break;
+  }
+  return value;
+}

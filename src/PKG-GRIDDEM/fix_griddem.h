@@ -1,0 +1,51 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package: grid options, per-atom contact history and grid diagnostics.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(griddem,FixGriddem);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_GRIDDEM_H
+#define LMP_FIX_GRIDDEM_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixGriddem : public Fix {
+ public:
+  FixGriddem(class LAMMPS *, int, char **);
+  ~FixGriddem() override;
+  int setmask() override;
+
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+  double memory_usage() override;
+  double compute_vector(int) override;
+
+  // grid options (keywords cell and contacts)
+  int cell_mode;        // enum griddem_cell_mode
+  double cell_edge;     // for GRIDDEM_CELL_FIXED
+  int slots;            // contact history entries per atom; 0: no history stored
+  int stride;           // doubles per atom row: 1 + 4*slots
+  double **history;     // [nmax][stride]: count, then (partner tag, shear xyz) per contact
+
+  // this process's grid statistics of the last step, set by the pair style
+  struct Stats {
+    double occupied_cells, max_occupancy, max_cells_moved, cell_edge, contacts, max_contacts;
+  } stats;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

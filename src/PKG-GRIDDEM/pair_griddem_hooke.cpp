@@ -1,0 +1,13 @@
+/* ----------------------------------------------------------------------
+   GRIDDEM package: pair style griddem/hooke.
+------------------------------------------------------------------------- */
+
+#include "pair_griddem_hooke.h"
+
+using namespace LAMMPS_NS;
+
+PairGriddemHooke::PairGriddemHooke(LAMMPS *lmp) : PairGriddemHookeHistory(lmp)
+{
+  history = 0;
+  params.tangential = GRIDDEM_TANGENTIAL_DAMPED;
+}

@@ -1,0 +1,131 @@
+"""Helpers for GRIDDEM's LAMMPS-level tests: run build/lmp on an input text (optionally under
+mpirun), read dump files, make random polydisperse sphere configurations, compare numbers.
+Standard library only."""
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+LMP = os.environ.get("GRIDDEM_LMP", "lmp")
+_failures = []
+_passed = 0
+
+
+def check(cond, message):
+    """Record one assertion; report it if it fails."""
+    global _passed
+    if cond:
+        _passed += 1
+    else:
+        _failures.append(message)
+        print("FAILED: " + message, file=sys.stderr)
+
+
+def finish():
+    print("%d passed, %d failed" % (_passed, len(_failures)))
+    sys.exit(1 if _failures or _passed == 0 else 0)
+
+
+def workdir():
+    return tempfile.mkdtemp(prefix="griddem-test-")
+
+
+def run_lmp(text, cwd, nprocs=1, name="in.test", extra=()):
+    """Run an input; returns (exit code, screen output)."""
+    path = os.path.join(cwd, name)
+    with open(path, "w") as f:
+        f.write(text)
+    cmd = [LMP, "-in", name, "-log", "none", "-echo", "screen"] + list(extra)
+    if nprocs > 1:
+        env_root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
+        cmd = ["mpirun", "-np", str(nprocs), "--oversubscribe"] + env_root + cmd
+    proc = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, timeout=900)
+    return proc.returncode, proc.stdout
+
+
+def run_ok(text, cwd, nprocs=1, name="in.test"):
+    rc, out = run_lmp(text, cwd, nprocs, name)
+    if rc != 0:
+        print(out[-4000:], file=sys.stderr)
+        raise SystemExit("lmp failed (exit %d) on %s" % (rc, name))
+    return out
+
+
+def read_dumps(path):
+    """Snapshots of a dump custom file, each (column names after id, {id: [values...]})."""
+    snapshots, columns, reading = [], [], False
+    with open(path) as f:
+        for line in f:
+            if line.startswith("ITEM: ATOMS"):
+                columns = line.split()[3:]
+                snapshots.append((columns, {}))
+                reading = True
+                continue
+            if line.startswith("ITEM:"):
+                reading = False
+                continue
+            if reading:
+                values = line.split()
+                snapshots[-1][1][int(values[0])] = [float(v) for v in values[1:]]
+    return snapshots
+
+
+def read_dump(path):
+    """Last snapshot of a dump custom file."""
+    return read_dumps(path)[-1]
+
+
+def max_rel_diff(a, b, columns):
+    """Largest |a-b| over atoms and the given columns, relative to the largest |b| per column."""
+    worst = 0.0
+    names_a, da = a
+    names_b, db = b
+    check(sorted(da) == sorted(db), "same atom IDs in both dumps")
+    for col in columns:
+        ia, ib = names_a.index(col), names_b.index(col)
+        scale = max(abs(v[ib]) for v in db.values()) or 1.0
+        for tag, vb in db.items():
+            worst = max(worst, abs(da[tag][ia] - vb[ib]) / scale)
+    return worst
+
+
+def thermo_values(out, column):
+    """All values of a thermo column printed to the screen."""
+    values, header = [], None
+    for line in out.splitlines():
+        words = line.split()
+        if words[:1] == ["Step"]:
+            header = words
+            continue
+        if header and len(words) == len(header):
+            try:
+                values.append(float(words[header.index(column)]))
+            except ValueError:
+                header = None
+        elif header and words[:1] == ["Loop"]:
+            header = None
+    return values
+
+
+def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0, wscale=1.0,
+                         triclinic=None):
+    """Random polydisperse spheres with random linear and angular velocities, dense enough that
+    many overlap. box = (lx, ly, lz) from 0; triclinic = (xy, xz, yz) or None."""
+    rng = random.Random(seed)
+    lines = ["GRIDDEM test configuration (seed %d)" % seed, "", "%d atoms" % n, "1 atom types", ""]
+    lines += ["0 %.17g xlo xhi" % box[0], "0 %.17g ylo yhi" % box[1], "0 %.17g zlo zhi" % box[2]]
+    if triclinic:
+        lines.append("%.17g %.17g %.17g xy xz yz" % triclinic)
+    lines += ["", "Atoms # sphere", ""]
+    vel = ["", "Velocities", ""]
+    for i in range(1, n + 1):
+        r = rng.uniform(rmin, rmax)
+        x, y, z = (rng.uniform(0, box[d]) for d in range(3))
+        lines.append("%d 1 %.17g %.17g %.17g %.17g %.17g" % (i, 2 * r, density, x, y, z))
+        vel.append("%d %s" % (i, " ".join("%.17g" % rng.uniform(-vscale, vscale) for _ in range(3)) + " " +
+                                 " ".join("%.17g" % rng.uniform(-wscale, wscale) for _ in range(3))))
+    with open(path, "w") as f:
+        f.write("\n".join(lines + vel) + "\n")

@@ -1,0 +1,69 @@
+"""Bad input and extreme states stop with an error (or warn) that names the cause."""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+BASE = """
+units lj
+atom_style {atom_style}
+dimension {dim}
+boundary p p {zb}
+{comm}
+region box block 0 4 0 4 {zbox}
+create_box 1 box
+{atoms}
+{pre}
+pair_style {pair}
+pair_coeff {coeff}
+{post}
+timestep {dt}
+fix integrate all nve/sphere
+run 5
+"""
+TWO = "create_atoms 1 single 1 1 1\ncreate_atoms 1 single {x2} 1 1\nset type 1 diameter 1.0\n" \
+      "set type 1 density 1.0\nvelocity all set {v} 0 0"
+
+
+def case(name, expect, warning=False, atom_style="sphere", dim=3, comm="comm_modify vel yes",
+         pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", coeff="* *", pre="", post="", dt=1e-4,
+         x2=1.9, v=0.0):
+    zb, zbox = ("p", "0 4") if dim == 3 else ("p", "-0.5 0.5")
+    atoms = TWO.format(x2=x2, v=v) if atom_style == "sphere" else "create_atoms 1 single 1 1 1\nmass 1 1.0"
+    text = BASE.format(atom_style=atom_style, dim=dim, zb=zb, zbox=zbox, comm=comm, atoms=atoms, pre=pre,
+                       pair=pair, coeff=coeff, post=post, dt=dt)
+    if dim == 2:
+        text = text.replace("create_atoms 1 single 1 1 1", "create_atoms 1 single 1 1 0").replace(
+            "create_atoms 1 single %s 1 1" % x2, "create_atoms 1 single %s 1 0" % x2)
+    rc, out = t.run_lmp(text, WD, name="in." + name)
+    if warning:
+        t.check(rc == 0, "%s: run completes (exit %d)" % (name, rc))
+        t.check("WARNING" in out and expect in out, "%s: warning '%s' printed" % (name, expect))
+    else:
+        t.check(rc != 0, "%s: stops with an error (exit %d)" % (name, rc))
+        t.check("ERROR" in out and expect in out, "%s: message '%s' in: %s" % (
+            name, expect, [l for l in out.splitlines() if "ERROR" in l][:2]))
+    t.check("nan" not in out.lower().replace("nano", ""), "%s: no NaN printed" % name)
+
+
+WD = t.workdir()
+case("coincident", "atoms 1 and 2 are at the same position", x2=1.0)
+case("too_fast", "atom 1 moves", v=-6000.0, x2=3.0)
+case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
+case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic",
+     post="", pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1")
+case("two_d", "supports 3d simulations only", dim=2)
+case("no_ghost_velocity", "comm_modify vel yes", comm="")
+case("arg_count", "expects Kn Kt gamma_n gamma_t xmu dampflag", pair="griddem/hooke/history 1e3 NULL 10")
+case("negative_kn", "Kn must be >= 0", pair="griddem/hooke -5 NULL 10 NULL 0.5 1")
+case("dampflag", "dampflag must be 0 or 1", pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 2")
+case("keyword", "unknown keyword nolimit", pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 nolimit")
+case("xmu", "xmu must be in [0,10000]", pair="griddem/hooke/history 1e3 NULL 10 NULL -1 1")
+case("coeff_args", "takes only the two atom types", coeff="* * 1.0")
+case("history_slots", "touches more than 1 atoms", pre="create_atoms 1 single 1 1.9 1\nset type 1 diameter 1.0\n"
+     "set type 1 density 1.0\nfix grid all griddem contacts 1")
+case("fix_keyword", "Unknown fix griddem keyword: slots", pre="fix grid all griddem slots 3")
+case("fix_cell", "must be exact, multi or a positive edge", pre="fix grid all griddem cell -1")
+case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
+t.finish()

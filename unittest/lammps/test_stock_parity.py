@@ -1,0 +1,90 @@
+"""Forces, torques, virial and 20-step trajectories of griddem/hooke/history and griddem/hooke
+equal those of stock gran/hooke/history and gran/hooke to 1e-10 relative, on a dense random
+polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
+with limit_damping, dampflag 0, fix freeze, and a triclinic box."""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+TEMPLATE = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+read_data {data}
+pair_style {pair}
+pair_coeff * *
+{extra}
+timestep 1e-5
+fix integrate all nve/sphere
+compute virial all pressure NULL pair
+thermo_style custom step ke press c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6]
+thermo_modify format float %.17g
+thermo 10
+dump snap all custom 20 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 20
+"""
+
+FORCES = ["fx", "fy", "fz", "tqx", "tqy", "tqz"]
+STATE = ["x", "y", "z", "vx", "vy", "vz"]
+
+
+def run(wd, name, data, pair, extra=""):
+    out = t.run_ok(TEMPLATE.format(data=data, pair=pair, extra=extra, name=name), wd, name="in." + name)
+    return t.read_dumps(os.path.join(wd, "dump." + name)), out
+
+
+def compare(label, ref, test):
+    (ref_snaps, ref_out), (snaps, out) = ref, test
+    t.check(len(snaps) == 2 and len(ref_snaps) == 2, label + ": two snapshots (steps 0 and 20)")
+    for k, step in enumerate((0, 20)):
+        err = t.max_rel_diff(snaps[k], ref_snaps[k], FORCES)
+        t.check(err <= 1e-10, "%s step %d: force/torque relative error %.3g" % (label, step, err))
+    err = t.max_rel_diff(snaps[1], ref_snaps[1], STATE)
+    t.check(err <= 1e-10, "%s step 20: position/velocity relative error %.3g" % (label, err))
+    for col in ["Press", "c_virial[1]", "c_virial[4]", "c_virial[6]"]:
+        a, b = t.thermo_values(out, col), t.thermo_values(ref_out, col)
+        t.check(len(a) == len(b) == 3, "%s: thermo %s printed 3 times" % (label, col))
+        scale = max(abs(v) for v in b) or 1.0
+        worst = max(abs(x - y) for x, y in zip(a, b)) / scale if a else 1.0
+        t.check(worst <= 1e-10, "%s: %s relative error %.3g" % (label, col, worst))
+    forces = [abs(v[3]) for v in ref_snaps[0][1].values()]
+    t.check(sum(1 for f in forces if f > 0) > 0.9 * len(forces), label + ": most atoms are in contact")
+
+
+def main():
+    wd = t.workdir()
+    data = os.path.join(wd, "data.dense")
+    t.write_random_spheres(data, 1500, (4.5, 4.5, 4.5), 0.1, 0.3, seed=7, vscale=1.0, wscale=5.0)
+    tri = os.path.join(wd, "data.tri")
+    t.write_random_spheres(tri, 1200, (4.2, 4.2, 4.2), 0.1, 0.3, seed=11, triclinic=(0.8, -0.5, 0.3))
+
+    hist = "1e4 NULL 50 NULL 0.5 1"
+    ref = run(wd, "stock_hh", data, "gran/hooke/history " + hist)
+    for cell in ["exact", "multi", "0.37"]:
+        compare("hooke/history cell " + cell, ref,
+                run(wd, "grid_hh_" + cell, data, "griddem/hooke/history " + hist,
+                    "fix grid all griddem cell " + cell))
+
+    args = "2e4 3e3 80 20 0.3 0 limit_damping"
+    compare("hooke/history dampflag 0 limit_damping", run(wd, "stock_ld", data, "gran/hooke/history " + args),
+            run(wd, "grid_ld", data, "griddem/hooke/history " + args))
+
+    freeze = "group base id <= 200\nfix frozen base freeze"
+    compare("hooke/history with fix freeze", run(wd, "stock_fr", data, "gran/hooke/history " + hist, freeze),
+            run(wd, "grid_fr", data, "griddem/hooke/history " + hist, freeze))
+
+    compare("hooke", run(wd, "stock_h", data, "gran/hooke " + hist),
+            run(wd, "grid_h", data, "griddem/hooke " + hist))
+    compare("hooke multi", run(wd, "stock_h2", data, "gran/hooke " + hist),
+            run(wd, "grid_h2", data, "griddem/hooke " + hist, "fix grid all griddem cell multi"))
+
+    compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
+            run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
+    t.finish()
+
+
+main()
