@@ -19,7 +19,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(16),
+    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24),
     history(nullptr), stats()
 {
   int iarg = 3;

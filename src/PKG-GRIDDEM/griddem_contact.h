@@ -46,13 +46,16 @@ typedef struct griddem_contact_in {
   double meff;
 } griddem_contact_in;
 
-/* Effective mass as stock: a frozen partner acts as infinitely heavy. */
+/* Effective mass as stock: a frozen partner acts as infinitely heavy. For two frozen atoms stock
+ * takes the mass of whichever atom its neighbor list puts first; that depends on storage order,
+ * so here it is 2 mi mj / (mi + mj): the same for equal masses, and the same from both sides.
+ * (Fix freeze zeroes the forces on frozen atoms; only the virial of such pairs depends on it.) */
 GRIDDEM_INLINE double griddem_effective_mass(double mi, double mj, int frozen_i, int frozen_j)
 {
-  double meff = mi * mj / (mi + mj);
-  if (frozen_i) meff = mj;
-  if (frozen_j) meff = mi;
-  return meff;
+  if (frozen_i && frozen_j) return 2.0 * mi * mj / (mi + mj);
+  if (frozen_i) return mj;
+  if (frozen_j) return mi;
+  return mi * mj / (mi + mj);
 }
 
 /* Force on i (f[3]) and the torque factor tor[3] of one overlapping pair.

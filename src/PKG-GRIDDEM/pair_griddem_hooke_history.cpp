@@ -24,6 +24,8 @@
 
 using namespace LAMMPS_NS;
 
+static const char AUTO_FIX_ID[] = "GRIDDEM";
+
 PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
     Pair(lmp), params(), dampflag(1), history(1), fix(nullptr), freeze_group_bit(0), rmin(0.0),
     rmax(0.0), coarsened_warned(0), grid(), bins(), channels()
@@ -92,6 +94,20 @@ void PairGriddemHookeHistory::settings(int narg, char **arg)
   if (history && params.kt == 0.0 && params.xmu > 0.0 && params.gammat > 0.0)
     error->all(FLERR, "Pair style {}: Kt = 0 with tangential damping divides by Kt in the Coulomb cap",
                force->pair_style);
+  create_default_fix();
+}
+
+/* fix GRIDDEM with default options, unless the script already defined a fix griddem; made when
+   the pair style is defined so that thermo_style can name f_GRIDDEM before the first run */
+
+void PairGriddemHookeHistory::create_default_fix()
+{
+  Fix *existing = modify->get_fix_by_id(AUTO_FIX_ID);
+  if (existing && history && dynamic_cast<FixGriddem *>(existing)->slots == 0)
+    modify->delete_fix(AUTO_FIX_ID);    // made by griddem/hooke, which keeps no history
+  else if (!modify->get_fix_by_style("^griddem$").empty())
+    return;
+  modify->add_fix(fmt::format("{} all griddem{}", AUTO_FIX_ID, history ? "" : " contacts 0"));
 }
 
 void PairGriddemHookeHistory::coeff(int narg, char **arg)
@@ -128,13 +144,18 @@ void PairGriddemHookeHistory::init_style()
     if (ifix->rigid_flag)
       error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
 
-  // grid options and history: the user's fix griddem, or one with defaults
+  // grid options and history: the user's fix griddem, else the default one settings() made
   auto fixes = modify->get_fix_by_style("^griddem$");
+  if (fixes.size() > 1 && modify->get_fix_by_id(AUTO_FIX_ID)) {
+    modify->delete_fix(AUTO_FIX_ID);
+    fixes = modify->get_fix_by_style("^griddem$");
+  }
   if (fixes.size() > 1) error->all(FLERR, "Only one fix griddem may be defined");
-  if (fixes.empty())
-    fix = dynamic_cast<FixGriddem *>(modify->add_fix(history ? "GRIDDEM all griddem" : "GRIDDEM all griddem contacts 0"));
-  else
-    fix = dynamic_cast<FixGriddem *>(fixes.front());
+  if (fixes.empty()) {
+    create_default_fix();
+    fixes = modify->get_fix_by_style("^griddem$");
+  }
+  fix = dynamic_cast<FixGriddem *>(fixes.front());
   if (history && fix->slots == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);

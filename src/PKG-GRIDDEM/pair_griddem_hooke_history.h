@@ -46,6 +46,7 @@ class PairGriddemHookeHistory : public Pair {
   griddem_channels channels;
 
   void allocate();
+  void create_default_fix();
   void find_radius_range();
   void check_motion(double h_nn4dem);
   void report_fault(const griddem_sweep_result &);

@@ -8,7 +8,7 @@ import subprocess
 import sys
 import tempfile
 
-LMP = os.environ.get("GRIDDEM_LMP", "lmp")
+LMP = os.path.abspath(os.environ.get("GRIDDEM_LMP", "lmp")) if os.sep in os.environ.get("GRIDDEM_LMP", "lmp") else os.environ.get("GRIDDEM_LMP", "lmp")
 _failures = []
 _passed = 0
 

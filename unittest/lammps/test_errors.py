@@ -19,7 +19,7 @@ pair_style {pair}
 pair_coeff {coeff}
 {post}
 timestep {dt}
-fix integrate all nve/sphere
+fix integrate all {integrate}
 run 5
 """
 TWO = "create_atoms 1 single 1 1 1\ncreate_atoms 1 single {x2} 1 1\nset type 1 diameter 1.0\n" \
@@ -32,7 +32,8 @@ def case(name, expect, warning=False, atom_style="sphere", dim=3, comm="comm_mod
     zb, zbox = ("p", "0 4") if dim == 3 else ("p", "-0.5 0.5")
     atoms = TWO.format(x2=x2, v=v) if atom_style == "sphere" else "create_atoms 1 single 1 1 1\nmass 1 1.0"
     text = BASE.format(atom_style=atom_style, dim=dim, zb=zb, zbox=zbox, comm=comm, atoms=atoms, pre=pre,
-                       pair=pair, coeff=coeff, post=post, dt=dt)
+                       pair=pair, coeff=coeff, post=post, dt=dt,
+                       integrate="nve/sphere" if atom_style == "sphere" else "nve")
     if dim == 2:
         text = text.replace("create_atoms 1 single 1 1 1", "create_atoms 1 single 1 1 0").replace(
             "create_atoms 1 single %s 1 1" % x2, "create_atoms 1 single %s 1 0" % x2)
@@ -51,8 +52,7 @@ WD = t.workdir()
 case("coincident", "atoms 1 and 2 are at the same position", x2=1.0)
 case("too_fast", "atom 1 moves", v=-6000.0, x2=3.0)
 case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
-case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic",
-     post="", pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1")
+case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic")
 case("two_d", "supports 3d simulations only", dim=2)
 case("no_ghost_velocity", "comm_modify vel yes", comm="")
 case("arg_count", "expects Kn Kt gamma_n gamma_t xmu dampflag", pair="griddem/hooke/history 1e3 NULL 10")

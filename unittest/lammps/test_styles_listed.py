@@ -10,7 +10,7 @@ out = subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, universal_newlines=T
 words = out.split()
 for style in ["griddem/hooke/history", "griddem/hooke", "gran/hooke/history", "gran/hooke"]:
     t.check(style in words, "pair style %s listed by lmp -h" % style)
-t.check("griddem" in out.split("* Fix styles:")[1].split("*")[0].split(),
+t.check("griddem" in out.split("* Fix styles")[1].split("* ")[0].split(),
         "fix style griddem listed by lmp -h")
 t.check("GRIDDEM" in out.split("Installed packages:")[1].split("List of individual")[0],
         "GRIDDEM among the installed packages")
