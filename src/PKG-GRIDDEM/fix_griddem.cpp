@@ -50,7 +50,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   stride = GRIDDEM_HISTORY_STRIDE(slots);
 
   vector_flag = 1;
-  size_vector = 6;
+  size_vector = 7;
   global_freq = 1;
   extvector = 0;
   restart_peratom = 1;
@@ -137,7 +137,7 @@ double FixGriddem::memory_usage()
 }
 
 /* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,
-   4 cell edge, 5 contacts (pairs), 6 most contacts of one atom */
+   4 cell edge, 5 contacts (pairs), 6 most contacts of one atom, 7 elastic energy in contacts */
 
 double FixGriddem::compute_vector(int n)
 {
@@ -153,6 +153,7 @@ double FixGriddem::compute_vector(int n)
       value *= 0.5;
       break;
     case 5: MPI_Allreduce(&stats.max_contacts, &value, 1, MPI_DOUBLE, MPI_MAX, world); break;
+    case 6: MPI_Allreduce(&stats.elastic_energy, &value, 1, MPI_DOUBLE, MPI_SUM, world); break;
   }
   return value;
 }

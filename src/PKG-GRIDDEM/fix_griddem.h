@@ -41,7 +41,8 @@ class FixGriddem : public Fix {
 
   // this process's grid statistics of the last step, set by the pair style
   struct Stats {
-    double occupied_cells, max_occupancy, max_cells_moved, cell_edge, contacts, max_contacts;
+    double occupied_cells, max_occupancy, max_cells_moved, cell_edge, contacts, max_contacts,
+        elastic_energy;
   } stats;
 };
 

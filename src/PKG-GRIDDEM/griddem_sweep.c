@@ -90,12 +90,13 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, const griddem_ch
   const int *order = b->order;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0;
+  double energy = 0.0;
   long contacts = 0;
   int most = 0;
 
   memset(result, 0, sizeof(*result));
 
-#pragma omp parallel reduction(+ : v0, v1, v2, v3, v4, v5, contacts) reduction(max : most)
+#pragma omp parallel reduction(+ : v0, v1, v2, v3, v4, v5, energy, contacts) reduction(max : most)
   {
     /* this particle's new history, built while its old one is still read */
     double *fresh = use_history ? (double *) malloc(sizeof(double) * 4 * (size_t) slots) : NULL;
@@ -168,6 +169,10 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, const griddem_ch
               }
             }
             ncontact++;
+            /* half of the pair's spring energy from each side */
+            const double overlap = radsum - sqrt(rsq);
+            energy += 0.25 * (params->kn * overlap * overlap +
+                              params->kt * (shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]));
             fx += fc[0], fy += fc[1], fz += fc[2];
             tx -= radi * tor[0], ty -= radi * tor[1], tz -= radi * tor[2];
             if (want_virial || vatom) {
@@ -195,6 +200,7 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, const griddem_ch
   }
   result->virial[0] = v0, result->virial[1] = v1, result->virial[2] = v2;
   result->virial[3] = v3, result->virial[4] = v4, result->virial[5] = v5;
+  result->energy = energy;
   result->contacts = contacts;
   result->max_contacts = most;
   return result->fault;

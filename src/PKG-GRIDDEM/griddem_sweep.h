@@ -54,6 +54,7 @@ enum griddem_fault {
 
 typedef struct griddem_sweep_result {
   double virial[6];    /* xx yy zz xy xz yz, half of each pair from each side */
+  double energy;       /* elastic energy stored in the contacts' springs (normal and shear) */
   long contacts;       /* pair contacts seen from owned particles */
   int max_contacts;    /* most contacts of one owned particle */
   int fault;           /* enum griddem_fault; the first one met */

@@ -311,6 +311,7 @@ void PairGriddemHookeHistory::compute(int eflag, int vflag)
   fix->stats.cell_edge = grid.h;
   fix->stats.contacts = result.contacts;
   fix->stats.max_contacts = result.max_contacts;
+  fix->stats.elastic_energy = result.energy;
   check_motion(h_nn4dem);
 }
 

@@ -111,9 +111,10 @@ def thermo_values(out, column):
 
 
 def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0, wscale=1.0,
-                         triclinic=None):
+                         triclinic=None, lattice=None):
     """Random polydisperse spheres with random linear and angular velocities, dense enough that
-    many overlap. box = (lx, ly, lz) from 0; triclinic = (xy, xz, yz) or None."""
+    many overlap. box = (lx, ly, lz) from 0; triclinic = (xy, xz, yz) or None; lattice = spacing
+    of a simple cubic lattice to put the centres on (no overlaps if > 2 rmax) instead."""
     rng = random.Random(seed)
     lines = ["GRIDDEM test configuration (seed %d)" % seed, "", "%d atoms" % n, "1 atom types", ""]
     lines += ["0 %.17g xlo xhi" % box[0], "0 %.17g ylo yhi" % box[1], "0 %.17g zlo zhi" % box[2]]
@@ -123,7 +124,11 @@ def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0
     vel = ["", "Velocities", ""]
     for i in range(1, n + 1):
         r = rng.uniform(rmin, rmax)
-        x, y, z = (rng.uniform(0, box[d]) for d in range(3))
+        if lattice:
+            m = int(round(box[0] / lattice))
+            x, y, z = ((i - 1) % m * lattice, (i - 1) // m % m * lattice, (i - 1) // (m * m) * lattice)
+        else:
+            x, y, z = (rng.uniform(0, box[d]) for d in range(3))
         lines.append("%d 1 %.17g %.17g %.17g %.17g %.17g" % (i, 2 * r, density, x, y, z))
         vel.append("%d %s" % (i, " ".join("%.17g" % rng.uniform(-vscale, vscale) for _ in range(3)) + " " +
                                  " ".join("%.17g" % rng.uniform(-wscale, wscale) for _ in range(3))))

@@ -1,0 +1,167 @@
+"""griddem/hooke/history against analytic results:
+- head-on collision: restitution e = exp(-pi z / sqrt(1 - z^2)), z = gamma_n meff / (2 sqrt(Kn meff)),
+  and contact duration pi / sqrt(Kn/meff - (gamma_n/2)^2);
+- free fall onto a frozen sphere without damping (NN4DEM set I, 0.95 m): rebounds to the drop height;
+- sliding with Coulomb friction (NN4DEM set I, 1.414 m/s, mu 0.5, no rotation): stops after
+  v^2 / (2 mu g) = 0.2038 m;
+- no damping, no friction: kinetic plus contact spring energy conserved to 1e-6 over 1e5 steps."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+WD = t.workdir()
+
+
+def head_on():
+    kn, gamman, dt = 1e5, 100.0, 1e-5
+    text = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -5 5 -5 5 -5 5
+create_box 1 box
+create_atoms 1 single -0.505 0 0
+create_atoms 1 single 0.505 0 0
+set type 1 diameter 1.0
+set type 1 density {rho}
+velocity all set 0 0 0
+set atom 1 vx 0.5
+set atom 2 vx -0.5
+pair_style griddem/hooke/history {kn} NULL {gamman} NULL 0.5 1
+pair_coeff * *
+timestep {dt}
+fix integrate all nve/sphere
+variable vrel equal vx[2]-vx[1]
+thermo_style custom step f_GRIDDEM[5] v_vrel
+thermo_modify format float %.17g
+thermo 1
+run 3000
+""".format(rho=6.0 / math.pi, kn=kn, gamman=gamman, dt=dt)
+    out = t.run_ok(text, WD, name="in.head_on")
+    contacts = t.thermo_values(out, "f_GRIDDEM[5]")
+    vrel = t.thermo_values(out, "v_vrel")
+    meff = 0.5
+    z = gamman * meff / (2.0 * math.sqrt(kn * meff))
+    e = math.exp(-math.pi * z / math.sqrt(1.0 - z * z))
+    duration = math.pi / math.sqrt(kn / meff - (gamman / 2.0) ** 2)
+    t.check(abs(vrel[-1] / 1.0 - e) <= 2e-3 * e, "restitution %.6f, analytic %.6f" % (vrel[-1], e))
+    steps = sum(1 for c in contacts if c > 0)
+    t.check(abs(steps * dt - duration) <= 2 * dt, "contact duration %.6g, analytic %.6g" % (steps * dt, duration))
+
+
+def free_fall():
+    text = """
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -1 1 -1 1 -0.2 1.5
+create_box 1 box
+create_atoms 1 single 0 0 0
+create_atoms 1 single 0 0 0.95
+set type 1 diameter 0.1
+set type 1 density 2700
+group floor id 1
+group ball id 2
+fix frozen floor freeze
+pair_style griddem/hooke/history 5e4 NULL 0.0 NULL 0.5 1
+pair_coeff * *
+timestep 1e-4
+fix integrate all nve/sphere
+fix gravity ball gravity 9.81 vector 0 0 -1
+variable z equal z[2]
+thermo_style custom step v_z
+thermo_modify format float %.17g
+thermo 50
+run 9000
+"""
+    out = t.run_ok(text, WD, name="in.free_fall")
+    z = t.thermo_values(out, "v_z")
+    bottom = min(range(len(z)), key=lambda k: z[k])
+    t.check(z[bottom] < 0.11, "the sphere reached the floor sphere (lowest %.4f m)" % z[bottom])
+    peak = max(z[bottom:])
+    t.check(abs(peak - 0.95) <= 2e-3 * 0.95, "rebound height %.5f m, dropped from 0.95 m" % peak)
+
+
+def sliding():
+    m = 2700 * 4.0 / 3.0 * math.pi * 0.05 ** 3
+    sink = m * 9.81 / 5e4
+    text = """
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -60 60 -60 60 -60 60
+create_box 1 box
+create_atoms 1 single 0 0 0
+create_atoms 1 single 0 0 {z}
+set atom 1 diameter 100.0
+set atom 2 diameter 0.1
+set type 1 density 2700
+group floor id 1
+group ball id 2
+fix frozen floor freeze
+fix grid all griddem cell multi
+pair_style griddem/hooke/history 5e4 NULL 50.0 NULL 0.5 1
+pair_coeff * *
+timestep 1e-4
+fix integrate ball nve
+fix gravity ball gravity 9.81 vector 0 0 -1
+velocity ball set 1.414 0 0
+variable x equal x[2]
+variable v equal vx[2]
+thermo_style custom step v_x v_v
+thermo_modify format float %.17g
+thermo 100
+run 5000
+""".format(z=50.05 - sink)
+    out = t.run_ok(text, WD, name="in.sliding")
+    x, v = t.thermo_values(out, "v_x"), t.thermo_values(out, "v_v")
+    expected = 1.414 ** 2 / (2 * 0.5 * 9.81)
+    t.check(abs(v[-1]) < 1e-2, "the ball stopped (v = %.3g m/s)" % v[-1])
+    t.check(abs(x[-1] - expected) <= 0.02 * expected, "slid %.4f m, expected %.4f m" % (x[-1], expected))
+
+
+def energy():
+    data = os.path.join(WD, "data.gas")
+    t.write_random_spheres(data, 216, (6.6, 6.6, 6.6), 0.3, 0.45, seed=5, vscale=1.0, wscale=1.0,
+                           lattice=1.1)
+    text = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+read_data {data}
+pair_style griddem/hooke/history 1e4 NULL 0.0 NULL 0.0 0
+pair_coeff * *
+timestep 2e-5
+fix integrate all nve/sphere
+compute rot all erotate/sphere
+compute trans all ke
+variable etotal equal c_trans+c_rot+f_GRIDDEM[7]
+thermo_style custom step atoms f_GRIDDEM[5] v_etotal
+thermo_modify format float %.17g norm no
+thermo 10000
+run 100000
+""".format(data=data)
+    out = t.run_ok(text, WD, name="in.energy")
+    e = t.thermo_values(out, "v_etotal")
+    contacts = t.thermo_values(out, "f_GRIDDEM[5]")
+    t.check(len(e) == 11, "energy printed 11 times")
+    t.check(sum(1 for c in contacts if c > 0) >= 3, "contacts happened (%s)" % contacts)
+    drift = max(abs(x - e[0]) for x in e) / e[0]
+    t.check(drift <= 1e-6, "total energy drift %.3g relative over 1e5 steps" % drift)
+
+
+head_on()
+free_fall()
+sliding()
+energy()
+t.finish()
