@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""CPU benchmark: LAMMPS's chute scene (bench/in.chute, 32,000 atoms) with stock
+gran/hooke/history and with griddem/hooke/history in each cell mode, on 1 and 2 MPI ranks, in one
+job on one machine. Appends one JSON line per run to bench/results/cpu.jsonl.
+
+usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--lammps-bench DIR]"""
+import argparse
+import datetime
+import json
+import os
+import platform
+import re
+import shutil
+import subprocess
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOP = os.path.dirname(HERE)
+VARIANTS = [
+    ("gran/hooke/history", "", "stock"),
+    ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact"),
+    ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi"),
+]
+
+
+def cpu_name():
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return platform.processor()
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--ranks", default="1,2")
+    ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    args = ap.parse_args()
+
+    wd = tempfile.mkdtemp(prefix="griddem-chute-")
+    shutil.copy(os.path.join(args.lammps_bench, "data.chute"), wd)
+    with open(os.path.join(args.lammps_bench, "in.chute")) as f:
+        stock = f.read()
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
+    out_path = os.path.join(HERE, "results", "cpu.jsonl")
+    for ranks in [int(r) for r in args.ranks.split(",")]:
+        for style, fix, label in VARIANTS:
+            text = stock.replace("gran/hooke/history", style)
+            text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
+            text = re.sub(r"run\s+100", "run %d" % args.steps, text)
+            with open(os.path.join(wd, "in.run"), "w") as f:
+                f.write(text)
+            cmd = [args.lmp, "-in", "in.run", "-log", "none"]
+            if ranks > 1:
+                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
+            out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE,
+                                 stderr=subprocess.STDOUT, universal_newlines=True).stdout
+            m = re.search(r"Loop time of ([0-9.e+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
+            if not m:
+                print(out[-3000:])
+                raise SystemExit("no loop time for %s on %d ranks" % (label, ranks))
+            loop, steps, atoms = float(m.group(1)), int(m.group(3)), int(m.group(4))
+            pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
+            neigh_pct = re.search(r"^Neigh\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
+            record = {
+                "date": datetime.date.today().isoformat(),
+                "device": "%s, %d cores" % (cpu_name(), os.cpu_count()),
+                "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks,
+                "style": label, "loop_s": loop,
+                "atom_steps_per_s": atoms * steps / loop,
+                "pair_pct": float(pair_pct.group(1)) if pair_pct else None,
+                "neigh_pct": float(neigh_pct.group(1)) if neigh_pct else None,
+            }
+            print(json.dumps(record))
+            with open(out_path, "a") as f:
+                f.write(json.dumps(record) + "\n")
+
+
+main()
