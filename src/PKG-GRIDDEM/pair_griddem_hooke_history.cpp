@@ -223,15 +223,17 @@ void PairGriddemHookeHistory::check_motion(double h_nn4dem)
   int fastest = -1;
   for (int i = 0; i < atom->nlocal; i++) {
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
-    if (v2 > vmax2 || std::isnan(v2)) {
+    if (!std::isfinite(v2))
+      error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
+                 atom->tag[i], v[i][0], v[i][1], v[i][2]);
+    if (v2 > vmax2) {
       vmax2 = v2;
       fastest = i;
-      if (std::isnan(v2)) break;
     }
   }
   const double moved = sqrt(vmax2) * dt;
   fix->stats.max_cells_moved = moved / grid.h;
-  if (fastest >= 0 && !(moved <= h_nn4dem))
+  if (fastest >= 0 && moved > h_nn4dem)
     error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
                force->pair_style, atom->tag[fastest], moved, sqrt(vmax2), h_nn4dem);
 }
