@@ -32,7 +32,6 @@ PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
 {
   single_enable = 0;
   no_virial_fdotr_compute = 1;    // ghosts get no force in gather form: tally pair by pair
-  finitecutflag = 1;
   params.tangential = GRIDDEM_TANGENTIAL_HISTORY;
 }
 
