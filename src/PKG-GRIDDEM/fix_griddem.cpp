@@ -54,6 +54,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   global_freq = 1;
   extvector = 0;
   restart_peratom = 1;
+  create_attribute = 1;    // atoms made later (create_atoms, fix pour) start with no contacts
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -78,23 +79,33 @@ void FixGriddem::grow_arrays(int nmax)
   memory->grow(history, nmax, stride, "griddem:history");
 }
 
-void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
+void FixGriddem::set_arrays(int i)
 {
-  memcpy(history[j], history[i], sizeof(double) * (1 + 4 * (int) history[i][0]));
+  history[i][0] = 0.0;
 }
 
-// exchange and restart carry only the entries in use: count, then 4 values per contact
+// copies, exchange and restart carry only the entries in use: count, then 4 values per contact
+
+static inline int used_length(const double *row)
+{
+  return 1 + 4 * static_cast<int>(row[0]);
+}
+
+void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
+{
+  memcpy(history[j], history[i], sizeof(double) * used_length(history[i]));
+}
 
 int FixGriddem::pack_exchange(int i, double *buf)
 {
-  const int n = 1 + 4 * (int) history[i][0];
+  const int n = used_length(history[i]);
   memcpy(buf, history[i], sizeof(double) * n);
   return n;
 }
 
 int FixGriddem::unpack_exchange(int nlocal, double *buf)
 {
-  const int n = 1 + 4 * (int) buf[0];
+  const int n = used_length(buf);
   memcpy(history[nlocal], buf, sizeof(double) * n);
   return n;
 }
@@ -102,7 +113,7 @@ int FixGriddem::unpack_exchange(int nlocal, double *buf)
 int FixGriddem::pack_restart(int i, double *buf)
 {
   // buf[0] counts the values including itself, as other fixes read it to skip this record
-  const int n = 1 + 4 * (int) history[i][0];
+  const int n = used_length(history[i]);
   buf[0] = n + 1;
   memcpy(buf + 1, history[i], sizeof(double) * n);
   return n + 1;
@@ -123,7 +134,7 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return 2 + 4 * (int) history[nlocal][0];
+  return 1 + used_length(history[nlocal]);
 }
 
 int FixGriddem::maxsize_restart()
