@@ -13,14 +13,15 @@
 #include "memory.h"
 
 #include <cstring>
+#include <utility>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24),
-    history(nullptr), stats()
+    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24), values(3),
+    history(nullptr), history_next(nullptr), stats()
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -47,7 +48,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
   }
-  stride = GRIDDEM_HISTORY_STRIDE(slots);
+  stride = GRIDDEM_HISTORY_STRIDE(slots, values);
 
   vector_flag = 1;
   size_vector = 7;
@@ -67,6 +68,7 @@ FixGriddem::~FixGriddem()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(history);
+  memory->destroy(history_next);
 }
 
 int FixGriddem::setmask()
@@ -77,6 +79,40 @@ int FixGriddem::setmask()
 void FixGriddem::grow_arrays(int nmax)
 {
   memory->grow(history, nmax, stride, "griddem:history");
+  memory->grow(history_next, nmax, stride, "griddem:history_next");
+}
+
+/* Copy a row written with old_values per contact into one with values per contact: values kept
+   up to the shorter length, the rest zero (a sub-model that was not in use starts from zero). */
+
+static void convert_row(const double *from, int old_values, double *to, int values)
+{
+  const int count = static_cast<int>(from[0]);
+  to[0] = count;
+  for (int k = 0; k < count; k++) {
+    const double *a = from + 1 + (1 + old_values) * k;
+    double *b = to + 1 + (1 + values) * k;
+    for (int v = 0; v <= values; v++) b[v] = v <= old_values ? a[v] : 0.0;
+  }
+}
+
+void FixGriddem::set_values(int nv)
+{
+  if (nv == values) return;
+  const int old_values = values;
+  double **old = history;
+  values = nv;
+  stride = GRIDDEM_HISTORY_STRIDE(slots, values);
+  history = nullptr;
+  memory->destroy(history_next);
+  grow_arrays(atom->nmax);
+  for (int i = 0; i < atom->nlocal; i++) convert_row(old[i], old_values, history[i], values);
+  memory->destroy(old);
+}
+
+void FixGriddem::swap_history()
+{
+  std::swap(history, history_next);
 }
 
 void FixGriddem::set_arrays(int i)
@@ -84,11 +120,11 @@ void FixGriddem::set_arrays(int i)
   history[i][0] = 0.0;
 }
 
-// copies, exchange and restart carry only the entries in use: count, then 4 values per contact
+// copies, exchange and restart carry only the entries in use: count, then (tag, values) per contact
 
-static inline int used_length(const double *row)
+int FixGriddem::used_length(const double *row) const
 {
-  return 1 + 4 * static_cast<int>(row[0]);
+  return 1 + (1 + values) * static_cast<int>(row[0]);
 }
 
 void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
@@ -112,11 +148,13 @@ int FixGriddem::unpack_exchange(int nlocal, double *buf)
 
 int FixGriddem::pack_restart(int i, double *buf)
 {
-  // buf[0] counts the values including itself, as other fixes read it to skip this record
+  // buf[0] counts the record including itself, as other fixes read it to skip this record;
+  // buf[1] is the number of values per contact, so a run with other sub-models can read it
   const int n = used_length(history[i]);
-  buf[0] = n + 1;
-  memcpy(buf + 1, history[i], sizeof(double) * n);
-  return n + 1;
+  buf[0] = n + 2;
+  buf[1] = values;
+  memcpy(buf + 2, history[i], sizeof(double) * n);
+  return n + 2;
 }
 
 void FixGriddem::unpack_restart(int nlocal, int nth)
@@ -124,27 +162,27 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  const int n = static_cast<int>(extra[nlocal][m]) - 1;
-  const int count = (n - 1) / 4;
+  const double *record = &extra[nlocal][m];
+  const int count = static_cast<int>(record[2]);
   if (count > slots)
     error->one(FLERR, "Fix griddem: atom {} has {} contacts in the restart file, more than contacts {}",
                atom->tag[nlocal], count, slots);
-  memcpy(history[nlocal], &extra[nlocal][m + 1], sizeof(double) * n);
+  convert_row(record + 2, static_cast<int>(record[1]), history[nlocal], values);
 }
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return 1 + used_length(history[nlocal]);
+  return 2 + used_length(history[nlocal]);
 }
 
 int FixGriddem::maxsize_restart()
 {
-  return 1 + stride;
+  return 2 + stride;
 }
 
 double FixGriddem::memory_usage()
 {
-  return (double) atom->nmax * stride * sizeof(double);
+  return 2.0 * atom->nmax * stride * sizeof(double);
 }
 
 /* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,

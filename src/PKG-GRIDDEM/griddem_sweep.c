@@ -2,6 +2,9 @@
 #include "griddem_sweep.h"
 
 #include <math.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,11 +15,12 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   const int n = b->n;
   if (n > ch->cap) {
     const int cap = n + n / 4 + 16;
-    if (!GROW(ch->x, double, cap) || !GROW(ch->y, double, cap) || !GROW(ch->z, double, cap) ||
-        !GROW(ch->vx, double, cap) || !GROW(ch->vy, double, cap) || !GROW(ch->vz, double, cap) ||
-        !GROW(ch->wx, double, cap) || !GROW(ch->wy, double, cap) || !GROW(ch->wz, double, cap) ||
-        !GROW(ch->rad, double, cap) || !GROW(ch->mass, double, cap) ||
-        !GROW(ch->tag, int64_t, cap) || !GROW(ch->frozen, unsigned char, cap))
+    double **reals[] = {&ch->x,  &ch->y,  &ch->z,  &ch->vx, &ch->vy, &ch->vz, &ch->wx, &ch->wy, &ch->wz,
+                        &ch->rad, &ch->mass, &ch->fx, &ch->fy, &ch->fz, &ch->tx, &ch->ty, &ch->tz};
+    for (size_t k = 0; k < sizeof(reals) / sizeof(reals[0]); k++)
+      if (!GROW(*reals[k], double, cap)) return -1;
+    if (!GROW(ch->tag, int64_t, cap) || !GROW(ch->type, int, cap) || !GROW(ch->mask, int, cap) ||
+        !GROW(ch->ncontact, int, cap) || !GROW(ch->frozen, unsigned char, cap))
       return -1;
     ch->cap = cap;
   }
@@ -38,16 +42,21 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     ch->rad[s] = p->radius[i];
     ch->mass[s] = p->rmass[i];
     ch->tag[s] = p->tag_bytes == 8 ? tag64[i] : (int64_t) tag32[i];
-    ch->frozen[s] = (p->mask && (p->mask[i] & p->frozen_bit)) ? 1 : 0;
+    ch->type[s] = p->type[i];
+    ch->mask[s] = p->mask[i];
+    ch->frozen[s] = (p->mask[i] & p->frozen_bit) ? 1 : 0;
+    ch->fx[s] = ch->fy[s] = ch->fz[s] = ch->tx[s] = ch->ty[s] = ch->tz[s] = 0.0;
+    ch->ncontact[s] = 0;
   }
   return 0;
 }
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->x), free(ch->y), free(ch->z), free(ch->vx), free(ch->vy), free(ch->vz);
-  free(ch->wx), free(ch->wy), free(ch->wz), free(ch->rad), free(ch->mass);
-  free(ch->tag), free(ch->frozen);
+  double *reals[] = {ch->x,  ch->y,  ch->z,  ch->vx, ch->vy, ch->vz, ch->wx, ch->wy, ch->wz,
+                     ch->rad, ch->mass, ch->fx, ch->fy, ch->fz, ch->tx, ch->ty, ch->tz};
+  for (size_t k = 0; k < sizeof(reals) / sizeof(reals[0]); k++) free(reals[k]);
+  free(ch->tag), free(ch->type), free(ch->mask), free(ch->ncontact), free(ch->frozen);
   memset(ch, 0, sizeof(*ch));
 }
 
@@ -79,124 +88,235 @@ static void record_fault(griddem_sweep_result *r, int fault, int i, int j)
   }
 }
 
-int griddem_sweep(const griddem_grid *g, const griddem_bins *b, const griddem_channels *ch,
-                  int nlocal, double cut_extra, const griddem_hooke_params *params, double dt,
-                  int shearupdate, griddem_history *hist, double *f, double *torque, double *vatom,
-                  int want_virial, griddem_sweep_result *result)
+/* Everything one sweep reads, shared by the threads. */
+typedef struct sweep_context {
+  const griddem_grid *g;
+  const griddem_bins *b;
+  griddem_channels *ch;
+  int nlocal;
+  double cut_extra;
+  const griddem_model *model;
+  const griddem_exclusions *excl;
+  double dt;
+  int history_update;
+  griddem_history *hist;
+  double *vatom;
+  griddem_sweep_result *result;
+} sweep_context;
+
+/* Accumulators one thread adds up over its pairs. */
+typedef struct sweep_sums {
+  double virial[6];
+  double energy;
+} sweep_sums;
+
+static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch, int a, int b)
 {
-  const int use_history = params->tangential == GRIDDEM_TANGENTIAL_HISTORY;
-  const int slots = use_history ? hist->slots : 0;
-  const int *start = b->cell_start;
-  const int *order = b->order;
+  if (e->type_pair && e->type_pair[ch->type[a] * (e->ntypes + 1) + ch->type[b]]) return 1;
+  for (int k = 0; k < e->ngroup_pairs; k++) {
+    const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];
+    if (((ch->mask[a] & b1) && (ch->mask[b] & b2)) || ((ch->mask[a] & b2) && (ch->mask[b] & b1)))
+      return 1;
+  }
+  return 0;
+}
+
+/* Append (partner, values) to row i of next, the values multiplied by parity unless it is NULL;
+ * 0 if the row is full. */
+static int history_append(const griddem_history *h, int nv, int i, int64_t partner,
+                          const double *values, const double *parity)
+{
+  double *row = h->next + (size_t) i * h->stride;
+  const int count = (int) row[0];
+  if (count == h->slots) return 0;
+  double *entry = row + 1 + (size_t) (1 + nv) * count;
+  entry[0] = (double) partner;
+  for (int k = 0; k < nv; k++) entry[1 + k] = parity ? parity[k] * values[k] : values[k];
+  row[0] = (double) (count + 1);
+  return 1;
+}
+
+/* Evaluate the contact of slots a and b (distance squared rsq, already known to touch) seen from
+ * a, which is owned; b receives its share if it is owned too. */
+static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq)
+{
+  griddem_channels *ch = cx->ch;
+  const griddem_model *m = cx->model;
+  const int *order = cx->b->order;
+  const int ia = order[a], ib = order[b];
+  const int b_owned = ib < cx->nlocal;
+  const int nv = m->history_size;
+
+  if (rsq == 0.0) {
+    record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
+    return;
+  }
+  if (cx->excl && excluded_pair(cx->excl, ch, a, b)) return;
+
+  griddem_contact_in c;
+  c.delx = ch->x[a] - ch->x[b], c.dely = ch->y[a] - ch->y[b], c.delz = ch->z[a] - ch->z[b];
+  c.rsq = rsq;
+  c.radi = ch->rad[a], c.radj = ch->rad[b];
+  c.vr1 = ch->vx[a] - ch->vx[b], c.vr2 = ch->vy[a] - ch->vy[b], c.vr3 = ch->vz[a] - ch->vz[b];
+  c.wi1 = ch->wx[a], c.wi2 = ch->wy[a], c.wi3 = ch->wz[a];
+  c.wj1 = ch->wx[b], c.wj2 = ch->wy[b], c.wj3 = ch->wz[b];
+  c.meff = griddem_effective_mass(ch->mass[a], ch->mass[b], ch->frozen[a], ch->frozen[b]);
+
+  double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  if (nv) {
+    const double *row = cx->hist->rows + (size_t) ia * cx->hist->stride;
+    const int count = (int) row[0];
+    const double partner = (double) ch->tag[b];
+    for (int k = 0; k < count; k++) {
+      const double *entry = row + 1 + (size_t) (1 + nv) * k;
+      if (entry[0] == partner) {
+        for (int v = 0; v < nv; v++) hv[v] = entry[1 + v];
+        break;
+      }
+    }
+  }
+
+  double fc[3], ta[3], tb[3];
+  const double energy = griddem_pair_contact(m, ch->type[a], ch->type[b], &c, cx->dt,
+                                             cx->history_update, hv, fc, ta, tb);
+  if (nv) {
+    int ok = history_append(cx->hist, nv, ia, ch->tag[b], hv, NULL);
+    if (ok && b_owned) ok = history_append(cx->hist, nv, ib, ch->tag[a], hv, m->history_parity);
+    if (!ok) record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ia, ib);
+  }
+
+  ch->fx[a] += fc[0], ch->fy[a] += fc[1], ch->fz[a] += fc[2];
+  ch->tx[a] += ta[0], ch->ty[a] += ta[1], ch->tz[a] += ta[2];
+  ch->ncontact[a]++;
+  if (b_owned) {
+    ch->fx[b] -= fc[0], ch->fy[b] -= fc[1], ch->fz[b] -= fc[2];
+    ch->tx[b] += tb[0], ch->ty[b] += tb[1], ch->tz[b] += tb[2];
+    ch->ncontact[b]++;
+  }
+
+  /* a pair shared with another process is tallied half here, half there */
+  const double share = b_owned ? 1.0 : 0.5;
+  const double w[6] = {c.delx * fc[0], c.dely * fc[1], c.delz * fc[2],
+                       c.delx * fc[1], c.delx * fc[2], c.dely * fc[2]};
+  for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
+  sums->energy += share * energy;
+  if (cx->vatom) {
+    double *va = cx->vatom + 6 * (size_t) ia;
+    for (int k = 0; k < 6; k++) va[k] += 0.5 * w[k];
+    if (b_owned) {
+      double *vb = cx->vatom + 6 * (size_t) ib;
+      for (int k = 0; k < 6; k++) vb[k] += 0.5 * w[k];
+    }
+  }
+}
+
+#define CANDIDATE_BLOCK 64
+
+/* All pairs (s, t > s) of slot s in contact, found over the forward half of its stencil. */
+static void sweep_slot(const sweep_context *cx, sweep_sums *sums, int s)
+{
+  const griddem_grid *g = cx->g;
+  const griddem_channels *ch = cx->ch;
+  const int *start = cx->b->cell_start;
+  const int *order = cx->b->order;
+  const int s_owned = order[s] < cx->nlocal;
+  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
+  const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s];
+  const double cut = (radi + cx->cut_extra) * (1.0 + 1e-9) + 1e-9 * g->h;
+  const double cut2 = cut * cut;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0;
-  double energy = 0.0;
-  long contacts = 0;
-  int most = 0;
+  const long cell = cx->b->cell[order[s]];
+  const int czs = (int) (cell / nxy), cys = (int) ((cell % nxy) / nx);
+  const int cz1 = clamp_cell(g, 2, zi + cut);
+  const int cy0 = clamp_cell(g, 1, yi - cut), cy1 = clamp_cell(g, 1, yi + cut);
+  int hits[CANDIDATE_BLOCK];
 
-  memset(result, 0, sizeof(*result));
-
-#pragma omp parallel reduction(+ : v0, v1, v2, v3, v4, v5, energy, contacts) reduction(max : most)
-  {
-    /* this particle's new history, built while its old one is still read */
-    double *fresh = use_history ? (double *) malloc(sizeof(double) * 4 * (size_t) slots) : NULL;
-
-#pragma omp for schedule(dynamic, 256)
-    for (int s = 0; s < b->n; s++) {
-      const int i = order[s];
-      if (i >= nlocal) continue;
-      const double xi = ch->x[s], yi = ch->y[s], zi = ch->z[s], radi = ch->rad[s];
-      const double cut = (radi + cut_extra) * (1.0 + 1e-9) + 1e-9 * g->h;
-      const double cut2 = cut * cut;
-      double *row = use_history ? hist->rows + (size_t) i * hist->stride : NULL;
-      const int nold = use_history ? (int) row[0] : 0;
-      int nnew = 0;
-      double fx = 0.0, fy = 0.0, fz = 0.0, tx = 0.0, ty = 0.0, tz = 0.0;
-      double w0 = 0.0, w1 = 0.0, w2 = 0.0, w3 = 0.0, w4 = 0.0, w5 = 0.0;
-      int ncontact = 0;
-
-      const int cz0 = clamp_cell(g, 2, zi - cut);
-      const int cz1 = clamp_cell(g, 2, zi + cut);
-      const int cy0 = clamp_cell(g, 1, yi - cut);
-      const int cy1 = clamp_cell(g, 1, yi + cut);
-      for (int cz = cz0; cz <= cz1; cz++) {
-        const double gz = slab_gap(zi, g->lo[2], g->h, cz);
-        for (int cy = cy0; cy <= cy1; cy++) {
-          const double gy = slab_gap(yi, g->lo[1], g->h, cy);
-          const double g2 = gy * gy + gz * gz;
-          if (g2 > cut2) continue;
-          const double ext = sqrt(cut2 - g2);
-          const long rowcell = nx * cy + nxy * cz;
-          const int jbegin = start[rowcell + clamp_cell(g, 0, xi - ext)];
-          const int jend = start[rowcell + clamp_cell(g, 0, xi + ext) + 1];
-          for (int t = jbegin; t < jend; t++) {
-            const double delx = xi - ch->x[t], dely = yi - ch->y[t], delz = zi - ch->z[t];
-            const double rsq = delx * delx + dely * dely + delz * delz;
-            const double radsum = radi + ch->rad[t];
-            if (rsq >= radsum * radsum || t == s) continue;
-            if (rsq == 0.0) {
-              record_fault(result, GRIDDEM_FAULT_COINCIDENT, i, order[t]);
-              continue;
-            }
-            griddem_contact_in c;
-            c.delx = delx, c.dely = dely, c.delz = delz, c.rsq = rsq;
-            c.radi = radi, c.radj = ch->rad[t];
-            c.vr1 = ch->vx[s] - ch->vx[t];
-            c.vr2 = ch->vy[s] - ch->vy[t];
-            c.vr3 = ch->vz[s] - ch->vz[t];
-            c.wi1 = ch->wx[s], c.wi2 = ch->wy[s], c.wi3 = ch->wz[s];
-            c.wj1 = ch->wx[t], c.wj2 = ch->wy[t], c.wj3 = ch->wz[t];
-            c.meff = griddem_effective_mass(ch->mass[s], ch->mass[t], ch->frozen[s], ch->frozen[t]);
-
-            double shear[3] = {0.0, 0.0, 0.0};
-            if (use_history) {
-              const double partner = (double) ch->tag[t];
-              for (int k = 0; k < nold; k++)
-                if (row[1 + 4 * k] == partner) {
-                  shear[0] = row[2 + 4 * k], shear[1] = row[3 + 4 * k], shear[2] = row[4 + 4 * k];
-                  break;
-                }
-            }
-            double fc[3], tor[3];
-            griddem_hooke_contact(params, &c, dt, shearupdate, shear, fc, tor);
-            if (use_history) {
-              if (nnew == slots) {
-                record_fault(result, GRIDDEM_FAULT_HISTORY_FULL, i, order[t]);
-              } else {
-                double *slot = fresh + 4 * nnew++;
-                slot[0] = (double) ch->tag[t];
-                slot[1] = shear[0], slot[2] = shear[1], slot[3] = shear[2];
-              }
-            }
-            ncontact++;
-            /* half of the pair's spring energy from each side */
-            const double overlap = radsum - sqrt(rsq);
-            energy += 0.25 * (params->kn * overlap * overlap +
-                              params->kt * (shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]));
-            fx += fc[0], fy += fc[1], fz += fc[2];
-            tx -= radi * tor[0], ty -= radi * tor[1], tz -= radi * tor[2];
-            if (want_virial || vatom) {
-              w0 += 0.5 * delx * fc[0], w1 += 0.5 * dely * fc[1], w2 += 0.5 * delz * fc[2];
-              w3 += 0.5 * delx * fc[1], w4 += 0.5 * delx * fc[2], w5 += 0.5 * dely * fc[2];
-            }
-          }
+  for (int cz = czs; cz <= cz1; cz++) {
+    const double gz = slab_gap(zi, g->lo[2], g->h, cz);
+    for (int cy = (cz == czs ? cys : cy0); cy <= cy1; cy++) {
+      const double gy = slab_gap(yi, g->lo[1], g->h, cy);
+      const double g2 = gy * gy + gz * gz;
+      if (g2 > cut2) continue;
+      const double ext = sqrt(cut2 - g2);
+      const long rowcell = nx * cy + nxy * cz;
+      int jbegin = start[rowcell + clamp_cell(g, 0, xi - ext)];
+      const int jend = start[rowcell + clamp_cell(g, 0, xi + ext) + 1];
+      if (cz == czs && cy == cys && jbegin <= s) jbegin = s + 1;
+      /* branch-free distance test over a block of candidates, then the few that touch */
+      for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK) {
+        const int t1 = t0 + CANDIDATE_BLOCK < jend ? t0 + CANDIDATE_BLOCK : jend;
+        int nhit = 0;
+        for (int t = t0; t < t1; t++) {
+          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
+          const double rs = radi + R[t];
+          hits[nhit] = t;
+          nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
+        }
+        for (int k = 0; k < nhit; k++) {
+          const int t = hits[k];
+          const int t_owned = order[t] < cx->nlocal;
+          if (!s_owned && !t_owned) continue;
+          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
+          const double rsq = dx * dx + dy * dy + dz * dz;
+          if (s_owned) sweep_pair(cx, sums, s, t, rsq);
+          else sweep_pair(cx, sums, t, s, rsq);
         }
       }
-      f[3 * i] += fx, f[3 * i + 1] += fy, f[3 * i + 2] += fz;
-      torque[3 * i] += tx, torque[3 * i + 1] += ty, torque[3 * i + 2] += tz;
-      if (vatom) {
-        double *va = vatom + 6 * (size_t) i;
-        va[0] += w0, va[1] += w1, va[2] += w2, va[3] += w3, va[4] += w4, va[5] += w5;
-      }
-      v0 += w0, v1 += w1, v2 += w2, v3 += w3, v4 += w4, v5 += w5;
-      if (use_history) {
-        row[0] = (double) nnew;
-        memcpy(row + 1, fresh, sizeof(double) * 4 * (size_t) nnew);
-      }
-      contacts += ncontact;
-      if (ncontact > most) most = ncontact;
     }
-    free(fresh);
+  }
+}
+
+int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
+                  double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
+                  double dt, int history_update, griddem_history *hist, double *f, double *torque,
+                  double *vatom, griddem_sweep_result *result)
+{
+  const sweep_context cx = {g, b, ch, nlocal, cut_extra, model,
+                            (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,
+                            dt, history_update, hist, vatom, result};
+  const long nxy = (long) g->n[0] * g->n[1];
+  memset(result, 0, sizeof(*result));
+  if (model->history_size)
+    for (int i = 0; i < nlocal; i++) hist->next[(size_t) i * hist->stride] = 0.0;
+
+  /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
+  const double cutmax = 2.0 * cut_extra * (1.0 + 1e-9) + 1e-9 * g->h;
+  const int reach = (int) ceil(cutmax * g->hinv) + 1;
+  int nthreads = 1;
+#ifdef _OPENMP
+  nthreads = omp_get_max_threads();
+#endif
+  int thick = g->n[2];
+  if (nthreads > 1) {
+    thick = g->n[2] / (4 * nthreads);
+    if (thick < reach) thick = reach;
+  }
+  const int nslab = (g->n[2] + thick - 1) / thick;
+
+  double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
+  for (int colour = 0; colour < 2; colour++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
+    for (int k = colour; k < nslab; k += 2) {
+      sweep_sums sums;
+      memset(&sums, 0, sizeof(sums));
+      const int zlo = k * thick, zhi = (k + 1) * thick < g->n[2] ? (k + 1) * thick : g->n[2];
+      const int sbegin = b->cell_start[zlo * nxy], send = b->cell_start[zhi * nxy];
+      for (int s = sbegin; s < send; s++) sweep_slot(&cx, &sums, s);
+      v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
+      v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
+      energy += sums.energy;
+    }
+  }
+
+  long contacts = 0;
+  int most = 0;
+  for (int s = 0; s < b->n; s++) {
+    const int i = b->order[s];
+    if (i >= nlocal) continue;
+    f[3 * i] += ch->fx[s], f[3 * i + 1] += ch->fy[s], f[3 * i + 2] += ch->fz[s];
+    torque[3 * i] += ch->tx[s], torque[3 * i + 1] += ch->ty[s], torque[3 * i + 2] += ch->tz[s];
+    contacts += ch->ncontact[s];
+    if (ch->ncontact[s] > most) most = ch->ncontact[s];
   }
   result->virial[0] = v0, result->virial[1] = v1, result->virial[2] = v2;
   result->virial[3] = v3, result->virial[4] = v4, result->virial[5] = v5;

@@ -1,7 +1,8 @@
-/* GRIDDEM stencil sweep on the CPU: gather form (each owned particle sums the forces its
- * neighbours exert on it, newton off), so threads never write the same particle and need no
- * atomics. Contacts are found by scanning, per stencil row, the contiguous slot range of the
- * row's cells that can hold a centre within contact distance. */
+/* GRIDDEM stencil sweep on the CPU. Contacts are found by scanning, per stencil row, the
+ * contiguous slot range of the row's cells that can hold a centre within contact distance; only
+ * the forward half of the stencil in sorted order is visited, so each pair is evaluated once.
+ * Threads take slabs of cell layers along z in two colours (a slab's pairs reach at most the
+ * next slab), so no two threads write the same particle and no atomics are needed. */
 #ifndef GRIDDEM_SWEEP_H
 #define GRIDDEM_SWEEP_H
 
@@ -15,36 +16,50 @@ extern "C" {
 #endif
 
 /* Particles as the host code stores them: owned first (nlocal), then ghosts, up to nall;
- * vectors are interleaved xyz. tag is 32- or 64-bit per tag_bytes; frozen may be NULL. */
+ * vectors are interleaved xyz. tag is 32- or 64-bit per tag_bytes; type is 1-based. */
 typedef struct griddem_particles {
   int nlocal, nall;
   const double *x, *v, *omega, *radius, *rmass;
   const void *tag;
   int tag_bytes;
-  const int *mask;   /* with frozen_bit: mask & frozen_bit marks a frozen particle; may be NULL */
-  int frozen_bit;
+  const int *type;
+  const int *mask;   /* group bits */
+  int frozen_bit;    /* mask & frozen_bit marks a frozen particle (infinite mass); 0: none */
 } griddem_particles;
 
-/* Sorted structure-of-arrays copy of the particles (the channels). */
+/* Sorted structure-of-arrays copy of the particles (the channels), and the per-slot force and
+ * torque accumulators the sweep fills. */
 typedef struct griddem_channels {
   int n, cap;
   double *x, *y, *z, *vx, *vy, *vz, *wx, *wy, *wz, *rad, *mass;
+  double *fx, *fy, *fz, *tx, *ty, *tz;
   int64_t *tag;
+  int *type, *mask;
+  int *ncontact;
   unsigned char *frozen;
 } griddem_channels;
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);
 void griddem_channels_free(griddem_channels *ch);
 
-/* Per-owned-particle contact history: row i (stride doubles) holds
- * [count, (partner tag, shear x, shear y, shear z) x slots]. */
+/* Per-owned-particle contact history, double-buffered: the sweep reads row i of rows and writes
+ * row i of next, each [count, (partner tag, value_1 .. value_nv) x slots] with nv the model's
+ * history_size; the caller swaps the buffers afterwards. */
 typedef struct griddem_history {
-  double *rows;
+  double *rows, *next;
   int stride;
   int slots;
 } griddem_history;
 
-#define GRIDDEM_HISTORY_STRIDE(slots) (1 + 4 * (slots))
+#define GRIDDEM_HISTORY_STRIDE(slots, values) (1 + (1 + (values)) * (slots))
+
+/* Pairs that must not interact (LAMMPS neigh_modify exclude type / group). */
+typedef struct griddem_exclusions {
+  const unsigned char *type_pair; /* NULL or [(ntypes+1)^2] */
+  int ntypes;
+  int ngroup_pairs;
+  const int *group_bits;          /* [2*ngroup_pairs]: (bit1, bit2) per excluded pair of groups */
+} griddem_exclusions;
 
 enum griddem_fault {
   GRIDDEM_FAULT_NONE = 0,
@@ -53,22 +68,23 @@ enum griddem_fault {
 };
 
 typedef struct griddem_sweep_result {
-  double virial[6];    /* xx yy zz xy xz yz, half of each pair from each side */
-  double energy;       /* elastic energy stored in the contacts' springs (normal and shear) */
-  long contacts;       /* pair contacts seen from owned particles */
+  double virial[6];    /* xx yy zz xy xz yz; a pair with one owned atom counts half */
+  double energy;       /* elastic energy stored in the contacts' springs, counted as the virial */
+  long contacts;       /* contacts summed over owned particles (an owned pair counts twice) */
   int max_contacts;    /* most contacts of one owned particle */
   int fault;           /* enum griddem_fault; the first one met */
   int fault_i, fault_j;/* original indices of the particles involved */
 } griddem_sweep_result;
 
-/* One sweep. Adds forces and torques of owned particles into f and torque (3*nlocal), and
- * 0.5*del*f of each contact into vatom (6*nlocal) if not NULL. cut_extra is the largest radius
- * any partner can have (contact distance of i is radius_i + cut_extra). hist may be NULL unless
- * params->tangential is GRIDDEM_TANGENTIAL_HISTORY. Returns result->fault. */
-int griddem_sweep(const griddem_grid *g, const griddem_bins *b, const griddem_channels *ch,
-                  int nlocal, double cut_extra, const griddem_hooke_params *params, double dt,
-                  int shearupdate, griddem_history *hist, double *f, double *torque, double *vatom,
-                  int want_virial, griddem_sweep_result *result);
+/* One sweep. Each pair in contact is evaluated once (half stencil in sorted order) and its force
+ * and torques go to whichever of its two particles are owned, so ghosts receive nothing (newton
+ * off across processes). Adds into f and torque (3*nlocal), and half of del*f of each contact into
+ * vatom (6*nlocal) if not NULL. cut_extra is the largest radius any partner can have. hist may be
+ * NULL if model->history_size is 0; excl may be NULL. Returns result->fault. */
+int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
+                  double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
+                  double dt, int history_update, griddem_history *hist, double *f, double *torque,
+                  double *vatom, griddem_sweep_result *result);
 
 #ifdef __cplusplus
 }

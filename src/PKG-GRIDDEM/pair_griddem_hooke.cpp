@@ -8,6 +8,5 @@ using namespace LAMMPS_NS;
 
 PairGriddemHooke::PairGriddemHooke(LAMMPS *lmp) : PairGriddemHookeHistory(lmp)
 {
-  history = 0;
-  params.tangential = GRIDDEM_TANGENTIAL_DAMPED;
+  set_tangential(GRIDDEM_TANGENTIAL_DAMPED);
 }
