@@ -167,7 +167,10 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
   if (count > slots)
     error->one(FLERR, "Fix griddem: atom {} has {} contacts in the restart file, more than contacts {}",
                atom->tag[nlocal], count, slots);
-  convert_row(record + 2, static_cast<int>(record[1]), history[nlocal], values);
+  // take the file's layout (the pair style, made later, converts it if its sub-models differ)
+  const int record_values = static_cast<int>(record[1]);
+  if (record_values != values) set_values(record_values);
+  convert_row(record + 2, record_values, history[nlocal], values);
 }
 
 int FixGriddem::size_restart(int nlocal)

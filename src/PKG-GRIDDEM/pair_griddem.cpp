@@ -11,6 +11,7 @@
 #include "error.h"
 #include "fix_griddem.h"
 #include "force.h"
+#include "group.h"
 #include "math_const.h"
 #include "memory.h"
 #include "modify.h"
@@ -128,9 +129,10 @@ void PairGriddem::setup_exclusions()
     excluded_types[a * n + b] = excluded_types[b * n + a] = 1;
   }
   excluded_groups.clear();
+  // group bits from the group indices: neighbor sets its own bits only after pair styles init
   for (int k = 0; k < neighbor->nex_group; k++) {
-    excluded_groups.push_back(neighbor->ex1_bit[k]);
-    excluded_groups.push_back(neighbor->ex2_bit[k]);
+    excluded_groups.push_back(group->bitmask[neighbor->ex1_group[k]]);
+    excluded_groups.push_back(group->bitmask[neighbor->ex2_group[k]]);
   }
   if (neighbor->nex_mol)
     error->all(FLERR, "Pair style {} does not support neigh_modify exclude molecule/inter or molecule/intra",

@@ -198,6 +198,7 @@ PairGriddemGranular::Spec PairGriddemGranular::mix(const Spec &a, const Spec &b,
                                          b.normal_coeffs[2]);
   m.limit_damping = MAX(a.limit_damping, b.limit_damping);
   m.cutoff = MAX(a.cutoff, b.cutoff);
+  m.mixed = 1;
   return m;
 }
 
@@ -207,7 +208,12 @@ griddem_granular_params PairGriddemGranular::to_params(const Spec &s)
   p.normal = s.normal == HOOKE ? GRIDDEM_NORMAL_HOOKE : GRIDDEM_NORMAL_HERTZ;
   p.kn = s.normal_coeffs[0];
   p.damp = s.normal_coeffs[1];
-  if (s.normal == HERTZ_MATERIAL) p.kn = 4.0 / 3.0 * s.normal_coeffs[0];
+  // hertz/material: k = 4/3 E_eff; one line's E and poisson describe both atoms of the pair
+  if (s.normal == HERTZ_MATERIAL)
+    p.kn = 4.0 / 3.0 *
+        (s.mixed ? s.normal_coeffs[0]
+                 : mix_stiffness_e(s.normal_coeffs[0], s.normal_coeffs[0], s.normal_coeffs[2],
+                                   s.normal_coeffs[2]));
   p.damping = s.damping;
   if (s.damping == GRIDDEM_DAMPING_TSUJI) {
     // Tsuji et al.'s fit of the damping ratio to the restitution coefficient, as pair granular

@@ -36,6 +36,7 @@ class PairGriddemGranular : public PairGriddem {
     int normal, damping, tangential, rolling, limit_damping;
     double normal_coeffs[3], tangential_coeffs[3], rolling_coeffs[3];
     double cutoff;    // < 0: from the radii
+    int mixed;        // coefficients mixed from two like-type lines (hertz/material's E is then E_eff)
   };
 
  protected:

@@ -111,12 +111,13 @@ def thermo_values(out, column):
 
 
 def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0, wscale=1.0,
-                         triclinic=None, lattice=None):
+                         triclinic=None, lattice=None, ntypes=1):
     """Random polydisperse spheres with random linear and angular velocities, dense enough that
     many overlap. box = (lx, ly, lz) from 0; triclinic = (xy, xz, yz) or None; lattice = spacing
-    of a simple cubic lattice to put the centres on (no overlaps if > 2 rmax) instead."""
+    of a simple cubic lattice to put the centres on (no overlaps if > 2 rmax) instead; atom i
+    gets type 1 + i % ntypes."""
     rng = random.Random(seed)
-    lines = ["GRIDDEM test configuration (seed %d)" % seed, "", "%d atoms" % n, "1 atom types", ""]
+    lines = ["GRIDDEM test configuration (seed %d)" % seed, "", "%d atoms" % n, "%d atom types" % ntypes, ""]
     lines += ["0 %.17g xlo xhi" % box[0], "0 %.17g ylo yhi" % box[1], "0 %.17g zlo zhi" % box[2]]
     if triclinic:
         lines.append("%.17g %.17g %.17g xy xz yz" % triclinic)
@@ -129,7 +130,7 @@ def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0
             x, y, z = ((i - 1) % m * lattice, (i - 1) // m % m * lattice, (i - 1) // (m * m) * lattice)
         else:
             x, y, z = (rng.uniform(0, box[d]) for d in range(3))
-        lines.append("%d 1 %.17g %.17g %.17g %.17g %.17g" % (i, 2 * r, density, x, y, z))
+        lines.append("%d %d %.17g %.17g %.17g %.17g %.17g" % (i, 1 + i % ntypes, 2 * r, density, x, y, z))
         vel.append("%d %s" % (i, " ".join("%.17g" % rng.uniform(-vscale, vscale) for _ in range(3)) + " " +
                                  " ".join("%.17g" % rng.uniform(-wscale, wscale) for _ in range(3))))
     with open(path, "w") as f:
