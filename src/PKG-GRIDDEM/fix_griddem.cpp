@@ -1,7 +1,7 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: fix griddem.
-   Holds the grid options, the per-atom tangential contact history (which migrates with its atom
-   between processes and is written to restart files) and the grid diagnostics as a global vector.
+   Holds the grid options, the per-atom contact history (which migrates with its atom between
+   processes and is written to restart files) and the grid diagnostics as a global vector.
 ------------------------------------------------------------------------- */
 
 #include "fix_griddem.h"
@@ -21,7 +21,7 @@ using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24), values(3),
-    history(nullptr), history_next(nullptr), stats()
+    rows(nullptr), row_of(nullptr), rows_used(0), rows_cap(0), stats(), next(nullptr), next_cap(0)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -60,15 +60,16 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
-  for (int i = 0; i < atom->nmax; i++) history[i][0] = 0.0;
+  for (int i = 0; i < atom->nmax; i++) row_of[i] = -1;
 }
 
 FixGriddem::~FixGriddem()
 {
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
-  memory->destroy(history);
-  memory->destroy(history_next);
+  memory->destroy(row_of);
+  memory->sfree(rows);
+  memory->sfree(next);
 }
 
 int FixGriddem::setmask()
@@ -78,8 +79,41 @@ int FixGriddem::setmask()
 
 void FixGriddem::grow_arrays(int nmax)
 {
-  memory->grow(history, nmax, stride, "griddem:history");
-  memory->grow(history_next, nmax, stride, "griddem:history_next");
+  memory->grow(row_of, nmax, "griddem:row_of");
+}
+
+const double *FixGriddem::row(int i) const
+{
+  static const double no_contacts = 0.0;
+  return row_of[i] >= 0 ? rows + (size_t) row_of[i] * stride : &no_contacts;
+}
+
+double *FixGriddem::append_row()
+{
+  if (rows_used == rows_cap) {
+    rows_cap = rows_cap + rows_cap / 2 + 64;
+    rows = (double *) memory->srealloc(rows, sizeof(double) * rows_cap * stride, "griddem:rows");
+  }
+  return rows + (size_t) stride * rows_used++;
+}
+
+double *FixGriddem::rows_next(int slots_next)
+{
+  if (slots_next > next_cap) {
+    next_cap = slots_next + slots_next / 4 + 64;
+    memory->sfree(next);
+    next = (double *) memory->smalloc(sizeof(double) * next_cap * stride, "griddem:next");
+  }
+  return next;
+}
+
+void FixGriddem::adopt_next(int nslot, const int *order, int nlocal)
+{
+  std::swap(rows, next);
+  std::swap(rows_cap, next_cap);
+  rows_used = nslot;
+  for (int s = 0; s < nslot; s++)
+    if (order[s] < nlocal) row_of[order[s]] = s;
 }
 
 /* Copy a row written with old_values per contact into one with values per contact: values kept
@@ -99,28 +133,31 @@ static void convert_row(const double *from, int old_values, double *to, int valu
 void FixGriddem::set_values(int nv)
 {
   if (nv == values) return;
-  const int old_values = values;
-  double **old = history;
+  const int old_values = values, old_stride = stride;
+  double *old = rows;
   values = nv;
   stride = GRIDDEM_HISTORY_STRIDE(slots, values);
-  history = nullptr;
-  memory->destroy(history_next);
-  grow_arrays(atom->nmax);
-  for (int i = 0; i < atom->nlocal; i++) convert_row(old[i], old_values, history[i], values);
-  memory->destroy(old);
-}
-
-void FixGriddem::swap_history()
-{
-  std::swap(history, history_next);
+  rows = nullptr;
+  rows_used = rows_cap = 0;
+  memory->sfree(next);
+  next = nullptr;
+  next_cap = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (row_of[i] < 0) continue;
+    const double *from = old + (size_t) row_of[i] * old_stride;
+    row_of[i] = rows_used;
+    convert_row(from, old_values, append_row(), values);
+  }
+  memory->sfree(old);
 }
 
 void FixGriddem::set_arrays(int i)
 {
-  history[i][0] = 0.0;
+  row_of[i] = -1;
 }
 
-// copies, exchange and restart carry only the entries in use: count, then (tag, values) per contact
+// copies move only the row index; exchange and restart carry the entries in use:
+// count, then (tag, values) per contact
 
 int FixGriddem::used_length(const double *row) const
 {
@@ -129,20 +166,21 @@ int FixGriddem::used_length(const double *row) const
 
 void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
 {
-  memcpy(history[j], history[i], sizeof(double) * used_length(history[i]));
+  row_of[j] = row_of[i];
 }
 
 int FixGriddem::pack_exchange(int i, double *buf)
 {
-  const int n = used_length(history[i]);
-  memcpy(buf, history[i], sizeof(double) * n);
+  const int n = used_length(row(i));
+  memcpy(buf, row(i), sizeof(double) * n);
   return n;
 }
 
 int FixGriddem::unpack_exchange(int nlocal, double *buf)
 {
   const int n = used_length(buf);
-  memcpy(history[nlocal], buf, sizeof(double) * n);
+  row_of[nlocal] = rows_used;
+  memcpy(append_row(), buf, sizeof(double) * n);
   return n;
 }
 
@@ -150,10 +188,10 @@ int FixGriddem::pack_restart(int i, double *buf)
 {
   // buf[0] counts the record including itself, as other fixes read it to skip this record;
   // buf[1] is the number of values per contact, so a run with other sub-models can read it
-  const int n = used_length(history[i]);
+  const int n = used_length(row(i));
   buf[0] = n + 2;
   buf[1] = values;
-  memcpy(buf + 2, history[i], sizeof(double) * n);
+  memcpy(buf + 2, row(i), sizeof(double) * n);
   return n + 2;
 }
 
@@ -170,12 +208,13 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
   // take the file's layout (the pair style, made later, converts it if its sub-models differ)
   const int record_values = static_cast<int>(record[1]);
   if (record_values != values) set_values(record_values);
-  convert_row(record + 2, record_values, history[nlocal], values);
+  row_of[nlocal] = rows_used;
+  convert_row(record + 2, record_values, append_row(), values);
 }
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return 2 + used_length(history[nlocal]);
+  return 2 + used_length(row(nlocal));
 }
 
 int FixGriddem::maxsize_restart()
@@ -185,7 +224,7 @@ int FixGriddem::maxsize_restart()
 
 double FixGriddem::memory_usage()
 {
-  return 2.0 * atom->nmax * stride * sizeof(double);
+  return (double) atom->nmax * sizeof(int) + (double) (rows_cap + next_cap) * stride * sizeof(double);
 }
 
 /* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,

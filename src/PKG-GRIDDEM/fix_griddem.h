@@ -35,17 +35,25 @@ class FixGriddem : public Fix {
 
   // the pair style's history layout; rows already stored are converted
   void set_values(int values);
-  // after a sweep has written history_next: make it the current history
-  void swap_history();
+  // the sweep's input: row index of each atom in rows (-1: no contacts), and the output buffer
+  // with one row per sorted slot, of which slots_next rows are needed
+  double *rows_next(int slots_next);
+  // after a sweep: the output becomes the history; order maps sorted slots to atoms
+  void adopt_next(int nslot, const int *order, int nlocal);
 
   // grid options (keywords cell and contacts)
   int cell_mode;        // enum griddem_cell_mode
   double cell_edge;     // for GRIDDEM_CELL_FIXED
   int slots;            // contact history entries per atom; 0: no history stored
   int values;           // history values per contact (3: tangential; 6: tangential and rolling)
-  int stride;           // doubles per atom row: 1 + (1 + values) * slots
-  double **history;     // [nmax][stride]: count, then (partner tag, values) per contact
-  double **history_next;// the sweep's output buffer, same layout
+  int stride;           // doubles per row: 1 + (1 + values) * slots
+
+  // Rows live in the order of the last sweep's sorted slots, so the sweep reads and writes them
+  // nearly sequentially; atoms only point at their row. Atoms arriving from another process or
+  // a restart file get rows appended after those.
+  double *rows;         // [rows_cap][stride]: count, then (partner tag, values) per contact
+  int *row_of;          // per atom: its row in rows, or -1
+  int rows_used, rows_cap;
 
   // this process's grid statistics of the last step, set by the pair style
   struct Stats {
@@ -54,7 +62,11 @@ class FixGriddem : public Fix {
   } stats;
 
  private:
+  double *next;
+  int next_cap;
   int used_length(const double *row) const;
+  const double *row(int i) const;
+  double *append_row();
 };
 
 }    // namespace LAMMPS_NS

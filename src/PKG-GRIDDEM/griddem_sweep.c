@@ -121,12 +121,12 @@ static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch
   return 0;
 }
 
-/* Append (partner, values) to row i of next, the values multiplied by parity unless it is NULL;
- * 0 if the row is full. */
-static int history_append(const griddem_history *h, int nv, int i, int64_t partner,
+/* Append (partner, values) to the next row of slot s, the values multiplied by parity unless it
+ * is NULL; 0 if the row is full. */
+static int history_append(const griddem_history *h, int nv, int s, int64_t partner,
                           const double *values, const double *parity)
 {
-  double *row = h->next + (size_t) i * h->stride;
+  double *row = h->next + (size_t) s * h->stride;
   const int count = (int) row[0];
   if (count == h->slots) return 0;
   double *entry = row + 1 + (size_t) (1 + nv) * count;
@@ -163,8 +163,8 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   c.meff = griddem_effective_mass(ch->mass[a], ch->mass[b], ch->frozen[a], ch->frozen[b]);
 
   double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  if (nv) {
-    const double *row = cx->hist->rows + (size_t) ia * cx->hist->stride;
+  if (nv && cx->hist->row_of[ia] >= 0) {
+    const double *row = cx->hist->rows + (size_t) cx->hist->row_of[ia] * cx->hist->stride;
     const int count = (int) row[0];
     const double partner = (double) ch->tag[b];
     for (int k = 0; k < count; k++) {
@@ -180,8 +180,8 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   const double energy = griddem_pair_contact(m, ch->type[a], ch->type[b], &c, cx->dt,
                                              cx->history_update, hv, fc, ta, tb);
   if (nv) {
-    int ok = history_append(cx->hist, nv, ia, ch->tag[b], hv, NULL);
-    if (ok && b_owned) ok = history_append(cx->hist, nv, ib, ch->tag[a], hv, m->history_parity);
+    int ok = history_append(cx->hist, nv, a, ch->tag[b], hv, NULL);
+    if (ok && b_owned) ok = history_append(cx->hist, nv, b, ch->tag[a], hv, m->history_parity);
     if (!ok) record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ia, ib);
   }
 
@@ -277,7 +277,8 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
   const long nxy = (long) g->n[0] * g->n[1];
   memset(result, 0, sizeof(*result));
   if (model->history_size)
-    for (int i = 0; i < nlocal; i++) hist->next[(size_t) i * hist->stride] = 0.0;
+    for (int s = 0; s < b->n; s++)
+      if (b->order[s] < nlocal) hist->next[(size_t) s * hist->stride] = 0.0;
 
   /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
   const double cutmax = 2.0 * cut_extra * (1.0 + 1e-9) + 1e-9 * g->h;

@@ -42,11 +42,15 @@ typedef struct griddem_channels {
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);
 void griddem_channels_free(griddem_channels *ch);
 
-/* Per-owned-particle contact history, double-buffered: the sweep reads row i of rows and writes
- * row i of next, each [count, (partner tag, value_1 .. value_nv) x slots] with nv the model's
- * history_size; the caller swaps the buffers afterwards. */
+/* Per-owned-particle contact history. The sweep reads particle i's row at rows + row_of[i]*stride
+ * (row_of[i] < 0: no contacts) and writes the row of the particle in sorted slot s at
+ * next + s*stride (rows of ghost slots stay unused), so that rows kept in last step's slot order
+ * are read and written nearly in sequence. Each row is
+ * [count, (partner tag, value_1 .. value_nv) x slots] with nv the model's history_size. */
 typedef struct griddem_history {
-  double *rows, *next;
+  const double *rows;
+  const int *row_of;
+  double *next;
   int stride;
   int slots;
 } griddem_history;

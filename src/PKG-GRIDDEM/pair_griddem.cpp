@@ -257,8 +257,9 @@ void PairGriddem::compute(int eflag, int vflag)
     error->one(FLERR, "Pair style {}: out of memory for {} atoms' channels", force->pair_style, nall);
 
   griddem_history hist;
-  hist.rows = fix->history ? fix->history[0] : nullptr;
-  hist.next = fix->history_next ? fix->history_next[0] : nullptr;
+  hist.rows = fix->rows;
+  hist.row_of = fix->row_of;
+  hist.next = model.history_size ? fix->rows_next(bins.n) : nullptr;
   hist.stride = fix->stride;
   hist.slots = fix->slots;
 
@@ -268,7 +269,7 @@ void PairGriddem::compute(int eflag, int vflag)
                 history_update, model.history_size ? &hist : nullptr, atom->f[0], atom->torque[0],
                 vflag_atom ? vatom[0] : nullptr, &result);
   if (result.fault != GRIDDEM_FAULT_NONE) report_fault(result);
-  if (model.history_size) fix->swap_history();
+  if (model.history_size) fix->adopt_next(bins.n, bins.order, nlocal);
 
   if (vflag_global)
     for (int k = 0; k < 6; k++) virial[k] += result.virial[k];

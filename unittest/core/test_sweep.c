@@ -97,9 +97,12 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
   griddem_exclusions excl = {excluded, 2, 0, NULL};
 
   const int stride = GRIDDEM_HISTORY_STRIDE(SLOTS, m->history_size);
+  /* rows in slot order, as fix griddem keeps them */
   double *rows = calloc((size_t) N * stride, sizeof(double));
   double *next = calloc((size_t) N * stride, sizeof(double));
-  griddem_history hist = {rows, next, stride, SLOTS};
+  int row_of[N];
+  for (int i = 0; i < N; i++) row_of[i] = -1;
+  griddem_history hist = {rows, row_of, next, stride, SLOTS};
   static double dense[GRIDDEM_MAX_HISTORY * N * N];
   memset(dense, 0, sizeof(dense));
 
@@ -112,8 +115,9 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
     griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, f, t, va, &res);
-    double *swap = hist.rows;
+    double *swap = (double *) hist.rows;
     hist.rows = hist.next, hist.next = swap;
+    for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
     all_pairs(m, excluded, dt, 1, dense, fr, tr, vr, &energy_ref, &contacts_ref);
     const char *law = m->law == GRIDDEM_LAW_HOOKE ? "hooke" : "granular";
     CHECK(res.fault == GRIDDEM_FAULT_NONE, "%s mode %d: fault %d", law, mode, res.fault);
@@ -138,7 +142,7 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
     /* history rows hold what the all-pairs evaluation holds for each ordered pair */
     double herr = 0.0, hscale = 0.0;
     for (int i = 0; i < N; i++) {
-      const double *row = hist.rows + (size_t) i * stride;
+      const double *row = hist.rows + (size_t) row_of[i] * stride;
       for (int k = 0; k < (int) row[0]; k++) {
         const double *e = row + 1 + (1 + m->history_size) * k;
         int j = 0;
@@ -189,7 +193,8 @@ static void check_faults(void)
   griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0};
   double rows[3 * GRIDDEM_HISTORY_STRIDE(4, 3)] = {0}, next[3 * GRIDDEM_HISTORY_STRIDE(4, 3)] = {0};
   double f[9] = {0}, t[9] = {0};
-  griddem_history hist = {rows, next, GRIDDEM_HISTORY_STRIDE(4, 3), 4};
+  int row_of[3] = {-1, -1, -1};
+  griddem_history hist = {rows, row_of, next, GRIDDEM_HISTORY_STRIDE(4, 3), 4};
   griddem_sweep_result res;
 
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
