@@ -9,6 +9,7 @@
 #include "atom.h"
 #include "error.h"
 #include "griddem_grid.h"
+#include "griddem_contact.h"
 #include "griddem_sweep.h"
 #include "memory.h"
 
@@ -20,8 +21,8 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24), values(3),
-    rows(nullptr), row_of(nullptr), rows_used(0), rows_cap(0), stats(), next(nullptr), next_cap(0)
+    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_EXACT), cell_edge(0.0), slots(24), hist(),
+    row_of(nullptr), stats()
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -48,7 +49,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
   }
-  stride = GRIDDEM_HISTORY_STRIDE(slots, values);
+  griddem_history_init(&hist, 3, slots);
 
   vector_flag = 1;
   size_vector = 7;
@@ -68,8 +69,7 @@ FixGriddem::~FixGriddem()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(row_of);
-  memory->sfree(rows);
-  memory->sfree(next);
+  griddem_history_free(&hist);
 }
 
 int FixGriddem::setmask()
@@ -82,73 +82,22 @@ void FixGriddem::grow_arrays(int nmax)
   memory->grow(row_of, nmax, "griddem:row_of");
 }
 
-const double *FixGriddem::row(int i) const
+void FixGriddem::adopt_rows(int nslot, const int *order, int nlocal)
 {
-  static const double no_contacts = 0.0;
-  return row_of[i] >= 0 ? rows + (size_t) row_of[i] * stride : &no_contacts;
-}
-
-double *FixGriddem::append_row()
-{
-  if (rows_used == rows_cap) {
-    rows_cap = rows_cap + rows_cap / 2 + 64;
-    rows = (double *) memory->srealloc(rows, sizeof(double) * rows_cap * stride, "griddem:rows");
-  }
-  return rows + (size_t) stride * rows_used++;
-}
-
-double *FixGriddem::rows_next(int slots_next)
-{
-  if (slots_next > next_cap) {
-    next_cap = slots_next + slots_next / 4 + 64;
-    memory->sfree(next);
-    next = (double *) memory->smalloc(sizeof(double) * next_cap * stride, "griddem:next");
-  }
-  return next;
-}
-
-void FixGriddem::adopt_next(int nslot, const int *order, int nlocal)
-{
-  std::swap(rows, next);
-  std::swap(rows_cap, next_cap);
-  rows_used = nslot;
   for (int s = 0; s < nslot; s++)
     if (order[s] < nlocal) row_of[order[s]] = s;
 }
 
-/* Copy a row written with old_values per contact into one with values per contact: values kept
-   up to the shorter length, the rest zero (a sub-model that was not in use starts from zero). */
-
-static void convert_row(const double *from, int old_values, double *to, int values)
+void FixGriddem::add_row(int i, int count, const double *entries, int values)
 {
-  const int count = static_cast<int>(from[0]);
-  to[0] = count;
-  for (int k = 0; k < count; k++) {
-    const double *a = from + 1 + (1 + old_values) * k;
-    double *b = to + 1 + (1 + values) * k;
-    for (int v = 0; v <= values; v++) b[v] = v <= old_values ? a[v] : 0.0;
-  }
+  row_of[i] = griddem_history_add_row(&hist, count, entries, values);
+  if (row_of[i] < 0) error->one(FLERR, "Fix griddem: out of memory for the contact history of atom {}", atom->tag[i]);
 }
 
 void FixGriddem::set_values(int nv)
 {
-  if (nv == values) return;
-  const int old_values = values, old_stride = stride;
-  double *old = rows;
-  values = nv;
-  stride = GRIDDEM_HISTORY_STRIDE(slots, values);
-  rows = nullptr;
-  rows_used = rows_cap = 0;
-  memory->sfree(next);
-  next = nullptr;
-  next_cap = 0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (row_of[i] < 0) continue;
-    const double *from = old + (size_t) row_of[i] * old_stride;
-    row_of[i] = rows_used;
-    convert_row(from, old_values, append_row(), values);
-  }
-  memory->sfree(old);
+  if (griddem_history_set_values(&hist, nv) != 0)
+    error->one(FLERR, "Fix griddem: out of memory converting the contact history to {} values per contact", nv);
 }
 
 void FixGriddem::set_arrays(int i)
@@ -156,13 +105,8 @@ void FixGriddem::set_arrays(int i)
   row_of[i] = -1;
 }
 
-// copies move only the row index; exchange and restart carry the entries in use:
-// count, then (tag, values) per contact
-
-int FixGriddem::used_length(const double *row) const
-{
-  return 1 + (1 + values) * static_cast<int>(row[0]);
-}
+// copies move only the row index; exchange and restart carry the row: count, then
+// (tag, values) per contact
 
 void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
 {
@@ -171,28 +115,31 @@ void FixGriddem::copy_arrays(int i, int j, int /*delflag*/)
 
 int FixGriddem::pack_exchange(int i, double *buf)
 {
-  const int n = used_length(row(i));
-  memcpy(buf, row(i), sizeof(double) * n);
-  return n;
+  const int count = griddem_history_count(&hist, row_of[i]);
+  const int n = count * GRIDDEM_HISTORY_ENTRY(hist.values);
+  buf[0] = count;
+  memcpy(buf + 1, griddem_history_row(&hist, row_of[i]), sizeof(double) * n);
+  return n + 1;
 }
 
 int FixGriddem::unpack_exchange(int nlocal, double *buf)
 {
-  const int n = used_length(buf);
-  row_of[nlocal] = rows_used;
-  memcpy(append_row(), buf, sizeof(double) * n);
-  return n;
+  const int count = static_cast<int>(buf[0]);
+  add_row(nlocal, count, buf + 1, hist.values);
+  return 1 + count * GRIDDEM_HISTORY_ENTRY(hist.values);
 }
 
 int FixGriddem::pack_restart(int i, double *buf)
 {
   // buf[0] counts the record including itself, as other fixes read it to skip this record;
   // buf[1] is the number of values per contact, so a run with other sub-models can read it
-  const int n = used_length(row(i));
-  buf[0] = n + 2;
-  buf[1] = values;
-  memcpy(buf + 2, row(i), sizeof(double) * n);
-  return n + 2;
+  const int count = griddem_history_count(&hist, row_of[i]);
+  const int n = count * GRIDDEM_HISTORY_ENTRY(hist.values);
+  buf[0] = n + 3;
+  buf[1] = hist.values;
+  buf[2] = count;
+  memcpy(buf + 3, griddem_history_row(&hist, row_of[i]), sizeof(double) * n);
+  return n + 3;
 }
 
 void FixGriddem::unpack_restart(int nlocal, int nth)
@@ -207,24 +154,25 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
                atom->tag[nlocal], count, slots);
   // take the file's layout (the pair style, made later, converts it if its sub-models differ)
   const int record_values = static_cast<int>(record[1]);
-  if (record_values != values) set_values(record_values);
-  row_of[nlocal] = rows_used;
-  convert_row(record + 2, record_values, append_row(), values);
+  if (record_values != hist.values) set_values(record_values);
+  add_row(nlocal, count, record + 3, record_values);
 }
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return 2 + used_length(row(nlocal));
+  return 3 + griddem_history_count(&hist, row_of[nlocal]) * GRIDDEM_HISTORY_ENTRY(hist.values);
 }
 
 int FixGriddem::maxsize_restart()
 {
-  return 2 + stride;
+  return 3 + slots * GRIDDEM_HISTORY_ENTRY(GRIDDEM_MAX_HISTORY);
 }
 
 double FixGriddem::memory_usage()
 {
-  return (double) atom->nmax * sizeof(int) + (double) (rows_cap + next_cap) * stride * sizeof(double);
+  return (double) atom->nmax * sizeof(int) +
+      (double) (hist.rows_cap + hist.next_rows_cap) * sizeof(long) +
+      (double) (hist.entries_cap + hist.next_entries_cap) * GRIDDEM_HISTORY_ENTRY(hist.values) * sizeof(double);
 }
 
 /* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,

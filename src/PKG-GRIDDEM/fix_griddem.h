@@ -12,6 +12,7 @@ FixStyle(griddem,FixGriddem);
 #define LMP_FIX_GRIDDEM_H
 
 #include "fix.h"
+#include "griddem_history.h"
 
 namespace LAMMPS_NS {
 
@@ -35,25 +36,19 @@ class FixGriddem : public Fix {
 
   // the pair style's history layout; rows already stored are converted
   void set_values(int values);
-  // the sweep's input: row index of each atom in rows (-1: no contacts), and the output buffer
-  // with one row per sorted slot, of which slots_next rows are needed
-  double *rows_next(int slots_next);
-  // after a sweep: the output becomes the history; order maps sorted slots to atoms
-  void adopt_next(int nslot, const int *order, int nlocal);
+  // after a sweep: the history's row of sorted slot s is s; order maps slots to atoms
+  void adopt_rows(int nslot, const int *order, int nlocal);
 
   // grid options (keywords cell and contacts)
   int cell_mode;        // enum griddem_cell_mode
   double cell_edge;     // for GRIDDEM_CELL_FIXED
-  int slots;            // contact history entries per atom; 0: no history stored
-  int values;           // history values per contact (3: tangential; 6: tangential and rolling)
-  int stride;           // doubles per row: 1 + (1 + values) * slots
+  int slots;            // most contacts one atom may keep history for; 0: no history
 
-  // Rows live in the order of the last sweep's sorted slots, so the sweep reads and writes them
-  // nearly sequentially; atoms only point at their row. Atoms arriving from another process or
-  // a restart file get rows appended after those.
-  double *rows;         // [rows_cap][stride]: count, then (partner tag, values) per contact
-  int *row_of;          // per atom: its row in rows, or -1
-  int rows_used, rows_cap;
+  // Contact history in compressed rows (see griddem_history.h), in the order of the last
+  // sweep's sorted slots; atoms point at their row. Atoms arriving from another process or a
+  // restart file get rows appended.
+  griddem_history hist;
+  int *row_of;          // per atom: its row, or -1
 
   // this process's grid statistics of the last step, set by the pair style
   struct Stats {
@@ -62,11 +57,7 @@ class FixGriddem : public Fix {
   } stats;
 
  private:
-  double *next;
-  int next_cap;
-  int used_length(const double *row) const;
-  const double *row(int i) const;
-  double *append_row();
+  void add_row(int i, int count, const double *entries, int values);
 };
 
 }    // namespace LAMMPS_NS

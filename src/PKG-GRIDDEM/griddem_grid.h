@@ -12,7 +12,7 @@ extern "C" {
 /* How the cell edge is chosen. */
 enum griddem_cell_mode {
   GRIDDEM_CELL_EXACT = 0, /* NN4DEM: edge d_min/sqrt(3), so a cell holds one centre unless overlapping */
-  GRIDDEM_CELL_MULTI = 1, /* edge = largest contact distance 2*r_max: 3^3 stencil, several per cell */
+  GRIDDEM_CELL_MULTI = 1, /* edge = largest contact distance 2*r_max (+1e-9): 3^3 stencil, several per cell */
   GRIDDEM_CELL_FIXED = 2  /* edge given by the user */
 };
 

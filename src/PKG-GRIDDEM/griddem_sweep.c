@@ -60,24 +60,6 @@ void griddem_channels_free(griddem_channels *ch)
   memset(ch, 0, sizeof(*ch));
 }
 
-/* Cell along axis d holding coordinate v, clamped to the grid; as griddem_cell_of. */
-static inline int clamp_cell(const griddem_grid *g, int d, double v)
-{
-  const double c = floor((v - g->anchor[d]) * g->hinv) - (double) g->k0[d];
-  if (c < 0.0) return 0;
-  if (c >= (double) g->n[d]) return g->n[d] - 1;
-  return (int) c;
-}
-
-/* Distance from coordinate v to the slab of cell c along one axis. */
-static inline double slab_gap(double v, double lo, double h, int c)
-{
-  const double a = lo + c * h;
-  if (v < a) return a - v;
-  if (v > a + h) return v - a - h;
-  return 0.0;
-}
-
 static void record_fault(griddem_sweep_result *r, int fault, int i, int j)
 {
 #pragma omp critical(griddem_fault)
@@ -100,6 +82,7 @@ typedef struct sweep_context {
   double dt;
   int history_update;
   griddem_history *hist;
+  const int *row_of;
   double *vatom;
   griddem_sweep_result *result;
 } sweep_context;
@@ -108,6 +91,7 @@ typedef struct sweep_context {
 typedef struct sweep_sums {
   double virial[6];
   double energy;
+  griddem_history_log *log;
 } sweep_sums;
 
 static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch, int a, int b)
@@ -119,21 +103,6 @@ static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch
       return 1;
   }
   return 0;
-}
-
-/* Append (partner, values) to the next row of slot s, the values multiplied by parity unless it
- * is NULL; 0 if the row is full. */
-static int history_append(const griddem_history *h, int nv, int s, int64_t partner,
-                          const double *values, const double *parity)
-{
-  double *row = h->next + (size_t) s * h->stride;
-  const int count = (int) row[0];
-  if (count == h->slots) return 0;
-  double *entry = row + 1 + (size_t) (1 + nv) * count;
-  entry[0] = (double) partner;
-  for (int k = 0; k < nv; k++) entry[1 + k] = parity ? parity[k] * values[k] : values[k];
-  row[0] = (double) (count + 1);
-  return 1;
 }
 
 /* Evaluate the contact of slots a and b (distance squared rsq, already known to touch) seen from
@@ -163,12 +132,13 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   c.meff = griddem_effective_mass(ch->mass[a], ch->mass[b], ch->frozen[a], ch->frozen[b]);
 
   double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  if (nv && cx->hist->row_of[ia] >= 0) {
-    const double *row = cx->hist->rows + (size_t) cx->hist->row_of[ia] * cx->hist->stride;
-    const int count = (int) row[0];
+  if (nv) {
+    const int row = cx->row_of[ia];
+    const int count = griddem_history_count(cx->hist, row);
+    const double *entries = griddem_history_row(cx->hist, row);
     const double partner = (double) ch->tag[b];
     for (int k = 0; k < count; k++) {
-      const double *entry = row + 1 + (size_t) (1 + nv) * k;
+      const double *entry = entries + (size_t) (1 + nv) * k;
       if (entry[0] == partner) {
         for (int v = 0; v < nv; v++) hv[v] = entry[1 + v];
         break;
@@ -180,9 +150,11 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   const double energy = griddem_pair_contact(m, ch->type[a], ch->type[b], &c, cx->dt,
                                              cx->history_update, hv, fc, ta, tb);
   if (nv) {
-    int ok = history_append(cx->hist, nv, a, ch->tag[b], hv, NULL);
-    if (ok && b_owned) ok = history_append(cx->hist, nv, b, ch->tag[a], hv, m->history_parity);
-    if (!ok) record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ia, ib);
+    if (ch->ncontact[a] == cx->hist->slots || (b_owned && ch->ncontact[b] == cx->hist->slots))
+      record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ch->ncontact[a] == cx->hist->slots ? ia : ib,
+                   ch->ncontact[a] == cx->hist->slots ? ib : ia);
+    if (griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
+      record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
   ch->fx[a] += fc[0], ch->fy[a] += fc[1], ch->fz[a] += fc[2];
@@ -210,38 +182,72 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   }
 }
 
+/* One row of the forward half stencil: cells (dx, dy, dz) for dx in [dxlo, dxhi]. */
+typedef struct stencil_row {
+  int dy, dz, dxlo, dxhi;
+} stencil_row;
+
+#define MAX_REACH GRIDDEM_MAX_REACH
+#define MAX_ROWS ((MAX_REACH + 1) * (2 * MAX_REACH + 1))
+
+/* Rows of cells that can hold a centre within cutmax of a centre in cell (0,0,0) and come after
+ * it in sorted order: the row (0,0) from the cell itself on, rows dy > 0 of layer dz = 0, and
+ * all rows of layers dz > 0; the corners are pruned by the smallest cell-to-cell distance. */
+static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows)
+{
+  const double h = g->h, c2 = cutmax * cutmax;
+  const int reach = (int) ceil(cutmax / h);
+  if (reach > MAX_REACH) return 0;
+  int n = 0;
+  for (int dz = 0; dz <= reach; dz++)
+    for (int dy = dz == 0 ? 0 : -reach; dy <= reach; dy++) {
+      const double gz = dz > 1 ? (dz - 1) * h : 0.0;
+      const double gy = abs(dy) > 1 ? (abs(dy) - 1) * h : 0.0;
+      const double g2 = gy * gy + gz * gz;
+      if (g2 >= c2) continue;
+      int dx = (int) ceil(sqrt(c2 - g2) / h);
+      if (dx > reach) dx = reach;
+      rows[n].dy = dy, rows[n].dz = dz;
+      rows[n].dxlo = (dy == 0 && dz == 0) ? 0 : -dx;
+      rows[n].dxhi = dx;
+      n++;
+    }
+  return n;
+}
+
 #define CANDIDATE_BLOCK 64
 
-/* All pairs (s, t > s) of slot s in contact, found over the forward half of its stencil. */
-static void sweep_slot(const sweep_context *cx, sweep_sums *sums, int s)
+/* Pairs (s, t) of the slots s in cell (cx,cy,cz) with the slots t > s of its forward stencil. */
+static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_row *rows,
+                       int nrows, int x, int y, int z)
 {
   const griddem_grid *g = cx->g;
   const griddem_channels *ch = cx->ch;
   const int *start = cx->b->cell_start;
   const int *order = cx->b->order;
-  const int s_owned = order[s] < cx->nlocal;
-  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
-  const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s];
-  const double cut = (radi + cx->cut_extra) * (1.0 + 1e-9) + 1e-9 * g->h;
-  const double cut2 = cut * cut;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  const long cell = cx->b->cell[order[s]];
-  const int czs = (int) (cell / nxy), cys = (int) ((cell % nxy) / nx);
-  const int cz1 = clamp_cell(g, 2, zi + cut);
-  const int cy0 = clamp_cell(g, 1, yi - cut), cy1 = clamp_cell(g, 1, yi + cut);
-  int hits[CANDIDATE_BLOCK];
+  const long cell = x + nx * y + nxy * z;
+  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
 
-  for (int cz = czs; cz <= cz1; cz++) {
-    const double gz = slab_gap(zi, g->lo[2], g->h, cz);
-    for (int cy = (cz == czs ? cys : cy0); cy <= cy1; cy++) {
-      const double gy = slab_gap(yi, g->lo[1], g->h, cy);
-      const double g2 = gy * gy + gz * gz;
-      if (g2 > cut2) continue;
-      const double ext = sqrt(cut2 - g2);
-      const long rowcell = nx * cy + nxy * cz;
-      int jbegin = start[rowcell + clamp_cell(g, 0, xi - ext)];
-      const int jend = start[rowcell + clamp_cell(g, 0, xi + ext) + 1];
-      if (cz == czs && cy == cys && jbegin <= s) jbegin = s + 1;
+  /* slot ranges of the stencil rows, shared by the cell's centres */
+  int lo[MAX_ROWS], hi[MAX_ROWS], nrange = 0;
+  for (int r = 0; r < nrows; r++) {
+    const int yy = y + rows[r].dy, zz = z + rows[r].dz;
+    if (yy < 0 || yy >= g->n[1] || zz >= g->n[2]) continue;
+    const int x0 = x + rows[r].dxlo < 0 ? 0 : x + rows[r].dxlo;
+    const int x1 = x + rows[r].dxhi >= g->n[0] ? g->n[0] - 1 : x + rows[r].dxhi;
+    const long rowcell = nx * yy + nxy * zz;
+    lo[nrange] = start[rowcell + x0];
+    hi[nrange] = start[rowcell + x1 + 1];
+    if (hi[nrange] > lo[nrange] || r == 0) nrange++;
+  }
+
+  int hits[CANDIDATE_BLOCK];
+  for (int s = start[cell]; s < start[cell + 1]; s++) {
+    const int s_owned = order[s] < cx->nlocal;
+    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s];
+    for (int k = 0; k < nrange; k++) {
+      const int jbegin = k == 0 ? s + 1 : lo[k], jend = hi[k];
       /* branch-free distance test over a block of candidates, then the few that touch */
       for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK) {
         const int t1 = t0 + CANDIDATE_BLOCK < jend ? t0 + CANDIDATE_BLOCK : jend;
@@ -252,8 +258,8 @@ static void sweep_slot(const sweep_context *cx, sweep_sums *sums, int s)
           hits[nhit] = t;
           nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
         }
-        for (int k = 0; k < nhit; k++) {
-          const int t = hits[k];
+        for (int q = 0; q < nhit; q++) {
+          const int t = hits[q];
           const int t_owned = order[t] < cx->nlocal;
           if (!s_owned && !t_owned) continue;
           const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
@@ -268,21 +274,28 @@ static void sweep_slot(const sweep_context *cx, sweep_sums *sums, int s)
 
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
                   double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
-                  double dt, int history_update, griddem_history *hist, double *f, double *torque,
-                  double *vatom, griddem_sweep_result *result)
+                  double dt, int history_update, griddem_history *hist, const int *row_of,
+                  double *f, double *torque, double *vatom, griddem_sweep_result *result)
 {
   const sweep_context cx = {g, b, ch, nlocal, cut_extra, model,
                             (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,
-                            dt, history_update, hist, vatom, result};
+                            dt, history_update, hist, row_of, vatom, result};
   const long nxy = (long) g->n[0] * g->n[1];
   memset(result, 0, sizeof(*result));
-  if (model->history_size)
-    for (int s = 0; s < b->n; s++)
-      if (b->order[s] < nlocal) hist->next[(size_t) s * hist->stride] = 0.0;
+
+  /* largest contact distance, with a margin for the rounding of coordinates into cells */
+  double extent = 0.0;
+  for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
+  const double cutmax = 2.0 * cut_extra * (1.0 + 1e-10) + 1e-14 * extent;
+  stencil_row rows[MAX_ROWS];
+  const int nrows = build_stencil(g, cutmax, rows);
+  if (nrows == 0) {
+    result->fault = GRIDDEM_FAULT_STENCIL;
+    return result->fault;
+  }
+  const int reach = rows[nrows - 1].dz;
 
   /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
-  const double cutmax = 2.0 * cut_extra * (1.0 + 1e-9) + 1e-9 * g->h;
-  const int reach = (int) ceil(cutmax * g->hinv) + 1;
   int nthreads = 1;
 #ifdef _OPENMP
   nthreads = omp_get_max_threads();
@@ -293,6 +306,10 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
     if (thick < reach) thick = reach;
   }
   const int nslab = (g->n[2] + thick - 1) / thick;
+  if (model->history_size && griddem_history_begin(hist, nthreads) != 0) {
+    result->fault = GRIDDEM_FAULT_MEMORY;
+    return result->fault;
+  }
 
   double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
   for (int colour = 0; colour < 2; colour++) {
@@ -300,14 +317,28 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
     for (int k = colour; k < nslab; k += 2) {
       sweep_sums sums;
       memset(&sums, 0, sizeof(sums));
+#ifdef _OPENMP
+      if (model->history_size) sums.log = &hist->logs[omp_get_thread_num()];
+#else
+      if (model->history_size) sums.log = &hist->logs[0];
+#endif
       const int zlo = k * thick, zhi = (k + 1) * thick < g->n[2] ? (k + 1) * thick : g->n[2];
-      const int sbegin = b->cell_start[zlo * nxy], send = b->cell_start[zhi * nxy];
-      for (int s = sbegin; s < send; s++) sweep_slot(&cx, &sums, s);
+      for (int z = zlo; z < zhi; z++)
+        for (int y = 0; y < g->n[1]; y++) {
+          const long row = (long) g->n[0] * y + nxy * z;
+          for (int x = 0; x < g->n[0]; x++)
+            if (b->cell_start[row + x + 1] > b->cell_start[row + x])
+              sweep_cell(&cx, &sums, rows, nrows, x, y, z);
+        }
       v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
       v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
       energy += sums.energy;
     }
   }
+
+  if (model->history_size &&
+      griddem_history_build(hist, b->n, ch->ncontact, ch->tag, model->history_parity) != 0)
+    record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
   long contacts = 0;
   int most = 0;

@@ -8,6 +8,7 @@
 
 #include "griddem_contact.h"
 #include "griddem_grid.h"
+#include "griddem_history.h"
 
 #include <stdint.h>
 
@@ -42,20 +43,6 @@ typedef struct griddem_channels {
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);
 void griddem_channels_free(griddem_channels *ch);
 
-/* Per-owned-particle contact history. The sweep reads particle i's row at rows + row_of[i]*stride
- * (row_of[i] < 0: no contacts) and writes the row of the particle in sorted slot s at
- * next + s*stride (rows of ghost slots stay unused), so that rows kept in last step's slot order
- * are read and written nearly in sequence. Each row is
- * [count, (partner tag, value_1 .. value_nv) x slots] with nv the model's history_size. */
-typedef struct griddem_history {
-  const double *rows;
-  const int *row_of;
-  double *next;
-  int stride;
-  int slots;
-} griddem_history;
-
-#define GRIDDEM_HISTORY_STRIDE(slots, values) (1 + (1 + (values)) * (slots))
 
 /* Pairs that must not interact (LAMMPS neigh_modify exclude type / group). */
 typedef struct griddem_exclusions {
@@ -68,8 +55,13 @@ typedef struct griddem_exclusions {
 enum griddem_fault {
   GRIDDEM_FAULT_NONE = 0,
   GRIDDEM_FAULT_COINCIDENT = 1,      /* two centres at distance 0 */
-  GRIDDEM_FAULT_HISTORY_FULL = 2     /* more contacts than history slots */
+  GRIDDEM_FAULT_HISTORY_FULL = 2,    /* more contacts than history slots */
+  GRIDDEM_FAULT_STENCIL = 3,         /* contact distance above GRIDDEM_MAX_REACH cell edges */
+  GRIDDEM_FAULT_MEMORY = 4           /* no memory for the history */
 };
+
+/* Most cells a stencil reaches on each side (exact mode handles radius ratios up to 1:18). */
+#define GRIDDEM_MAX_REACH 32
 
 typedef struct griddem_sweep_result {
   double virial[6];    /* xx yy zz xy xz yz; a pair with one owned atom counts half */
@@ -83,12 +75,14 @@ typedef struct griddem_sweep_result {
 /* One sweep. Each pair in contact is evaluated once (half stencil in sorted order) and its force
  * and torques go to whichever of its two particles are owned, so ghosts receive nothing (newton
  * off across processes). Adds into f and torque (3*nlocal), and half of del*f of each contact into
- * vatom (6*nlocal) if not NULL. cut_extra is the largest radius any partner can have. hist may be
- * NULL if model->history_size is 0; excl may be NULL. Returns result->fault. */
+ * vatom (6*nlocal) if not NULL. cut_extra is the largest radius any partner can have. If
+ * model->history_size > 0, particle i's history is row row_of[i] of hist (-1: none), and on return
+ * hist holds the new rows, the row of sorted slot s being s. excl may be NULL. Returns
+ * result->fault. */
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
                   double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
-                  double dt, int history_update, griddem_history *hist, double *f, double *torque,
-                  double *vatom, griddem_sweep_result *result);
+                  double dt, int history_update, griddem_history *hist, const int *row_of,
+                  double *f, double *torque, double *vatom, griddem_sweep_result *result);
 
 #ifdef __cplusplus
 }

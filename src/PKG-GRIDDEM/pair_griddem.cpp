@@ -208,6 +208,11 @@ void PairGriddem::report_fault(const griddem_sweep_result &r)
   if (r.fault == GRIDDEM_FAULT_COINCIDENT)
     error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
                force->pair_style, tag[i], tag[j], x[i][0], x[i][1], x[i][2]);
+  if (r.fault == GRIDDEM_FAULT_STENCIL)
+    error->all(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
+               force->pair_style, 2.0 * rmax, GRIDDEM_MAX_REACH, grid.h, rmax / rmin);
+  if (r.fault == GRIDDEM_FAULT_MEMORY)
+    error->one(FLERR, "Pair style {}: out of memory for the contact history", force->pair_style);
   if (r.fault == GRIDDEM_FAULT_HISTORY_FULL)
     error->one(FLERR, "Pair style {}: atom {} touches more than {} atoms (the last one {}); raise fix griddem contacts",
                force->pair_style, tag[i], fix->slots, tag[j]);
@@ -256,20 +261,13 @@ void PairGriddem::compute(int eflag, int vflag)
   if (griddem_channels_fill(&channels, &bins, &part) != 0)
     error->one(FLERR, "Pair style {}: out of memory for {} atoms' channels", force->pair_style, nall);
 
-  griddem_history hist;
-  hist.rows = fix->rows;
-  hist.row_of = fix->row_of;
-  hist.next = model.history_size ? fix->rows_next(bins.n) : nullptr;
-  hist.stride = fix->stride;
-  hist.slots = fix->slots;
-
   griddem_sweep_result result;
   const int history_update = update->setupflag ? 0 : 1;
   griddem_sweep(&grid, &bins, &channels, nlocal, rmax, &model, &exclusions, update->dt,
-                history_update, model.history_size ? &hist : nullptr, atom->f[0], atom->torque[0],
+                history_update, &fix->hist, fix->row_of, atom->f[0], atom->torque[0],
                 vflag_atom ? vatom[0] : nullptr, &result);
   if (result.fault != GRIDDEM_FAULT_NONE) report_fault(result);
-  if (model.history_size) fix->adopt_next(bins.n, bins.order, nlocal);
+  if (model.history_size) fix->adopt_rows(bins.n, bins.order, nlocal);
 
   if (vflag_global)
     for (int k = 0; k < 6; k++) virial[k] += result.virial[k];

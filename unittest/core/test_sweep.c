@@ -96,13 +96,10 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
   griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
   griddem_exclusions excl = {excluded, 2, 0, NULL};
 
-  const int stride = GRIDDEM_HISTORY_STRIDE(SLOTS, m->history_size);
-  /* rows in slot order, as fix griddem keeps them */
-  double *rows = calloc((size_t) N * stride, sizeof(double));
-  double *next = calloc((size_t) N * stride, sizeof(double));
+  griddem_history hist;
+  griddem_history_init(&hist, m->history_size, SLOTS);
   int row_of[N];
   for (int i = 0; i < N; i++) row_of[i] = -1;
-  griddem_history hist = {rows, row_of, next, stride, SLOTS};
   static double dense[GRIDDEM_MAX_HISTORY * N * N];
   memset(dense, 0, sizeof(dense));
 
@@ -114,9 +111,7 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va));
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
-    griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, f, t, va, &res);
-    double *swap = (double *) hist.rows;
-    hist.rows = hist.next, hist.next = swap;
+    griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, row_of, f, t, va, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
     all_pairs(m, excluded, dt, 1, dense, fr, tr, vr, &energy_ref, &contacts_ref);
     const char *law = m->law == GRIDDEM_LAW_HOOKE ? "hooke" : "granular";
@@ -142,9 +137,9 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
     /* history rows hold what the all-pairs evaluation holds for each ordered pair */
     double herr = 0.0, hscale = 0.0;
     for (int i = 0; i < N; i++) {
-      const double *row = hist.rows + (size_t) row_of[i] * stride;
-      for (int k = 0; k < (int) row[0]; k++) {
-        const double *e = row + 1 + (1 + m->history_size) * k;
+      const double *row = griddem_history_row(&hist, row_of[i]);
+      for (int k = 0; k < griddem_history_count(&hist, row_of[i]); k++) {
+        const double *e = row + (1 + m->history_size) * k;
         int j = 0;
         while (tag[j] != (int) e[0]) j++;
         for (int q = 0; q < m->history_size; q++) {
@@ -163,7 +158,7 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
       for (int d = 0; d < 3; d++) fsum[d] += f[3 * i + d];
     CHECK(max_abs(fsum, 3) <= 1e-11 * fscale, "%s mode %d: net force %g", law, mode, max_abs(fsum, 3));
   }
-  free(rows), free(next);
+  griddem_history_free(&hist);
   griddem_bins_free(&b);
   griddem_channels_free(&ch);
 }
@@ -191,30 +186,32 @@ static void check_faults(void)
   griddem_bins b = {0};
   griddem_channels ch = {0};
   griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0};
-  double rows[3 * GRIDDEM_HISTORY_STRIDE(4, 3)] = {0}, next[3 * GRIDDEM_HISTORY_STRIDE(4, 3)] = {0};
   double f[9] = {0}, t[9] = {0};
   int row_of[3] = {-1, -1, -1};
-  griddem_history hist = {rows, row_of, next, GRIDDEM_HISTORY_STRIDE(4, 3), 4};
+  griddem_history hist;
+  griddem_history_init(&hist, 3, 4);
   griddem_sweep_result res;
 
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, f, t, NULL, &res);
+  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
   CHECK(res.fault_i == 1 || res.fault_i == 2, "first particle of the coincident pair");
   CHECK(res.fault_j == 3 - res.fault_i, "second particle of the coincident pair");
   CHECK(!isnan(f[0]) && !isnan(f[3]), "no NaN forces");
 
   /* particle 0 touches both others but has one slot */
-  hist.slots = 1;
+  griddem_history_free(&hist);
+  griddem_history_init(&hist, 3, 1);
   px[3] = 1.5, px[4] = 0.0, px[5] = 0.0, px[6] = 0.0, px[7] = 1.5, px[8] = 0.0;
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, f, t, NULL, &res);
+  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, &res);
   CHECK(res.fault == GRIDDEM_FAULT_HISTORY_FULL && (res.fault_i == 0 || res.fault_j == 0),
         "history overflow reported for particle 0: fault %d i %d j %d", res.fault, res.fault_i, res.fault_j);
+  griddem_history_free(&hist);
   griddem_bins_free(&b);
   griddem_channels_free(&ch);
 }
