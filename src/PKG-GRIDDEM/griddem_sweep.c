@@ -1,4 +1,5 @@
 /* CPU stencil sweep; see griddem_sweep.h. */
+#define _POSIX_C_SOURCE 200112L /* posix_memalign */
 #include "griddem_sweep.h"
 
 #include <math.h>
@@ -8,23 +9,31 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define GROW(ptr, type, count) ((ptr) = (type *) realloc((ptr), sizeof(type) * (size_t) (count)))
+/* Cache-line aligned array of count elements of size bytes (contents not kept). */
+static int grow_aligned(void **ptr, size_t size, int count)
+{
+  free(*ptr);
+  *ptr = NULL;
+  return posix_memalign(ptr, 64, size * (size_t) count) == 0 ? 0 : -1;
+}
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p)
 {
   const int n = b->n;
   if (n > ch->cap) {
     const int cap = n + n / 4 + 16;
-    double **reals[] = {&ch->x,  &ch->y,  &ch->z,  &ch->vx, &ch->vy, &ch->vz, &ch->wx, &ch->wy, &ch->wz,
-                        &ch->rad, &ch->mass, &ch->fx, &ch->fy, &ch->fz, &ch->tx, &ch->ty, &ch->tz};
-    for (size_t k = 0; k < sizeof(reals) / sizeof(reals[0]); k++)
-      if (!GROW(*reals[k], double, cap)) return -1;
-    if (!GROW(ch->tag, int64_t, cap) || !GROW(ch->type, int, cap) || !GROW(ch->mask, int, cap) ||
-        !GROW(ch->ncontact, int, cap) || !GROW(ch->frozen, unsigned char, cap))
+    void **arrays[] = {(void **) &ch->x, (void **) &ch->y, (void **) &ch->z, (void **) &ch->rad,
+                       (void **) &ch->tag};
+    for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); k++)
+      if (grow_aligned(arrays[k], 8, cap) != 0) return -1;
+    if (grow_aligned((void **) &ch->state, sizeof(griddem_slot_state), cap) != 0 ||
+        grow_aligned((void **) &ch->sum, sizeof(griddem_slot_sum), cap) != 0 ||
+        grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
       return -1;
     ch->cap = cap;
   }
   ch->n = n;
+  ch->frozen_bit = p->frozen_bit;
   const int *tag32 = (const int *) p->tag;
   const int64_t *tag64 = (const int64_t *) p->tag;
 #pragma omp parallel for schedule(static)
@@ -33,19 +42,14 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     ch->x[s] = p->x[3 * i];
     ch->y[s] = p->x[3 * i + 1];
     ch->z[s] = p->x[3 * i + 2];
-    ch->vx[s] = p->v[3 * i];
-    ch->vy[s] = p->v[3 * i + 1];
-    ch->vz[s] = p->v[3 * i + 2];
-    ch->wx[s] = p->omega[3 * i];
-    ch->wy[s] = p->omega[3 * i + 1];
-    ch->wz[s] = p->omega[3 * i + 2];
     ch->rad[s] = p->radius[i];
-    ch->mass[s] = p->rmass[i];
+    griddem_slot_state *st = &ch->state[s];
+    for (int d = 0; d < 3; d++) st->v[d] = p->v[3 * i + d], st->w[d] = p->omega[3 * i + d];
+    st->mass = p->rmass[i];
+    st->type = p->type[i];
+    st->mask = p->mask[i];
     ch->tag[s] = p->tag_bytes == 8 ? tag64[i] : (int64_t) tag32[i];
-    ch->type[s] = p->type[i];
-    ch->mask[s] = p->mask[i];
-    ch->frozen[s] = (p->mask[i] & p->frozen_bit) ? 1 : 0;
-    ch->fx[s] = ch->fy[s] = ch->fz[s] = ch->tx[s] = ch->ty[s] = ch->tz[s] = 0.0;
+    memset(&ch->sum[s], 0, sizeof(griddem_slot_sum));
     ch->ncontact[s] = 0;
   }
   return 0;
@@ -53,10 +57,8 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  double *reals[] = {ch->x,  ch->y,  ch->z,  ch->vx, ch->vy, ch->vz, ch->wx, ch->wy, ch->wz,
-                     ch->rad, ch->mass, ch->fx, ch->fy, ch->fz, ch->tx, ch->ty, ch->tz};
-  for (size_t k = 0; k < sizeof(reals) / sizeof(reals[0]); k++) free(reals[k]);
-  free(ch->tag), free(ch->type), free(ch->mask), free(ch->ncontact), free(ch->frozen);
+  free(ch->x), free(ch->y), free(ch->z), free(ch->rad), free(ch->tag);
+  free(ch->state), free(ch->sum), free(ch->ncontact);
   memset(ch, 0, sizeof(*ch));
 }
 
@@ -96,11 +98,11 @@ typedef struct sweep_sums {
 
 static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch, int a, int b)
 {
-  if (e->type_pair && e->type_pair[ch->type[a] * (e->ntypes + 1) + ch->type[b]]) return 1;
+  const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
+  if (e->type_pair && e->type_pair[A->type * (e->ntypes + 1) + B->type]) return 1;
   for (int k = 0; k < e->ngroup_pairs; k++) {
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];
-    if (((ch->mask[a] & b1) && (ch->mask[b] & b2)) || ((ch->mask[a] & b2) && (ch->mask[b] & b1)))
-      return 1;
+    if (((A->mask & b1) && (B->mask & b2)) || ((A->mask & b2) && (B->mask & b1))) return 1;
   }
   return 0;
 }
@@ -122,14 +124,16 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   }
   if (cx->excl && excluded_pair(cx->excl, ch, a, b)) return;
 
+  const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
   griddem_contact_in c;
   c.delx = ch->x[a] - ch->x[b], c.dely = ch->y[a] - ch->y[b], c.delz = ch->z[a] - ch->z[b];
   c.rsq = rsq;
   c.radi = ch->rad[a], c.radj = ch->rad[b];
-  c.vr1 = ch->vx[a] - ch->vx[b], c.vr2 = ch->vy[a] - ch->vy[b], c.vr3 = ch->vz[a] - ch->vz[b];
-  c.wi1 = ch->wx[a], c.wi2 = ch->wy[a], c.wi3 = ch->wz[a];
-  c.wj1 = ch->wx[b], c.wj2 = ch->wy[b], c.wj3 = ch->wz[b];
-  c.meff = griddem_effective_mass(ch->mass[a], ch->mass[b], ch->frozen[a], ch->frozen[b]);
+  c.vr1 = A->v[0] - B->v[0], c.vr2 = A->v[1] - B->v[1], c.vr3 = A->v[2] - B->v[2];
+  c.wi1 = A->w[0], c.wi2 = A->w[1], c.wi3 = A->w[2];
+  c.wj1 = B->w[0], c.wj2 = B->w[1], c.wj3 = B->w[2];
+  c.meff = griddem_effective_mass(A->mass, B->mass, (A->mask & ch->frozen_bit) != 0,
+                                  (B->mask & ch->frozen_bit) != 0);
 
   double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   if (nv) {
@@ -147,7 +151,7 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   }
 
   double fc[3], ta[3], tb[3];
-  const double energy = griddem_pair_contact(m, ch->type[a], ch->type[b], &c, cx->dt,
+  const double energy = griddem_pair_contact(m, A->type, B->type, &c, cx->dt,
                                              cx->history_update, hv, fc, ta, tb);
   if (nv) {
     if (ch->ncontact[a] == cx->hist->slots || (b_owned && ch->ncontact[b] == cx->hist->slots))
@@ -157,12 +161,11 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
       record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
-  ch->fx[a] += fc[0], ch->fy[a] += fc[1], ch->fz[a] += fc[2];
-  ch->tx[a] += ta[0], ch->ty[a] += ta[1], ch->tz[a] += ta[2];
+  griddem_slot_sum *sa = &ch->sum[a], *sb = &ch->sum[b];
+  for (int d = 0; d < 3; d++) sa->f[d] += fc[d], sa->t[d] += ta[d];
   ch->ncontact[a]++;
   if (b_owned) {
-    ch->fx[b] -= fc[0], ch->fy[b] -= fc[1], ch->fz[b] -= fc[2];
-    ch->tx[b] += tb[0], ch->ty[b] += tb[1], ch->tz[b] += tb[2];
+    for (int d = 0; d < 3; d++) sb->f[d] -= fc[d], sb->t[d] += tb[d];
     ch->ncontact[b]++;
   }
 
@@ -217,6 +220,32 @@ static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows
 
 #define CANDIDATE_BLOCK 64
 
+/* Evaluate slot s's touching candidates hits[0 .. *nhit-1] and empty the list. The partners'
+ * state and sums are requested from memory first, so their loads overlap. */
+static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, const int *hits, int *nhit)
+{
+  const griddem_channels *ch = cx->ch;
+  const int *order = cx->b->order;
+#ifdef __GNUC__
+  for (int q = 0; q < *nhit; q++) {
+    __builtin_prefetch(&ch->state[hits[q]]);
+    __builtin_prefetch(&ch->sum[hits[q]], 1);
+  }
+#endif
+  const int s_owned = order[s] < cx->nlocal;
+  const double xi = ch->x[s], yi = ch->y[s], zi = ch->z[s];
+  for (int q = 0; q < *nhit; q++) {
+    const int t = hits[q];
+    const int t_owned = order[t] < cx->nlocal;
+    if (!s_owned && !t_owned) continue;
+    const double dx = xi - ch->x[t], dy = yi - ch->y[t], dz = zi - ch->z[t];
+    const double rsq = dx * dx + dy * dy + dz * dz;
+    if (s_owned) sweep_pair(cx, sums, s, t, rsq);
+    else sweep_pair(cx, sums, t, s, rsq);
+  }
+  *nhit = 0;
+}
+
 /* Pairs (s, t) of the slots s in cell (cx,cy,cz) with the slots t > s of its forward stencil. */
 static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_row *rows,
                        int nrows, int x, int y, int z)
@@ -224,7 +253,6 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
   const griddem_grid *g = cx->g;
   const griddem_channels *ch = cx->ch;
   const int *start = cx->b->cell_start;
-  const int *order = cx->b->order;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   const long cell = x + nx * y + nxy * z;
   const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
@@ -244,31 +272,23 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
 
   int hits[CANDIDATE_BLOCK];
   for (int s = start[cell]; s < start[cell + 1]; s++) {
-    const int s_owned = order[s] < cx->nlocal;
     const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s];
+    int nhit = 0;
     for (int k = 0; k < nrange; k++) {
       const int jbegin = k == 0 ? s + 1 : lo[k], jend = hi[k];
-      /* branch-free distance test over a block of candidates, then the few that touch */
-      for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK) {
-        const int t1 = t0 + CANDIDATE_BLOCK < jend ? t0 + CANDIDATE_BLOCK : jend;
-        int nhit = 0;
+      /* branch-free distance test over runs of candidates; the few that touch are collected */
+      for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK / 2) {
+        const int t1 = t0 + CANDIDATE_BLOCK / 2 < jend ? t0 + CANDIDATE_BLOCK / 2 : jend;
         for (int t = t0; t < t1; t++) {
           const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
           const double rs = radi + R[t];
           hits[nhit] = t;
           nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
         }
-        for (int q = 0; q < nhit; q++) {
-          const int t = hits[q];
-          const int t_owned = order[t] < cx->nlocal;
-          if (!s_owned && !t_owned) continue;
-          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
-          const double rsq = dx * dx + dy * dy + dz * dz;
-          if (s_owned) sweep_pair(cx, sums, s, t, rsq);
-          else sweep_pair(cx, sums, t, s, rsq);
-        }
+        if (nhit > CANDIDATE_BLOCK / 2) sweep_hits(cx, sums, s, hits, &nhit);
       }
     }
+    sweep_hits(cx, sums, s, hits, &nhit);
   }
 }
 
@@ -345,8 +365,7 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
   for (int s = 0; s < b->n; s++) {
     const int i = b->order[s];
     if (i >= nlocal) continue;
-    f[3 * i] += ch->fx[s], f[3 * i + 1] += ch->fy[s], f[3 * i + 2] += ch->fz[s];
-    torque[3 * i] += ch->tx[s], torque[3 * i + 1] += ch->ty[s], torque[3 * i + 2] += ch->tz[s];
+    for (int d = 0; d < 3; d++) f[3 * i + d] += ch->sum[s].f[d], torque[3 * i + d] += ch->sum[s].t[d];
     contacts += ch->ncontact[s];
     if (ch->ncontact[s] > most) most = ch->ncontact[s];
   }

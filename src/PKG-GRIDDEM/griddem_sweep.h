@@ -28,16 +28,28 @@ typedef struct griddem_particles {
   int frozen_bit;    /* mask & frozen_bit marks a frozen particle (infinite mass); 0: none */
 } griddem_particles;
 
-/* Sorted structure-of-arrays copy of the particles (the channels), and the per-slot force and
- * torque accumulators the sweep fills. */
+/* What a contact needs of a particle besides its position and radius, in one cache line: a pair
+ * found by the distance test then costs one line per particle, not one per quantity. */
+typedef struct griddem_slot_state {
+  double v[3], w[3], mass;
+  int type, mask;
+} griddem_slot_state;
+
+/* Force and torque summed on a particle during the sweep. */
+typedef struct griddem_slot_sum {
+  double f[3], t[3];
+} griddem_slot_sum;
+
+/* The particles in sorted order (the channels): positions and radii as structure of arrays,
+ * which the distance test reads in runs, the rest per particle. */
 typedef struct griddem_channels {
   int n, cap;
-  double *x, *y, *z, *vx, *vy, *vz, *wx, *wy, *wz, *rad, *mass;
-  double *fx, *fy, *fz, *tx, *ty, *tz;
+  int frozen_bit;              /* mask & frozen_bit: infinite mass */
+  double *x, *y, *z, *rad;
+  griddem_slot_state *state;
+  griddem_slot_sum *sum;
   int64_t *tag;
-  int *type, *mask;
   int *ncontact;
-  unsigned char *frozen;
 } griddem_channels;
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);

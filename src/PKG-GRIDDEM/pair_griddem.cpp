@@ -284,5 +284,6 @@ void PairGriddem::compute(int eflag, int vflag)
 double PairGriddem::memory_usage()
 {
   return (double) bins.ncell_cap * sizeof(int) + (double) bins.n_cap * (sizeof(int) + sizeof(long)) +
-      (double) channels.cap * (17 * sizeof(double) + sizeof(int64_t) + 3 * sizeof(int) + 1);
+      (double) channels.cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +
+                               sizeof(int64_t) + sizeof(int));
 }
