@@ -1,0 +1,74 @@
+"""The NN4DEM single-particle examples (examples/free-fall, examples/sliding) run as shipped and
+give the numbers they are about: apex heights of the bounces against the analytic e^2 per bounce
+(0.1%) and against stock pair granular (1e-8), the sliding distance against the solution for the
+curved floor (0.1%); each also against the reference log recorded in the example (1e-6)."""
+import math
+import os
+import shutil
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(HERE)), "examples")
+sys.path.insert(0, HERE)
+sys.path.insert(0, EXAMPLES)
+import griddem_testlib as t
+import exampletools as ex
+
+
+def run_example(name, wd, *variables):
+    src = os.path.join(EXAMPLES, name, "in." + name)
+    args = []
+    for var in variables:
+        args += ["-var"] + var.split()
+    with open(src) as f:
+        text = f.read()
+    rc, out = t.run_lmp(text, wd, name="in." + name, extra=args)
+    if rc != 0:
+        print(out[-3000:], file=sys.stderr)
+        raise SystemExit("example %s failed" % name)
+    return out
+
+
+def close(a, b, rel):
+    return abs(a - b) <= rel * abs(b)
+
+
+def free_fall(wd):
+    m = 2700 * 4.0 / 3.0 * math.pi * 0.05 ** 3
+    runs = {}
+    for label, eta, style in [("damped", 0.5, "griddem/granular"), ("undamped", 0.0, "griddem/granular"),
+                              ("stock", 0.5, "granular")]:
+        out = run_example("free-fall", wd, "eta %g" % eta, "style " + style)
+        runs[label] = ex.apexes(ex.thermo(out, "v_h"))
+        ref = ex.apexes(ex.thermo(os.path.join(EXAMPLES, "free-fall", "log.23Nov26.free-fall.%s.1" % label), "v_h"))
+        t.check(len(runs[label]) == 4 and len(ref) == 4, "free-fall %s: four bounces (%s)" % (label, runs[label]))
+        t.check(all(close(a, b, 1e-6) for a, b in zip(runs[label], ref)),
+                "free-fall %s: apexes %s match the reference log %s" % (label, runs[label], ref))
+        analytic = ex.bounce_apexes(0.95, 5e4, eta, m, 4)
+        t.check(all(close(a, b, 1e-3) for a, b in zip(runs[label], analytic)),
+                "free-fall %s: apexes %s, analytic %s" % (label, runs[label], analytic))
+    t.check(all(close(a, b, 1e-8) for a, b in zip(runs["damped"], runs["stock"])),
+            "free-fall: griddem/granular %s equals stock granular %s" % (runs["damped"], runs["stock"]))
+
+
+def sliding(wd):
+    out = run_example("sliding", wd)
+    x = ex.thermo(out, "v_x")[-1]
+    v = ex.thermo(out, "v_v")[-1]
+    ref = ex.thermo(os.path.join(EXAMPLES, "sliding", "log.23Nov26.sliding.1"), "v_x")[-1]
+    expected = ex.slide_on_sphere(1.414, 0.5, 9.81, 50.05)
+    t.check(abs(v) < 1e-3, "sliding: the ball stopped (v = %.3g m/s)" % v)
+    t.check(close(x, expected, 1e-3), "sliding: stopped after %.6f m, curved-floor solution %.6f m" % (x, expected))
+    t.check(close(x, ref, 1e-6), "sliding: %.6f m, reference log %.6f m" % (x, ref))
+    t.check(close(x, 1.414 ** 2 / (2 * 0.5 * 9.81), 0.01), "sliding: within 1%% of the flat-floor 0.2038 m (%.4f)" % x)
+
+
+def main():
+    wd = t.workdir()
+    free_fall(wd)
+    sliding(wd)
+    t.finish()
+
+
+if __name__ == "__main__":
+    main()
