@@ -8,5 +8,6 @@ using namespace LAMMPS_NS;
 
 PairGriddemHooke::PairGriddemHooke(LAMMPS *lmp) : PairGriddemHookeHistory(lmp)
 {
-  set_tangential(GRIDDEM_TANGENTIAL_DAMPED);
+  style_tangential = GRIDDEM_TANGENTIAL_DAMPED;
+  select_tangential();
 }

@@ -15,14 +15,23 @@
 
 using namespace LAMMPS_NS;
 
-PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) : PairGriddem(lmp), dampflag(1)
+PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
+    PairGriddem(lmp), dampflag(1), style_tangential(GRIDDEM_TANGENTIAL_HISTORY)
 {
   model.law = GRIDDEM_LAW_HOOKE;
-  set_tangential(GRIDDEM_TANGENTIAL_HISTORY);
+  select_tangential();
 }
 
-void PairGriddemHookeHistory::set_tangential(int tangential)
+/* The style's tangential model, unless its coefficients make the tangential force zero
+   (xmu = 0, or no tangential damping without history): then none is evaluated or stored,
+   so a scene without friction pays nothing for it. */
+
+void PairGriddemHookeHistory::select_tangential()
 {
+  int tangential = style_tangential;
+  if (model.hooke.xmu == 0.0 ||
+      (tangential == GRIDDEM_TANGENTIAL_DAMPED && model.hooke.gammat == 0.0))
+    tangential = GRIDDEM_TANGENTIAL_NONE;
   model.hooke.tangential = tangential;
   model.history_size = tangential == GRIDDEM_TANGENTIAL_HISTORY ? 3 : 0;
   for (int k = 0; k < 3; k++) model.history_parity[k] = -1.0;    // shear seen from j is -shear
@@ -63,7 +72,8 @@ void PairGriddemHookeHistory::settings(int narg, char **arg)
     error->all(FLERR, "Pair style {}: xmu must be in [0,10000], not {}", force->pair_style, arg[4]);
   if (dampflag < 0 || dampflag > 1)
     error->all(FLERR, "Pair style {}: dampflag must be 0 or 1, not {}", force->pair_style, arg[5]);
-  if (model.hooke.tangential == GRIDDEM_TANGENTIAL_HISTORY && model.hooke.kt == 0.0 && model.hooke.xmu > 0.0 && model.hooke.gammat > 0.0)
+  select_tangential();
+  if (model.hooke.tangential == GRIDDEM_TANGENTIAL_HISTORY && model.hooke.kt == 0.0 && model.hooke.gammat > 0.0)
     error->all(FLERR, "Pair style {}: Kt = 0 with tangential damping divides by Kt in the Coulomb cap",
                force->pair_style);
   create_default_fix();
@@ -142,4 +152,5 @@ void PairGriddemHookeHistory::read_restart_settings(FILE *fp)
   model.hooke.gammat = values[3], model.hooke.xmu = values[4];
   dampflag = flags[0];
   model.hooke.limit_damping = flags[1];
+  select_tangential();
 }

@@ -28,7 +28,8 @@ class PairGriddemHookeHistory : public PairGriddem {
 
  protected:
   int dampflag;
-  void set_tangential(int tangential);
+  int style_tangential;    // the style's tangential model, before select_tangential()
+  void select_tangential();
   double linear_normal_stiffness() override;
 };
 

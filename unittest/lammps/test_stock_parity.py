@@ -85,6 +85,13 @@ def main():
     compare("hooke multi", run(wd, "stock_h2", data, "gran/hooke " + hist),
             run(wd, "grid_h2", data, "griddem/hooke " + hist, "fix grid all griddem cell multi"))
 
+    # no friction: the tangential model is skipped (nothing stored, nothing evaluated)
+    nofric = "1e4 NULL 50 NULL 0.0 1"
+    compare("hooke/history xmu 0", run(wd, "stock_nf", data, "gran/hooke/history " + nofric),
+            run(wd, "grid_nf", data, "griddem/hooke/history " + nofric))
+    compare("hooke dampflag 0", run(wd, "stock_nd", data, "gran/hooke 1e4 NULL 50 NULL 0.5 0"),
+            run(wd, "grid_nd", data, "griddem/hooke 1e4 NULL 50 NULL 0.5 0"))
+
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
     t.finish()
