@@ -8,11 +8,12 @@ import argparse
 import datetime
 import json
 import os
-import platform
 import re
 import shutil
 import subprocess
 import tempfile
+
+import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
@@ -21,14 +22,6 @@ VARIANTS = [
     ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact"),
     ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi"),
 ]
-
-
-def cpu_name():
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return platform.processor()
 
 
 def main():
@@ -58,16 +51,12 @@ def main():
                 cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
             out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE,
                                  stderr=subprocess.STDOUT, universal_newlines=True).stdout
-            m = re.search(r"Loop time of ([0-9.e+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
-            if not m:
-                print(out[-3000:])
-                raise SystemExit("no loop time for %s on %d ranks" % (label, ranks))
-            loop, steps, atoms = float(m.group(1)), int(m.group(3)), int(m.group(4))
+            loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
             pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
             neigh_pct = re.search(r"^Neigh\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
             record = {
                 "date": datetime.date.today().isoformat(),
-                "device": "%s, %d cores" % (cpu_name(), os.cpu_count()),
+                "device": benchlib.device(),
                 "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks,
                 "style": label, "loop_s": loop,
                 "atom_steps_per_s": atoms * steps / loop,

@@ -16,10 +16,7 @@ results/tradeoff.jsonl, results/tradeoff.md and doc/tradeoff-<scene>.png."""
 import argparse
 import datetime
 import json
-import math
 import os
-import platform
-import re
 import shutil
 import subprocess
 import sys
@@ -33,6 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
 import griddem_testlib as t  # noqa: E402
+import benchlib  # noqa: E402
 
 # (label, pair style, tangential arguments replacing "xmu dampflag", fix griddem cell)
 HOOKE = "{kn} NULL {gn} NULL {xmu} 1"
@@ -52,6 +50,9 @@ COMMON_TAIL = """
 compute         ke all ke
 thermo_style    custom step atoms c_ke {extra_thermo}
 thermo_modify   format float %.12g norm no lost ignore
+thermo          {{every}}
+{{dump}}
+run             {{steps}}
 """
 
 
@@ -67,11 +68,7 @@ pair_coeff      * *
 {grid}
 timestep        2e-5
 fix             integrate all nve/sphere
-""" + COMMON_TAIL.format(extra_thermo="") + """
-thermo          {every}
-{dump}
-run             {steps}
-"""
+""" + COMMON_TAIL.format(extra_thermo="")
     return dict(name="dense", text=text.replace("{data}", data), kn=1e4, gn=50.0, xmu=0.5, steps=steps,
                 number="c_ke", number_label="kinetic energy left", force_probe=True)
 
@@ -98,11 +95,7 @@ variable        zcut equal 0.5*c_height
 variable        insidevol atom (z<v_zcut)*4.0/3.0*PI*radius^3
 compute         solid all reduce sum v_insidevol
 variable        phi equal c_solid/(lx*ly*v_zcut)
-""" + COMMON_TAIL.format(extra_thermo="v_phi") + """
-thermo          {every}
-{dump}
-run             {steps}
-"""
+""" + COMMON_TAIL.format(extra_thermo="v_phi")
     return dict(name="pour", text=text, kn=2000.0, gn=50.0, xmu=0.5, steps=steps, number="v_phi",
                 number_label="packing fraction of the lower bed", force_probe=False)
 
@@ -127,11 +120,7 @@ neigh_modify    exclude group bottom bottom
 fix             1 all gravity 1.0 chute 26.0
 fix             2 bottom freeze
 fix             3 active nve/sphere
-""" + COMMON_TAIL.format(extra_thermo="") + """
-thermo          {every}
-{dump}
-run             {steps}
-"""
+""" + COMMON_TAIL.format(extra_thermo="")
     return dict(name="chute", text=text, kn=200000.0, gn=50.0, xmu=0.5, steps=steps, number="c_ke",
                 number_label="kinetic energy after the run", force_probe=True)
 
@@ -158,11 +147,7 @@ pair_coeff      * *
 neighbor        0.3 bin
 timestep        0.0005
 fix             integrate all nve/sphere
-""" + COMMON_TAIL.format(extra_thermo="") + """
-thermo          {every}
-{dump}
-run             {steps}
-"""
+""" + COMMON_TAIL.format(extra_thermo="")
     return dict(name="cascade", text=text, kn=1e5, gn=20.0, xmu=0.3, steps=steps, number="c_ke",
                 number_label="kinetic energy left after the cascade", force_probe=False)
 
@@ -182,19 +167,8 @@ def run(scene, mode, wd, lmp, data_chute, dump_step):
         f.write(text)
     out = subprocess.run([lmp, "-in", "in.run", "-log", "none"], cwd=wd, env=env, stdout=subprocess.PIPE,
                          stderr=subprocess.STDOUT, universal_newlines=True).stdout
-    m = re.search(r"Loop time of ([0-9.e+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
-    if not m:
-        print(out[-3000:])
-        raise SystemExit("%s %s failed" % (scene["name"], label))
-    return out, float(m.group(1)), int(m.group(4))
-
-
-def cpu_name():
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return platform.processor()
+    loop, _, atoms = benchlib.loop_time(out, "%s %s" % (scene["name"], label))
+    return out, loop, atoms
 
 
 def main():
@@ -210,7 +184,7 @@ def main():
     scenes = [dense_scene(int(2000 * scale), dense_data), pour_scene(int(25000 * scale)),
               chute_scene(int(1000 * scale)), cascade_scene(int(4000 * scale))]
     data_chute = os.path.join(args.lammps_bench, "data.chute")
-    device = "%s, %d cores" % (cpu_name(), os.cpu_count())
+    device = benchlib.device()
     today = datetime.date.today().isoformat()
     records = []
     for scene in scenes:

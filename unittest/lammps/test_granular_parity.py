@@ -8,31 +8,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
-from test_stock_parity import compare
+from test_stock_parity import compare, run as parity_run
 
-TEMPLATE = """
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-read_data {data}
-pair_style {pair}
-pair_coeff 1 1 {coeff1}
-pair_coeff 2 2 {coeff2}
-{extra}
 # stock's list is built once: a pair keeps its i/j order, so its rolling history keeps its sign
-neighbor 0.3 bin
-neigh_modify every 1000 delay 0 check no
-timestep 1e-5
-fix integrate all nve/sphere
-compute virial all pressure NULL pair
-thermo_style custom step ke press c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6]
-thermo_modify format float %.17g
-thermo 10
-dump snap all custom 20 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
-dump_modify snap format float %.17g sort id
-run 20
-"""
+FROZEN_LIST = "neighbor 0.3 bin\nneigh_modify every 1000 delay 0 check no"
 
 # (label, type 1 coefficients, type 2 coefficients); the 1-2 pair is mixed
 MODELS = [
@@ -52,9 +31,8 @@ MODELS = [
 
 
 def run(wd, name, data, pair, c1, c2, extra=""):
-    text = TEMPLATE.format(data=data, pair=pair, coeff1=c1, coeff2=c2, extra=extra, name=name)
-    out = t.run_ok(text, wd, name="in." + name)
-    return t.read_dumps(os.path.join(wd, "dump." + name)), out
+    coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
+    return parity_run(wd, name, data, pair, extra + "\n" + FROZEN_LIST, coeffs)
 
 
 def main():

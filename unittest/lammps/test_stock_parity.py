@@ -15,7 +15,7 @@ boundary p p p
 comm_modify vel yes
 read_data {data}
 pair_style {pair}
-pair_coeff * *
+{coeffs}
 {extra}
 timestep 1e-5
 fix integrate all nve/sphere
@@ -32,10 +32,11 @@ FORCES = ["fx", "fy", "fz", "tqx", "tqy", "tqz"]
 STATE = ["x", "y", "z", "vx", "vy", "vz"]
 
 
-def run(wd, name, data, pair, extra=""):
+def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *"):
     if pair.startswith("griddem/hooke/history") and "griddem" not in extra:
         extra += "\nfix grid all griddem contacts 64"
-    out = t.run_ok(TEMPLATE.format(data=data, pair=pair, extra=extra, name=name), wd, name="in." + name)
+    out = t.run_ok(TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name), wd,
+                   name="in." + name)
     return t.read_dumps(os.path.join(wd, "dump." + name)), out
 
 
