@@ -224,7 +224,7 @@ def main():
 
 def write_table(records, path, device, today):
     lines = ["# Speed and accuracy of GRIDDEM's modes (%s, %s, 1 rank)" % (today, device), "",
-             "Errors are relative to stock gran/hooke/history: force error one step into the run (max over "
+             "Errors are relative to stock gran/hooke/history: force error on the scene's initial state (max over "
              "atoms, relative to the largest force), kinetic-energy trajectory (max deviation relative to "
              "the largest value), and the scene's number.", ""]
     for scene in sorted(set(r["scene"] for r in records), key=lambda s: [r["scene"] for r in records].index(s)):
