@@ -5,7 +5,8 @@ against stock's within the tolerance the example states, and appends timings and
 results/examples.jsonl.
 
 usage: bench/examples.py [--only packing,chute,hopper] [--ranks 2] [--record]
-  --record  write the runs' logs as the examples' reference logs instead of checking them"""
+  --record  write the runs' logs (and the chute's profiles) into the examples as references
+            instead of checking against them"""
 import argparse
 import datetime
 import json
@@ -26,7 +27,7 @@ DATE_TAG = "23Nov26"
 SCENES = {
     "packing": (r"GRIDDEM packing: .* packing fraction ([0-9.]+)", [], ["style granular"], 1e-4, 0.01),
     "chute": (r"GRIDDEM chute: flow rate ([0-9.]+)", [], ["style gran/hooke/history", "tag stock"], 1e-2, 5.0),
-    "hopper": (r"GRIDDEM hopper: ([0-9.]+) of the mass", [], ["style granular"], 1e-4, 0.03),
+    "hopper": (r"GRIDDEM hopper: ([0-9.]+) of the mass", [], ["style granular", "tag stock"], 1e-4, 0.03),
 }
 
 
@@ -74,6 +75,9 @@ def main():
             ref_path = os.path.join(TOP, "examples", scene, log)
             if args.record:
                 shutil.copy(os.path.join(wd, log), ref_path)
+                for extra in os.listdir(wd):
+                    if extra.startswith(("profile.", "final.")):    # chute profiles, hopper's last state
+                        shutil.copy(os.path.join(wd, extra), os.path.join(TOP, "examples", scene, extra))
             else:
                 ref = number(pattern, open(ref_path).read(), ref_path)
                 if abs(values[style] - ref) > tol_ref:
