@@ -28,7 +28,8 @@ def discharge(tag):
     log = os.path.join(HERE, "log.23Nov26.hopper.%s.2" % tag)
     text = open(log).read()
     mass0 = float(text.split("initial mass ")[-1].split()[0])
-    t, left = ex.thermo(text, "Time"), ex.thermo(text, "v_inhopper")
+    left = ex.thermo(text, "v_inhopper")
+    t = ex.thermo(text, "Time")[-len(left):]    # the discharge run's rows
     # steady rate: straight line through the part between 80% and 40% left
     pts = [(a, b) for a, b in zip(t, left) if 0.4 <= b <= 0.8]
     n = len(pts)
@@ -40,7 +41,7 @@ def discharge(tag):
 
 def heap_angles(tag):
     """Angle of the heap left on each side: top of the spheres per 5 mm column, fitted by a line
-    between the wall region and the orifice."""
+    from the wall to the orifice's edge."""
     path = os.path.join(HERE, "final.%s.dump" % tag)
     with open(path) as f:
         lines = f.read().splitlines()
@@ -53,7 +54,7 @@ def heap_angles(tag):
             col = int(a["x"] / 0.005)
             top[col] = max(top.get(col, 0.0), a["z"] + a["radius"])
     angles = []
-    for cols in (range(4, 15), range(25, 36)):    # x 0.02-0.075 and 0.125-0.18
+    for cols in (range(0, 16), range(24, 40)):    # x 0-0.08 and 0.12-0.2
         xs = [(c + 0.5) * 0.005 for c in cols if c in top]
         zs = [top[c] for c in cols if c in top]
         mx, mz = sum(xs) / len(xs), sum(zs) / len(zs)
