@@ -20,6 +20,10 @@ pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
 pair_coeff * *
 fix integrate all nve/sphere
 compute channels all griddem/grid 5 4 3 count solid vx vy vz
+compute contacts all contact/atom
+compute contact_sum all reduce sum c_contacts
+thermo_style custom step c_contact_sum f_GRIDDEM[5]
+thermo_modify norm no
 dump cells all grid 5 grid.*.txt c_channels:grid:data[*]
 dump_modify cells format float %.17g
 dump solid all grid/vtk 5 solid.*.vti c_channels:grid:data[2]
@@ -49,7 +53,10 @@ def main():
     for ranks in (1, 4):
         sub = os.path.join(wd, "np%d" % ranks)
         os.mkdir(sub)
-        t.run_ok(TEXT.format(data=data), sub, nprocs=ranks, name="in.grid")
+        out = t.run_ok(TEXT.format(data=data), sub, nprocs=ranks, name="in.grid")
+        seen, pairs = t.thermo_values(out, "c_contact_sum"), t.thermo_values(out, "f_GRIDDEM[5]")
+        t.check(seen and pairs and pairs[0] > 50 and seen[0] == 2 * pairs[0],
+                "%d ranks: compute contact/atom counts each of the %s contacts from both atoms (%s)" % (ranks, pairs, seen))
         cells = read_grid_dump(os.path.join(sub, "grid.0.txt"))
         t.check(len(cells) == 60, "%d ranks: 5x4x3 cells written (%d)" % (ranks, len(cells)))
         t.check(sum(c[0] for c in cells) == n, "%d ranks: counts sum to %d atoms" % (ranks, n))
