@@ -46,6 +46,15 @@ typedef struct griddem_contact_in {
   double meff;
 } griddem_contact_in;
 
+/* What compute pair/local reports of a contact (pair styles' single()): the normal force divided
+ * by the distance (the force on i is del times it, plus the tangential force), the tangential
+ * and rolling forces, and the normal and tangential relative velocities. */
+typedef struct griddem_contact_detail {
+  double fnormal_over_r;
+  double fs[3], fr[3];
+  double vn[3], vt[3];
+} griddem_contact_detail;
+
 /* Effective mass as stock: a frozen partner acts as infinitely heavy. For two frozen atoms stock
  * takes the mass of whichever atom its neighbor list puts first; that depends on storage order,
  * so here it is 2 mi mj / (mi + mj): the same for equal masses, and the same from both sides.
@@ -59,13 +68,14 @@ GRIDDEM_INLINE double griddem_effective_mass(double mi, double mj, int frozen_i,
 }
 
 /* Force on i (f[3], j gets -f), the torques on i and j (ti[3], tj[3]) of one overlapping pair;
- * returns the elastic energy stored in the pair's springs. shear[3] is the pair's tangential
+ * returns the elastic energy stored in the pair's springs; d, if not NULL, receives the parts of
+ * the contact (see griddem_contact_detail). shear[3] is the pair's tangential
  * displacement seen from i (read and, if shearupdate, advanced by dt); it is ignored unless
  * p->tangential == GRIDDEM_TANGENTIAL_HISTORY. Seen from j, every output and the shear change sign
  * exactly (each operation is odd in the inputs that flip), so one evaluation serves both atoms. */
 GRIDDEM_INLINE double griddem_hooke_contact(const griddem_hooke_params *p, const griddem_contact_in *c,
                                             double dt, int shearupdate, double *shear, double *f,
-                                            double *ti, double *tj)
+                                            double *ti, double *tj, griddem_contact_detail *d)
 {
   const double r = sqrt(c->rsq);
   const double rinv = 1.0 / r;
@@ -153,6 +163,13 @@ GRIDDEM_INLINE double griddem_hooke_contact(const griddem_hooke_params *p, const
   f[0] = delx * ccel + fs1;
   f[1] = dely * ccel + fs2;
   f[2] = delz * ccel + fs3;
+  if (d) {
+    d->fnormal_over_r = ccel;
+    d->fs[0] = fs1, d->fs[1] = fs2, d->fs[2] = fs3;
+    d->fr[0] = d->fr[1] = d->fr[2] = 0.0;
+    d->vn[0] = vn1, d->vn[1] = vn2, d->vn[2] = vn3;
+    d->vt[0] = vt1, d->vt[1] = vt2, d->vt[2] = vt3;
+  }
   const double tor1 = rinv * (dely * fs3 - delz * fs2);
   const double tor2 = rinv * (delz * fs1 - delx * fs3);
   const double tor3 = rinv * (delx * fs2 - dely * fs1);
@@ -215,7 +232,7 @@ GRIDDEM_INLINE void griddem_rotate_rescale(double *h, const double *n, double k,
 GRIDDEM_INLINE double griddem_granular_contact(const griddem_granular_params *p,
                                                const griddem_contact_in *c, double dt,
                                                int history_update, double *hist, double *f,
-                                               double *ti, double *tj)
+                                               double *ti, double *tj, griddem_contact_detail *d)
 {
   const double r = sqrt(c->rsq);
   const double rinv = 1.0 / r;
@@ -292,6 +309,12 @@ GRIDDEM_INLINE double griddem_granular_contact(const griddem_granular_params *p,
   f[0] = fntot * n[0] + fs[0];
   f[1] = fntot * n[1] + fs[1];
   f[2] = fntot * n[2] + fs[2];
+  if (d) {
+    d->fnormal_over_r = fntot * rinv;
+    for (int k = 0; k < 3; k++) d->fs[k] = fs[k], d->fr[k] = 0.0;
+    d->vn[0] = vnnr * n[0], d->vn[1] = vnnr * n[1], d->vn[2] = vnnr * n[2];
+    d->vt[0] = vt1, d->vt[1] = vt2, d->vt[2] = vt3;
+  }
   /* torque from the tangential force, applied at the contact point */
   const double c1 = -(n[1] * fs[2] - n[2] * fs[1]);
   const double c2 = -(n[2] * fs[0] - n[0] * fs[2]);
@@ -325,6 +348,7 @@ GRIDDEM_INLINE double griddem_granular_contact(const griddem_granular_params *p,
       }
     }
     if (history_update) hist[0] = h[0], hist[1] = h[1], hist[2] = h[2];
+    if (d) d->fr[0] = fr[0], d->fr[1] = fr[1], d->fr[2] = fr[2];
     const double tr1 = reff * (n[1] * fr[2] - n[2] * fr[1]);
     const double tr2 = reff * (n[2] * fr[0] - n[0] * fr[2]);
     const double tr3 = reff * (n[0] * fr[1] - n[1] * fr[0]);
@@ -353,16 +377,17 @@ typedef struct griddem_model {
   double history_parity[GRIDDEM_MAX_HISTORY]; /* value seen from j = parity * value seen from i */
 } griddem_model;
 
-/* Contact of atoms of types itype, jtype: force on i, torques on i and j, energy returned. */
+/* Contact of atoms of types itype, jtype: force on i, torques on i and j, energy returned;
+ * d (may be NULL) receives the contact's parts. */
 GRIDDEM_INLINE double griddem_pair_contact(const griddem_model *m, int itype, int jtype,
                                            const griddem_contact_in *c, double dt,
                                            int history_update, double *hist, double *f,
-                                           double *ti, double *tj)
+                                           double *ti, double *tj, griddem_contact_detail *d)
 {
   if (m->law == GRIDDEM_LAW_HOOKE)
-    return griddem_hooke_contact(&m->hooke, c, dt, history_update, hist, f, ti, tj);
+    return griddem_hooke_contact(&m->hooke, c, dt, history_update, hist, f, ti, tj, d);
   return griddem_granular_contact(m->granular + itype * (m->ntypes + 1) + jtype, c, dt,
-                                  history_update, hist, f, ti, tj);
+                                  history_update, hist, f, ti, tj, d);
 }
 
 #ifdef __cplusplus

@@ -152,7 +152,7 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   double fc[3], ta[3], tb[3];
   const double energy = griddem_pair_contact(m, A->type, B->type, &c, cx->dt,
-                                             cx->history_update, hv, fc, ta, tb);
+                                             cx->history_update, hv, fc, ta, tb, NULL);
   if (nv) {
     if (ch->ncontact[a] == cx->hist->slots || (b_owned && ch->ncontact[b] == cx->hist->slots))
       record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ch->ncontact[a] == cx->hist->slots ? ia : ib,

@@ -29,12 +29,18 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), fix(nullptr), coarsened_warned(0), rmin(0.0), rmax(0.0), grid(), bins(),
     channels(), freeze_group_bit(0), exclusions()
 {
-  single_enable = 0;
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
+  single_enable = 1;
+  // what single() reports besides the force, as the stock styles: tangential force and its size,
+  // then hooke: normal and tangential relative velocity; granular: rolling force and its size,
+  // twisting torque (0: no twisting model), separation vector
+  single_extra = 12;
+  svector = new double[single_extra];
 }
 
 PairGriddem::~PairGriddem()
 {
+  delete[] svector;
   griddem_bins_free(&bins);
   griddem_channels_free(&channels);
   if (allocated) {
@@ -279,6 +285,63 @@ void PairGriddem::compute(int eflag, int vflag)
   fix->stats.max_contacts = result.max_contacts;
   fix->stats.elastic_energy = result.energy;
   check_motion(h_nn4dem);
+}
+
+/* One pair's contact for compute pair/local: the force over the distance in fforce, the parts
+   in svector (layout above, as gran/hooke/history and pair granular); its history is read, not
+   advanced. */
+
+double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
+                           double /*factor_lj*/, double &fforce)
+{
+  fforce = 0.0;
+  for (int m = 0; m < single_extra; m++) svector[m] = 0.0;
+  const double *radius = atom->radius;
+  const double radsum = radius[i] + radius[j];
+  if (rsq >= radsum * radsum || rsq == 0.0) return 0.0;
+
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  griddem_contact_in c;
+  c.delx = x[i][0] - x[j][0], c.dely = x[i][1] - x[j][1], c.delz = x[i][2] - x[j][2];
+  c.rsq = rsq;
+  c.radi = radius[i], c.radj = radius[j];
+  c.vr1 = v[i][0] - v[j][0], c.vr2 = v[i][1] - v[j][1], c.vr3 = v[i][2] - v[j][2];
+  c.wi1 = omega[i][0], c.wi2 = omega[i][1], c.wi3 = omega[i][2];
+  c.wj1 = omega[j][0], c.wj2 = omega[j][1], c.wj3 = omega[j][2];
+  const int *mask = atom->mask;
+  c.meff = griddem_effective_mass(atom->rmass[i], atom->rmass[j], (mask[i] & freeze_group_bit) != 0,
+                                  (mask[j] & freeze_group_bit) != 0);
+
+  // the pair's history, from whichever of the two atoms this process owns
+  double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  const int nv = model.history_size;
+  if (nv && (i < atom->nlocal || j < atom->nlocal)) {
+    const int owner = i < atom->nlocal ? i : j;
+    const double partner = (double) atom->tag[owner == i ? j : i];
+    const int row = fix->row_of[owner];
+    const double *entries = griddem_history_row(&fix->hist, row);
+    for (int k = 0; k < griddem_history_count(&fix->hist, row); k++) {
+      const double *entry = entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k;
+      if (entry[0] != partner) continue;
+      for (int m = 0; m < nv; m++) hv[m] = owner == i ? entry[1 + m] : model.history_parity[m] * entry[1 + m];
+      break;
+    }
+  }
+
+  double f[3], ti[3], tj[3];
+  griddem_contact_detail d;
+  griddem_pair_contact(&model, itype, jtype, &c, update->dt, 0, hv, f, ti, tj, &d);
+  fforce = d.fnormal_over_r;
+  for (int k = 0; k < 3; k++) svector[k] = d.fs[k];
+  svector[3] = sqrt(d.fs[0] * d.fs[0] + d.fs[1] * d.fs[1] + d.fs[2] * d.fs[2]);
+  if (model.law == GRIDDEM_LAW_HOOKE) {
+    for (int k = 0; k < 3; k++) svector[4 + k] = d.vn[k], svector[7 + k] = d.vt[k];
+  } else {
+    for (int k = 0; k < 3; k++) svector[4 + k] = d.fr[k];
+    svector[7] = sqrt(d.fr[0] * d.fr[0] + d.fr[1] * d.fr[1] + d.fr[2] * d.fr[2]);
+    svector[9] = c.delx, svector[10] = c.dely, svector[11] = c.delz;
+  }
+  return 0.0;
 }
 
 double PairGriddem::memory_usage()

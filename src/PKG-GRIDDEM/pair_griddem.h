@@ -21,6 +21,7 @@ class PairGriddem : public Pair {
   ~PairGriddem() override;
   void compute(int, int) override;
   void init_style() override;
+  double single(int, int, int, int, double, double, double, double &) override;
   double memory_usage() override;
 
  protected:

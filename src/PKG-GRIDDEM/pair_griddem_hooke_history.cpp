@@ -19,6 +19,7 @@ PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
     PairGriddem(lmp), dampflag(1), style_tangential(GRIDDEM_TANGENTIAL_HISTORY)
 {
   model.law = GRIDDEM_LAW_HOOKE;
+  single_extra = 10;    // tangential force (3) and its size, normal and tangential velocity (3+3)
   select_tangential();
 }
 

@@ -27,7 +27,7 @@ static double collide(const griddem_model *model, double m, double dt, double v0
     if (s < 1.0) {
       if (t_in < 0.0) t_in = t;
       griddem_contact_in c = head_on(s, vs, m);
-      griddem_pair_contact(model, 0, 0, &c, dt, 1, h, f, ti, tj);
+      griddem_pair_contact(model, 0, 0, &c, dt, 1, h, f, ti, tj, NULL);
       a = 2.0 * f[0] / m; /* relative acceleration: f/m on each, opposite */
     } else {
       if (t_in >= 0.0) t_out = t;
@@ -73,8 +73,8 @@ static void granular_mirror(const griddem_contact_in *ij, const griddem_contact_
   int capped = 0;
   for (int step = 0; step < 6; step++) {
     double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
-    const double ei = griddem_granular_contact(&p, ij, 1e-3, 1, hi, fi, ti, tj);
-    const double ej = griddem_granular_contact(&p, ji, 1e-3, 1, hj, fj, tj2, ti2);
+    const double ei = griddem_granular_contact(&p, ij, 1e-3, 1, hi, fi, ti, tj, NULL);
+    const double ej = griddem_granular_contact(&p, ji, 1e-3, 1, hj, fj, tj2, ti2, NULL);
     for (int d = 0; d < 3; d++) {
       CHECK(fi[d] == -fj[d], "granular %d/%d/%d force mirror step %d", normal, damping, tangential, step);
       CHECK(ti[d] == ti2[d] && tj[d] == tj2[d], "granular torque mirror step %d", step);
@@ -128,8 +128,8 @@ int main(void)
   double si[3] = {1e-3, 2e-3, -1e-3}, sj[3] = {-1e-3, -2e-3, 1e-3};
   for (int step = 0; step < 5; step++) {
     double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
-    const double ei = griddem_hooke_contact(&p, &ij, 1e-3, 1, si, fi, ti, tj);
-    const double ej = griddem_hooke_contact(&p, &ji, 1e-3, 1, sj, fj, tj2, ti2);
+    const double ei = griddem_hooke_contact(&p, &ij, 1e-3, 1, si, fi, ti, tj, NULL);
+    const double ej = griddem_hooke_contact(&p, &ji, 1e-3, 1, sj, fj, tj2, ti2, NULL);
     for (int d = 0; d < 3; d++) {
       CHECK(fi[d] == -fj[d], "force mirror step %d axis %d: %.17g %.17g", step, d, fi[d], fj[d]);
       CHECK(ti[d] == ti2[d] && tj[d] == tj2[d], "torque mirror step %d axis %d", step, d);
@@ -145,7 +145,7 @@ int main(void)
   /* Coulomb: the tangential force never exceeds xmu * |normal force| */
   const double r = sqrt(ij.rsq), fn = p.kn * (ij.radi + ij.radj - r) / r * r;
   double sh[3] = {0.5, 0.5, 0.5}, f[3], ti[3], tj[3];
-  griddem_hooke_contact(&p, &ij, 1e-3, 1, sh, f, ti, tj);
+  griddem_hooke_contact(&p, &ij, 1e-3, 1, sh, f, ti, tj, NULL);
   const double nx = ij.delx / r, ny = ij.dely / r, nz = ij.delz / r;
   const double fnormal = f[0] * nx + f[1] * ny + f[2] * nz;
   const double ft2 = (f[0] - fnormal * nx) * (f[0] - fnormal * nx) +

@@ -62,7 +62,7 @@ static void all_pairs(const griddem_model *m, const unsigned char *excluded, dou
       c.meff = griddem_effective_mass(mass[i], mass[j], 0, 0);
       double fc[3], ti[3], tj[3], hv[GRIDDEM_MAX_HISTORY] = {0};
       for (int k = 0; k < nv; k++) hv[k] = h[k];
-      *energy += 0.5 * griddem_pair_contact(m, type[i], type[j], &c, dt, update, hv, fc, ti, tj);
+      *energy += 0.5 * griddem_pair_contact(m, type[i], type[j], &c, dt, update, hv, fc, ti, tj, NULL);
       for (int k = 0; k < nv; k++) h[k] = hv[k];
       for (int d = 0; d < 3; d++) f[3 * i + d] += fc[d], t[3 * i + d] += ti[d];
       vir[0] += 0.5 * c.delx * fc[0], vir[1] += 0.5 * c.dely * fc[1];
