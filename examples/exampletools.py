@@ -48,3 +48,27 @@ def slide_on_sphere(v0, mu, g, rc, dt=1e-6):
         w += (g * math.sin(th) - mu * normal) / rc * dt
         th += w * dt
     return rc * math.sin(th)
+
+
+def last_snapshot(path):
+    """Atoms of the last snapshot of a dump custom file, as dicts by column name."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    start = max(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
+    names = lines[start].split()[2:]
+    return [dict(zip(names, map(float, line.split()))) for line in lines[start + 1:] if line.strip()]
+
+
+def draw_slice(ax, atoms, y0, half_width, colour, cmap, clim=None):
+    """Spheres whose centres lie within half_width of the plane y = y0, drawn as their x-z
+    circles, coloured by colour(atom)."""
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Circle
+    inside = [a for a in atoms if abs(a["y"] - y0) < half_width]
+    coll = PatchCollection([Circle((a["x"], a["z"]), a["radius"]) for a in inside], cmap=cmap)
+    coll.set_array([colour(a) for a in inside])
+    if clim:
+        coll.set_clim(*clim)
+    ax.add_collection(coll)
+    ax.set_aspect("equal")
+    return coll

@@ -9,31 +9,17 @@ import sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-from matplotlib.collections import PatchCollection
-from matplotlib.patches import Circle
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def last_snapshot(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    start = max(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
-    names = lines[start].split()[2:]
-    return [dict(zip(names, map(float, line.split()))) for line in lines[start + 1:] if line.strip()]
+sys.path.insert(0, os.path.dirname(HERE))
+import exampletools as ex
 
 
 fig, axes = plt.subplots(1, 2, figsize=(10, 5), sharey=True)
 for ax, path, title in zip(axes, sys.argv[1:3], ["griddem/granular", "stock granular"]):
-    atoms = [a for a in last_snapshot(path) if abs(a["y"] - 2.5) < 0.05]
-    patches = [Circle((a["x"], a["z"]), a["radius"]) for a in atoms]
-    coll = PatchCollection(patches, cmap="tab10")
-    coll.set_array([(a["id"] - 1) // 14406 for a in atoms])
-    coll.set_clim(0, 9)
-    ax.add_collection(coll)
+    ex.draw_slice(ax, ex.last_snapshot(path), 2.5, 0.05, lambda a: (a["id"] - 1) // 14406, "tab10", (0, 9))
     ax.set_xlim(0, 5)
     ax.set_ylim(0, 2.6)
-    ax.set_aspect("equal")
     ax.set_title("%s: slice 2.45 < y < 2.55 m" % title, fontsize=9)
     ax.set_xlabel("x (m)")
 axes[0].set_ylabel("z (m)")
