@@ -47,6 +47,11 @@ def main():
                     run(wd, "grid_%d_%s" % (k, cell), data, "griddem/granular", c1, c2,
                         "fix grid all griddem contacts 64 cell " + cell))
 
+    label, c1, c2 = MODELS[1]
+    compare("granular %s, neigh_modify exclude type 1 2" % label,
+            run(wd, "stock_ex", data, "granular", c1, c2, "neigh_modify exclude type 1 2"),
+            run(wd, "grid_ex", data, "griddem/granular", c1, c2, "neigh_modify exclude type 1 2\nfix grid all griddem contacts 64"))
+
     # unsupported sub-models: refused with their name
     for coeff, name in [("dmt 1e4 5 0.3 0.1 tangential linear_history 1 1 1", "dmt"),
                         ("hooke 1e4 5 tangential mindlin NULL 1 0.5", "mindlin"),

@@ -93,6 +93,11 @@ def main():
     compare("hooke dampflag 0", run(wd, "stock_nd", data, "gran/hooke 1e4 NULL 50 NULL 0.5 0"),
             run(wd, "grid_nd", data, "griddem/hooke 1e4 NULL 50 NULL 0.5 0"))
 
+    # pairs excluded from the neighbor list do not interact, as with stock
+    exclude = "group low id <= 700\nneigh_modify exclude group low low"
+    compare("hooke/history neigh_modify exclude group", run(wd, "stock_ex", data, "gran/hooke/history " + hist, exclude),
+            run(wd, "grid_ex", data, "griddem/hooke/history " + hist, exclude))
+
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
     t.finish()
