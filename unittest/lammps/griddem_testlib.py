@@ -13,6 +13,18 @@ _failures = []
 _passed = 0
 
 
+# the start of an input on a read_data configuration, for format(data=, pair=, coeffs=)
+PERIODIC_SPHERES = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+read_data {data}
+pair_style {pair}
+{coeffs}
+"""
+
+
 def check(cond, message):
     """Record one assertion; report it if it fails."""
     global _passed

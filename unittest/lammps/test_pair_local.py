@@ -7,14 +7,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 
-TEMPLATE = """
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-read_data {data}
-pair_style {pair}
-{coeffs}
+TEMPLATE = t.PERIODIC_SPHERES + """
 neighbor 0.3 bin
 neigh_modify every 1000 delay 0 check no
 timestep 1e-5

@@ -8,14 +8,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 
-TEMPLATE = """
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-read_data {data}
-pair_style {pair}
-{coeffs}
+TEMPLATE = t.PERIODIC_SPHERES + """
 {extra}
 timestep 1e-5
 fix integrate all nve/sphere
