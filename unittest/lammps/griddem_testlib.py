@@ -44,8 +44,8 @@ def workdir():
     return tempfile.mkdtemp(prefix="griddem-test-")
 
 
-def run_lmp(text, cwd, nprocs=1, name="in.test", extra=()):
-    """Run an input; returns (exit code, screen output)."""
+def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None):
+    """Run an input (with threads OpenMP threads if given); returns (exit code, screen output)."""
     path = os.path.join(cwd, name)
     with open(path, "w") as f:
         f.write(text)
@@ -53,13 +53,14 @@ def run_lmp(text, cwd, nprocs=1, name="in.test", extra=()):
     if nprocs > 1:
         env_root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
         cmd = ["mpirun", "-np", str(nprocs), "--oversubscribe"] + env_root + cmd
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads)) if threads else None
     proc = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, timeout=900)
+                          universal_newlines=True, timeout=900, env=env)
     return proc.returncode, proc.stdout
 
 
-def run_ok(text, cwd, nprocs=1, name="in.test"):
-    rc, out = run_lmp(text, cwd, nprocs, name)
+def run_ok(text, cwd, nprocs=1, name="in.test", threads=None):
+    rc, out = run_lmp(text, cwd, nprocs, name, threads=threads)
     if rc != 0:
         print(out[-4000:], file=sys.stderr)
         raise SystemExit("lmp failed (exit %d) on %s" % (rc, name))

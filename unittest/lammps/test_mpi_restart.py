@@ -1,7 +1,8 @@
 """MPI-decomposition invariance and restarts, for griddem/hooke/history and for griddem/granular
 with tangential and rolling history on two atom types. 1, 2 and 4 ranks give the same 100-step
-trajectory (atoms migrate between ranks and keep their contact history); a run continued from a
-restart file reproduces the uninterrupted run bit for bit."""
+trajectory (atoms migrate between ranks and keep their contact history), and so do 2 OpenMP
+threads on one rank; a run continued from a restart file reproduces the uninterrupted run bit
+for bit."""
 import os
 import sys
 
@@ -61,6 +62,10 @@ def check_model(label, pair):
             contacts_1 = contacts
         else:
             t.check(contacts == contacts_1, "%s, %d ranks: same contact counts as 1 rank" % (label, n))
+    text = setup.format(start="read_data " + data) + DUMP.format(every=100, name="omp2") + "run 100\n"
+    t.run_ok(text, wd, name="in.omp2", threads=2)
+    err = t.max_rel_diff(t.read_dump(os.path.join(wd, "dump.omp2")), snaps[1], STATE)
+    t.check(err <= 1e-10, "%s, 2 OpenMP threads vs 1: trajectory differs by %.3g relative" % (label, err))
     for n in (2, 4):
         err = t.max_rel_diff(snaps[n], snaps[1], STATE)
         t.check(err <= 1e-10, "%s, %d ranks vs 1 rank: trajectory differs by %.3g relative" % (label, n, err))
