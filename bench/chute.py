@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """CPU benchmark: LAMMPS's chute scene (bench/in.chute, 32,000 atoms) with stock
-gran/hooke/history and with griddem/hooke/history in each cell mode, on 1 and 2 MPI ranks, in one
-job on one machine. Appends one JSON line per run to bench/results/cpu.jsonl.
+gran/hooke/history and with griddem/hooke/history in each cell mode, on 1 and 2 MPI ranks (and
+griddem multi with 2 OpenMP threads where the cores allow), in one job on one machine. Appends
+one JSON line per run to bench/results/cpu.jsonl.
 
 usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--lammps-bench DIR]"""
 import argparse
@@ -17,10 +18,12 @@ import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+# (pair style, extra input, label, OpenMP threads per rank)
 VARIANTS = [
-    ("gran/hooke/history", "", "stock"),
-    ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact"),
-    ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi"),
+    ("gran/hooke/history", "", "stock", 1),
+    ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact", 1),
+    ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi", 1),
+    ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi, 2 threads", 2),
 ]
 
 
@@ -36,11 +39,13 @@ def main():
     shutil.copy(os.path.join(args.lammps_bench, "data.chute"), wd)
     with open(os.path.join(args.lammps_bench, "in.chute")) as f:
         stock = f.read()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMP_NUM_THREADS="1")
     out_path = os.path.join(HERE, "results", "cpu.jsonl")
     for ranks in [int(r) for r in args.ranks.split(",")]:
-        for style, fix, label in VARIANTS:
+        for style, fix, label, threads in VARIANTS:
+            if ranks * threads > (os.cpu_count() or 1):
+                continue
+            env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                       OMP_NUM_THREADS=str(threads))
             text = stock.replace("gran/hooke/history", style)
             text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
@@ -48,7 +53,7 @@ def main():
                 f.write(text)
             cmd = [args.lmp, "-in", "in.run", "-log", "none"]
             if ranks > 1:
-                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
+                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core", "-x", "OMP_NUM_THREADS"] + cmd
             out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE,
                                  stderr=subprocess.STDOUT, universal_newlines=True).stdout
             loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
@@ -57,7 +62,7 @@ def main():
             record = {
                 "date": datetime.date.today().isoformat(),
                 "device": benchlib.device(),
-                "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks,
+                "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks, "threads": threads,
                 "style": label, "loop_s": loop,
                 "atom_steps_per_s": atoms * steps / loop,
                 "pair_pct": float(pair_pct.group(1)) if pair_pct else None,
