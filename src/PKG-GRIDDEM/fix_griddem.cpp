@@ -50,6 +50,8 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
   }
   griddem_history_init(&hist, 3, slots);
+  // most values one atom's row adds to an exchange message, so Comm sizes its buffers for it
+  maxexchange = 1 + slots * GRIDDEM_HISTORY_ENTRY(GRIDDEM_MAX_HISTORY);
 
   vector_flag = 1;
   size_vector = 7;

@@ -2,7 +2,8 @@
 with tangential and rolling history on two atom types. 1, 2 and 4 ranks give the same 100-step
 trajectory (atoms migrate between ranks and keep their contact history), and so do 2 OpenMP
 threads on one rank; a run continued from a restart file reproduces the uninterrupted run bit
-for bit."""
+for bit. A sphere with ~1000 contacts crosses between ranks (its history fills one exchange
+message of thousands of values) and the trajectory equals one rank's."""
 import os
 import sys
 
@@ -40,6 +41,7 @@ PAIRS = {
 def main():
     for label, pair in PAIRS.items():
         check_model(label, pair)
+    big_sphere(t.workdir())
     t.finish()
 
 
@@ -83,6 +85,59 @@ def check_model(label, pair):
         t.check(len(a) == len(b) == 2, "%s restart on %d ranks: two snapshots each" % (label, n))
         t.check(a[-1][1] == b[-1][1], "%s restart on %d ranks: step 100 identical bit for bit" % (label, n))
         t.check(a[0][1] == b[0][1], "%s restart on %d ranks: step 50 forces identical bit for bit" % (label, n))
+
+
+def big_sphere(wd):
+    """A sphere of radius 2 touching ~1000 spheres of radius 0.1 crosses from one rank to the
+    other: its history row (thousands of values) travels in one exchange message."""
+    import math
+    data = os.path.join(wd, "data.big")
+    # 1000 spheres evenly over a shell overlapping the big one by 0.03 (a Fibonacci lattice,
+    # neighbours ~0.23 apart), heavy enough to stay in contact for the run
+    small = []
+    for k in range(1000):
+        zc = 1.0 - (2.0 * k + 1.0) / 1000.0
+        phi = k * math.pi * (3.0 - math.sqrt(5.0))
+        rho = math.sqrt(1.0 - zc * zc)
+        small.append((5.0 + 2.07 * rho * math.cos(phi), 5.0 + 2.07 * rho * math.sin(phi), 4.95 + 2.07 * zc))
+    lines = ["big sphere", "", "%d atoms" % (len(small) + 1), "1 atom types", "",
+             "0 10 xlo xhi", "0 10 ylo yhi", "0 10 zlo zhi", "", "Atoms # sphere", "",
+             "1 1 4.0 1.0 5.0 5.0 4.95"]
+    lines += ["%d 1 0.2 1000.0 %.17g %.17g %.17g" % (k + 2, x, y, z) for k, (x, y, z) in enumerate(small)]
+    # all move across z = 5, where two ranks split this box
+    lines += ["", "Velocities", "", "1 0 0 3.0 0 0 0"]
+    lines += ["%d 0 0 3.0 0 0 0" % (k + 2) for k in range(len(small))]
+    with open(data, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    text = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+read_data {data}
+pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
+pair_coeff * *
+fix grid all griddem cell multi contacts 2000
+neighbor 0.02 bin
+timestep 1e-3
+fix integrate all nve/sphere
+thermo_style custom step atoms f_grid[6]
+thermo 10
+dump snap all custom 40 dump.big{n} id proc x y z vx vy vz
+dump_modify snap format float %.17g sort id
+run 40
+"""
+    snaps = {}
+    for n in (1, 2):
+        out = t.run_ok(text.replace("{data}", data).replace("{n}", str(n)), wd, nprocs=n, name="in.big%d" % n)
+        most = t.thermo_values(out, "f_grid[6]")
+        t.check(most and min(most) == 1000, "big sphere, %d ranks: it keeps its 1000 contacts (%s)" % (n, most))
+        snaps[n] = t.read_dump(os.path.join(wd, "dump.big%d" % n))
+    first = t.read_dumps(os.path.join(wd, "dump.big2"))[0]
+    proc = lambda snap: snap[1][1][snap[0].index("proc")]
+    t.check(proc(first) != proc(snaps[2]), "big sphere: it moved to the other rank (%g -> %g)" % (proc(first), proc(snaps[2])))
+    err = t.max_rel_diff(snaps[2], snaps[1], STATE[:6])
+    t.check(err <= 1e-10, "big sphere crossing ranks: 2 ranks vs 1 differ by %.3g" % err)
 
 
 if __name__ == "__main__":
