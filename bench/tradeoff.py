@@ -5,13 +5,14 @@ usage: bench/tradeoff.py [--quick] [--lmp build/lmp]
 
 Scenes: dense (4000 random overlapping polydisperse spheres at solid fraction ~0.6, periodic,
 damped), pour (a bed poured under gravity, ~1200 spheres), chute (LAMMPS's chute, 32,000
-spheres), cascade (a sphere shot into a cubic block of 1000 nearly touching spheres). Modes: cell
+spheres), cascade (a sphere shot into a cubic block of 1000 nearly touching spheres), oblique
+(two spheres meeting at 45 degrees: the tangential restitution). Modes: cell
 geometry exact|multi x tangential history|simple|none, plus stock gran/hooke/history (the
 reference) and stock gran/hooke. Each run is timed on one rank; errors are measured against the
 reference: the force error on the scene's initial state (where it has contacts: dense, chute),
 the largest relative deviation of the kinetic-energy trajectory, and the scene's own number
 (kinetic energy left in the dense box and after the cascade; packing fraction of the poured bed;
-kinetic energy of the chute's flow). Writes
+kinetic energy of the chute's flow; tangential restitution), at the end and along the run. Writes
 results/tradeoff.jsonl, results/tradeoff.md and doc/tradeoff-<scene>.png."""
 import argparse
 import datetime
@@ -152,6 +153,39 @@ fix             integrate all nve/sphere
                 number_label="kinetic energy left after the cascade", force_probe=False)
 
 
+def oblique_scene(steps):
+    # sphere A (diameter 1) moving along +x hits sphere B at rest; the centres' line at contact is
+    # 45 degrees from the motion: tangential restitution depends on the tangential model
+    text = """
+units           lj
+atom_style      sphere
+atom_modify     map array
+boundary        f f f
+comm_modify     vel yes
+region          box block -5 5 -5 5 -5 5 units box
+create_box      1 box
+create_atoms    1 single -1.5 0 0.70710678118654752 units box
+create_atoms    1 single 0 0 0 units box
+set             type 1 diameter 1.0
+set             type 1 density 1.9099
+velocity        all set 0 0 0 units box
+set             atom 1 vx 1.0
+pair_style      {style} {args}
+pair_coeff      * *
+{grid}
+timestep        1e-4
+fix             integrate all nve/sphere
+# tangential velocity of the contact point along t = (cos45, 0, sin45) (n = (-sin45, 0, cos45)
+# points from B to A at contact): g_t = (v_A - v_B).t - (R_A w_A + R_B w_B).(n x t)
+compute         wy all property/atom omegay
+compute         wsum all reduce sum c_wy
+variable        gt equal ((vx[1]-vx[2])+(vz[1]-vz[2]))*0.70710678118654752-0.5*c_wsum
+variable        beta equal -v_gt/0.70710678118654752
+""" + COMMON_TAIL.format(extra_thermo="v_beta")
+    return dict(name="oblique", text=text, kn=1e5, gn=50.0, xmu=0.3, steps=steps, number="v_beta",
+                number_label="tangential restitution of a 45 degree impact", force_probe=False)
+
+
 def run(scene, mode, wd, lmp, data_chute, dump_step):
     label, style, xmu, cell = mode
     args = HOOKE.format(kn=scene["kn"], gn=scene["gn"], xmu=scene["xmu"] if xmu is None else xmu)
@@ -182,7 +216,8 @@ def main():
     dense_data = os.path.join(wd0, "data.dense")
     t.write_random_spheres(dense_data, 4000, (6.3, 6.3, 6.3), 0.1, 0.2, seed=41, vscale=1.0, wscale=3.0)
     scenes = [dense_scene(int(2000 * scale), dense_data), pour_scene(int(25000 * scale)),
-              chute_scene(int(1000 * scale)), cascade_scene(int(4000 * scale))]
+              chute_scene(int(1000 * scale)), cascade_scene(int(4000 * scale)),
+              oblique_scene(int(20000 * scale))]
     data_chute = os.path.join(args.lammps_bench, "data.chute")
     device = benchlib.device()
     today = datetime.date.today().isoformat()
@@ -198,17 +233,21 @@ def main():
                 forces = t.read_dumps(os.path.join(wd, "dump.forces"))[0]
             out, loop, atoms = run(scene, mode, wd, args.lmp, data_chute, None)
             results[mode[0]] = dict(forces=forces, ke=t.thermo_values(out, "c_ke"),
-                                    number=t.thermo_values(out, scene["number"])[-1], loop=loop, atoms=atoms)
+                                    numbers=t.thermo_values(out, scene["number"]), loop=loop, atoms=atoms)
         ref = results[REFERENCE]
         kescale = max(abs(v) for v in ref["ke"]) or 1.0
         for label, r in results.items():
             ferr = t.max_rel_diff(r["forces"], ref["forces"], ["fx", "fy", "fz"]) if r["forces"] else None
             keerr = max(abs(a - b) for a, b in zip(r["ke"], ref["ke"])) / kescale
+            # the scene's number at the end, and its largest deviation along the run
+            number, ref_number = r["numbers"][-1], ref["numbers"][-1]
+            trajectory = max(abs(a - b) for a, b in zip(r["numbers"], ref["numbers"])) / (
+                max(abs(v) for v in ref["numbers"]) or 1.0)
             record = dict(date=today, device=device, scene=scene["name"], natoms=r["atoms"], steps=scene["steps"],
                           mode=label, loop_s=r["loop"], atom_steps_per_s=r["atoms"] * scene["steps"] / r["loop"],
-                          force_error=ferr, ke_error=keerr, number=r["number"],
-                          number_error=abs(r["number"] - ref["number"]) / (abs(ref["number"]) or 1.0),
-                          number_label=scene["number_label"])
+                          force_error=ferr, ke_error=keerr, number=number,
+                          number_error=abs(number - ref_number) / (abs(ref_number) or 1.0),
+                          number_trajectory_error=trajectory, number_label=scene["number_label"])
             records.append(record)
             print(json.dumps(record))
         shutil.rmtree(wd, ignore_errors=True)
@@ -231,12 +270,13 @@ def write_table(records, path, device, today):
         rows = [r for r in records if r["scene"] == scene]
         lines += ["## %s (%d atoms, %d steps); number: %s" % (scene, rows[0]["natoms"], rows[0]["steps"],
                                                              rows[0]["number_label"]), "",
-                  "| mode | Matom-steps/s | force error | KE trajectory error | number | its error |",
-                  "| --- | --- | --- | --- | --- | --- |"]
+                  "| mode | Matom-steps/s | force error | KE trajectory error | number | its error | its trajectory error |",
+                  "| --- | --- | --- | --- | --- | --- | --- |"]
         for r in rows:
             ferr = "n/a" if r["force_error"] is None else "%.2g" % r["force_error"]
-            lines.append("| %s | %.2f | %s | %.2g | %.5g | %.2g |" % (
-                r["mode"], r["atom_steps_per_s"] / 1e6, ferr, r["ke_error"], r["number"], r["number_error"]))
+            lines.append("| %s | %.2f | %s | %.2g | %.5g | %.2g | %.2g |" % (
+                r["mode"], r["atom_steps_per_s"] / 1e6, ferr, r["ke_error"], r["number"], r["number_error"],
+                r["number_trajectory_error"]))
         lines.append("")
     with open(path, "w") as f:
         f.write("\n".join(lines))
