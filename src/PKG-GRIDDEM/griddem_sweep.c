@@ -86,6 +86,7 @@ typedef struct sweep_context {
   griddem_history *hist;
   const int *row_of;
   double *vatom;
+  int want_virial;
   griddem_sweep_result *result;
 } sweep_context;
 
@@ -171,10 +172,11 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   /* a pair shared with another process is tallied half here, half there */
   const double share = b_owned ? 1.0 : 0.5;
+  sums->energy += share * energy;
+  if (!cx->want_virial && !cx->vatom) return;
   const double w[6] = {c.delx * fc[0], c.dely * fc[1], c.delz * fc[2],
                        c.delx * fc[1], c.delx * fc[2], c.dely * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
-  sums->energy += share * energy;
   if (cx->vatom) {
     double *va = cx->vatom + 6 * (size_t) ia;
     for (int k = 0; k < 6; k++) va[k] += 0.5 * w[k];
@@ -295,11 +297,12 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
                   double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
                   double dt, int history_update, griddem_history *hist, const int *row_of,
-                  double *f, double *torque, double *vatom, griddem_sweep_result *result)
+                  double *f, double *torque, double *vatom, int want_virial,
+                  griddem_sweep_result *result)
 {
   const sweep_context cx = {g, b, ch, nlocal, cut_extra, model,
                             (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,
-                            dt, history_update, hist, row_of, vatom, result};
+                            dt, history_update, hist, row_of, vatom, want_virial, result};
   const long nxy = (long) g->n[0] * g->n[1];
   memset(result, 0, sizeof(*result));
 

@@ -87,14 +87,15 @@ typedef struct griddem_sweep_result {
 /* One sweep. Each pair in contact is evaluated once (half stencil in sorted order) and its force
  * and torques go to whichever of its two particles are owned, so ghosts receive nothing (newton
  * off across processes). Adds into f and torque (3*nlocal), and half of del*f of each contact into
- * vatom (6*nlocal) if not NULL. cut_extra is the largest radius any partner can have. If
+ * vatom (6*nlocal) if not NULL; sums the virial into result only if want_virial. cut_extra is the largest radius any partner can have. If
  * model->history_size > 0, particle i's history is row row_of[i] of hist (-1: none), and on return
  * hist holds the new rows, the row of sorted slot s being s. excl may be NULL. Returns
  * result->fault. */
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
                   double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
                   double dt, int history_update, griddem_history *hist, const int *row_of,
-                  double *f, double *torque, double *vatom, griddem_sweep_result *result);
+                  double *f, double *torque, double *vatom, int want_virial,
+                  griddem_sweep_result *result);
 
 #ifdef __cplusplus
 }

@@ -271,7 +271,7 @@ void PairGriddem::compute(int eflag, int vflag)
   const int history_update = update->setupflag ? 0 : 1;
   griddem_sweep(&grid, &bins, &channels, nlocal, rmax, &model, &exclusions, update->dt,
                 history_update, &fix->hist, fix->row_of, atom->f[0], atom->torque[0],
-                vflag_atom ? vatom[0] : nullptr, &result);
+                vflag_atom ? vatom[0] : nullptr, vflag_global, &result);
   if (result.fault != GRIDDEM_FAULT_NONE) report_fault(result);
   if (model.history_size) fix->adopt_rows(bins.n, bins.order, nlocal);
 

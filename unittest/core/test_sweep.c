@@ -111,7 +111,7 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va));
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
-    griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, row_of, f, t, va, &res);
+    griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
     all_pairs(m, excluded, dt, 1, dense, fr, tr, vr, &energy_ref, &contacts_ref);
     const char *law = m->law == GRIDDEM_LAW_HOOKE ? "hooke" : "granular";
@@ -195,7 +195,7 @@ static void check_faults(void)
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, &res);
+  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
   CHECK(res.fault_i == 1 || res.fault_i == 2, "first particle of the coincident pair");
   CHECK(res.fault_j == 3 - res.fault_i, "second particle of the coincident pair");
@@ -208,7 +208,7 @@ static void check_faults(void)
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, &res);
+  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_HISTORY_FULL && (res.fault_i == 0 || res.fault_j == 0),
         "history overflow reported for particle 0: fault %d i %d j %d", res.fault, res.fault_i, res.fault_j);
   griddem_history_free(&hist);
