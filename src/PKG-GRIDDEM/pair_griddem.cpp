@@ -215,7 +215,7 @@ void PairGriddem::report_fault(const griddem_sweep_result &r)
     error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
                force->pair_style, tag[i], tag[j], x[i][0], x[i][1], x[i][2]);
   if (r.fault == GRIDDEM_FAULT_STENCIL)
-    error->all(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
+    error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
                force->pair_style, 2.0 * rmax, GRIDDEM_MAX_REACH, grid.h, rmax / rmin);
   if (r.fault == GRIDDEM_FAULT_MEMORY)
     error->one(FLERR, "Pair style {}: out of memory for the contact history", force->pair_style);

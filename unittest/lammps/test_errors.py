@@ -58,6 +58,27 @@ case("nan_speed", "atom 2 has a non-finite velocity", nan_expected=True,
      pre='variable bad atom "(id==2)*(1e308*1e308-1e308*1e308)"\nset atom 2 vx v_bad')
 case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
 case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic")
+
+# radius ratio 1:100 in NN4DEM cells: the contact distance spans more cells than the stencil holds
+rc, out = t.run_lmp("""
+units lj
+atom_style sphere
+boundary f f f
+comm_modify vel yes
+region box block 0 2.2 0 1.2 0 1.2
+create_box 1 box
+create_atoms 1 single 0.55 0.6 0.6
+create_atoms 1 single 1.7 0.6 0.6
+set type 1 diameter 1.0
+set atom 2 diameter 0.01
+pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
+pair_coeff * *
+fix grid all griddem cell exact
+fix integrate all nve/sphere
+run 5
+""", WD, name="in.stencil_reach")
+t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in out and "cell multi" in out,
+        "stencil_reach: error names the ratio and the remedy")
 case("two_d", "supports 3d simulations only", dim=2)
 case("no_ghost_velocity", "comm_modify vel yes", comm="")
 case("arg_count", "expects Kn Kt gamma_n gamma_t xmu dampflag", pair="griddem/hooke/history 1e3 NULL 10")
