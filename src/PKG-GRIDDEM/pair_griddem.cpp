@@ -75,6 +75,10 @@ void PairGriddem::create_default_fix()
 void PairGriddem::init_style()
 {
   const char *style = force->pair_style;
+  // the sweep finds every pair on the grid, whatever pair hybrid would assign to other styles
+  if (force->pair != this)
+    error->all(FLERR, "The griddem pair styles cannot be sub-styles of pair {}: they find all contacts on their own grid",
+               style);
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag)
     error->all(FLERR, "Pair style {} requires atom attributes radius, rmass, omega (atom_style sphere)", style);
   if (comm->ghost_velocity == 0)

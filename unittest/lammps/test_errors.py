@@ -58,6 +58,21 @@ case("nan_speed", "atom 2 has a non-finite velocity", nan_expected=True,
      pre='variable bad atom "(id==2)*(1e308*1e308-1e308*1e308)"\nset atom 2 vx v_bad')
 case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
 case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic")
+rc, out = t.run_lmp("""
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 4 0 4 0 4
+create_box 2 box
+create_atoms 1 single 1 1 1
+create_atoms 2 single 2 1 1
+pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 lj/cut 1.0
+pair_coeff 1 1 griddem/hooke/history
+pair_coeff * 2 lj/cut 1.0 1.0
+run 0
+""", WD, name="in.hybrid")
+t.check(rc != 0 and "cannot be sub-styles of pair hybrid" in out, "hybrid: griddem as a sub-style refused")
 
 # radius ratio 1:100 in NN4DEM cells: the contact distance spans more cells than the stencil holds
 rc, out = t.run_lmp("""
