@@ -89,11 +89,6 @@ long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
   return axis_cell(g, 0, x) + (long) g->n[0] * (axis_cell(g, 1, y) + (long) g->n[1] * axis_cell(g, 2, z));
 }
 
-static inline int64_t key_of(const void *key, int key_bytes, int i)
-{
-  return key_bytes == 8 ? ((const int64_t *) key)[i] : (int64_t) ((const int *) key)[i];
-}
-
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes)
 {
@@ -142,9 +137,9 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     for (long c = 0; c < g->ncell; c++) {
       for (int s = start[c] + 1; s < start[c + 1]; s++) {
         const int moving = b->order[s];
-        const int64_t k = key_of(key, key_bytes, moving);
+        const int64_t k = griddem_key_at(key, key_bytes, moving);
         int t = s;
-        while (t > start[c] && key_of(key, key_bytes, b->order[t - 1]) > k) {
+        while (t > start[c] && griddem_key_at(key, key_bytes, b->order[t - 1]) > k) {
           b->order[t] = b->order[t - 1];
           t--;
         }

@@ -5,9 +5,17 @@
 #ifndef GRIDDEM_GRID_H
 #define GRIDDEM_GRID_H
 
+#include <stdint.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Element i of an array of 32- or 64-bit integers (key_bytes 4 or 8), such as LAMMPS's tags. */
+static inline int64_t griddem_key_at(const void *key, int key_bytes, int i)
+{
+  return key_bytes == 8 ? ((const int64_t *) key)[i] : (int64_t) ((const int *) key)[i];
+}
 
 /* How the cell edge is chosen. */
 enum griddem_cell_mode {

@@ -30,21 +30,33 @@ const double *griddem_history_row(const griddem_history *h, int row)
                                       : h->entries + (size_t) GRIDDEM_HISTORY_ENTRY(h->values) * h->row_start[row];
 }
 
+const double *griddem_history_find(const griddem_history *h, int row, double partner)
+{
+  const int width = GRIDDEM_HISTORY_ENTRY(h->values), count = griddem_history_count(h, row);
+  const double *entry = griddem_history_row(h, row);
+  for (int k = 0; k < count; k++, entry += width)
+    if (entry[0] == partner) return entry + 1;
+  return NULL;
+}
+
+/* Make *ptr hold at least need elements of elem bytes, with headroom; contents are kept. */
+static int ensure(void **ptr, long *cap, long need, size_t elem)
+{
+  if (*ptr && need <= *cap) return 0;
+  const long grown = need + need / 2 + 64;
+  void *p = realloc(*ptr, elem * (size_t) grown);
+  if (!p) return -1;
+  *ptr = p, *cap = grown;
+  return 0;
+}
+
 static int reserve(griddem_history *h, int rows, long entries)
 {
-  if (rows + 1 > h->rows_cap || !h->row_start) {
-    const int cap = rows + rows / 2 + 64;
-    long *p = (long *) realloc(h->row_start, sizeof(long) * (size_t) (cap + 1));
-    if (!p) return -1;
-    if (!h->row_start) p[0] = 0;
-    h->row_start = p, h->rows_cap = cap;
-  }
-  if (entries > h->entries_cap || !h->entries) {
-    const long cap = entries + entries / 2 + 64;
-    double *p = (double *) realloc(h->entries, sizeof(double) * (size_t) (GRIDDEM_HISTORY_ENTRY(h->values) * cap));
-    if (!p) return -1;
-    h->entries = p, h->entries_cap = cap;
-  }
+  const size_t width = sizeof(double) * GRIDDEM_HISTORY_ENTRY(h->values);
+  if (ensure((void **) &h->row_start, &h->rows_cap, rows + 1, sizeof(long)) != 0 ||
+      ensure((void **) &h->entries, &h->entries_cap, entries, width) != 0)
+    return -1;
+  if (h->nrows == 0) h->row_start[0] = 0;
   return 0;
 }
 
@@ -104,12 +116,7 @@ int griddem_history_log_contact(griddem_history_log *log, int values, int a, int
                                 const double *v)
 {
   const int width = 3 + values;
-  if (log->n == log->cap) {
-    const long cap = log->cap + log->cap / 2 + 1024;
-    double *p = (double *) realloc(log->records, sizeof(double) * (size_t) (width * cap));
-    if (!p) return -1;
-    log->records = p, log->cap = cap;
-  }
+  if (ensure((void **) &log->records, &log->cap, (log->n + 1) * width, sizeof(double)) != 0) return -1;
   double *r = log->records + (size_t) width * log->n++;
   r[0] = a, r[1] = b, r[2] = b_owned;
   for (int k = 0; k < values; k++) r[3 + k] = v[k];
@@ -120,24 +127,15 @@ int griddem_history_build(griddem_history *h, int nslot, const int *count, const
                           const double *parity)
 {
   const int nv = h->values, width = GRIDDEM_HISTORY_ENTRY(nv);
-  if (nslot + 1 > h->next_rows_cap) {
-    const int cap = nslot + nslot / 4 + 64;
-    long *p = (long *) realloc(h->next_start, sizeof(long) * (size_t) (cap + 1));
-    if (!p) return -1;
-    h->next_start = p, h->next_rows_cap = cap;
-  }
+  if (ensure((void **) &h->next_start, &h->next_rows_cap, nslot + 1, sizeof(long)) != 0) return -1;
   long total = 0;
   for (int s = 0; s < nslot; s++) {
     h->next_start[s] = total;
     total += count[s];
   }
   h->next_start[nslot] = total;
-  if (total > h->next_entries_cap || !h->next_entries) {
-    const long cap = total + total / 4 + 64;
-    double *p = (double *) realloc(h->next_entries, sizeof(double) * (size_t) (width * cap));
-    if (!p) return -1;
-    h->next_entries = p, h->next_entries_cap = cap;
-  }
+  if (ensure((void **) &h->next_entries, &h->next_entries_cap, total, sizeof(double) * width) != 0)
+    return -1;
 
   /* fill each row from its start; next_start[s] serves as the cursor, restored after */
   for (int k = 0; k < h->nlogs; k++) {
@@ -161,8 +159,7 @@ int griddem_history_build(griddem_history *h, int nslot, const int *count, const
   /* the new rows become the history */
   long *start = h->row_start;
   double *entries = h->entries;
-  const int rows_cap = h->rows_cap;
-  const long entries_cap = h->entries_cap;
+  const long rows_cap = h->rows_cap, entries_cap = h->entries_cap;
   h->row_start = h->next_start, h->entries = h->next_entries;
   h->rows_cap = h->next_rows_cap, h->entries_cap = h->next_entries_cap;
   h->next_start = start, h->next_entries = entries;

@@ -16,21 +16,21 @@ extern "C" {
 /* One thread's record of the contacts it evaluated: (slot a, slot b, b owned, values) each. */
 typedef struct griddem_history_log {
   double *records;
-  long n, cap;
+  long n;     /* records */
+  long cap;   /* allocated doubles */
 } griddem_history_log;
 
 typedef struct griddem_history {
   int values;            /* history values per contact */
   int slots;             /* most contacts one particle may have */
-  int nrows, rows_cap;
+  int nrows;
   long *row_start;       /* [nrows + 1]: first entry of each row */
   double *entries;       /* (partner tag, value_1 .. value_values) per entry */
-  long entries_cap;
+  long rows_cap, entries_cap;           /* allocated elements of row_start, entries */
   /* the sweep's scratch */
   long *next_start;
   double *next_entries;
-  int next_rows_cap;
-  long next_entries_cap;
+  long next_rows_cap, next_entries_cap;
   griddem_history_log *logs;
   int nlogs;
 } griddem_history;
@@ -43,6 +43,9 @@ void griddem_history_free(griddem_history *h);
 /* Contacts in row (0 for a row that does not exist, such as -1) and a pointer to its first entry. */
 int griddem_history_count(const griddem_history *h, int row);
 const double *griddem_history_row(const griddem_history *h, int row);
+
+/* The values of row's entry for partner (a tag, as stored), or NULL if the row has none. */
+const double *griddem_history_find(const griddem_history *h, int row, double partner);
 
 /* Append a row of count entries written with entry_values values each (converted to h->values:
  * values kept up to the shorter length, the rest zero). Returns its index, or -1 without memory. */

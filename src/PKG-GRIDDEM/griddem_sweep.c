@@ -34,8 +34,6 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   }
   ch->n = n;
   ch->frozen_bit = p->frozen_bit;
-  const int *tag32 = (const int *) p->tag;
-  const int64_t *tag64 = (const int64_t *) p->tag;
 #pragma omp parallel for schedule(static)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
@@ -48,7 +46,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     st->mass = p->rmass[i];
     st->type = p->type[i];
     st->mask = p->mask[i];
-    ch->tag[s] = p->tag_bytes == 8 ? tag64[i] : (int64_t) tag32[i];
+    ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
     memset(&ch->sum[s], 0, sizeof(griddem_slot_sum));
     ch->ncontact[s] = 0;
   }
@@ -138,26 +136,18 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   if (nv) {
-    const int row = cx->row_of[ia];
-    const int count = griddem_history_count(cx->hist, row);
-    const double *entries = griddem_history_row(cx->hist, row);
-    const double partner = (double) ch->tag[b];
-    for (int k = 0; k < count; k++) {
-      const double *entry = entries + (size_t) (1 + nv) * k;
-      if (entry[0] == partner) {
-        for (int v = 0; v < nv; v++) hv[v] = entry[1 + v];
-        break;
-      }
-    }
+    const double *stored = griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]);
+    if (stored)
+      for (int v = 0; v < nv; v++) hv[v] = stored[v];
   }
 
   double fc[3], ta[3], tb[3];
   const double energy = griddem_pair_contact(m, A->type, B->type, &c, cx->dt,
                                              cx->history_update, hv, fc, ta, tb, NULL);
   if (nv) {
-    if (ch->ncontact[a] == cx->hist->slots || (b_owned && ch->ncontact[b] == cx->hist->slots))
-      record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, ch->ncontact[a] == cx->hist->slots ? ia : ib,
-                   ch->ncontact[a] == cx->hist->slots ? ib : ia);
+    const int a_full = ch->ncontact[a] == cx->hist->slots;
+    if (a_full || (b_owned && ch->ncontact[b] == cx->hist->slots))
+      record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, a_full ? ia : ib, a_full ? ib : ia);
     if (griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
       record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
@@ -201,7 +191,7 @@ typedef struct stencil_row {
 static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows)
 {
   const double h = g->h, c2 = cutmax * cutmax;
-  const int reach = (int) ceil(cutmax / h);
+  const int reach = griddem_stencil_reach(h, cutmax);
   if (reach > MAX_REACH) return 0;
   int n = 0;
   for (int dz = 0; dz <= reach; dz++)

@@ -322,14 +322,9 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   if (nv && (i < atom->nlocal || j < atom->nlocal)) {
     const int owner = i < atom->nlocal ? i : j;
     const double partner = (double) atom->tag[owner == i ? j : i];
-    const int row = fix->row_of[owner];
-    const double *entries = griddem_history_row(&fix->hist, row);
-    for (int k = 0; k < griddem_history_count(&fix->hist, row); k++) {
-      const double *entry = entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k;
-      if (entry[0] != partner) continue;
-      for (int m = 0; m < nv; m++) hv[m] = owner == i ? entry[1 + m] : model.history_parity[m] * entry[1 + m];
-      break;
-    }
+    const double *stored = griddem_history_find(&fix->hist, fix->row_of[owner], partner);
+    if (stored)
+      for (int m = 0; m < nv; m++) hv[m] = owner == i ? stored[m] : model.history_parity[m] * stored[m];
   }
 
   double f[3], ti[3], tj[3];
