@@ -114,6 +114,7 @@ void PairGriddem::init_style()
 
   setup_exclusions();
   find_radius_range();
+  type_radius = max_radius_by_type();
 
   // NN4DEM stability rule: dt <= pi/5 sqrt(m/k) for the lightest atom
   double mlocal = INFINITY, mmin;

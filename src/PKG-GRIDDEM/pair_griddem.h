@@ -40,13 +40,15 @@ class PairGriddem : public Pair {
 
   void allocate();
   void create_default_fix();
-  // largest radius per type of the atoms present and those fix pour/deposit will add
-  std::vector<double> max_radius_by_type();
+  // largest radius per type of the atoms present and those fix pour/deposit will add, found
+  // once per init_style() for init_one()
+  std::vector<double> type_radius;
   // linear normal stiffness for the dt <= pi/5 sqrt(m/k) warning; 0: not a linear spring
   virtual double linear_normal_stiffness() = 0;
 
  private:
   void setup_exclusions();
+  std::vector<double> max_radius_by_type();
   void find_radius_range();
   void check_motion(double h_nn4dem);
   void report_fault(const griddem_sweep_result &);

@@ -252,8 +252,7 @@ double PairGriddemGranular::init_one(int i, int j)
 
   if (s.cutoff > 0.0) return s.cutoff;
   if (cutoff_global > 0.0) return cutoff_global;
-  const std::vector<double> maxrad = max_radius_by_type();
-  return maxrad[i] + maxrad[j];
+  return type_radius[i] + type_radius[j];
 }
 
 double PairGriddemGranular::linear_normal_stiffness()

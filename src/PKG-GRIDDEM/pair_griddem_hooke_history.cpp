@@ -104,8 +104,7 @@ void PairGriddemHookeHistory::coeff(int narg, char **arg)
 double PairGriddemHookeHistory::init_one(int i, int j)
 {
   if (!allocated) allocate();
-  const std::vector<double> maxrad = max_radius_by_type();
-  return maxrad[i] + maxrad[j];
+  return type_radius[i] + type_radius[j];
 }
 
 double PairGriddemHookeHistory::linear_normal_stiffness()
