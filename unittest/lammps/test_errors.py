@@ -106,5 +106,39 @@ case("history_slots", "touches more than 1 atoms", pre="create_atoms 1 single 1 
      "set type 1 density 1.0\nfix grid all griddem contacts 1")
 case("fix_keyword", "Unknown fix griddem keyword: slots", pre="fix grid all griddem slots 3")
 case("fix_cell", "must be exact, multi or a positive edge", pre="fix grid all griddem cell -1")
+case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
+     pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
+case("exclude_molecule", "does not support neigh_modify exclude molecule",
+     pre="fix mols all property/atom mol\nneigh_modify exclude molecule/intra all")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
+
+# a restart whose atoms have more contacts than the fix griddem that reads it allows
+restart_setup = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 4 0 4 0 4
+create_box 1 box
+create_atoms 1 single 1 1 1
+create_atoms 1 single 1.9 1 1
+create_atoms 1 single 1 1.9 1
+set type 1 diameter 1.0
+pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
+pair_coeff * *
+fix grid all griddem contacts 8
+fix integrate all nve/sphere
+run 2
+write_restart restart.contacts
+"""
+t.run_ok(restart_setup, WD, name="in.write_contacts")
+rc, out = t.run_lmp("""
+read_restart restart.contacts
+comm_modify vel yes
+fix grid all griddem contacts 1
+fix integrate all nve/sphere
+run 0
+""", WD, name="in.read_contacts")
+t.check(rc != 0 and "atom 1 has 2 contacts in the restart file, more than contacts 1" in out,
+        "restart with more contacts than allowed: %s" % [l for l in out.splitlines() if "ERROR" in l][:1])
 t.finish()

@@ -62,6 +62,32 @@ def main():
                             "pair_style griddem/granular\npair_coeff * * %s\n" % coeff, wd, name="in.bad")
         t.check(rc != 0 and "does not support" in out and name in out,
                 "unsupported %s refused by name: %s" % (name, out.strip().splitlines()[-1:]))
+
+    # bad arguments: each stops with a message naming what is wrong (run 0 reaches the checks
+    # made when coefficients are mixed and converted)
+    tangential = "tangential linear_history 1 1 1"
+    for style, coeffs, expect in [
+            ("1 2", "* * hooke 1e4 5 " + tangential, "takes at most one argument"),
+            ("-1", "* * hooke 1e4 5 " + tangential, "cutoff must be > 0, not -1"),
+            ("", "* * hooke 1e4", "hooke needs 2 coefficients"),
+            ("", "* * hooke -1 5 " + tangential, "hooke coefficient 1 must be >= 0, not -1"),
+            ("", "* * hertz/material 0 0.5 0.3 " + tangential, "hertz/material needs E > 0"),
+            ("", "* * hooke 1e4 5 tangential", "tangential needs a model name"),
+            ("", "* * hooke 1e4 5 cutoff -2 " + tangential, "cutoff must be > 0, not -2"),
+            ("", "* * hooke 1e4 5 %s bogus 1" % tangential, "unknown keyword bogus"),
+            ("", "* * hooke 1e4 5 damping foo " + tangential, "unknown damping model foo"),
+            ("", "* * hooke 1e4 5", "a tangential model is required"),
+            ("", "1 1 hooke 1e4 5 %s\npair_coeff 2 2 hooke 1e4 5 tangential linear_nohistory 1 1" % tangential,
+             "all type pairs must share it"),
+            ("", "1 1 hooke 1e4 5 %s\npair_coeff 2 2 hertz 1e4 5 %s" % (tangential, tangential),
+             "types 1 and 2 use different sub-models; set pair_coeff 1 2 explicitly"),
+            ("", "* * hooke 1e4 5 tangential linear_history 0 1 0.5", "linear_history with kt = 0"),
+            ("", "* * hooke 1e4 5 %s rolling sds 0 1 0.1" % tangential, "rolling sds with k_roll = 0")]:
+        rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 2 b\n"
+                            "comm_modify vel yes\npair_style griddem/granular %s\npair_coeff %s\nrun 0\n"
+                            % (style, coeffs), wd, name="in.bad")
+        t.check(rc != 0 and "ERROR" in out and expect in out,
+                "'%s' refused with '%s': %s" % (coeffs.splitlines()[0], expect, out.strip().splitlines()[-1:]))
     t.finish()
 
 

@@ -75,6 +75,12 @@ def main():
     rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
                         "compute c all griddem/grid 2 2 2 count pressure\n", wd, name="in.bad")
     t.check(rc != 0 and "unknown value pressure" in out, "unknown field refused by name")
+    for setup, args, expect in [("atom_style sphere\nregion b block 0 1 0 1 0 1", "0 2 2 count", "grid count x must be between 1 and 100000, not 0"),
+                                ("atom_style sphere\nregion b prism 0 1 0 1 0 1 0.1 0 0", "2 2 2 count", "does not support triclinic"),
+                                ("atom_style atomic\nregion b block 0 1 0 1 0 1", "2 2 2 count", "requires atom attributes radius and rmass")]:
+        rc, out = t.run_lmp("units lj\n%s\ncreate_box 1 b\ncompute c all griddem/grid %s\n" % (setup, args), wd,
+                            name="in.bad")
+        t.check(rc != 0 and expect in out, "compute griddem/grid %s: '%s'" % (args, expect))
     t.finish()
 
 
