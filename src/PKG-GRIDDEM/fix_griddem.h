@@ -1,5 +1,6 @@
 /* -*- c++ -*- ----------------------------------------------------------
-   GRIDDEM package: grid options, per-atom contact history and grid diagnostics.
+   GRIDDEM package: grid options, the engine (grid, bins, channels, contact history) and its
+   per-atom row index, grid diagnostics.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -12,7 +13,7 @@ FixStyle(griddem,FixGriddem);
 #define LMP_FIX_GRIDDEM_H
 
 #include "fix.h"
-#include "griddem_history.h"
+#include "griddem_engine.h"
 
 namespace LAMMPS_NS {
 
@@ -21,6 +22,7 @@ class FixGriddem : public Fix {
   FixGriddem(class LAMMPS *, int, char **);
   ~FixGriddem() override;
   int setmask() override;
+  void init() override;
 
   void grow_arrays(int) override;
   void copy_arrays(int, int, int) override;
@@ -36,28 +38,22 @@ class FixGriddem : public Fix {
 
   // the pair style's history layout; rows already stored are converted
   void set_values(int values);
-  // after a sweep: the history's row of sorted slot s is s; order maps slots to atoms
-  void adopt_rows(int nslot, const int *order, int nlocal);
+  // one engine step; the step's row_of is this fix's
+  int run_step(griddem_step &step, griddem_sweep_result &result, int &coarsened);
+  const griddem_engine_stats &stats() const { return engine.stats; }
+  // stored history values of atom i's contact with the atom tagged partner, or nullptr
+  const double *find_history(int i, double partner) const;
 
   // grid options (keywords cell and contacts)
   int cell_mode;        // enum griddem_cell_mode
   double cell_edge;     // for GRIDDEM_CELL_FIXED
-  int slots;            // most contacts one atom may keep history for; 0: no history
-
-  // Contact history in compressed rows (see griddem_history.h), in the order of the last
-  // sweep's sorted slots; atoms point at their row. Atoms arriving from another process or a
-  // restart file get rows appended.
-  griddem_history hist;
-  int *row_of;          // per atom: its row, or -1
-
-  // this process's grid statistics of the last step, set by the pair style
-  struct Stats {
-    double occupied_cells, max_occupancy, max_cells_moved, cell_edge, contacts, max_contacts,
-        elastic_energy;
-  } stats;
+  int contacts;         // expected contacts per atom (initial history storage); 0: no history
 
  private:
-  void add_row(int i, int count, const double *entries, int values);
+  griddem_engine engine;
+  int *row_of;          // per atom: its history row, or -1
+  int reserved;         // history storage reserved for `contacts` per atom
+  void add_row(int i, const double *message, int values);
 };
 
 }    // namespace LAMMPS_NS

@@ -4,11 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-void griddem_history_init(griddem_history *h, int values, int slots)
+void griddem_history_init(griddem_history *h, int values)
 {
   memset(h, 0, sizeof(*h));
   h->values = values;
-  h->slots = slots;
 }
 
 void griddem_history_free(griddem_history *h)
@@ -60,6 +59,24 @@ static int reserve(griddem_history *h, int rows, long entries)
   return 0;
 }
 
+int griddem_history_reserve(griddem_history *h, int rows, long entries)
+{
+  const size_t width = sizeof(double) * GRIDDEM_HISTORY_ENTRY(h->values);
+  if (reserve(h, rows, entries) != 0 ||
+      ensure((void **) &h->next_start, &h->next_rows_cap, rows + 1, sizeof(long)) != 0 ||
+      ensure((void **) &h->next_entries, &h->next_entries_cap, entries, width) != 0)
+    return -1;
+  return 0;
+}
+
+double griddem_history_memory(const griddem_history *h)
+{
+  double bytes = (double) (h->rows_cap + h->next_rows_cap) * sizeof(long) +
+      (double) (h->entries_cap + h->next_entries_cap) * GRIDDEM_HISTORY_ENTRY(h->values) * sizeof(double);
+  for (int k = 0; k < h->nlogs; k++) bytes += (double) h->logs[k].cap * sizeof(double);
+  return bytes;
+}
+
 static void convert_entries(const double *from, int from_values, double *to, int values, int count)
 {
   for (int k = 0; k < count; k++) {
@@ -76,6 +93,7 @@ int griddem_history_add_row(griddem_history *h, int count, const double *entries
   convert_entries(entries, entry_values, h->entries + (size_t) GRIDDEM_HISTORY_ENTRY(h->values) * first,
                   h->values, count);
   h->row_start[h->nrows + 1] = first + count;
+  if (count > h->max_count) h->max_count = count;
   return h->nrows++;
 }
 
@@ -92,12 +110,6 @@ int griddem_history_set_values(griddem_history *h, int values)
   h->entries = converted, h->entries_cap = total + 1;
   h->values = values;
   return 0;
-}
-
-void griddem_history_clear(griddem_history *h)
-{
-  h->nrows = 0;
-  if (h->row_start) h->row_start[0] = 0;
 }
 
 int griddem_history_begin(griddem_history *h, int nthreads)
@@ -129,9 +141,11 @@ int griddem_history_build(griddem_history *h, int nslot, const int *count, const
   const int nv = h->values, width = GRIDDEM_HISTORY_ENTRY(nv);
   if (ensure((void **) &h->next_start, &h->next_rows_cap, nslot + 1, sizeof(long)) != 0) return -1;
   long total = 0;
+  int most = 0;
   for (int s = 0; s < nslot; s++) {
     h->next_start[s] = total;
     total += count[s];
+    if (count[s] > most) most = count[s];
   }
   h->next_start[nslot] = total;
   if (ensure((void **) &h->next_entries, &h->next_entries_cap, total, sizeof(double) * width) != 0)
@@ -165,5 +179,6 @@ int griddem_history_build(griddem_history *h, int nslot, const int *count, const
   h->next_start = start, h->next_entries = entries;
   h->next_rows_cap = rows_cap, h->next_entries_cap = entries_cap;
   h->nrows = nslot;
+  h->max_count = most;
   return 0;
 }

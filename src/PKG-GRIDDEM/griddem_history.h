@@ -22,8 +22,8 @@ typedef struct griddem_history_log {
 
 typedef struct griddem_history {
   int values;            /* history values per contact */
-  int slots;             /* most contacts one particle may have */
   int nrows;
+  int max_count;         /* most entries in one row (sizes exchange messages) */
   long *row_start;       /* [nrows + 1]: first entry of each row */
   double *entries;       /* (partner tag, value_1 .. value_values) per entry */
   long rows_cap, entries_cap;           /* allocated elements of row_start, entries */
@@ -37,7 +37,7 @@ typedef struct griddem_history {
 
 #define GRIDDEM_HISTORY_ENTRY(values) (1 + (values))
 
-void griddem_history_init(griddem_history *h, int values, int slots);
+void griddem_history_init(griddem_history *h, int values);
 void griddem_history_free(griddem_history *h);
 
 /* Contacts in row (0 for a row that does not exist, such as -1) and a pointer to its first entry. */
@@ -51,11 +51,14 @@ const double *griddem_history_find(const griddem_history *h, int row, double par
  * values kept up to the shorter length, the rest zero). Returns its index, or -1 without memory. */
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values);
 
+/* Make room for rows holding entries contacts in all, now and after the next sweep. 0, or -1. */
+int griddem_history_reserve(griddem_history *h, int rows, long entries);
+
+/* Bytes allocated. */
+double griddem_history_memory(const griddem_history *h);
+
 /* Change the values per contact of every row (a model with other sub-models). 0, or -1. */
 int griddem_history_set_values(griddem_history *h, int values);
-
-/* Drop every row. */
-void griddem_history_clear(griddem_history *h);
 
 /* For the sweep: make nthreads logs empty; append one contact of slots a and b to a log, with
  * the values seen from a (b gets the mirrored entry too if b_owned; 0, or -1 without memory);

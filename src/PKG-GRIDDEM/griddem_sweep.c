@@ -106,8 +106,8 @@ static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch
   return 0;
 }
 
-/* Evaluate the contact of slots a and b (distance squared rsq, already known to touch) seen from
- * a, which is owned; b receives its share if it is owned too. */
+/* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
+ * owned; b receives its share if it is owned too. */
 static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq)
 {
   griddem_channels *ch = cx->ch;
@@ -124,33 +124,31 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   if (cx->excl && excluded_pair(cx->excl, ch, a, b)) return;
 
   const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
-  griddem_contact_in c;
-  c.delx = ch->x[a] - ch->x[b], c.dely = ch->y[a] - ch->y[b], c.delz = ch->z[a] - ch->z[b];
+  const griddem_pair_params *law = griddem_model_pair(m, A->type, B->type);
+  const double *stored = m->track_contacts
+      ? griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]) : NULL;
+  /* past touching (reach_extra > 0) only pairs that touched before may still interact */
+  if (m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->rad[a], ch->rad[b], stored != NULL))
+    return;
+
+  griddem_contact c;
+  c.dx[0] = ch->x[a] - ch->x[b], c.dx[1] = ch->y[a] - ch->y[b], c.dx[2] = ch->z[a] - ch->z[b];
   c.rsq = rsq;
   c.radi = ch->rad[a], c.radj = ch->rad[b];
-  c.vr1 = A->v[0] - B->v[0], c.vr2 = A->v[1] - B->v[1], c.vr3 = A->v[2] - B->v[2];
-  c.wi1 = A->w[0], c.wi2 = A->w[1], c.wi3 = A->w[2];
-  c.wj1 = B->w[0], c.wj2 = B->w[1], c.wj3 = B->w[2];
+  for (int d = 0; d < 3; d++) c.vr[d] = A->v[d] - B->v[d], c.wi[d] = A->w[d], c.wj[d] = B->w[d];
   c.meff = griddem_effective_mass(A->mass, B->mass, (A->mask & ch->frozen_bit) != 0,
                                   (B->mask & ch->frozen_bit) != 0);
+  c.dt = cx->dt;
+  c.history_update = cx->history_update;
 
-  double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  if (nv) {
-    const double *stored = griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]);
-    if (stored)
-      for (int v = 0; v < nv; v++) hv[v] = stored[v];
-  }
+  double hv[GRIDDEM_MAX_HISTORY] = {0.0};
+  if (stored)
+    for (int v = 0; v < nv; v++) hv[v] = stored[v];
 
   double fc[3], ta[3], tb[3];
-  const double energy = griddem_pair_contact(m, A->type, B->type, &c, cx->dt,
-                                             cx->history_update, hv, fc, ta, tb, NULL);
-  if (nv) {
-    const int a_full = ch->ncontact[a] == cx->hist->slots;
-    if (a_full || (b_owned && ch->ncontact[b] == cx->hist->slots))
-      record_fault(cx->result, GRIDDEM_FAULT_HISTORY_FULL, a_full ? ia : ib, a_full ? ib : ia);
-    if (griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
-      record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
-  }
+  const double energy = griddem_contact_eval(law, &c, hv, fc, ta, tb);
+  if (m->track_contacts && griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
+    record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
 
   griddem_slot_sum *sa = &ch->sum[a], *sb = &ch->sum[b];
   for (int d = 0; d < 3; d++) sa->f[d] += fc[d], sa->t[d] += ta[d];
@@ -164,8 +162,8 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   const double share = b_owned ? 1.0 : 0.5;
   sums->energy += share * energy;
   if (!cx->want_virial && !cx->vatom) return;
-  const double w[6] = {c.delx * fc[0], c.dely * fc[1], c.delz * fc[2],
-                       c.delx * fc[1], c.delx * fc[2], c.dely * fc[2]};
+  const double w[6] = {c.dx[0] * fc[0], c.dx[1] * fc[1], c.dx[2] * fc[2],
+                       c.dx[0] * fc[1], c.dx[0] * fc[2], c.dx[1] * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
   if (cx->vatom) {
     double *va = cx->vatom + 6 * (size_t) ia;
@@ -263,8 +261,9 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
   }
 
   int hits[CANDIDATE_BLOCK];
+  const double reach = cx->model->reach_extra;
   for (int s = start[cell]; s < start[cell + 1]; s++) {
-    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s];
+    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + reach;
     int nhit = 0;
     for (int k = 0; k < nrange; k++) {
       const int jbegin = k == 0 ? s + 1 : lo[k], jend = hi[k];
@@ -299,7 +298,7 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
   /* largest contact distance, with a margin for the rounding of coordinates into cells */
   double extent = 0.0;
   for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
-  const double cutmax = 2.0 * cut_extra * (1.0 + 1e-10) + 1e-14 * extent;
+  const double cutmax = (2.0 * cut_extra + model->reach_extra) * (1.0 + 1e-10) + 1e-14 * extent;
   stencil_row rows[MAX_ROWS];
   const int nrows = build_stencil(g, cutmax, rows);
   if (nrows == 0) {
@@ -319,7 +318,7 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
     if (thick < reach) thick = reach;
   }
   const int nslab = (g->n[2] + thick - 1) / thick;
-  if (model->history_size && griddem_history_begin(hist, nthreads) != 0) {
+  if (model->track_contacts && griddem_history_begin(hist, nthreads) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
@@ -331,9 +330,9 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
       sweep_sums sums;
       memset(&sums, 0, sizeof(sums));
 #ifdef _OPENMP
-      if (model->history_size) sums.log = &hist->logs[omp_get_thread_num()];
+      if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
 #else
-      if (model->history_size) sums.log = &hist->logs[0];
+      if (model->track_contacts) sums.log = &hist->logs[0];
 #endif
       const int zlo = k * thick, zhi = (k + 1) * thick < g->n[2] ? (k + 1) * thick : g->n[2];
       /* occupied cells only, found through their slots: a dilute grid costs nothing extra */
@@ -349,7 +348,7 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
     }
   }
 
-  if (model->history_size &&
+  if (model->track_contacts &&
       griddem_history_build(hist, b->n, ch->ncontact, ch->tag, model->history_parity) != 0)
     record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 

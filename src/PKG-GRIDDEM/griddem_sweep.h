@@ -67,9 +67,8 @@ typedef struct griddem_exclusions {
 enum griddem_fault {
   GRIDDEM_FAULT_NONE = 0,
   GRIDDEM_FAULT_COINCIDENT = 1,      /* two centres at distance 0 */
-  GRIDDEM_FAULT_HISTORY_FULL = 2,    /* more contacts than history slots */
-  GRIDDEM_FAULT_STENCIL = 3,         /* contact distance above GRIDDEM_MAX_REACH cell edges */
-  GRIDDEM_FAULT_MEMORY = 4           /* no memory for the history */
+  GRIDDEM_FAULT_STENCIL = 2,         /* contact distance above GRIDDEM_MAX_REACH cell edges */
+  GRIDDEM_FAULT_MEMORY = 3           /* no memory for the history or the grid */
 };
 
 /* Most cells a stencil reaches on each side (exact mode handles radius ratios up to 1:18). */
@@ -87,8 +86,9 @@ typedef struct griddem_sweep_result {
 /* One sweep. Each pair in contact is evaluated once (half stencil in sorted order) and its force
  * and torques go to whichever of its two particles are owned, so ghosts receive nothing (newton
  * off across processes). Adds into f and torque (3*nlocal), and half of del*f of each contact into
- * vatom (6*nlocal) if not NULL; sums the virial into result only if want_virial. cut_extra is the largest radius any partner can have. If
- * model->history_size > 0, particle i's history is row row_of[i] of hist (-1: none), and on return
+ * vatom (6*nlocal) if not NULL; sums the virial into result only if want_virial. cut_extra is the
+ * largest radius any partner can have. If model->track_contacts, particle i's history is row
+ * row_of[i] of hist (-1: none), and on return
  * hist holds the new rows, the row of sorted slot s being s. excl may be NULL. Returns
  * result->fault. */
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,

@@ -26,8 +26,8 @@ using namespace LAMMPS_NS;
 static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
-    Pair(lmp), model(), fix(nullptr), coarsened_warned(0), rmin(0.0), rmax(0.0), grid(), bins(),
-    channels(), freeze_group_bit(0), exclusions()
+    Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
+    coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions()
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -41,8 +41,6 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
 PairGriddem::~PairGriddem()
 {
   delete[] svector;
-  griddem_bins_free(&bins);
-  griddem_channels_free(&channels);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -57,6 +55,87 @@ void PairGriddem::allocate()
   for (int i = 1; i < n; i++)
     for (int j = i; j < n; j++) setflag[i][j] = 0;
   memory->create(cutsq, n, n, "pair:cutsq");
+  specs.assign(n * n, griddem_pair_spec());
+  params.assign(n * n, griddem_pair_params());
+}
+
+/* the history layout of a spec: every type pair must keep the same history values per contact,
+   so that one atom's row has one layout; the first spec sets it */
+
+void PairGriddem::adopt_layout(const griddem_pair_spec &s, const std::string &types)
+{
+  double parity[GRIDDEM_MAX_HISTORY];
+  const int size = griddem_spec_history(&s, parity);
+  const int track = size > 0 || griddem_spec_beyond_contact(&s);
+  if (layout_set && (size != model.history_size || track != model.track_contacts ||
+                     memcmp(parity, model.history_parity, sizeof(double) * size) != 0))
+    error->all(FLERR, "Pair coeff for {}: types {} keep {} history values per contact, laid out otherwise than the earlier pair_coeff lines chose; all type pairs must share it (same tangential, rolling and twisting history)",
+               force->pair_style, types, size);
+  layout_set = 1;
+  model.history_size = size;
+  model.track_contacts = track;
+  for (int k = 0; k < size; k++) model.history_parity[k] = parity[k];
+  create_default_fix();
+}
+
+/* pair_coeff: spec s for the type pairs of two LAMMPS type ranges */
+
+void PairGriddem::set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s)
+{
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, irange, 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, jrange, 1, atom->ntypes, jlo, jhi, error);
+  make_params(s, ilo, jlo);    // refuse what cannot be evaluated now, naming the types
+  adopt_layout(s, fmt::format("{} {}", irange, jrange));
+
+  const int n = atom->ntypes + 1;
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      specs[i * n + j] = specs[j * n + i] = s;
+      setflag[i][j] = 1;
+      count++;
+    }
+  if (count == 0) error->all(FLERR, "Pair coeff for {}: no atom types in {} {}", force->pair_style, irange, jrange);
+}
+
+griddem_pair_params PairGriddem::make_params(const griddem_pair_spec &s, int i, int j)
+{
+  griddem_pair_params p;
+  char why[256];
+  if (griddem_spec_to_params(&s, &p, why, sizeof(why)) != 0)
+    error->all(FLERR, "Pair style {}: types {} {}: {}", force->pair_style, i, j, why);
+  return p;
+}
+
+/* unlike types without their own pair_coeff mix as in pair granular; cutoff = sum of the largest
+   radii of the two types (including atoms fix pour/deposit will add), plus the pull-off distance
+   of models that act beyond touching */
+
+double PairGriddem::init_one(int i, int j)
+{
+  if (!allocated) allocate();
+  const int n = atom->ntypes + 1;
+  if (setflag[i][j] == 0) {
+    griddem_pair_spec mixed;
+    const int axis = griddem_spec_mix(&specs[i * n + i], &specs[j * n + j], &mixed);
+    if (axis >= 0)
+      error->all(FLERR, "Pair style {}: types {} and {} use different {} models ({} and {}); set pair_coeff {} {} explicitly",
+                 force->pair_style, i, j, griddem_axis_name(axis), specs[i * n + i].sub[axis]->name,
+                 specs[j * n + j].sub[axis]->name, i, j);
+    specs[i * n + j] = specs[j * n + i] = mixed;
+  }
+  const griddem_pair_spec &s = specs[i * n + j];
+  params[i * n + j] = params[j * n + i] = make_params(s, i, j);
+  model.ntypes = atom->ntypes;
+  model.pair = params.data();
+
+  const double pulloff = griddem_pair_reach_extra(&params[i * n + j], type_radius[i], type_radius[j]);
+  model.reach_extra = MAX(model.reach_extra, pulloff);
+  if (s.cutoff > 0.0) return s.cutoff;
+  if (cutoff_global > 0.0) return cutoff_global;
+  return type_radius[i] + type_radius[j] + pulloff;
 }
 
 /* fix GRIDDEM with default options, unless the script already defined a fix griddem; made when
@@ -65,11 +144,11 @@ void PairGriddem::allocate()
 void PairGriddem::create_default_fix()
 {
   Fix *existing = modify->get_fix_by_id(AUTO_FIX_ID);
-  if (existing && model.history_size && dynamic_cast<FixGriddem *>(existing)->slots == 0)
+  if (existing && model.track_contacts && dynamic_cast<FixGriddem *>(existing)->contacts == 0)
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
-  modify->add_fix(fmt::format("{} all griddem{}", AUTO_FIX_ID, model.history_size ? "" : " contacts 0"));
+  modify->add_fix(fmt::format("{} all griddem{}", AUTO_FIX_ID, model.track_contacts ? "" : " contacts 0"));
 }
 
 void PairGriddem::init_style()
@@ -103,7 +182,7 @@ void PairGriddem::init_style()
     fixes = modify->get_fix_by_style("^griddem$");
   }
   fix = dynamic_cast<FixGriddem *>(fixes.front());
-  if (model.history_size && fix->slots == 0)
+  if (model.track_contacts && fix->contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);
   fix->set_values(model.history_size);
@@ -115,6 +194,7 @@ void PairGriddem::init_style()
   setup_exclusions();
   find_radius_range();
   type_radius = max_radius_by_type();
+  model.reach_extra = 0.0;    // init_one() finds it per type pair
 
   // NN4DEM stability rule: dt <= pi/5 sqrt(m/k) for the lightest atom
   double mlocal = INFINITY, mmin;
@@ -127,6 +207,22 @@ void PairGriddem::init_style()
       error->warning(FLERR, "Pair style {}: timestep {} exceeds the stability limit pi/5*sqrt(m/Kn) = {} of the lightest atom (mass {})",
                      style, update->dt, limit, mmin);
   }
+}
+
+/* stiffness of a linear (hooke) normal spring, for the dt <= pi/5 sqrt(m/k) warning; 0: not linear */
+
+double PairGriddem::linear_normal_stiffness()
+{
+  double kn = 0.0;
+  const int n = atom->ntypes + 1;
+  for (int i = 1; i < n; i++)
+    for (int j = i; j < n; j++) {
+      if (!setflag[i][j]) continue;
+      const griddem_pair_spec &s = specs[i * n + j];
+      if (s.sub[GRIDDEM_AXIS_NORMAL]->model != GRIDDEM_NORMAL_HOOKE) return 0.0;
+      kn = MAX(kn, s.coeffs[GRIDDEM_AXIS_NORMAL][0]);
+    }
+  return kn;
 }
 
 /* neigh_modify exclude type and group, as a neighbor list would honour them */
@@ -190,25 +286,16 @@ void PairGriddem::find_radius_range()
 
 void PairGriddem::check_motion(double h_nn4dem)
 {
+  const griddem_engine_stats &st = fix->stats();
   double **v = atom->v;
-  const double dt = update->dt;
-  double vmax2 = 0.0;
-  int fastest = -1;
-  for (int i = 0; i < atom->nlocal; i++) {
-    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
-    if (!std::isfinite(v2))
-      error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
-                 atom->tag[i], v[i][0], v[i][1], v[i][2]);
-    if (v2 > vmax2) {
-      vmax2 = v2;
-      fastest = i;
-    }
-  }
-  const double moved = sqrt(vmax2) * dt;
-  fix->stats.max_cells_moved = moved / grid.h;
-  if (fastest >= 0 && moved > h_nn4dem)
+  const int bad = st.nonfinite_velocity;
+  if (bad >= 0)
+    error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
+               atom->tag[bad], v[bad][0], v[bad][1], v[bad][2]);
+  const double moved = st.max_speed * update->dt;
+  if (st.fastest >= 0 && moved > h_nn4dem)
     error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
-               force->pair_style, atom->tag[fastest], moved, sqrt(vmax2), h_nn4dem);
+               force->pair_style, atom->tag[st.fastest], moved, st.max_speed, h_nn4dem);
 }
 
 void PairGriddem::report_fault(const griddem_sweep_result &r)
@@ -221,12 +308,10 @@ void PairGriddem::report_fault(const griddem_sweep_result &r)
                force->pair_style, tag[i], tag[j], x[i][0], x[i][1], x[i][2]);
   if (r.fault == GRIDDEM_FAULT_STENCIL)
     error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
-               force->pair_style, 2.0 * rmax, GRIDDEM_MAX_REACH, grid.h, rmax / rmin);
+               force->pair_style, 2.0 * rmax + model.reach_extra, GRIDDEM_MAX_REACH, fix->stats().cell_edge, rmax / rmin);
   if (r.fault == GRIDDEM_FAULT_MEMORY)
-    error->one(FLERR, "Pair style {}: out of memory for the contact history", force->pair_style);
-  if (r.fault == GRIDDEM_FAULT_HISTORY_FULL)
-    error->one(FLERR, "Pair style {}: atom {} touches more than {} atoms (the last one {}); raise fix griddem contacts",
-               force->pair_style, tag[i], fix->slots, tag[j]);
+    error->one(FLERR, "Pair style {}: out of memory for the grid or the contact history of {} atoms", force->pair_style,
+               atom->nlocal + atom->nghost);
 }
 
 void PairGriddem::compute(int eflag, int vflag)
@@ -245,18 +330,8 @@ void PairGriddem::compute(int eflag, int vflag)
   if (neighbor->ago == 0) find_radius_range();
   if (rmax == 0.0) return;    // no atoms yet
 
-  const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, rmin, rmax, 0.0);
-  const double h = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
-  const long max_cells = 32L * nall + 65536L;
-  if (griddem_grid_cover(&grid, domain->boxlo, nall, x[0], h, max_cells) && !coarsened_warned) {
-    coarsened_warned = 1;
-    error->warning(FLERR, "Pair style {}: cell edge enlarged from {} to {} so that the grid over this process's atoms stays within {} cells",
-                   force->pair_style, h, grid.h, max_cells);
-  }
-  if (griddem_bin_points(&bins, &grid, nall, x[0], atom->tag, sizeof(tagint)) != 0 )
-    error->one(FLERR, "Pair style {}: out of memory binning {} atoms into {} cells", force->pair_style, nall, grid.ncell);
-
-  griddem_particles part;
+  griddem_step step;
+  griddem_particles &part = step.particles;
   part.nlocal = nlocal;
   part.nall = nall;
   part.x = x[0];
@@ -269,27 +344,32 @@ void PairGriddem::compute(int eflag, int vflag)
   part.type = atom->type;
   part.mask = atom->mask;
   part.frozen_bit = freeze_group_bit;
-  if (griddem_channels_fill(&channels, &bins, &part) != 0)
-    error->one(FLERR, "Pair style {}: out of memory for {} atoms' channels", force->pair_style, nall);
+  for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
+  step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
+  step.max_cells = 32L * nall + 65536L;
+  step.rmax = rmax;
+  step.model = &model;
+  step.excl = &exclusions;
+  step.dt = update->dt;
+  step.history_update = update->setupflag ? 0 : 1;
+  step.row_of = nullptr;    // the fix's
+  step.f = atom->f[0];
+  step.torque = atom->torque[0];
+  step.vatom = vflag_atom ? vatom[0] : nullptr;
+  step.want_virial = vflag_global;
 
   griddem_sweep_result result;
-  const int history_update = update->setupflag ? 0 : 1;
-  griddem_sweep(&grid, &bins, &channels, nlocal, rmax, &model, &exclusions, update->dt,
-                history_update, &fix->hist, fix->row_of, atom->f[0], atom->torque[0],
-                vflag_atom ? vatom[0] : nullptr, vflag_global, &result);
+  int coarsened = 0;
+  fix->run_step(step, result, coarsened);
+  if (coarsened && !coarsened_warned) {
+    coarsened_warned = 1;
+    error->warning(FLERR, "Pair style {}: cell edge enlarged from {} to {} so that the grid over this process's atoms stays within {} cells",
+                   force->pair_style, step.cell_edge, fix->stats().cell_edge, step.max_cells);
+  }
   if (result.fault != GRIDDEM_FAULT_NONE) report_fault(result);
-  if (model.history_size) fix->adopt_rows(bins.n, bins.order, nlocal);
-
   if (vflag_global)
     for (int k = 0; k < 6; k++) virial[k] += result.virial[k];
-
-  fix->stats.occupied_cells = bins.occupied;
-  fix->stats.max_occupancy = bins.max_occupancy;
-  fix->stats.cell_edge = grid.h;
-  fix->stats.contacts = result.contacts;
-  fix->stats.max_contacts = result.max_contacts;
-  fix->stats.elastic_energy = result.energy;
-  check_motion(h_nn4dem);
+  check_motion(griddem_cell_edge(GRIDDEM_CELL_EXACT, rmin, rmax, 0.0));
 }
 
 /* One pair's contact for compute pair/local: the force over the distance in fforce, the parts
@@ -301,52 +381,49 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
 {
   fforce = 0.0;
   for (int m = 0; m < single_extra; m++) svector[m] = 0.0;
+  if (rsq == 0.0) return 0.0;
+
+  // the pair's history, from whichever of the two atoms this process owns
+  double hv[GRIDDEM_MAX_HISTORY] = {0.0};
+  const int nv = model.history_size;
+  const double *stored = nullptr;
+  int owner_is_i = 1;
+  if (model.track_contacts && (i < atom->nlocal || j < atom->nlocal)) {
+    owner_is_i = i < atom->nlocal;
+    stored = fix->find_history(owner_is_i ? i : j, (double) atom->tag[owner_is_i ? j : i]);
+    for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : model.history_parity[m] * stored[m];
+  }
+  const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);
   const double *radius = atom->radius;
-  const double radsum = radius[i] + radius[j];
-  if (rsq >= radsum * radsum || rsq == 0.0) return 0.0;
+  if (!griddem_contact_touch(law, rsq, radius[i], radius[j], stored != nullptr)) return 0.0;
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega;
-  griddem_contact_in c;
-  c.delx = x[i][0] - x[j][0], c.dely = x[i][1] - x[j][1], c.delz = x[i][2] - x[j][2];
+  griddem_contact c;
+  for (int d = 0; d < 3; d++) {
+    c.dx[d] = x[i][d] - x[j][d];
+    c.vr[d] = v[i][d] - v[j][d];
+    c.wi[d] = omega[i][d], c.wj[d] = omega[j][d];
+  }
   c.rsq = rsq;
   c.radi = radius[i], c.radj = radius[j];
-  c.vr1 = v[i][0] - v[j][0], c.vr2 = v[i][1] - v[j][1], c.vr3 = v[i][2] - v[j][2];
-  c.wi1 = omega[i][0], c.wi2 = omega[i][1], c.wi3 = omega[i][2];
-  c.wj1 = omega[j][0], c.wj2 = omega[j][1], c.wj3 = omega[j][2];
   const int *mask = atom->mask;
   c.meff = griddem_effective_mass(atom->rmass[i], atom->rmass[j], (mask[i] & freeze_group_bit) != 0,
                                   (mask[j] & freeze_group_bit) != 0);
-
-  // the pair's history, from whichever of the two atoms this process owns
-  double hv[GRIDDEM_MAX_HISTORY] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  const int nv = model.history_size;
-  if (nv && (i < atom->nlocal || j < atom->nlocal)) {
-    const int owner = i < atom->nlocal ? i : j;
-    const double partner = (double) atom->tag[owner == i ? j : i];
-    const double *stored = griddem_history_find(&fix->hist, fix->row_of[owner], partner);
-    if (stored)
-      for (int m = 0; m < nv; m++) hv[m] = owner == i ? stored[m] : model.history_parity[m] * stored[m];
-  }
+  c.dt = update->dt;
+  c.history_update = 0;
 
   double f[3], ti[3], tj[3];
-  griddem_contact_detail d;
-  griddem_pair_contact(&model, itype, jtype, &c, update->dt, 0, hv, f, ti, tj, &d);
-  fforce = d.fnormal_over_r;
-  for (int k = 0; k < 3; k++) svector[k] = d.fs[k];
-  svector[3] = sqrt(d.fs[0] * d.fs[0] + d.fs[1] * d.fs[1] + d.fs[2] * d.fs[2]);
-  if (model.law == GRIDDEM_LAW_HOOKE) {
-    for (int k = 0; k < 3; k++) svector[4 + k] = d.vn[k], svector[7 + k] = d.vt[k];
+  griddem_contact_eval(law, &c, hv, f, ti, tj);
+  fforce = c.fntot * c.rinv;
+  for (int k = 0; k < 3; k++) svector[k] = c.fs[k];
+  svector[3] = griddem_len3(c.fs);
+  if (single_hooke_layout) {
+    for (int k = 0; k < 3; k++) svector[4 + k] = c.vnnr * c.n[k], svector[7 + k] = c.vt[k];
   } else {
-    for (int k = 0; k < 3; k++) svector[4 + k] = d.fr[k];
-    svector[7] = sqrt(d.fr[0] * d.fr[0] + d.fr[1] * d.fr[1] + d.fr[2] * d.fr[2]);
-    svector[9] = c.delx, svector[10] = c.dely, svector[11] = c.delz;
+    for (int k = 0; k < 3; k++) svector[4 + k] = c.fr[k];
+    svector[7] = griddem_len3(c.fr);
+    svector[8] = law->twisting.model != GRIDDEM_TWISTING_NONE ? c.magtortwist : 0.0;
+    for (int k = 0; k < 3; k++) svector[9 + k] = c.dx[k];
   }
   return 0.0;
-}
-
-double PairGriddem::memory_usage()
-{
-  return (double) bins.ncell_cap * sizeof(int) + (double) bins.n_cap * (sizeof(int) + sizeof(long)) +
-      (double) channels.cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +
-                               sizeof(int64_t) + sizeof(int));
 }

@@ -1,16 +1,18 @@
 /* -*- c++ -*- ----------------------------------------------------------
-   GRIDDEM package: what every griddem pair style shares. Each step it bins owned and ghost atoms
-   into a uniform grid (no neighbor list) and runs the C core's stencil sweep; per-atom contact
-   history lives in fix griddem. Derived styles parse their arguments into a griddem_model.
+   GRIDDEM package: what every griddem pair style shares. Each step it hands owned and ghost
+   atoms to the grid engine that fix griddem owns (no neighbor list). A derived style turns its
+   arguments into one sub-model spec per type pair (griddem_submodels.h); this class mixes,
+   checks and converts them into the law the engine evaluates.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_PAIR_GRIDDEM_H
 #define LMP_PAIR_GRIDDEM_H
 
-#include "griddem_grid.h"
-#include "griddem_sweep.h"
+#include "griddem_engine.h"
+#include "griddem_submodels.h"
 #include "pair.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -21,18 +23,20 @@ class PairGriddem : public Pair {
   ~PairGriddem() override;
   void compute(int, int) override;
   void init_style() override;
+  double init_one(int, int) override;
   double single(int, int, int, int, double, double, double, double &) override;
-  double memory_usage() override;
 
  protected:
-  griddem_model model;          // the contact law and its parameters, set by the derived style
+  griddem_model model;                         // what the engine evaluates
+  std::vector<griddem_pair_spec> specs;        // [i*(ntypes+1)+j], as given or mixed
+  std::vector<griddem_pair_params> params;     // [i*(ntypes+1)+j], both orders
+  double cutoff_global;                        // < 0: cutoffs from the radii
+  int layout_set;                              // history layout fixed by a first spec
+  int single_hooke_layout;                     // single() reports as gran/hooke/history
   class FixGriddem *fix;
   int coarsened_warned;
   double rmin, rmax;            // smallest and largest radius of all atoms, refreshed on reneighbor
 
-  griddem_grid grid;
-  griddem_bins bins;
-  griddem_channels channels;
   int freeze_group_bit;
   std::vector<unsigned char> excluded_types;
   std::vector<int> excluded_groups;
@@ -40,13 +44,18 @@ class PairGriddem : public Pair {
 
   void allocate();
   void create_default_fix();
+  // give the type pairs of two LAMMPS type ranges spec s
+  void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
+  // take the history layout of s (the first spec sets it, later ones must match; types: for
+  // the message) and make the default fix griddem for it
+  void adopt_layout(const griddem_pair_spec &s, const std::string &types);
   // largest radius per type of the atoms present and those fix pour/deposit will add, found
   // once per init_style() for init_one()
   std::vector<double> type_radius;
-  // linear normal stiffness for the dt <= pi/5 sqrt(m/k) warning; 0: not a linear spring
-  virtual double linear_normal_stiffness() = 0;
 
  private:
+  griddem_pair_params make_params(const griddem_pair_spec &s, int i, int j);
+  double linear_normal_stiffness();
   void setup_exclusions();
   std::vector<double> max_radius_by_type();
   void find_radius_range();

@@ -8,6 +8,5 @@ using namespace LAMMPS_NS;
 
 PairGriddemHooke::PairGriddemHooke(LAMMPS *lmp) : PairGriddemHookeHistory(lmp)
 {
-  style_tangential = GRIDDEM_TANGENTIAL_DAMPED;
-  select_tangential();
+  shear_history = 0;
 }

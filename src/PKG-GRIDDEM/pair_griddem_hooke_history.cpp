@@ -1,6 +1,8 @@
 /* ----------------------------------------------------------------------
-   GRIDDEM package: pair style griddem/hooke/history, the grid twin of gran/hooke/history.
-   Takes the arguments of gran/hooke/history; the engine is PairGriddem.
+   GRIDDEM package: pair style griddem/hooke/history, the grid twin of gran/hooke/history (and,
+   without shear history, of gran/hooke). Takes their arguments and expresses them as sub-models:
+   normal hooke (Kn, gamma_n) with mass_velocity damping and the gran/hooke(/history) tangential
+   law (Kt, gamma_t, xmu), the same for all type pairs.
 ------------------------------------------------------------------------- */
 
 #include "pair_griddem_hooke_history.h"
@@ -9,33 +11,53 @@
 #include "comm.h"
 #include "error.h"
 #include "force.h"
-#include "memory.h"
 
 #include <cstring>
 
 using namespace LAMMPS_NS;
 
 PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
-    PairGriddem(lmp), dampflag(1), style_tangential(GRIDDEM_TANGENTIAL_HISTORY)
+    PairGriddem(lmp), kn(0.0), kt(0.0), gamman(0.0), gammat(0.0), xmu(0.0), dampflag(1),
+    limit_damping(0), shear_history(1)
 {
-  model.law = GRIDDEM_LAW_HOOKE;
+  single_hooke_layout = 1;
   single_extra = 10;    // tangential force (3) and its size, normal and tangential velocity (3+3)
-  select_tangential();
 }
 
-/* The style's tangential model, unless its coefficients make the tangential force zero
-   (xmu = 0, or no tangential damping without history): then none is evaluated or stored,
-   so a scene without friction pays nothing for it. */
+/* The style's sub-models. Coefficients that make the tangential force zero (xmu = 0, or no
+   tangential damping without history) select no tangential model: nothing is evaluated or
+   stored, so a scene without friction pays nothing for it. */
 
-void PairGriddemHookeHistory::select_tangential()
+griddem_pair_spec PairGriddemHookeHistory::style_spec() const
 {
-  int tangential = style_tangential;
-  if (model.hooke.xmu == 0.0 ||
-      (tangential == GRIDDEM_TANGENTIAL_DAMPED && model.hooke.gammat == 0.0))
-    tangential = GRIDDEM_TANGENTIAL_NONE;
-  model.hooke.tangential = tangential;
-  model.history_size = tangential == GRIDDEM_TANGENTIAL_HISTORY ? 3 : 0;
-  for (int k = 0; k < 3; k++) model.history_parity[k] = -1.0;    // shear seen from j is -shear
+  griddem_pair_spec s;
+  griddem_spec_init(&s);
+  s.sub[GRIDDEM_AXIS_NORMAL] = griddem_submodel_find(GRIDDEM_AXIS_NORMAL, "hooke");
+  s.coeffs[GRIDDEM_AXIS_NORMAL][0] = kn;
+  s.coeffs[GRIDDEM_AXIS_NORMAL][1] = gamman;
+  s.sub[GRIDDEM_AXIS_DAMPING] = griddem_submodel_find(GRIDDEM_AXIS_DAMPING, "mass_velocity");
+  const char *tangential = shear_history ? "gran/hooke/history" : "gran/hooke";
+  if (xmu == 0.0 || (!shear_history && gammat == 0.0)) tangential = "none";
+  const griddem_submodel *t = griddem_submodel_find(GRIDDEM_AXIS_TANGENTIAL, tangential);
+  s.sub[GRIDDEM_AXIS_TANGENTIAL] = t;
+  const double coeffs[3] = {kt, gammat, xmu};
+  for (int k = 0; k < t->ncoeff; k++) s.coeffs[GRIDDEM_AXIS_TANGENTIAL][k] = coeffs[k + 3 - t->ncoeff];
+  s.limit_damping = limit_damping;
+  return s;
+}
+
+/* the spec of the style's arguments for every type pair already set */
+
+void PairGriddemHookeHistory::adopt_style_spec()
+{
+  const griddem_pair_spec s = style_spec();
+  layout_set = 0;
+  adopt_layout(s, "* *");
+  if (!allocated) return;
+  const int n = atom->ntypes + 1;
+  for (int i = 1; i < n; i++)
+    for (int j = i; j < n; j++)
+      if (setflag[i][j]) specs[i * n + j] = specs[j * n + i] = s;
 }
 
 /* Kn Kt gamma_n gamma_t xmu dampflag [limit_damping], as gran/hooke/history */
@@ -46,38 +68,34 @@ void PairGriddemHookeHistory::settings(int narg, char **arg)
     error->all(FLERR, "Pair style {} expects Kn Kt gamma_n gamma_t xmu dampflag [limit_damping], got {} arguments",
                force->pair_style, narg);
 
-  model.hooke.kn = utils::numeric(FLERR, arg[0], false, lmp);
-  model.hooke.kt = strcmp(arg[1], "NULL") == 0 ? model.hooke.kn * 2.0 / 7.0
-                                          : utils::numeric(FLERR, arg[1], false, lmp);
-  model.hooke.gamman = utils::numeric(FLERR, arg[2], false, lmp);
-  model.hooke.gammat = strcmp(arg[3], "NULL") == 0 ? 0.5 * model.hooke.gamman
-                                              : utils::numeric(FLERR, arg[3], false, lmp);
-  model.hooke.xmu = utils::numeric(FLERR, arg[4], false, lmp);
+  kn = utils::numeric(FLERR, arg[0], false, lmp);
+  kt = strcmp(arg[1], "NULL") == 0 ? kn * 2.0 / 7.0 : utils::numeric(FLERR, arg[1], false, lmp);
+  gamman = utils::numeric(FLERR, arg[2], false, lmp);
+  gammat = strcmp(arg[3], "NULL") == 0 ? 0.5 * gamman : utils::numeric(FLERR, arg[3], false, lmp);
+  xmu = utils::numeric(FLERR, arg[4], false, lmp);
   dampflag = utils::inumeric(FLERR, arg[5], false, lmp);
-  if (dampflag == 0) model.hooke.gammat = 0.0;
-  model.hooke.limit_damping = 0;
+  if (dampflag == 0) gammat = 0.0;
+  limit_damping = 0;
   if (narg == 7) {
     if (strcmp(arg[6], "limit_damping") != 0)
-      error->all(FLERR, "Pair style {}: unknown keyword {} (only limit_damping)", force->pair_style,
-                 arg[6]);
-    model.hooke.limit_damping = 1;
+      error->all(FLERR, "Pair style {}: unknown keyword {} (only limit_damping)", force->pair_style, arg[6]);
+    limit_damping = 1;
   }
 
-  if (model.hooke.kn < 0.0) error->all(FLERR, "Pair style {}: Kn must be >= 0, not {}", force->pair_style, arg[0]);
-  if (model.hooke.kt < 0.0) error->all(FLERR, "Pair style {}: Kt must be >= 0, not {}", force->pair_style, arg[1]);
-  if (model.hooke.gamman < 0.0)
-    error->all(FLERR, "Pair style {}: gamma_n must be >= 0, not {}", force->pair_style, arg[2]);
-  if (model.hooke.gammat < 0.0)
-    error->all(FLERR, "Pair style {}: gamma_t must be >= 0, not {}", force->pair_style, arg[3]);
-  if (model.hooke.xmu < 0.0 || model.hooke.xmu > 10000.0)
+  if (kn < 0.0) error->all(FLERR, "Pair style {}: Kn must be >= 0, not {}", force->pair_style, arg[0]);
+  if (kt < 0.0) error->all(FLERR, "Pair style {}: Kt must be >= 0, not {}", force->pair_style, arg[1]);
+  if (gamman < 0.0) error->all(FLERR, "Pair style {}: gamma_n must be >= 0, not {}", force->pair_style, arg[2]);
+  if (gammat < 0.0) error->all(FLERR, "Pair style {}: gamma_t must be >= 0, not {}", force->pair_style, arg[3]);
+  if (xmu < 0.0 || xmu > 10000.0)
     error->all(FLERR, "Pair style {}: xmu must be in [0,10000], not {}", force->pair_style, arg[4]);
   if (dampflag < 0 || dampflag > 1)
     error->all(FLERR, "Pair style {}: dampflag must be 0 or 1, not {}", force->pair_style, arg[5]);
-  select_tangential();
-  if (model.hooke.tangential == GRIDDEM_TANGENTIAL_HISTORY && model.hooke.kt == 0.0 && model.hooke.gammat > 0.0)
-    error->all(FLERR, "Pair style {}: Kt = 0 with tangential damping divides by Kt in the Coulomb cap",
-               force->pair_style);
-  create_default_fix();
+  griddem_pair_params p;
+  char why[256];
+  const griddem_pair_spec s = style_spec();
+  if (griddem_spec_to_params(&s, &p, why, sizeof(why)) != 0)
+    error->all(FLERR, "Pair style {}: {}", force->pair_style, why);
+  adopt_style_spec();
 }
 
 void PairGriddemHookeHistory::coeff(int narg, char **arg)
@@ -85,31 +103,7 @@ void PairGriddemHookeHistory::coeff(int narg, char **arg)
   if (narg != 2)
     error->all(FLERR, "Pair coeff for {} takes only the two atom types (the model is set by pair_style), got {} arguments",
                force->pair_style, narg);
-  if (!allocated) allocate();
-
-  int ilo, ihi, jlo, jhi;
-  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
-  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-  int count = 0;
-  for (int i = ilo; i <= ihi; i++)
-    for (int j = MAX(jlo, i); j <= jhi; j++) {
-      setflag[i][j] = 1;
-      count++;
-    }
-  if (count == 0) error->all(FLERR, "Pair coeff for {}: no atom types in {} {}", force->pair_style, arg[0], arg[1]);
-}
-
-/* cutoff = sum of the largest radii of the two types, including atoms fix pour/deposit will add */
-
-double PairGriddemHookeHistory::init_one(int i, int j)
-{
-  if (!allocated) allocate();
-  return type_radius[i] + type_radius[j];
-}
-
-double PairGriddemHookeHistory::linear_normal_stiffness()
-{
-  return model.hooke.kn;
+  set_specs(arg[0], arg[1], style_spec());
 }
 
 void PairGriddemHookeHistory::write_restart(FILE *fp)
@@ -128,12 +122,13 @@ void PairGriddemHookeHistory::read_restart(FILE *fp)
       if (comm->me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
     }
+  adopt_style_spec();
 }
 
 void PairGriddemHookeHistory::write_restart_settings(FILE *fp)
 {
-  double values[5] = {model.hooke.kn, model.hooke.kt, model.hooke.gamman, model.hooke.gammat, model.hooke.xmu};
-  int flags[2] = {dampflag, model.hooke.limit_damping};
+  double values[5] = {kn, kt, gamman, gammat, xmu};
+  int flags[2] = {dampflag, limit_damping};
   fwrite(values, sizeof(double), 5, fp);
   fwrite(flags, sizeof(int), 2, fp);
 }
@@ -148,9 +143,7 @@ void PairGriddemHookeHistory::read_restart_settings(FILE *fp)
   }
   MPI_Bcast(values, 5, MPI_DOUBLE, 0, world);
   MPI_Bcast(flags, 2, MPI_INT, 0, world);
-  model.hooke.kn = values[0], model.hooke.kt = values[1], model.hooke.gamman = values[2];
-  model.hooke.gammat = values[3], model.hooke.xmu = values[4];
+  kn = values[0], kt = values[1], gamman = values[2], gammat = values[3], xmu = values[4];
   dampflag = flags[0];
-  model.hooke.limit_damping = flags[1];
-  select_tangential();
+  limit_damping = flags[1];
 }

@@ -20,17 +20,17 @@ class PairGriddemHookeHistory : public PairGriddem {
   PairGriddemHookeHistory(class LAMMPS *);
   void settings(int, char **) override;
   void coeff(int, char **) override;
-  double init_one(int, int) override;
   void write_restart(FILE *) override;
   void read_restart(FILE *) override;
   void write_restart_settings(FILE *) override;
   void read_restart_settings(FILE *) override;
 
  protected:
-  int dampflag;
-  int style_tangential;    // the style's tangential model, before select_tangential()
-  void select_tangential();
-  double linear_normal_stiffness() override;
+  double kn, kt, gamman, gammat, xmu;
+  int dampflag, limit_damping;
+  int shear_history;    // 1: gran/hooke/history's shear spring, 0: gran/hooke's damping only
+  griddem_pair_spec style_spec() const;
+  void adopt_style_spec();
 };
 
 }    // namespace LAMMPS_NS

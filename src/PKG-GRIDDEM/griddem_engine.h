@@ -1,0 +1,88 @@
+/* The GRIDDEM engine: what persists between steps (grid, bins, channels, contact history) behind
+ * a narrow face. A step bins the particles, sweeps the stencil and leaves each owned particle
+ * pointing at its new history row; rows are read and written whole for migration and restart.
+ * The host code (LAMMPS glue) keeps only the per-particle row index. */
+#ifndef GRIDDEM_ENGINE_H
+#define GRIDDEM_ENGINE_H
+
+#include "griddem_contact.h"
+#include "griddem_grid.h"
+#include "griddem_history.h"
+#include "griddem_sweep.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct griddem_engine_stats {
+  long occupied_cells;  /* cells holding a centre */
+  int max_occupancy;    /* most centres in one cell */
+  double cell_edge;     /* edge used (a dilute scene may coarsen it) */
+  long contacts;        /* contacts of owned particles (an owned pair counts twice) */
+  int max_contacts;     /* most contacts of one owned particle */
+  double elastic_energy;
+  double max_speed;       /* of an owned particle */
+  double max_cells_moved; /* max_speed * dt in cells */
+  int fastest;            /* owned particle moving most (-1: none) */
+  int nonfinite_velocity; /* first owned particle with a non-finite velocity (-1: none) */
+} griddem_engine_stats;
+
+typedef struct griddem_engine {
+  griddem_grid grid;
+  griddem_bins bins;
+  griddem_channels channels;
+  griddem_history hist;
+  griddem_engine_stats stats;
+} griddem_engine;
+
+/* One step's input. Particles hold owned ones first, then ghosts. */
+typedef struct griddem_step {
+  griddem_particles particles;
+  double anchor[3];        /* cell faces align to it (the box corner) */
+  double cell_edge;        /* wanted cell edge */
+  long max_cells;          /* the edge grows if the grid would need more cells */
+  double rmax;             /* largest radius of any particle */
+  const griddem_model *model;
+  const griddem_exclusions *excl; /* may be NULL */
+  double dt;
+  int history_update;      /* 1: advance history values */
+  int *row_of;             /* per particle: its history row (-1: none); updated for owned ones */
+  double *f, *torque;      /* added into, 3 per owned particle */
+  double *vatom;           /* NULL, or 6 per owned particle, added into */
+  int want_virial;
+} griddem_step;
+
+void griddem_engine_init(griddem_engine *e, int history_values);
+void griddem_engine_free(griddem_engine *e);
+
+/* One step: bin, sweep, adopt the new history rows. Returns result->fault; 1 in *coarsened if
+ * the cell edge had to grow (then e->stats.cell_edge is the edge used). */
+int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
+                        int *coarsened);
+
+/* Reserve history storage for n particles with contacts each. 0, or -1 without memory. */
+int griddem_engine_reserve(griddem_engine *e, int n, int contacts);
+
+/* Bytes the engine holds. */
+double griddem_engine_memory(const griddem_engine *e);
+
+/* History values per contact; changing it converts the stored rows (0, or -1 without memory). */
+int griddem_engine_history_values(const griddem_engine *e);
+int griddem_engine_set_history_values(griddem_engine *e, int values);
+
+/* A row as a message: count, then (partner tag, values...) per contact. */
+int griddem_engine_row_length(const griddem_engine *e, int row);   /* doubles of the message */
+int griddem_engine_max_row_length(const griddem_engine *e);        /* longest message of any row */
+int griddem_engine_get_row(const griddem_engine *e, int row, double *buf); /* returns the length */
+/* Append a row from a message written with `values` values per contact (converted to the
+ * engine's); returns its index, or -1 without memory. */
+int griddem_engine_put_row(griddem_engine *e, const double *buf, int values);
+
+/* Stored history values of row's contact with partner, or NULL. */
+const double *griddem_engine_find(const griddem_engine *e, int row, double partner);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
