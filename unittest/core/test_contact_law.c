@@ -1,22 +1,27 @@
-/* The linear spring-dashpot against its analytic solution: a head-on collision integrated with
+/* The composed contact law. Analytic: a linear spring-dashpot head-on collision integrated with
  * velocity Verlet has restitution e = exp(-pi z / sqrt(1 - z^2)), z = eta / (2 sqrt(k meff)),
- * eta = meff*gamman, and lasts pi / sqrt(k/meff - (eta/(2 meff))^2). Plus exact antisymmetry
- * of the pair law and the Coulomb cap of the history model. */
+ * eta = meff*gamman, and lasts pi / sqrt(k/meff - (eta/(2 meff))^2); undamped Hertz rebounds at
+ * the approach speed after 2.9432 delta_max / v; coeff_restitution damping gives the restitution
+ * it is asked for. Exact: every sub-model of the table, seen from j, mirrors i's view bit for bit
+ * (force odd, torques swapped, history odd or even as its row says), which the sweep's single
+ * evaluation per pair relies on; friction never exceeds the Coulomb cap; jkr holds a pair past
+ * touching only if it touched before, up to its pull-off distance. */
 #include "check.h"
 #include "griddem_contact.h"
+#include "spec_text.h"
 
-static griddem_contact_in head_on(double gap_x, double vrel, double m)
+static void set_head_on(griddem_contact *c, double gap_x, double vrel, double m, double dt)
 {
-  griddem_contact_in c = {0};
-  c.delx = gap_x, c.rsq = gap_x * gap_x, c.radi = c.radj = 0.5;
-  c.vr1 = vrel, c.meff = griddem_effective_mass(m, m, 0, 0);
-  return c;
+  memset(c, 0, sizeof(*c));
+  c->dx[0] = gap_x, c->rsq = gap_x * gap_x, c->radi = c->radj = 0.5;
+  c->vr[0] = vrel, c->meff = griddem_effective_mass(m, m, 0, 0);
+  c->dt = dt, c->history_update = 1;
 }
 
 /* Two equal spheres of mass m (diameter 1) approach head on at relative speed v0; velocity Verlet
  * in the relative coordinate. Returns the relative speed after the collision and sets the time
  * spent in contact. */
-static double collide(const griddem_model *model, double m, double dt, double v0, double *duration)
+static double collide(const griddem_pair_params *law, double m, double dt, double v0, double *duration)
 {
   double s = 1.0, vs = -v0, h[GRIDDEM_MAX_HISTORY] = {0}, f[3], ti[3], tj[3];
   double t = 0.0, t_in = -1.0, t_out = -1.0, a = 0.0;
@@ -26,8 +31,9 @@ static double collide(const griddem_model *model, double m, double dt, double v0
     t += dt;
     if (s < 1.0) {
       if (t_in < 0.0) t_in = t;
-      griddem_contact_in c = head_on(s, vs, m);
-      griddem_pair_contact(model, 0, 0, &c, dt, 1, h, f, ti, tj, NULL);
+      griddem_contact c;
+      set_head_on(&c, s, vs, m, dt);
+      griddem_contact_eval(law, &c, h, f, ti, tj);
       a = 2.0 * f[0] / m; /* relative acceleration: f/m on each, opposite */
     } else {
       if (t_in >= 0.0) t_out = t;
@@ -39,15 +45,14 @@ static double collide(const griddem_model *model, double m, double dt, double v0
   return vs;
 }
 
-static void restitution(double gamman)
+static void hooke_restitution(double gamman)
 {
   const double k = 5e4, m = 1.0;
-  griddem_model model = {0};
-  model.law = GRIDDEM_LAW_HOOKE;
-  const griddem_hooke_params p = {k, 2.0 / 7.0 * k, gamman, 0.0, 0.0, 0, GRIDDEM_TANGENTIAL_NONE};
-  model.hooke = p;
+  char text[128];
+  snprintf(text, sizeof(text), "hooke %.17g %.17g damping mass_velocity tangential linear_nohistory 0 0", k, gamman);
+  const griddem_pair_params law = law_from_text(text);
   double duration_seen;
-  const double v = collide(&model, m, 1e-6, 1.0, &duration_seen);
+  const double v = collide(&law, m, 1e-6, 1.0, &duration_seen);
   const double meff = m / 2.0, eta = meff * gamman, z = eta / (2.0 * sqrt(k * meff));
   const double e = exp(-M_PI * z / sqrt(1.0 - z * z));
   const double duration = M_PI / sqrt(k / meff - (eta / (2.0 * meff)) * (eta / (2.0 * meff)));
@@ -55,36 +60,14 @@ static void restitution(double gamman)
   CHECK_CLOSE(duration_seen, duration, 1e-3, 0.0);
 }
 
-/* The granular law seen from j mirrors the one seen from i: force odd, torques swapped, the
- * tangential history odd and the rolling history even, over several steps with both caps hit. */
-static void granular_mirror(const griddem_contact_in *ij, const griddem_contact_in *ji, int normal,
-                            int damping, int tangential)
+/* hooke + coeff_restitution: the damping is derived so that a collision rebounds with e */
+static void asked_restitution(double e)
 {
-  griddem_granular_params p = {0};
-  p.normal = normal, p.damping = damping, p.tangential = tangential;
-  p.rolling = GRIDDEM_ROLLING_SDS;
-  p.kn = 1e4, p.damp = 0.3, p.kt = 800.0, p.xt = 0.5, p.mu = 0.3;
-  p.kroll = 50.0, p.gammaroll = 0.2, p.muroll = 0.05;
-  double hi[6] = {1e-3, 2e-3, -1e-3, 4e-4, -2e-4, 1e-4}, hj[6];
-  const int nt = tangential == GRIDDEM_TANGENTIAL_HISTORY ? 3 : 0;
-  const double *hr = hi + nt;
-  for (int k = 0; k < 6; k++) hj[k] = k < nt ? -hi[k] : hi[k];
-  double *hrj = hj + nt;
-  int capped = 0;
-  for (int step = 0; step < 6; step++) {
-    double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
-    const double ei = griddem_granular_contact(&p, ij, 1e-3, 1, hi, fi, ti, tj, NULL);
-    const double ej = griddem_granular_contact(&p, ji, 1e-3, 1, hj, fj, tj2, ti2, NULL);
-    for (int d = 0; d < 3; d++) {
-      CHECK(fi[d] == -fj[d], "granular %d/%d/%d force mirror step %d", normal, damping, tangential, step);
-      CHECK(ti[d] == ti2[d] && tj[d] == tj2[d], "granular torque mirror step %d", step);
-      if (nt) CHECK(hi[d] == -hj[d], "tangential history odd, step %d", step);
-      CHECK(hr[d] == hrj[d], "rolling history even, step %d", step);
-    }
-    CHECK(ei == ej, "granular energy mirror step %d", step);
-    capped += sqrt(hr[0] * hr[0] + hr[1] * hr[1] + hr[2] * hr[2]) > 0.0;
-  }
-  CHECK(capped > 0, "rolling history engaged");
+  char text[128];
+  snprintf(text, sizeof(text), "hooke 5e4 %.17g damping coeff_restitution tangential linear_nohistory 0 0", e);
+  const griddem_pair_params law = law_from_text(text);
+  double duration;
+  CHECK_CLOSE(collide(&law, 1.0, 1e-6, 1.0, &duration), e, 2e-3, 0.0);
 }
 
 /* Hertz without damping conserves energy in a head-on collision: the rebound speed equals the
@@ -92,66 +75,107 @@ static void granular_mirror(const griddem_contact_in *ij, const griddem_contact_
  * delta_max = (5 meff v^2 / (4 K))^(2/5) (2 * integral_0^1 dx / sqrt(1 - x^(5/2)) = 2.9432). */
 static void hertz_restitution(void)
 {
-  griddem_granular_params p = {0};
-  p.normal = GRIDDEM_NORMAL_HERTZ, p.damping = GRIDDEM_DAMPING_VISCOELASTIC;
-  p.tangential = GRIDDEM_TANGENTIAL_DAMPED, p.kn = 1e5, p.damp = 0.0;
-  griddem_model model = {0};
-  model.law = GRIDDEM_LAW_GRANULAR;
-  model.granular = &p;
+  const griddem_pair_params law = law_from_text("hertz 1e5 0 tangential linear_nohistory 0 0");
   const double m = 1.0, v0 = 1.0;
   double duration_seen;
-  const double v = collide(&model, m, 1e-7, v0, &duration_seen);
+  const double v = collide(&law, m, 1e-7, v0, &duration_seen);
   /* F = k a delta with contact radius a = sqrt(R delta), R = 1/4: K = k R^(1/2); meff = m/2 */
-  const double meff = 0.5 * m, K = p.kn * sqrt(0.25);
+  const double meff = 0.5 * m, K = 1e5 * sqrt(0.25);
   const double delta_max = pow(5.0 * meff * v0 * v0 / (4.0 * K), 0.4);
-  const double duration = 2.9432 * delta_max / v0;
   CHECK_CLOSE(v, v0, 1e-6, 0.0);
-  CHECK_CLOSE(duration_seen, duration, 1e-3, 0.0);
+  CHECK_CLOSE(duration_seen, 2.9432 * delta_max / v0, 1e-3, 0.0);
+}
+
+/* Every row of the table in some law (internal rows: those the gran/hooke styles build). */
+static const char *const LAWS[] = {
+    "hooke 1e3 20 damping mass_velocity tangential gran/hooke/history 300 10 0.4",
+    "hooke 1e3 20 damping mass_velocity tangential gran/hooke 10 0.4",
+    "hooke 1e3 20 damping mass_velocity tangential none",
+    "hertz 1e4 0.3 damping viscoelastic tangential linear_history 800 0.5 0.3 rolling sds 50 0.2 0.05",
+    "hooke 1e4 0.3 damping tsuji tangential linear_history 800 0.5 0.3 rolling sds 50 0.2 0.05",
+    "hooke 1e4 0.3 damping mass_velocity tangential linear_nohistory 0.5 0.3 rolling sds 50 0.2 0.05",
+    "hertz 1e4 0.3 damping velocity tangential linear_nohistory 0.5 0.3 twisting sds 20 0.01 0.1",
+    "hooke 1e4 0.8 damping coeff_restitution tangential linear_history_classic 800 0.5 0.3",
+    "hertz/material 1e5 0.7 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.3",
+    "hertz/material 1e5 0.3 0.3 tangential mindlin/force 900 0.5 0.3 twisting marshall",
+    "hertz 1e4 0.3 tangential mindlin_rescale 800 0.5 0.3 rolling sds 50 0.2 0.05 twisting sds 20 0.01 0.1",
+    "hertz/material 1e5 0.3 0.3 tangential mindlin_rescale/force NULL 0.5 0.3 twisting marshall",
+    "dmt 1e5 0.3 0.3 50 tangential mindlin NULL 0.5 0.3 rolling sds 50 0.2 0.05 twisting sds 20 0.01 0.1",
+    "jkr 1e5 0.3 0.3 50 damping mass_velocity tangential mindlin_rescale NULL 0.5 0.3 twisting marshall",
+};
+
+/* i's and j's views of one contact over several steps with growing tangential loading */
+static void mirror(const char *text)
+{
+  griddem_pair_spec s;
+  spec_from_text(text, &s);
+  const griddem_pair_params law = law_from_text(text);
+  double parity[GRIDDEM_MAX_HISTORY];
+  const int nv = griddem_spec_history(&s, parity);
+  griddem_contact ij;
+  memset(&ij, 0, sizeof(ij));
+  const double dx[3] = {0.3, -0.4, 0.5}, vr[3] = {1.1, -0.7, 0.2}, wi[3] = {3.0, -1.0, 2.0},
+               wj[3] = {-0.5, 0.25, 1.5};
+  for (int d = 0; d < 3; d++) ij.dx[d] = dx[d], ij.vr[d] = vr[d], ij.wi[d] = wi[d], ij.wj[d] = wj[d];
+  ij.rsq = griddem_dot3(dx, dx), ij.radi = 0.42, ij.radj = 0.37, ij.meff = 0.8;
+  ij.dt = 1e-3, ij.history_update = 1;
+  double hi[GRIDDEM_MAX_HISTORY] = {1e-3, 2e-3, -1e-3, 0.0, 4e-4, -2e-4, 1e-4, 3e-4}, hj[GRIDDEM_MAX_HISTORY];
+  for (int k = 0; k < nv; k++) hj[k] = parity[k] * hi[k];
+  int capped = 0;
+  for (int step = 0; step < 24; step++) {
+    griddem_contact ji = ij;
+    for (int d = 0; d < 3; d++) ji.dx[d] = -ij.dx[d], ji.vr[d] = -ij.vr[d], ji.wi[d] = ij.wj[d], ji.wj[d] = ij.wi[d];
+    ji.radi = ij.radj, ji.radj = ij.radi;
+    double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
+    griddem_contact ci = ij, cj = ji;
+    const double ei = griddem_contact_eval(&law, &ci, hi, fi, ti, tj);
+    const double ej = griddem_contact_eval(&law, &cj, hj, fj, tj2, ti2);
+    int same = ei == ej && isfinite(ei);
+    for (int d = 0; d < 3; d++)
+      same = same && fi[d] == -fj[d] && ti[d] == ti2[d] && tj[d] == tj2[d] && isfinite(fi[d]);
+    for (int k = 0; k < nv; k++) same = same && hi[k] == parity[k] * hj[k];
+    CHECK(same, "'%s' step %d: j's view mirrors i's", text, step);
+    /* Coulomb: |fs| <= mu * fncrit */
+    capped += griddem_len3(ci.fs) >= 0.999999 * law.tangential.mu * ci.fncrit && law.tangential.mu > 0;
+    CHECK(griddem_len3(ci.fs) <= law.tangential.mu * ci.fncrit * (1 + 1e-12) + 1e-300,
+          "'%s' step %d: friction %g within the cap %g", text, step, griddem_len3(ci.fs), law.tangential.mu * ci.fncrit);
+    for (int d = 0; d < 3; d++) ij.wi[d] *= 1.6; /* load the tangential springs harder each step */
+  }
+  if (law.tangential.model != GRIDDEM_TANGENTIAL_NONE && law.tangential.model != GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY)
+    CHECK(capped > 0, "'%s': the Coulomb cap was reached", text);
+}
+
+/* jkr: a pair past touching interacts only if it touched before, and up to the pull-off distance
+ * 1.2277 (R c^2 / E*^2)^(1/3); there the force is attractive */
+static void jkr_reach(void)
+{
+  const griddem_pair_params law = law_from_text("jkr 1e5 0.3 0.3 50 damping mass_velocity tangential linear_history 800 0.5 0.3");
+  const double radi = 0.5, radj = 0.5, reff = 0.25, E = 1e5 / (2.0 * (1 - 0.09));
+  const double pulloff = 1.2277228507842888 * cbrt(reff * 50.0 * 50.0 / (E * E));
+  CHECK_CLOSE(griddem_pair_reach_extra(&law, radi, radj), pulloff, 1e-14, 0.0);
+  const double inside = 1.0 + 0.9 * pulloff, outside = 1.0 + 1.1 * pulloff;
+  CHECK(griddem_contact_touch(&law, 0.99 * 0.99, radi, radj, 0), "jkr: overlapping pair touches");
+  CHECK(!griddem_contact_touch(&law, inside * inside, radi, radj, 0), "jkr: a new pair past touching does not");
+  CHECK(griddem_contact_touch(&law, inside * inside, radi, radj, 1), "jkr: a pair that touched holds inside the pull-off distance");
+  CHECK(!griddem_contact_touch(&law, outside * outside, radi, radj, 1), "jkr: and lets go beyond it");
+  griddem_contact c;
+  set_head_on(&c, inside, 0.0, 1.0, 1e-3);
+  double h[GRIDDEM_MAX_HISTORY] = {0}, f[3], ti[3], tj[3];
+  griddem_contact_eval(&law, &c, h, f, ti, tj);
+  CHECK(f[0] < 0.0 && isfinite(f[0]), "jkr: attraction past touching (%g)", f[0]);
+  const griddem_pair_params hertz = law_from_text("hertz 1e4 0.3 tangential linear_history 800 0.5 0.3");
+  CHECK(griddem_pair_reach_extra(&hertz, radi, radj) == 0.0, "hertz: no reach past touching");
 }
 
 int main(void)
 {
-  restitution(0.0);   /* elastic: e = 1 */
-  restitution(20.0);  /* z = 0.032 */
-  restitution(100.0); /* z = 0.158 */
-
-  /* i's view and j's view of one contact are exact mirrors */
-  const griddem_hooke_params p = {1e3, 300.0, 20.0, 10.0, 0.4, 0, GRIDDEM_TANGENTIAL_HISTORY};
-  griddem_contact_in ij = {0.3, -0.4, 0.5, 0.5, 0.42, 0.37, 1.1, -0.7, 0.2,
-                           3.0, -1.0, 2.0, -0.5, 0.25, 1.5, 0.8};
-  ij.rsq = ij.delx * ij.delx + ij.dely * ij.dely + ij.delz * ij.delz;
-  griddem_contact_in ji = ij;
-  ji.delx = -ij.delx, ji.dely = -ij.dely, ji.delz = -ij.delz;
-  ji.radi = ij.radj, ji.radj = ij.radi;
-  ji.vr1 = -ij.vr1, ji.vr2 = -ij.vr2, ji.vr3 = -ij.vr3;
-  ji.wi1 = ij.wj1, ji.wi2 = ij.wj2, ji.wi3 = ij.wj3, ji.wj1 = ij.wi1, ji.wj2 = ij.wi2, ji.wj3 = ij.wi3;
-  double si[3] = {1e-3, 2e-3, -1e-3}, sj[3] = {-1e-3, -2e-3, 1e-3};
-  for (int step = 0; step < 5; step++) {
-    double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
-    const double ei = griddem_hooke_contact(&p, &ij, 1e-3, 1, si, fi, ti, tj, NULL);
-    const double ej = griddem_hooke_contact(&p, &ji, 1e-3, 1, sj, fj, tj2, ti2, NULL);
-    for (int d = 0; d < 3; d++) {
-      CHECK(fi[d] == -fj[d], "force mirror step %d axis %d: %.17g %.17g", step, d, fi[d], fj[d]);
-      CHECK(ti[d] == ti2[d] && tj[d] == tj2[d], "torque mirror step %d axis %d", step, d);
-      CHECK(si[d] == -sj[d], "shear mirror step %d axis %d", step, d);
-    }
-    CHECK(ei == ej && ei > 0.0, "energy mirror step %d", step);
-  }
-  granular_mirror(&ij, &ji, GRIDDEM_NORMAL_HERTZ, GRIDDEM_DAMPING_VISCOELASTIC, GRIDDEM_TANGENTIAL_HISTORY);
-  granular_mirror(&ij, &ji, GRIDDEM_NORMAL_HOOKE, GRIDDEM_DAMPING_TSUJI, GRIDDEM_TANGENTIAL_HISTORY);
-  granular_mirror(&ij, &ji, GRIDDEM_NORMAL_HOOKE, GRIDDEM_DAMPING_MASS_VELOCITY, GRIDDEM_TANGENTIAL_DAMPED);
-  granular_mirror(&ij, &ji, GRIDDEM_NORMAL_HERTZ, GRIDDEM_DAMPING_VELOCITY, GRIDDEM_TANGENTIAL_DAMPED);
+  hooke_restitution(0.0);   /* elastic: e = 1 */
+  hooke_restitution(20.0);  /* z = 0.032 */
+  hooke_restitution(100.0); /* z = 0.158 */
+  asked_restitution(0.5);
+  asked_restitution(0.9);
   hertz_restitution();
-  /* Coulomb: the tangential force never exceeds xmu * |normal force| */
-  const double r = sqrt(ij.rsq), fn = p.kn * (ij.radi + ij.radj - r) / r * r;
-  double sh[3] = {0.5, 0.5, 0.5}, f[3], ti[3], tj[3];
-  griddem_hooke_contact(&p, &ij, 1e-3, 1, sh, f, ti, tj, NULL);
-  const double nx = ij.delx / r, ny = ij.dely / r, nz = ij.delz / r;
-  const double fnormal = f[0] * nx + f[1] * ny + f[2] * nz;
-  const double ft2 = (f[0] - fnormal * nx) * (f[0] - fnormal * nx) +
-      (f[1] - fnormal * ny) * (f[1] - fnormal * ny) + (f[2] - fnormal * nz) * (f[2] - fnormal * nz);
-  CHECK(sqrt(ft2) <= p.xmu * fabs(fnormal) * (1 + 1e-12), "Coulomb cap %g > %g", sqrt(ft2),
-        p.xmu * fabs(fnormal));
-  CHECK(fn > 0.0, "overlapping pair repels");
+  for (size_t k = 0; k < sizeof(LAWS) / sizeof(LAWS[0]); k++) mirror(LAWS[k]);
+  jkr_reach();
   return check_summary();
 }

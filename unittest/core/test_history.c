@@ -1,4 +1,5 @@
-/* Compressed contact history: rows appended by hand keep their entries, conversion between
+/* Compressed contact history: rows appended by hand keep their entries and the longest is known
+ * (it sizes exchange messages), conversion between
  * values per contact keeps the common values and zeroes the new ones, and a build from logged
  * contacts gives each slot its own entries plus the mirrored entries of its owned partners. */
 #include "check.h"
@@ -7,7 +8,7 @@
 int main(void)
 {
   griddem_history h;
-  griddem_history_init(&h, 3, 8);
+  griddem_history_init(&h, 3);
   const double a[] = {7, 1, 2, 3, 9, 4, 5, 6}; /* partners 7 and 9 */
   const double b[] = {5, -1, -2, -3};
   CHECK(griddem_history_add_row(&h, 2, a, 3) == 0, "first row index");
@@ -15,6 +16,7 @@ int main(void)
   CHECK(griddem_history_count(&h, 0) == 2 && griddem_history_count(&h, 1) == 1, "row counts");
   CHECK(griddem_history_count(&h, -1) == 0 && griddem_history_count(&h, 5) == 0, "no row, no contacts");
   CHECK(griddem_history_row(&h, 0)[4] == 9.0 && griddem_history_row(&h, 1)[3] == -3.0, "entries kept");
+  CHECK(h.max_count == 2, "longest row: %d entries", h.max_count);
 
   /* 3 -> 6 values: the first three kept, rolling values start from zero */
   CHECK(griddem_history_set_values(&h, 6) == 0, "convert to 6 values");
@@ -34,6 +36,7 @@ int main(void)
   CHECK(griddem_history_build(&h, 3, count, tags, parity) == 0, "build");
   CHECK(h.nrows == 3 && griddem_history_count(&h, 0) == 2 && griddem_history_count(&h, 1) == 1 &&
             griddem_history_count(&h, 2) == 0, "built counts");
+  CHECK(h.max_count == 2, "longest built row: %d entries", h.max_count);
   const double *s0 = griddem_history_row(&h, 0), *s1 = griddem_history_row(&h, 1);
   /* log 0 is read first: slot 0's partner 30, then 20 */
   CHECK(s0[0] == 30 && s0[1] == 7 && s0[6] == 12 && s0[7] == 20 && s0[8] == 1, "slot 0 entries");

@@ -1,10 +1,13 @@
 /* The stencil sweep finds every contact: forces, torques, virial, energy and history match an
  * all-pairs evaluation of the same contact law from both sides of every pair (the sweep evaluates
  * each pair once and hands the partner the mirrored result) on a dense polydisperse (1:4)
- * configuration of two types, in every cell mode, for the hooke and granular laws, with excluded
- * type pairs and with 1 or 3 threads; momentum balance holds; faults name the particles. */
+ * configuration of two types, in every cell mode, for the gran/hooke(/history) laws and pair
+ * granular sub-models (a per-type-pair table; jkr's contacts past touching included), with
+ * excluded type pairs and with 1 or 3 threads; momentum balance holds; a particle's history row
+ * grows with its contacts; faults name the particles. */
 #include "check.h"
 #include "griddem_sweep.h"
+#include "spec_text.h"
 
 #include <stdlib.h>
 #ifdef _OPENMP
@@ -12,7 +15,7 @@
 #endif
 #include <string.h>
 
-enum { N = 400, SLOTS = 64 };
+enum { N = 400 };
 static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
 static int tag[N], type[N], mask[N];
 
@@ -32,9 +35,11 @@ static void make_configuration(void)
   }
 }
 
-/* All ordered pairs from i's view, history in a dense matrix of nv values per ordered pair. */
+/* All ordered pairs from i's view, history in a dense matrix of nv values per ordered pair and
+ * whether the pair interacted in touched (jkr holds pairs that touched before). */
 static void all_pairs(const griddem_model *m, const unsigned char *excluded, double dt, int update,
-                      double *hist, double *f, double *t, double *vir, double *energy, long *contacts)
+                      double *hist, unsigned char *touched, double *f, double *t, double *vir,
+                      double *energy, long *contacts)
 {
   const int nv = m->history_size;
   memset(f, 0, sizeof(double) * 3 * N);
@@ -45,29 +50,33 @@ static void all_pairs(const griddem_model *m, const unsigned char *excluded, dou
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) {
       if (i == j || (excluded && excluded[type[i] * 3 + type[j]])) continue;
-      griddem_contact_in c;
-      c.delx = x[3 * i] - x[3 * j], c.dely = x[3 * i + 1] - x[3 * j + 1];
-      c.delz = x[3 * i + 2] - x[3 * j + 2];
-      c.rsq = c.delx * c.delx + c.dely * c.dely + c.delz * c.delz;
-      double *h = hist + GRIDDEM_MAX_HISTORY * ((size_t) i * N + j);
-      if (c.rsq >= (rad[i] + rad[j]) * (rad[i] + rad[j])) {
+      griddem_contact c;
+      for (int d = 0; d < 3; d++) {
+        c.dx[d] = x[3 * i + d] - x[3 * j + d];
+        c.vr[d] = v[3 * i + d] - v[3 * j + d];
+        c.wi[d] = w[3 * i + d], c.wj[d] = w[3 * j + d];
+      }
+      c.rsq = griddem_dot3(c.dx, c.dx);
+      const size_t ij = (size_t) i * N + j;
+      double *h = hist + GRIDDEM_MAX_HISTORY * ij;
+      const griddem_pair_params *law = griddem_model_pair(m, type[i], type[j]);
+      if (!griddem_contact_touch(law, c.rsq, rad[i], rad[j], touched[ij])) {
         for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) h[k] = 0.0;
+        touched[ij] = 0;
         continue;
       }
+      touched[ij] = 1;
       c.radi = rad[i], c.radj = rad[j];
-      c.vr1 = v[3 * i] - v[3 * j], c.vr2 = v[3 * i + 1] - v[3 * j + 1];
-      c.vr3 = v[3 * i + 2] - v[3 * j + 2];
-      c.wi1 = w[3 * i], c.wi2 = w[3 * i + 1], c.wi3 = w[3 * i + 2];
-      c.wj1 = w[3 * j], c.wj2 = w[3 * j + 1], c.wj3 = w[3 * j + 2];
       c.meff = griddem_effective_mass(mass[i], mass[j], 0, 0);
+      c.dt = dt, c.history_update = update;
       double fc[3], ti[3], tj[3], hv[GRIDDEM_MAX_HISTORY] = {0};
       for (int k = 0; k < nv; k++) hv[k] = h[k];
-      *energy += 0.5 * griddem_pair_contact(m, type[i], type[j], &c, dt, update, hv, fc, ti, tj, NULL);
+      *energy += 0.5 * griddem_contact_eval(law, &c, hv, fc, ti, tj);
       for (int k = 0; k < nv; k++) h[k] = hv[k];
       for (int d = 0; d < 3; d++) f[3 * i + d] += fc[d], t[3 * i + d] += ti[d];
-      vir[0] += 0.5 * c.delx * fc[0], vir[1] += 0.5 * c.dely * fc[1];
-      vir[2] += 0.5 * c.delz * fc[2], vir[3] += 0.5 * c.delx * fc[1];
-      vir[4] += 0.5 * c.delx * fc[2], vir[5] += 0.5 * c.dely * fc[2];
+      vir[0] += 0.5 * c.dx[0] * fc[0], vir[1] += 0.5 * c.dx[1] * fc[1];
+      vir[2] += 0.5 * c.dx[2] * fc[2], vir[3] += 0.5 * c.dx[0] * fc[1];
+      vir[4] += 0.5 * c.dx[0] * fc[2], vir[5] += 0.5 * c.dx[1] * fc[2];
       (*contacts)++;
     }
 }
@@ -79,7 +88,8 @@ static double max_abs(const double *a, int n)
   return m;
 }
 
-static void compare_mode(int mode, const griddem_model *m, const unsigned char *excluded, int threads)
+static void compare_mode(int mode, const char *law, const griddem_model *m, const unsigned char *excluded,
+                         int threads)
 {
   const double dt = 1e-4, anchor[3] = {0.0, 0.0, 0.0};
   double rmin = 1e30, rmax = 0.0;
@@ -91,30 +101,40 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
-  griddem_grid_cover(&g, anchor, N, x, griddem_cell_edge(mode, rmin, rmax, 0.13), 1L << 26);
-  griddem_bin_points(&b, &g, N, x, tag, 4);
   griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
   griddem_exclusions excl = {excluded, 2, 0, NULL};
 
   griddem_history hist;
-  griddem_history_init(&hist, m->history_size, SLOTS);
+  griddem_history_init(&hist, m->history_size);
   int row_of[N];
   for (int i = 0; i < N; i++) row_of[i] = -1;
   static double dense[GRIDDEM_MAX_HISTORY * N * N];
+  static unsigned char touched[N * N];
   memset(dense, 0, sizeof(dense));
+  memset(touched, 0, sizeof(touched));
 
   static double f[3 * N], t[3 * N], va[6 * N], fr[3 * N], tr[3 * N];
   double vr[6], energy_ref;
   long contacts_ref;
-  /* three steps with history: it accumulates and is rotated the same way in both */
-  for (int step = 0; step < 3; step++) {
+  /* steps with history: it accumulates and is rotated the same way in both; the particles drift
+     apart, so that jkr pairs that touched hold on past touching */
+  long beyond = 0;
+  for (int step = 0; step < 4; step++) {
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va));
+    if (step > 0)
+      for (int k = 0; k < 3 * N; k++) x[k] *= 1.003;
+    griddem_grid_cover(&g, anchor, N, x, griddem_cell_edge(mode, rmin, rmax, 0.13), 1L << 26);
+    griddem_bin_points(&b, &g, N, x, tag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
     griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
-    all_pairs(m, excluded, dt, 1, dense, fr, tr, vr, &energy_ref, &contacts_ref);
-    const char *law = m->law == GRIDDEM_LAW_HOOKE ? "hooke" : "granular";
+    all_pairs(m, excluded, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < N; j++) {
+        const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+        beyond += touched[(size_t) i * N + j] && dx * dx + dy * dy + dz * dz >= (rad[i] + rad[j]) * (rad[i] + rad[j]);
+      }
     CHECK(res.fault == GRIDDEM_FAULT_NONE, "%s mode %d: fault %d", law, mode, res.fault);
     CHECK(res.contacts == contacts_ref && contacts_ref > N, "%s mode %d step %d: %ld contacts, all-pairs %ld",
           law, mode, step, res.contacts, contacts_ref);
@@ -158,38 +178,65 @@ static void compare_mode(int mode, const griddem_model *m, const unsigned char *
       for (int d = 0; d < 3; d++) fsum[d] += f[3 * i + d];
     CHECK(max_abs(fsum, 3) <= 1e-11 * fscale, "%s mode %d: net force %g", law, mode, max_abs(fsum, 3));
   }
+  CHECK((m->reach_extra > 0.0) == (beyond > 0), "%s mode %d: %ld contacts past touching", law, mode, beyond);
+  for (int k = 0; k < 3 * N; k++) x[k] /= 1.003 * 1.003 * 1.003;
   griddem_history_free(&hist);
   griddem_bins_free(&b);
   griddem_channels_free(&ch);
 }
 
-static griddem_model hooke_model(int tangential)
+/* A law for each of the 2x2 type pairs: text with %g for a factor that differs between pairs,
+ * so the per-type-pair table is exercised. */
+static griddem_pair_params table[9];
+
+static griddem_model model_of(const char *format)
 {
-  griddem_model m = {0};
-  m.law = GRIDDEM_LAW_HOOKE;
-  const griddem_hooke_params p = {2000.0, 2000.0 * 2.0 / 7.0, 50.0, 25.0, 0.5, 0, tangential};
-  m.hooke = p;
-  m.history_size = tangential == GRIDDEM_TANGENTIAL_HISTORY ? 3 : 0;
-  for (int k = 0; k < 3; k++) m.history_parity[k] = -1.0;
+  griddem_model m;
+  memset(&m, 0, sizeof(m));
+  m.ntypes = 2;
+  m.pair = table;
+  for (int a = 1; a <= 2; a++)
+    for (int b = 1; b <= 2; b++) {
+      char text[512];
+      snprintf(text, sizeof(text), format, 0.5 * (a + b));
+      table[a * 3 + b] = law_from_text(text);
+      griddem_pair_spec s;
+      spec_from_text(text, &s);
+      m.history_size = griddem_spec_history(&s, m.history_parity);
+      m.track_contacts = m.history_size > 0 || griddem_spec_beyond_contact(&s);
+      m.reach_extra = fmax(m.reach_extra, griddem_pair_reach_extra(&table[a * 3 + b], 0.2, 0.2));
+    }
   return m;
 }
 
+static const char *const LAWS[] = {
+    "hooke 2000 50 damping mass_velocity tangential gran/hooke/history 571.4 25 %g",
+    "hooke 2000 50 damping mass_velocity tangential gran/hooke 25 %g",
+    "hooke 2000 50 damping mass_velocity tangential none",
+    "hertz 8e4 5 tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05",
+    "hertz/material 1e5 5 0.3 tangential mindlin_rescale NULL 0.5 %g twisting marshall",
+    "jkr 1e5 5 0.3 %g damping mass_velocity tangential mindlin NULL 0.5 0.4 rolling sds 20 0.1 0.05 twisting sds 1 0.01 0.1",
+};
+
+/* Two particles sharing a position, and one particle touching many: the fault names the
+ * coincident pair; the crowded particle keeps all its contacts in a row that grows. */
 static void check_faults(void)
 {
-  griddem_model m = hooke_model(GRIDDEM_TANGENTIAL_HISTORY);
-  m.hooke.kn = m.hooke.kt = 1.0, m.hooke.gamman = m.hooke.gammat = 0.0;
+  const griddem_model m = model_of("hooke 1 0 damping mass_velocity tangential gran/hooke/history 1 0 %g");
   const double anchor[3] = {0.0, 0.0, 0.0};
-  double px[9] = {0, 0, 0, 1, 1, 1, 1, 1, 1}, pv[9] = {0}, pw[9] = {0}, pr[3] = {1, 1, 1},
-         pm[3] = {1, 1, 1};
-  int ptag[3] = {10, 20, 30}, ptype[3] = {1, 1, 1}, pmask[3] = {1, 1, 1};
+  enum { M = 41 };
+  double px[3 * M] = {0, 0, 0, 1, 1, 1, 1, 1, 1}, pv[3 * M] = {0}, pw[3 * M] = {0}, pr[M], pm[M];
+  int ptag[M], ptype[M], pmask[M];
+  for (int i = 0; i < M; i++) pr[i] = 1, pm[i] = 1, ptag[i] = 10 * (i + 1), ptype[i] = 1, pmask[i] = 1;
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
   griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0};
-  double f[9] = {0}, t[9] = {0};
-  int row_of[3] = {-1, -1, -1};
+  double f[3 * M] = {0}, t[3 * M] = {0};
+  int row_of[M];
+  for (int i = 0; i < M; i++) row_of[i] = -1;
   griddem_history hist;
-  griddem_history_init(&hist, 3, 4);
+  griddem_history_init(&hist, 3);
   griddem_sweep_result res;
 
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
@@ -201,43 +248,27 @@ static void check_faults(void)
   CHECK(res.fault_j == 3 - res.fault_i, "second particle of the coincident pair");
   CHECK(!isnan(f[0]) && !isnan(f[3]), "no NaN forces");
 
-  /* particle 0 touches both others but has one slot */
-  griddem_history_free(&hist);
-  griddem_history_init(&hist, 3, 1);
-  px[3] = 1.5, px[4] = 0.0, px[5] = 0.0, px[6] = 0.0, px[7] = 1.5, px[8] = 0.0;
-  griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
-  griddem_bin_points(&b, &g, 3, px, ptag, 4);
-  griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
-  CHECK(res.fault == GRIDDEM_FAULT_HISTORY_FULL && (res.fault_i == 0 || res.fault_j == 0),
-        "history overflow reported for particle 0: fault %d i %d j %d", res.fault, res.fault_i, res.fault_j);
+  /* particle 0 at the centre of a shell of 40 that each overlap it */
+  for (int k = 1; k < M; k++) {
+    const double zc = 1.0 - (2.0 * k - 1.0) / (M - 1), phi = k * 2.39996322972865332, rho = sqrt(1.0 - zc * zc);
+    px[3 * k] = 1.9 * rho * cos(phi), px[3 * k + 1] = 1.9 * rho * sin(phi), px[3 * k + 2] = 1.9 * zc;
+  }
+  px[0] = px[1] = px[2] = 0.0;
+  part.nlocal = part.nall = M;
+  for (int step = 0; step < 2; step++) {
+    griddem_grid_cover(&g, anchor, M, px, 2.0, 1000);
+    griddem_bin_points(&b, &g, M, px, ptag, 4);
+    griddem_channels_fill(&ch, &b, &part);
+    griddem_sweep(&g, &b, &ch, M, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
+    for (int k = 0; k < M; k++) row_of[b.order[k]] = k;
+    CHECK(res.fault == GRIDDEM_FAULT_NONE && res.max_contacts == M - 1,
+          "step %d: a particle with %d contacts, no fault (%d)", step, res.max_contacts, res.fault);
+    CHECK(griddem_history_count(&hist, row_of[0]) == M - 1 && hist.max_count == M - 1,
+          "step %d: its row holds all %d contacts", step, griddem_history_count(&hist, row_of[0]));
+  }
   griddem_history_free(&hist);
   griddem_bins_free(&b);
   griddem_channels_free(&ch);
-}
-
-/* hertz + viscoelastic + linear_history + sds for types 1-1, other stiffness and friction for
- * the pairs with type 2, so the per-type-pair table is exercised */
-static griddem_granular_params granular_table[9];
-
-static griddem_model granular_model(void)
-{
-  griddem_model m = {0};
-  m.law = GRIDDEM_LAW_GRANULAR;
-  m.ntypes = 2;
-  m.granular = granular_table;
-  for (int a = 1; a <= 2; a++)
-    for (int b = 1; b <= 2; b++) {
-      griddem_granular_params *p = &granular_table[a * 3 + b];
-      memset(p, 0, sizeof(*p));
-      p->normal = GRIDDEM_NORMAL_HERTZ, p->damping = GRIDDEM_DAMPING_VISCOELASTIC;
-      p->tangential = GRIDDEM_TANGENTIAL_HISTORY, p->rolling = GRIDDEM_ROLLING_SDS;
-      p->kn = 4e4 * (a + b), p->damp = 5.0, p->kt = 1500.0, p->xt = 0.5, p->mu = 0.2 * (a + b);
-      p->kroll = 20.0, p->gammaroll = 0.1, p->muroll = 0.05;
-    }
-  m.history_size = 6;
-  for (int k = 0; k < 6; k++) m.history_parity[k] = k < 3 ? -1.0 : 1.0;
-  return m;
 }
 
 int main(void)
@@ -245,14 +276,13 @@ int main(void)
   make_configuration();
   static const unsigned char exclude_22[9] = {0, 0, 0, 0, 0, 0, 0, 0, 1};
   for (int mode = GRIDDEM_CELL_EXACT; mode <= GRIDDEM_CELL_FIXED; mode++) {
-    for (int tangential = GRIDDEM_TANGENTIAL_NONE; tangential <= GRIDDEM_TANGENTIAL_HISTORY; tangential++) {
-      const griddem_model m = hooke_model(tangential);
-      compare_mode(mode, &m, NULL, 1);
+    for (size_t k = 0; k < sizeof(LAWS) / sizeof(LAWS[0]); k++) {
+      const griddem_model m = model_of(LAWS[k]);
+      compare_mode(mode, LAWS[k], &m, NULL, 1);
     }
-    const griddem_model m = granular_model();
-    compare_mode(mode, &m, NULL, 1);
-    compare_mode(mode, &m, exclude_22, 1);
-    compare_mode(mode, &m, NULL, 3);
+    const griddem_model m = model_of(LAWS[3]);
+    compare_mode(mode, "granular, type pair 2-2 excluded", &m, exclude_22, 1);
+    compare_mode(mode, "granular, 3 threads", &m, NULL, 3);
   }
   check_faults();
   return check_summary();
