@@ -13,6 +13,7 @@
 #include "domain.h"
 #include "error.h"
 #include "grid3d.h"
+#include "griddem_grid.h"
 #include "math_const.h"
 #include "memory.h"
 #include "update.h"
@@ -94,13 +95,7 @@ void ComputeGriddemGrid::compute_pergrid()
   const double *boxlo = domain->boxlo, *prd = domain->prd;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    long index = 0, stride = 1;
-    for (int d = 0; d < 3; d++) {
-      int c = static_cast<int>(floor((x[i][d] - boxlo[d]) / prd[d] * ncell[d]));
-      c = c < 0 ? 0 : (c >= ncell[d] ? ncell[d] - 1 : c);
-      index += stride * c;
-      stride *= ncell[d];
-    }
+    const long index = griddem_box_cell(boxlo, prd, ncell, x[i]);
     const double m = atom->rmass[i], r = atom->radius[i];
     double *cell = &local[NSUM * index];
     cell[SUM_COUNT] += 1.0;

@@ -77,17 +77,29 @@ int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const dou
   return coarsened;
 }
 
+static inline long clamp_cell(long c, long n)
+{
+  return c < 0 ? 0 : (c >= n ? n - 1 : c);
+}
+
 static inline long axis_cell(const griddem_grid *g, int d, double x)
 {
-  long c = axis_index(x, g->anchor[d], g->hinv) - g->k0[d];
-  if (c < 0) c = 0;
-  if (c >= g->n[d]) c = g->n[d] - 1;
-  return c;
+  return clamp_cell(axis_index(x, g->anchor[d], g->hinv) - g->k0[d], g->n[d]);
 }
 
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
 {
   return axis_cell(g, 0, x) + (long) g->n[0] * (axis_cell(g, 1, y) + (long) g->n[1] * axis_cell(g, 2, z));
+}
+
+long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], const double *x)
+{
+  long index = 0, stride = 1;
+  for (int d = 0; d < 3; d++) {
+    index += stride * clamp_cell((long) floor((x[d] - lo[d]) / prd[d] * n[d]), n[d]);
+    stride *= n[d];
+  }
+  return index;
 }
 
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,

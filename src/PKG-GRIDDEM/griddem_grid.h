@@ -56,6 +56,10 @@ int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const dou
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);
 
+/* Cell of a point in a box [lo, lo + prd) split into n[d] cells along each axis (x fastest), as
+ * output grids are laid out; points outside go to the nearest cell. */
+long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], const double *x);
+
 typedef struct griddem_bins {
   long ncell;       /* cells binned into */
   int n;            /* points binned */

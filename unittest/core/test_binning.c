@@ -1,5 +1,6 @@
 /* Binning: the counting sort is a permutation, cells are in order, slots within a cell are in
- * key order, occupancy statistics match a direct count, and dilute boxes are coarsened. */
+ * key order, occupancy statistics match a direct count, and dilute boxes are coarsened; output
+ * grids over a box put points in the cell that holds them. */
 #include "check.h"
 #include "griddem_grid.h"
 
@@ -75,6 +76,14 @@ int main(void)
   CHECK(griddem_first_nonfinite(3, bad) == 2, "NaN found at index 2");
   bad[7] = 2.0;
   CHECK(griddem_first_nonfinite(3, bad) == -1, "no NaN");
+
+  /* output grids: a box of 4 x 2 x 5 cells from (-1, 0, 10), edges 0.5, 1.5, 0.2 */
+  const double lo[3] = {-1.0, 0.0, 10.0}, prd[3] = {2.0, 3.0, 1.0};
+  const int n[3] = {4, 2, 5};
+  const double inside[3] = {0.26, 2.9, 10.61}, below[3] = {-3.0, -1.0, 9.0}, above[3] = {1.0, 3.0, 11.0};
+  CHECK(griddem_box_cell(lo, prd, n, inside) == 2 + 4 * (1 + 2 * 3), "box cell of an inside point");
+  CHECK(griddem_box_cell(lo, prd, n, below) == 0, "points below go to the first cell");
+  CHECK(griddem_box_cell(lo, prd, n, above) == 4 * 2 * 5 - 1, "points on the upper faces go to the last cell");
 
   griddem_bins_free(&b);
   return check_summary();
