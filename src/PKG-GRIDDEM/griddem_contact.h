@@ -7,6 +7,7 @@
 #ifndef GRIDDEM_CONTACT_H
 #define GRIDDEM_CONTACT_H
 
+#include "griddem_classic.h"
 #include "griddem_damping.h"
 #include "griddem_normal.h"
 #include "griddem_rolling.h"
@@ -26,8 +27,7 @@ typedef struct griddem_pair_params {
   griddem_twisting_params twisting;
   int limit_damping;        /* 1: no attractive normal force from damping */
   int need_contact_radius;  /* some sub-model reads c->contact_radius */
-  int torque_arm_radius;    /* 1: tangential torque arm is the radius (gran/hooke styles), else
-                               the distance to the contact point, radius - overlap/2 */
+  int classic;              /* 1: gran/hooke(/history)'s own arithmetic (griddem_classic.h) */
   int hist_rolling, hist_twisting; /* offsets of the rolling and twisting history values */
 } griddem_pair_params;
 
@@ -76,8 +76,13 @@ GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rs
 GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
                                            double *hist, double *f, double *ti, double *tj)
 {
-  griddem_contact_kinematics(c);
   c->energy = 0.0;
+  c->fr[0] = c->fr[1] = c->fr[2] = 0.0;
+  if (p->classic) {
+    griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, c, hist, f, ti, tj);
+    return c->energy;
+  }
+  griddem_contact_kinematics(c);
   if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&p->normal, c);
   griddem_normal_force(&p->normal, c);
   c->fntot = c->fnormal + griddem_damping_force(&p->damping, c);
@@ -91,11 +96,9 @@ GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem
   const double t1 = -(n[1] * fs[2] - n[2] * fs[1]);
   const double t2 = -(n[2] * fs[0] - n[0] * fs[2]);
   const double t3 = -(n[0] * fs[1] - n[1] * fs[0]);
-  const double di = p->torque_arm_radius ? c->radi : c->radi - 0.5 * c->delta;
-  const double dj = p->torque_arm_radius ? c->radj : c->radj - 0.5 * c->delta;
+  const double di = c->radi - 0.5 * c->delta, dj = c->radj - 0.5 * c->delta;
   ti[0] = di * t1, ti[1] = di * t2, ti[2] = di * t3;
   tj[0] = dj * t1, tj[1] = dj * t2, tj[2] = dj * t3;
-  c->fr[0] = c->fr[1] = c->fr[2] = 0.0;
   if (p->rolling.model == GRIDDEM_ROLLING_NONE && p->twisting.model == GRIDDEM_TWISTING_NONE)
     return c->energy;
 

@@ -135,7 +135,7 @@ static int setup_linear_nohistory(const griddem_pair_spec *s, griddem_pair_param
   return 0;
 }
 
-/* gran/hooke/history and gran/hooke: (Kt,) gamma_t, xmu; damping meff * gamma_t, torque arm the radius */
+/* gran/hooke/history and gran/hooke: (Kt,) gamma_t, xmu, in their own arithmetic */
 static int setup_gran_hooke(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
 {
   const griddem_submodel *m = s->sub[GRIDDEM_AXIS_TANGENTIAL];
@@ -145,16 +145,18 @@ static int setup_gran_hooke(const griddem_pair_spec *s, griddem_pair_params *p, 
   p->tangential.k = history ? c[0] : 0.0;
   p->tangential.gamma_mass = c[history];
   p->tangential.mu = c[history + 1];
-  p->torque_arm_radius = 1;
+  p->classic = 1;
   if (history && p->tangential.k == 0.0 && p->tangential.gamma_mass > 0.0)
     return fail(why, nwhy, "%s: Kt = 0 with tangential damping divides by Kt in the Coulomb cap", m->name);
   return 0;
 }
 
+/* the gran/hooke styles without friction (xmu = 0) */
 static int setup_tangential_none(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
 {
   (void) why, (void) nwhy;
   p->tangential.model = s->sub[GRIDDEM_AXIS_TANGENTIAL]->model;
+  p->classic = 1;
   return 0;
 }
 

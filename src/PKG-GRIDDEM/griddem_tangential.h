@@ -1,5 +1,5 @@
-/* Tangential (friction) sub-models: those of LAMMPS's pair granular (gran_sub_mod_tangential.cpp)
- * and the two laws of gran/hooke and gran/hooke/history. Each sets c->fs from the history values
+/* Tangential (friction) sub-models of LAMMPS's pair granular (gran_sub_mod_tangential.cpp); the
+ * laws of gran/hooke and gran/hooke/history are in griddem_classic.h. Each sets c->fs from the history values
  * at h (3 values: the tangential displacement, or the force for the mindlin .../force forms; the
  * rescale forms add a 4th, the contact radius of the previous step) and caps it by Coulomb. */
 #ifndef GRIDDEM_TANGENTIAL_H
@@ -16,7 +16,7 @@ enum griddem_tangential_model {
   GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY = 1,   /* also gran/hooke */
   GRIDDEM_TANGENTIAL_LINEAR_HISTORY = 2,
   GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC = 3, /* stock scales its k by the contact radius */
-  GRIDDEM_TANGENTIAL_HOOKE_HISTORY = 4,      /* gran/hooke/history: classic with a plain k */
+  GRIDDEM_TANGENTIAL_HOOKE_HISTORY = 4,      /* gran/hooke/history (griddem_classic.h) */
   GRIDDEM_TANGENTIAL_MINDLIN = 5,
   GRIDDEM_TANGENTIAL_MINDLIN_FORCE = 6,
   GRIDDEM_TANGENTIAL_MINDLIN_RESCALE = 7,
@@ -25,10 +25,8 @@ enum griddem_tangential_model {
 
 typedef struct griddem_tangential_params {
   int model;
-  double k, xt, mu;
-  /* damping = xt * normal damping prefactor + gamma_mass * meff: pair granular ties it to the
-   * normal damping (gamma_mass 0), gran/hooke's gamma_t is independent of it (xt 0) */
-  double gamma_mass;
+  double k, xt, mu;   /* damping = xt * the normal damping prefactor */
+  double gamma_mass;  /* gran/hooke styles: damping = meff * gamma_t, independent of the normal's */
 } griddem_tangential_params;
 
 /* Coulomb cap of a history force: shrink fs to fscrit and set the history to what gives it;
@@ -54,7 +52,7 @@ GRIDDEM_INLINE void griddem_tangential_cap(griddem_contact *c, double *h, double
 GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p, griddem_contact *c,
                                             double *h)
 {
-  const double damp = p->xt * c->damp_prefactor + p->gamma_mass * c->meff;
+  const double damp = p->xt * c->damp_prefactor;
   const double fscrit = p->mu * c->fncrit;
   c->damp_tangential = damp;
   switch (p->model) {
@@ -76,8 +74,7 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
       griddem_tangential_cap(c, h, fscrit, damp, -1.0 / p->k, griddem_len3(h) != 0.0);
       c->energy += 0.5 * p->k * griddem_dot3(h, h);
       return;
-    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC:
-    case GRIDDEM_TANGENTIAL_HOOKE_HISTORY: {
+    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC: {
       /* advance, then project onto the tangent plane without restoring the length */
       if (c->history_update)
         for (int m = 0; m < 3; m++) h[m] += c->dt * c->vtr[m];
@@ -86,7 +83,7 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
         const double rsht = griddem_dot3(h, c->n);
         for (int m = 0; m < 3; m++) h[m] -= rsht * c->n[m];
       }
-      const double k = p->model == GRIDDEM_TANGENTIAL_HOOKE_HISTORY ? p->k : p->k * c->contact_radius;
+      const double k = p->k * c->contact_radius;
       for (int m = 0; m < 3; m++) c->fs[m] = -k * h[m] - damp * c->vtr[m];
       griddem_tangential_cap(c, h, fscrit, damp, -1.0 / p->k, shrmag != 0.0);
       c->energy += 0.5 * k * griddem_dot3(h, h);

@@ -23,10 +23,10 @@ static void conversions(void)
   p = law_from_text("hooke 1e4 0.5 damping coeff_restitution tangential linear_nohistory 0.5 0.4");
   CHECK_CLOSE(p.damping.damp, -2.0 * log(0.5) / sqrt(M_PI * M_PI + log(0.5) * log(0.5)), 1e-15, 0.0);
   CHECK(!p.need_contact_radius, "hooke with coeff_restitution needs no contact radius");
-  /* gran/hooke/history: damping meff*gamma_t, independent of the normal damping; torque arm r */
+  /* gran/hooke/history: damping meff*gamma_t, independent of the normal damping, own arithmetic */
   p = law_from_text("hooke 1e4 50 damping mass_velocity tangential gran/hooke/history 3e3 20 0.5");
   CHECK(p.tangential.xt == 0.0 && p.tangential.gamma_mass == 20.0 && p.tangential.k == 3e3 &&
-        p.torque_arm_radius == 1, "gran/hooke/history parameters");
+        p.classic == 1, "gran/hooke/history parameters");
 }
 
 static void mixing(void)
