@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """CPU benchmark: LAMMPS's chute scene (bench/in.chute, 32,000 atoms) with stock
-gran/hooke/history and with griddem/hooke/history in each cell mode, on 1 and 2 MPI ranks (and
-griddem multi with 2 OpenMP threads where the cores allow), in one job on one machine. Appends
-one JSON line per run to bench/results/cpu.jsonl.
+gran/hooke/history and with griddem/hooke/history with its defaults and in each cell mode, on 1
+and 2 MPI ranks (and griddem multi with 2 OpenMP threads where the cores allow), in one job on
+one machine. Appends one JSON line per run to bench/results/cpu.jsonl, naming the build (--build,
+default the checkout's commit) so that two builds run back to back compare.
 
-usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--lammps-bench DIR]"""
+usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]
+                      [--lammps-bench DIR]"""
 import argparse
 import datetime
 import json
@@ -21,6 +23,7 @@ TOP = os.path.dirname(HERE)
 # (pair style, extra input, label, OpenMP threads per rank)
 VARIANTS = [
     ("gran/hooke/history", "", "stock", 1),
+    ("griddem/hooke/history", "", "griddem defaults", 1),
     ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact", 1),
     ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi", 1),
     ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi, 2 threads", 2),
@@ -32,6 +35,8 @@ def main():
     ap.add_argument("--steps", type=int, default=1000)
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
+    ap.add_argument("--only", default=None, help="comma-separated variant labels to run")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     args = ap.parse_args()
 
@@ -40,9 +45,12 @@ def main():
     with open(os.path.join(args.lammps_bench, "in.chute")) as f:
         stock = f.read()
     out_path = os.path.join(HERE, "results", "cpu.jsonl")
+    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
+                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    only = args.only.split(",") if args.only else None
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label, threads in VARIANTS:
-            if ranks * threads > (os.cpu_count() or 1):
+            if ranks * threads > (os.cpu_count() or 1) or (only and label not in only):
                 continue
             env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                        OMP_NUM_THREADS=str(threads))
@@ -63,7 +71,7 @@ def main():
                 "date": datetime.date.today().isoformat(),
                 "device": benchlib.device(),
                 "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks, "threads": threads,
-                "style": label, "loop_s": loop,
+                "style": label, "build": build, "loop_s": loop,
                 "atom_steps_per_s": atoms * steps / loop,
                 "pair_pct": float(pair_pct.group(1)) if pair_pct else None,
                 "neigh_pct": float(neigh_pct.group(1)) if neigh_pct else None,
