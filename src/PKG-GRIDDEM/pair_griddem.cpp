@@ -75,7 +75,6 @@ void PairGriddem::adopt_layout(const griddem_pair_spec &s, const std::string &ty
   model.history_size = size;
   model.track_contacts = track;
   for (int k = 0; k < size; k++) model.history_parity[k] = parity[k];
-  create_default_fix();
 }
 
 /* pair_coeff: spec s for the type pairs of two LAMMPS type ranges */
@@ -88,6 +87,7 @@ void PairGriddem::set_specs(const char *irange, const char *jrange, const gridde
   utils::bounds(FLERR, jrange, 1, atom->ntypes, jlo, jhi, error);
   make_params(s, ilo, jlo);    // refuse what cannot be evaluated now, naming the types
   adopt_layout(s, fmt::format("{} {}", irange, jrange));
+  create_default_fix();
 
   const int n = atom->ntypes + 1;
   int count = 0;

@@ -47,7 +47,8 @@ class PairGriddem : public Pair {
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // take the history layout of s (the first spec sets it, later ones must match; types: for
-  // the message) and make the default fix griddem for it
+  // the message). A restart read makes no fix: the one init_style() makes then takes the atoms'
+  // history from the file, which arrives after the pair style's settings
   void adopt_layout(const griddem_pair_spec &s, const std::string &types);
   // largest radius per type of the atoms present and those fix pour/deposit will add, found
   // once per init_style() for init_one()

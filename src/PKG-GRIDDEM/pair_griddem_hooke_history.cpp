@@ -96,6 +96,7 @@ void PairGriddemHookeHistory::settings(int narg, char **arg)
   if (griddem_spec_to_params(&s, &p, why, sizeof(why)) != 0)
     error->all(FLERR, "Pair style {}: {}", force->pair_style, why);
   adopt_style_spec();
+  create_default_fix();
 }
 
 void PairGriddemHookeHistory::coeff(int narg, char **arg)

@@ -1,4 +1,7 @@
-"""Bad input and extreme states stop with an error (or warn) that names the cause."""
+"""Bad input and extreme states stop with an error (or warn) that names the cause. fix griddem's
+contacts N is only the initial history size per atom: an atom touching more atoms than N runs and
+equals stock, and a restart written with contacts 8 and read with contacts 1 continues bit for
+bit like the uninterrupted run."""
 import os
 import sys
 
@@ -102,18 +105,18 @@ case("dampflag", "dampflag must be 0 or 1", pair="griddem/hooke/history 1e3 NULL
 case("keyword", "unknown keyword nolimit", pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 nolimit")
 case("xmu", "xmu must be in [0,10000]", pair="griddem/hooke/history 1e3 NULL 10 NULL -1 1")
 case("coeff_args", "takes only the two atom types", coeff="* * 1.0")
-case("history_slots", "touches more than 1 atoms", pre="create_atoms 1 single 1 1.9 1\nset type 1 diameter 1.0\n"
-     "set type 1 density 1.0\nfix grid all griddem contacts 1")
 case("fix_keyword", "Unknown fix griddem keyword: slots", pre="fix grid all griddem slots 3")
-case("fix_cell", "must be exact, multi or a positive edge", pre="fix grid all griddem cell -1")
+case("fix_cell", "multi or a positive edge, not -1", pre="fix grid all griddem cell -1")
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("exclude_molecule", "does not support neigh_modify exclude molecule",
      pre="fix mols all property/atom mol\nneigh_modify exclude molecule/intra all")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
 
-# a restart whose atoms have more contacts than the fix griddem that reads it allows
-restart_setup = """
+
+# contacts 1 is an initial size: atom 1 touches atoms 2 and 3 (the history grows) and the run
+# equals stock gran/hooke/history's
+THREE = """
 units lj
 atom_style sphere
 boundary p p p
@@ -124,21 +127,79 @@ create_atoms 1 single 1 1 1
 create_atoms 1 single 1.9 1 1
 create_atoms 1 single 1 1.9 1
 set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0.3 -0.2 0.1
+set atom 1 omega 2 -1 3
+pair_style {pair} 1e3 NULL 10 NULL 0.5 1
+pair_coeff * *
+{fix}
+timestep 1e-4
+fix integrate all nve/sphere
+thermo_style custom step {most}
+thermo 10
+dump snap all custom 50 dump.{name} id x y z vx vy vz omegax omegay omegaz fx fy fz
+dump_modify snap format float %.17g sort id
+run 50
+"""
+STATE = ["x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz", "fx", "fy", "fz"]
+rc, out = t.run_lmp(THREE.format(pair="griddem/hooke/history", fix="fix grid all griddem contacts 1",
+                                 most="f_grid[6]", name="one"), WD, name="in.contacts_one")
+t.check(rc == 0, "contacts 1 with an atom touching 2: the run completes (exit %d): %s" % (
+    rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+most = t.thermo_values(out, "f_grid[6]")
+t.check(most and max(most) == 2, "contacts 1: atom 1 has 2 contacts (%s)" % most)
+t.run_ok(THREE.format(pair="gran/hooke/history", fix="", most="ke", name="stock"), WD, name="in.contacts_stock")
+if rc == 0:
+    err = t.max_rel_diff(t.read_dump(os.path.join(WD, "dump.one")), t.read_dump(os.path.join(WD, "dump.stock")), STATE)
+    t.check(err <= 1e-10, "contacts 1 with 2 contacts: differs from stock by %.3g relative" % err)
+
+# a restart whose atoms have more contacts than the contacts value of the fix griddem that reads
+# it continues exactly like the uninterrupted run: 27 spheres in a slightly compressed cubic
+# cluster, up to 6 contacts each
+restart_setup = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+lattice sc $(1.0/0.95^3) origin 0.5 0.5 0.5
+region cluster block 1 4 1 4 1 4
+create_atoms 1 region cluster
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all create 0.5 4928 loop geom
 pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
 pair_coeff * *
 fix grid all griddem contacts 8
+timestep 1e-4
 fix integrate all nve/sphere
-run 2
+thermo_style custom step f_grid[6]
+thermo 20
+run 20
 write_restart restart.contacts
+dump snap all custom 20 dump.whole id x y z vx vy vz omegax omegay omegaz fx fy fz
+dump_modify snap format float %.17g sort id
+run 20
 """
-t.run_ok(restart_setup, WD, name="in.write_contacts")
+out = t.run_ok(restart_setup, WD, name="in.write_contacts")
+most = t.thermo_values(out, "f_grid[6]")
+t.check(most and min(most) >= 4, "restart cluster: atoms with several contacts (%s)" % most)
 rc, out = t.run_lmp("""
 read_restart restart.contacts
 comm_modify vel yes
 fix grid all griddem contacts 1
+timestep 1e-4
 fix integrate all nve/sphere
-run 0
+dump snap all custom 20 dump.again id x y z vx vy vz omegax omegay omegaz fx fy fz
+dump_modify snap format float %.17g sort id
+run 20
 """, WD, name="in.read_contacts")
-t.check(rc != 0 and "atom 1 has 2 contacts in the restart file, more than contacts 1" in out,
-        "restart with more contacts than allowed: %s" % [l for l in out.splitlines() if "ERROR" in l][:1])
+t.check(rc == 0, "restart with more contacts than contacts 1: read and continued (exit %d): %s" % (
+    rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+if rc == 0:
+    a, b = t.read_dumps(os.path.join(WD, "dump.whole")), t.read_dumps(os.path.join(WD, "dump.again"))
+    t.check(len(a) == len(b) == 2, "restart read with contacts 1: two snapshots each")
+    t.check(a[0][1] == b[0][1], "restart read with contacts 1: forces on reading identical bit for bit")
+    t.check(a[-1][1] == b[-1][1], "restart read with contacts 1: 20 steps later identical bit for bit")
 t.finish()

@@ -1,8 +1,14 @@
 """griddem/granular against stock pair granular with the same pair_coeff lines: forces, torques,
 virial and 20-step trajectories agree to 1e-10 relative on a dense random polydisperse (1:3)
 configuration of two atom types (the unlike pair mixed from the like ones), with random linear
-and angular velocities, for every supported normal, damping, tangential and rolling sub-model;
-unsupported sub-models are refused by name."""
+and angular velocities, for every supported sub-model: normal hooke, hertz, hertz/material, dmt
+and jkr; damping velocity, mass_velocity, viscoelastic, tsuji and coeff_restitution; tangential
+linear_nohistory, linear_history, linear_history_classic, mindlin, mindlin_rescale, mindlin/force
+and mindlin_rescale/force (with k given and NULL); rolling sds; twisting sds and marshall. In the
+JKR case stock has pairs interacting beyond contact at step 20 (separated after touching, inside
+the pull-off distance; checked), so that this range is compared too. Unsupported sub-models are
+refused by name, bad arguments with a message naming them, and a restart file naming an unknown
+sub-model stops read_restart naming it."""
 import os
 import sys
 
@@ -13,7 +19,9 @@ from test_stock_parity import compare, run as parity_run
 # stock's list is built once: a pair keeps its i/j order, so its rolling history keeps its sign
 FROZEN_LIST = "neighbor 0.3 bin\nneigh_modify every 1000 delay 0 check no"
 
-# (label, type 1 coefficients, type 2 coefficients); the 1-2 pair is mixed
+# (label, type 1 coefficients, type 2 coefficients); the 1-2 pair is mixed.
+# Twisting torques act on the angular velocity directly: their damping is kept below I/dt of the
+# lightest sphere (I = 1.7e-5), as a stable stock run needs.
 MODELS = [
     ("hooke mass_velocity linear_history",
      "hooke 1e4 50 damping mass_velocity tangential linear_history 3e3 0.5 0.5",
@@ -27,12 +35,85 @@ MODELS = [
     ("hooke velocity linear_nohistory rolling sds",
      "hooke 1e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 200 1 0.2",
      "hooke 3e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 100 2 0.1"),
+    # coeff_restitution: its damping coefficient is the restitution coefficient (hooke's formula)
+    ("hooke coeff_restitution linear_history",
+     "hooke 1e4 0.8 damping coeff_restitution tangential linear_history 3e3 0.5 0.5",
+     "hooke 2e4 0.6 damping coeff_restitution tangential linear_history 5e3 0.4 0.3"),
+    # ... and the Hertzian one; mindlin's k NULL: 8 G from the (mixed) material properties
+    ("hertz/material coeff_restitution mindlin NULL",
+     "hertz/material 1e6 0.8 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.5",
+     "hertz/material 5e5 0.7 0.25 damping coeff_restitution tangential mindlin NULL 0.4 0.3"),
+    ("hertz mindlin_rescale twisting sds",
+     "hertz 1e5 20 tangential mindlin_rescale 3e4 0.5 0.5 twisting sds 200 0.01 0.1",
+     "hertz 2e5 10 tangential mindlin_rescale 2e4 0.6 0.4 twisting sds 100 0.005 0.2"),
+    # k NULL for type 1 and given for type 2: the mixed pair falls back to the material's 8 G
+    ("hertz/material mindlin/force twisting marshall",
+     "hertz/material 1e6 20 0.3 tangential mindlin/force NULL 0.5 0.5 twisting marshall",
+     "hertz/material 5e5 10 0.25 tangential mindlin/force 3e5 0.4 0.3 twisting marshall"),
+    ("hertz/material mindlin_rescale/force rolling sds",
+     "hertz/material 1e6 20 0.3 tangential mindlin_rescale/force NULL 0.5 0.5 rolling sds 500 5 0.1",
+     "hertz/material 5e5 10 0.25 tangential mindlin_rescale/force NULL 0.4 0.3 rolling sds 300 3 0.2"),
+    ("hooke velocity linear_history_classic",
+     "hooke 1e4 5 damping velocity tangential linear_history_classic 3e3 0.5 0.5",
+     "hooke 2e4 8 damping velocity tangential linear_history_classic 5e3 0.4 0.3"),
+    # cohesive normal models take viscoelastic, velocity or mass_velocity damping and no
+    # limit_damping (stock refuses the others)
+    ("dmt mindlin rolling sds twisting sds",
+     "dmt 1e6 20 0.3 500 tangential mindlin NULL 0.5 0.5 rolling sds 500 5 0.1 twisting sds 200 0.01 0.1",
+     "dmt 5e5 10 0.25 300 tangential mindlin 3e5 0.6 0.4 rolling sds 300 3 0.2 twisting sds 100 0.005 0.2"),
+    # pull-off distance 0.005-0.02 (JKR's 1.2277 (R c^2 / E*^2)^(1/3)), about what the pairs
+    # pushed apart by the initial overlaps separate by in 20 steps
+    ("jkr mindlin_rescale twisting marshall",
+     "jkr 1e6 20 0.3 2000 tangential mindlin_rescale NULL 0.5 0.5 twisting marshall",
+     "jkr 5e5 10 0.25 1000 tangential mindlin_rescale 3e5 0.4 0.3 twisting marshall"),
 ]
+JKR = MODELS[-1]
 
 
 def run(wd, name, data, pair, c1, c2, extra=""):
     coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
     return parity_run(wd, name, data, pair, extra + "\n" + FROZEN_LIST, coeffs)
+
+
+# stock's pairs at step 20: the stock pair style's force for each pair in its neighbor list
+LOCAL = t.PERIODIC_SPHERES + FROZEN_LIST + """
+timestep 1e-5
+fix integrate all nve/sphere
+compute pairs all property/local patom1 patom2
+compute values all pair/local dist force
+dump local all local 20 dump.{name} c_pairs[1] c_pairs[2] c_values[1] c_values[2]
+dump_modify local format float %.17g
+run 20
+"""
+
+
+def beyond_contact(wd, data, c1, c2):
+    """(pairs with a force, pairs with a force whose distance exceeds the sum of the radii) in
+    stock's step 20."""
+    radius = {}
+    with open(data) as f:
+        lines = f.read().splitlines()
+    start = lines.index("Atoms # sphere") + 2
+    for line in lines[start:]:
+        words = line.split()
+        if not words:
+            break
+        radius[int(words[0])] = 0.5 * float(words[2])
+    coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
+    t.run_ok(LOCAL.format(data=data, pair="granular", coeffs=coeffs, name="local"), wd, name="in.local")
+    with open(os.path.join(wd, "dump.local")) as f:
+        lines = f.read().splitlines()
+    start = max(k for k, line in enumerate(lines) if line.startswith("ITEM: ENTRIES")) + 1
+    forced, beyond = 0, 0
+    for line in lines[start:]:
+        words = line.split()
+        if not words or words[0] == "ITEM:":
+            break
+        a, b, dist, force = int(words[0]), int(words[1]), float(words[2]), float(words[3])
+        if force != 0.0:
+            forced += 1
+            beyond += dist > radius[a] + radius[b]
+    return forced, beyond
 
 
 def main():
@@ -47,16 +128,20 @@ def main():
                     run(wd, "grid_%d_%s" % (k, cell), data, "griddem/granular", c1, c2,
                         "fix grid all griddem contacts 64 cell " + cell))
 
+    # the JKR case compares pairs beyond contact: stock has a visible number of them at step 20
+    forced, beyond = beyond_contact(wd, data, JKR[1], JKR[2])
+    t.check(forced > 1000 and beyond >= 0.01 * forced,
+            "jkr: stock has pairs interacting beyond contact at step 20 (%d of %d)" % (beyond, forced))
+
     label, c1, c2 = MODELS[1]
     compare("granular %s, neigh_modify exclude type 1 2" % label,
             run(wd, "stock_ex", data, "granular", c1, c2, "neigh_modify exclude type 1 2"),
             run(wd, "grid_ex", data, "griddem/granular", c1, c2, "neigh_modify exclude type 1 2\nfix grid all griddem contacts 64"))
 
     # unsupported sub-models: refused with their name
-    for coeff, name in [("dmt 1e4 5 0.3 0.1 tangential linear_history 1 1 1", "dmt"),
-                        ("hooke 1e4 5 tangential mindlin NULL 1 0.5", "mindlin"),
-                        ("hooke 1e4 5 tangential linear_history 1 1 1 twisting marshall", "marshall"),
-                        ("hooke 1e4 5 damping coeff_restitution tangential linear_history 1 1 1", "coeff_restitution"),
+    for coeff, name in [("mdr 1e4 0.3 10 0 0.5 0.5 damping none tangential linear_history 1 1 1", "mdr"),
+                        ("hooke 1e4 5 tangential mindlin_classic 1 1 1", "mindlin_classic"),
+                        ("hooke 1e4 5 tangential linear_history 1 1 1 heat radius 1", "radius"),
                         ("hooke 1e4 5 tangential linear_history 1 1 1 heat area 1", "area")]:
         rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
                             "pair_style griddem/granular\npair_coeff * * %s\n" % coeff, wd, name="in.bad")
@@ -80,15 +165,59 @@ def main():
             ("", "1 1 hooke 1e4 5 %s\npair_coeff 2 2 hooke 1e4 5 tangential linear_nohistory 1 1" % tangential,
              "all type pairs must share it"),
             ("", "1 1 hooke 1e4 5 %s\npair_coeff 2 2 hertz 1e4 5 %s" % (tangential, tangential),
-             "types 1 and 2 use different sub-models; set pair_coeff 1 2 explicitly"),
+             "set pair_coeff 1 2 explicitly"),
             ("", "* * hooke 1e4 5 tangential linear_history 0 1 0.5", "linear_history with kt = 0"),
-            ("", "* * hooke 1e4 5 %s rolling sds 0 1 0.1" % tangential, "rolling sds with k_roll = 0")]:
+            ("", "* * hooke 1e4 5 %s rolling sds 0 1 0.1" % tangential, "rolling sds with k_roll = 0"),
+            ("", "* * hooke 1e4 5 %s twisting sds 1 1" % tangential, "sds needs 3 coefficients"),
+            # what stock refuses too: Mindlin's k from material properties the normal model lacks,
+            # and damping that cannot hold a cohesive contact
+            ("", "* * hooke 1e4 5 tangential mindlin NULL 1 0.5", "k NULL needs a normal model with material properties"),
+            ("", "* * jkr 1e4 5 0.3 1 %s limit_damping" % tangential,
+             "limit_damping cannot be used with the cohesive normal model jkr"),
+            ("", "* * dmt 1e4 5 0.3 1 damping tsuji " + tangential, "damping tsuji cannot be used with a cohesive normal model"),
+            ("", "* * jkr 1e4 5 0.3 1 damping coeff_restitution " + tangential,
+             "damping coeff_restitution cannot be used with a cohesive normal model")]:
         rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 2 b\n"
                             "comm_modify vel yes\npair_style griddem/granular %s\npair_coeff %s\nrun 0\n"
                             % (style, coeffs), wd, name="in.bad")
         t.check(rc != 0 and "ERROR" in out and expect in out,
                 "'%s' refused with '%s': %s" % (coeffs.splitlines()[0], expect, out.strip().splitlines()[-1:]))
+    unknown_in_restart(wd)
     t.finish()
+
+
+def unknown_in_restart(wd):
+    """The restart file stores the sub-model names; one renamed in the file (same length, so
+    the layout is unchanged) stops read_restart with an error naming it."""
+    t.run_ok("""
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 4 0 4 0 4
+create_box 1 box
+create_atoms 1 single 1 1 1
+create_atoms 1 single 1.9 1 1
+set type 1 diameter 1.0
+pair_style griddem/granular
+pair_coeff * * hertz 1e4 5 tangential mindlin 1e3 1 0.5
+fix integrate all nve/sphere
+run 2
+write_restart restart.mindlin
+""", wd, name="in.write_mindlin")
+    with open(os.path.join(wd, "restart.mindlin"), "rb") as f:
+        data = f.read()
+    t.check(data.count(b"mindlin") >= 1, "restart file holds the sub-model name mindlin")
+    with open(os.path.join(wd, "restart.mindlix"), "wb") as f:
+        f.write(data.replace(b"mindlin", b"mindlix"))
+    read = "read_restart restart.{name}\ncomm_modify vel yes\nfix integrate all nve/sphere\nrun 2\n"
+    rc, out = t.run_lmp(read.format(name="mindlin"), wd, name="in.read_mindlin")
+    t.check(rc == 0, "restart with tangential mindlin read and continued (exit %d): %s" % (
+        rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+    rc, out = t.run_lmp(read.format(name="mindlix"), wd, name="in.read_mindlix")
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    t.check(rc != 0 and any("restart file" in l and "mindlix" in l for l in errors),
+            "restart naming an unknown sub-model mindlix stops read_restart naming it: %s" % errors[:1])
 
 
 if __name__ == "__main__":

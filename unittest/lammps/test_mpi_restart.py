@@ -1,9 +1,12 @@
 """MPI-decomposition invariance and restarts, for griddem/hooke/history and for griddem/granular
-with tangential and rolling history on two atom types. 1, 2 and 4 ranks give the same 100-step
-trajectory (atoms migrate between ranks and keep their contact history), and so do 2 OpenMP
-threads on one rank; a run continued from a restart file reproduces the uninterrupted run bit
-for bit. A sphere with ~1000 contacts crosses between ranks (its history fills one exchange
-message of thousands of values) and the trajectory equals one rank's."""
+on two atom types with tangential and rolling history (hertz, linear_history, sds), with JKR
+(contacts held beyond touching; mindlin_rescale with k from the material, rolling sds, twisting
+marshall) and with DMT (mindlin_rescale/force, twisting sds), cohesion weak enough for a gas.
+1, 2 and 4 ranks give the same 100-step trajectory (atoms migrate between ranks and keep their
+contact history), and so do 2 OpenMP threads on one rank; a run continued from a restart file
+reproduces the uninterrupted run bit for bit. A sphere with ~1000 contacts crosses between ranks
+(its history fills one exchange message of thousands of values) and the trajectory equals one
+rank's."""
 import os
 import sys
 
@@ -35,56 +38,86 @@ PAIRS = {
     "granular": "pair_style griddem/granular\n"
                 "pair_coeff 1 1 hertz 4e4 20 tangential linear_history 1e4 0.5 0.5 rolling sds 100 1 0.2\n"
                 "pair_coeff 2 2 hertz 2e4 10 tangential linear_history 8e3 0.4 0.3 rolling sds 50 2 0.1",
+    # pull-off force 3 pi c R ~ 1, a few percent of a collision's peak force at these speeds
+    "jkr": "pair_style griddem/granular\n"
+           "pair_coeff 1 1 jkr 5e4 20 0.3 2 tangential mindlin_rescale NULL 0.5 0.5 rolling sds 100 1 0.2 twisting marshall\n"
+           "pair_coeff 2 2 jkr 3e4 10 0.25 1 tangential mindlin_rescale NULL 0.4 0.3 rolling sds 50 2 0.1 twisting marshall",
+    # twisting acts on the spin directly: k and damping small against I/dt^2 and I/dt (I >= 1.7e-5)
+    "dmt": "pair_style griddem/granular\n"
+           "pair_coeff 1 1 dmt 5e4 20 0.3 2 tangential mindlin_rescale/force 1e4 0.5 0.5 twisting sds 2 0.005 0.2\n"
+           "pair_coeff 2 2 dmt 3e4 10 0.25 1 tangential mindlin_rescale/force 8e3 0.4 0.3 twisting sds 1 0.002 0.1",
 }
 
 
 def main():
-    for label, pair in PAIRS.items():
-        check_model(label, pair)
+    check_models(t.workdir())
     big_sphere(t.workdir())
     t.finish()
 
 
-def check_model(label, pair):
-    wd = t.workdir()
+def per_model(out):
+    """The screen output of a multi-model input, split at the MODEL lines it prints."""
+    parts, label = {}, None
+    for line in out.splitlines():
+        if line.startswith("MODEL "):
+            label = line.split()[1]
+            parts[label] = []
+        elif label:
+            parts[label].append(line)
+    return {k: "\n".join(v) for k, v in parts.items()}
+
+
+def check_models(wd):
+    """Every model of PAIRS on 1, 2 and 4 ranks, 2 threads, and read from restarts; one lmp run
+    per case holds all the models, one after another (clear), to spare the start-up of ~30 runs."""
     data = os.path.join(wd, "data.gas")
     t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0,
                            ntypes=2)
-    setup = SETUP.replace("{pair}", pair)
 
-    snaps = {}
+    # each run stops at step 50 to write a restart file and goes on to step 100: the ranks and
+    # threads are compared at step 100, and the runs on 1 and 2 ranks are the uninterrupted
+    # references of the restarts
+    def whole(tag):
+        return "".join("clear\nprint 'MODEL %s'\n" % label +
+                       SETUP.replace("{pair}", pair).format(start="read_data " + data) +
+                       "run 50\nwrite_restart restart.%s.%s\n" % (label, tag) +
+                       DUMP.format(every=50, name="%s.%s" % (label, tag)) + "run 50\n"
+                       for label, pair in PAIRS.items())
+
+    def again(tag):
+        return "".join("clear\nprint 'MODEL %s'\n" % label +
+                       SETUP.replace("{pair}", pair).format(start="read_restart restart.%s.%s" % (label, tag)) +
+                       DUMP.format(every=50, name="%s.again%s" % (label, tag)) + "run 50\n"
+                       for label, pair in PAIRS.items())
+
+    snaps, contacts = {}, {}
     for n in (1, 2, 4):
-        text = setup.format(start="read_data " + data) + DUMP.format(every=100, name="np%d" % n) + "run 100\n"
-        out = t.run_ok(text, wd, nprocs=n, name="in.np%d" % n)
-        snaps[n] = t.read_dump(os.path.join(wd, "dump.np%d" % n))
-        t.check(len(snaps[n][1]) == 900, "%s, %d ranks: no atom lost" % (label, n))
-        contacts = t.thermo_values(out, "f_GRIDDEM[5]")
-        t.check(contacts and min(contacts) > 100, "%s, %d ranks: contacts engaged (%s)" % (label, n, contacts))
-        if n == 1:
-            contacts_1 = contacts
-        else:
-            t.check(contacts == contacts_1, "%s, %d ranks: same contact counts as 1 rank" % (label, n))
-    text = setup.format(start="read_data " + data) + DUMP.format(every=100, name="omp2") + "run 100\n"
-    t.run_ok(text, wd, name="in.omp2", threads=2)
-    err = t.max_rel_diff(t.read_dump(os.path.join(wd, "dump.omp2")), snaps[1], STATE)
-    t.check(err <= 1e-10, "%s, 2 OpenMP threads vs 1: trajectory differs by %.3g relative" % (label, err))
-    for n in (2, 4):
-        err = t.max_rel_diff(snaps[n], snaps[1], STATE)
-        t.check(err <= 1e-10, "%s, %d ranks vs 1 rank: trajectory differs by %.3g relative" % (label, n, err))
+        out = per_model(t.run_ok(whole("np%d" % n), wd, nprocs=n, name="in.np%d" % n))
+        for label in PAIRS:
+            snaps[label, n] = t.read_dump(os.path.join(wd, "dump.%s.np%d" % (label, n)))
+            t.check(len(snaps[label, n][1]) == 900, "%s, %d ranks: no atom lost" % (label, n))
+            contacts[label, n] = t.thermo_values(out.get(label, ""), "f_GRIDDEM[5]")
+            t.check(contacts[label, n] and min(contacts[label, n]) > 100,
+                    "%s, %d ranks: contacts engaged (%s)" % (label, n, contacts[label, n]))
+            if n > 1:
+                t.check(contacts[label, n] == contacts[label, 1],
+                        "%s, %d ranks: same contact counts as 1 rank" % (label, n))
+                err = t.max_rel_diff(snaps[label, n], snaps[label, 1], STATE)
+                t.check(err <= 1e-10, "%s, %d ranks vs 1 rank: trajectory differs by %.3g relative" % (label, n, err))
+    t.run_ok(whole("omp2"), wd, name="in.omp2", threads=2)
+    for label in PAIRS:
+        err = t.max_rel_diff(t.read_dump(os.path.join(wd, "dump.%s.omp2" % label)), snaps[label, 1], STATE)
+        t.check(err <= 1e-10, "%s, 2 OpenMP threads vs 1: trajectory differs by %.3g relative" % (label, err))
 
-    # restart: uninterrupted (two runs of 50) against write_restart + read_restart
+    # restart: the runs above (uninterrupted but for writing the file) against read_restart
     for n in (1, 2):
-        whole = setup.format(start="read_data " + data) + "run 50\nwrite_restart restart.np%d\n" % n + \
-            DUMP.format(every=50, name="whole%d" % n) + "run 50\n"
-        t.run_ok(whole, wd, nprocs=n, name="in.whole%d" % n)
-        again = setup.format(start="read_restart restart.np%d" % n) + \
-            DUMP.format(every=50, name="again%d" % n) + "run 50\n"
-        t.run_ok(again, wd, nprocs=n, name="in.again%d" % n)
-        a = t.read_dumps(os.path.join(wd, "dump.whole%d" % n))
-        b = t.read_dumps(os.path.join(wd, "dump.again%d" % n))
-        t.check(len(a) == len(b) == 2, "%s restart on %d ranks: two snapshots each" % (label, n))
-        t.check(a[-1][1] == b[-1][1], "%s restart on %d ranks: step 100 identical bit for bit" % (label, n))
-        t.check(a[0][1] == b[0][1], "%s restart on %d ranks: step 50 forces identical bit for bit" % (label, n))
+        t.run_ok(again("np%d" % n), wd, nprocs=n, name="in.again%d" % n)
+        for label in PAIRS:
+            a = t.read_dumps(os.path.join(wd, "dump.%s.np%d" % (label, n)))
+            b = t.read_dumps(os.path.join(wd, "dump.%s.againnp%d" % (label, n)))
+            t.check(len(a) == len(b) == 2, "%s restart on %d ranks: two snapshots each" % (label, n))
+            t.check(a[-1][1] == b[-1][1], "%s restart on %d ranks: step 100 identical bit for bit" % (label, n))
+            t.check(a[0][1] == b[0][1], "%s restart on %d ranks: step 50 forces identical bit for bit" % (label, n))
 
 
 def big_sphere(wd):
