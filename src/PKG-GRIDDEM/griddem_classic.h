@@ -24,8 +24,8 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
   const double r = sqrt(c->rsq), rinv = 1.0 / r, rsqinv = 1.0 / c->rsq;
   const double radsum = c->radi + c->radj;
   const double delx = c->dx[0], dely = c->dx[1], delz = c->dx[2];
+  /* what single() reports; nothing else is derived */
   c->r = r, c->rinv = rinv, c->radsum = radsum, c->delta = radsum - r;
-  c->reff = c->radi * c->radj / radsum;
   for (int k = 0; k < 3; k++) c->n[k] = c->dx[k] * rinv;
 
   /* normal and tangential relative velocity */

@@ -70,14 +70,14 @@ GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rs
 }
 
 /* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
- * set in c; returns the elastic energy stored in its springs. hist holds the pair's history
+ * set in c; returns the elastic energy stored in its springs (c->fr is set only with a rolling
+ * model). hist holds the pair's history
  * values seen from i (read, and advanced if c->history_update). Seen from j every output and the
  * odd history values change sign exactly, so one evaluation serves both atoms. */
 GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
                                            double *hist, double *f, double *ti, double *tj)
 {
   c->energy = 0.0;
-  c->fr[0] = c->fr[1] = c->fr[2] = 0.0;
   if (p->classic) {
     griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, c, hist, f, ti, tj);
     return c->energy;

@@ -18,24 +18,6 @@ void griddem_engine_free(griddem_engine *e)
   memset(e, 0, sizeof(*e));
 }
 
-/* Fastest owned particle and how far it moves in a step, in cells of the grid just made. */
-static void record_motion(griddem_engine *e, const griddem_particles *p, double dt)
-{
-  double vmax2 = 0.0;
-  e->stats.fastest = e->stats.nonfinite_velocity = -1;
-  for (int i = 0; i < p->nlocal; i++) {
-    const double *v = p->v + 3 * (size_t) i;
-    const double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    if (!isfinite(v2)) {
-      e->stats.nonfinite_velocity = i;
-      break;
-    }
-    if (v2 > vmax2) vmax2 = v2, e->stats.fastest = i;
-  }
-  e->stats.max_speed = sqrt(vmax2);
-  e->stats.max_cells_moved = e->stats.max_speed * dt / e->grid.h;
-}
-
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened)
 {
@@ -55,7 +37,10 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     for (int k = 0; k < e->bins.n; k++)
       if (e->bins.order[k] < p->nlocal) s->row_of[e->bins.order[k]] = k;
 
-  record_motion(e, p, s->dt);
+  /* how far the fastest owned particle moves in a step, in cells */
+  e->stats.max_speed = sqrt(e->channels.vmax2);
+  e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid.h;
+  e->stats.nonfinite_velocity = e->channels.nonfinite;
   e->stats.occupied_cells = e->bins.occupied;
   e->stats.max_occupancy = e->bins.max_occupancy;
   e->stats.cell_edge = e->grid.h;

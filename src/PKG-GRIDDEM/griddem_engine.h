@@ -23,8 +23,7 @@ typedef struct griddem_engine_stats {
   double elastic_energy;
   double max_speed;       /* of an owned particle */
   double max_cells_moved; /* max_speed * dt in cells */
-  int fastest;            /* owned particle moving most (-1: none) */
-  int nonfinite_velocity; /* first owned particle with a non-finite velocity (-1: none) */
+  int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
 } griddem_engine_stats;
 
 typedef struct griddem_engine {

@@ -34,9 +34,17 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   }
   ch->n = n;
   ch->frozen_bit = p->frozen_bit;
-#pragma omp parallel for schedule(static)
+  double vmax2 = 0.0;
+  int nonfinite = 0;
+#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(| : nonfinite)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
+    if (i < p->nlocal) {
+      const double *v = p->v + 3 * (size_t) i;
+      const double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+      nonfinite |= !isfinite(v2);
+      vmax2 = v2 > vmax2 ? v2 : vmax2;
+    }
     ch->x[s] = p->x[3 * i];
     ch->y[s] = p->x[3 * i + 1];
     ch->z[s] = p->x[3 * i + 2];
@@ -50,6 +58,8 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     memset(&ch->sum[s], 0, sizeof(griddem_slot_sum));
     ch->ncontact[s] = 0;
   }
+  ch->vmax2 = vmax2;
+  ch->nonfinite = nonfinite;
   return 0;
 }
 
@@ -141,9 +151,8 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   c.dt = cx->dt;
   c.history_update = cx->history_update;
 
-  double hv[GRIDDEM_MAX_HISTORY] = {0.0};
-  if (stored)
-    for (int v = 0; v < nv; v++) hv[v] = stored[v];
+  double hv[GRIDDEM_MAX_HISTORY];
+  for (int v = 0; v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
 
   double fc[3], ta[3], tb[3];
   const double energy = griddem_contact_eval(law, &c, hv, fc, ta, tb);

@@ -50,6 +50,8 @@ typedef struct griddem_channels {
   griddem_slot_sum *sum;
   int64_t *tag;
   int *ncontact;
+  double vmax2;    /* largest squared speed of an owned particle (found while filling) */
+  int nonfinite;   /* 1: some owned particle has a non-finite velocity */
 } griddem_channels;
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);

@@ -287,15 +287,21 @@ void PairGriddem::find_radius_range()
 void PairGriddem::check_motion(double h_nn4dem)
 {
   const griddem_engine_stats &st = fix->stats();
-  double **v = atom->v;
-  const int bad = st.nonfinite_velocity;
-  if (bad >= 0)
-    error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
-               atom->tag[bad], v[bad][0], v[bad][1], v[bad][2]);
   const double moved = st.max_speed * update->dt;
-  if (st.fastest >= 0 && moved > h_nn4dem)
-    error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
-               force->pair_style, atom->tag[st.fastest], moved, st.max_speed, h_nn4dem);
+  if (!st.nonfinite_velocity && !(moved > h_nn4dem)) return;
+  // the engine found a fault; name the atom (the first non-finite one, else the fastest)
+  double **v = atom->v;
+  int worst = -1;
+  double vmax2 = -1.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    if (!std::isfinite(v2))
+      error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
+                 atom->tag[i], v[i][0], v[i][1], v[i][2]);
+    if (v2 > vmax2) vmax2 = v2, worst = i;
+  }
+  error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
+             force->pair_style, atom->tag[worst], moved, st.max_speed, h_nn4dem);
 }
 
 void PairGriddem::report_fault(const griddem_sweep_result &r)
@@ -411,6 +417,7 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
                                   (mask[j] & freeze_group_bit) != 0);
   c.dt = update->dt;
   c.history_update = 0;
+  c.fr[0] = c.fr[1] = c.fr[2] = 0.0;    // set by a rolling model only
 
   double f[3], ti[3], tj[3];
   griddem_contact_eval(law, &c, hv, f, ti, tj);
