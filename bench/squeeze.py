@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""CPU benchmark: the 1:4 bidisperse squeeze (12 spheres of diameter 4 among 1,940 of diameter 1,
+fix deform to 0.7 of the box, Hooke kn 1000, dt 0.001; the configuration of
+unittest/lammps/test_bidisperse_squeeze.py) with stock gran/hooke/history and griddem/hooke/history
+(defaults, and each cell mode given), on 1 and 2 MPI ranks, in one job. Appends one JSON line per
+run to bench/results/cpu.jsonl.
+
+usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--only LABEL,...]"""
+import argparse
+import datetime
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import benchlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
+import test_bidisperse_squeeze as scene  # noqa: E402
+
+VARIANTS = [("gran/hooke/history", "", "stock"),
+            ("griddem/hooke/history", "", "griddem defaults"),
+            ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact"),
+            ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi")]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=3000)
+    ap.add_argument("--ranks", default="1,2")
+    ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--only", default=None)
+    args = ap.parse_args()
+    only = args.only.split(",") if args.only else None
+    wd = tempfile.mkdtemp(prefix="griddem-squeeze-")
+    data = os.path.join(wd, "data.squeeze")
+    scene.write_packing(data)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    for ranks in [int(r) for r in args.ranks.split(",")]:
+        for style, fix, label in VARIANTS:
+            if only and label not in only:
+                continue
+            text = scene.TEMPLATE.format(data=data, pair=style, scale=scene.SCALE, most="", steps=args.steps,
+                                         name="bench").replace("pair_coeff * *", "pair_coeff * *\n" + fix)
+            with open(os.path.join(wd, "in.run"), "w") as f:
+                f.write(text)
+            cmd = [args.lmp, "-in", "in.run", "-log", "none"]
+            if ranks > 1:
+                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
+            out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                 universal_newlines=True).stdout
+            loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
+            record = {"date": datetime.date.today().isoformat(), "device": benchlib.device(),
+                      "scene": "squeeze 1:4", "natoms": atoms, "steps": steps, "ranks": ranks, "threads": 1,
+                      "style": label, "loop_s": loop, "atom_steps_per_s": atoms * steps / loop}
+            print(json.dumps(record))
+            with open(os.path.join(HERE, "results", "cpu.jsonl"), "a") as f:
+                f.write(json.dumps(record) + "\n")
+
+
+main()
