@@ -162,24 +162,30 @@ static int setup_tangential_none(const griddem_pair_spec *s, griddem_pair_params
 
 /* ---- rolling, twisting ---- */
 
+/* spring, dashpot and slider (rolling and twisting sds): k, gamma, mu */
+static int setup_sds(const double *c, double *k, double *gamma, double *mu, const char *name,
+                     const char *kname, char *why, size_t nwhy)
+{
+  *k = c[0], *gamma = c[1], *mu = c[2];
+  if (*k == 0.0 && *mu > 0.0) {
+    snprintf(why, nwhy, "%s with %s = 0 divides by %s in the Coulomb cap", name, kname, kname);
+    return -1;
+  }
+  return 0;
+}
+
 static int setup_rolling_sds(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
 {
-  const double *c = s->coeffs[GRIDDEM_AXIS_ROLLING];
   p->rolling.model = GRIDDEM_ROLLING_SDS;
-  p->rolling.k = c[0], p->rolling.gamma = c[1], p->rolling.mu = c[2];
-  if (p->rolling.k == 0.0 && p->rolling.mu > 0.0)
-    return fail(why, nwhy, "%s with k_roll = 0 divides by k_roll in the Coulomb cap", "rolling sds");
-  return 0;
+  return setup_sds(s->coeffs[GRIDDEM_AXIS_ROLLING], &p->rolling.k, &p->rolling.gamma, &p->rolling.mu,
+                   "rolling sds", "k_roll", why, nwhy);
 }
 
 static int setup_twisting_sds(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
 {
-  const double *c = s->coeffs[GRIDDEM_AXIS_TWISTING];
   p->twisting.model = GRIDDEM_TWISTING_SDS;
-  p->twisting.k = c[0], p->twisting.damp = c[1], p->twisting.mu = c[2];
-  if (p->twisting.k == 0.0 && p->twisting.mu > 0.0)
-    return fail(why, nwhy, "%s with k_twist = 0 divides by k_twist in the Coulomb cap", "twisting sds");
-  return 0;
+  return setup_sds(s->coeffs[GRIDDEM_AXIS_TWISTING], &p->twisting.k, &p->twisting.damp, &p->twisting.mu,
+                   "twisting sds", "k_twist", why, nwhy);
 }
 
 static int setup_marshall(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
