@@ -10,6 +10,7 @@ the pull-off distance; checked), so that this range is compared too. Unsupported
 refused by name, bad arguments with a message naming them, and a restart file naming an unknown
 sub-model stops read_restart naming it."""
 import os
+import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -187,8 +188,9 @@ def main():
 
 
 def unknown_in_restart(wd):
-    """The restart file stores the sub-model names; one renamed in the file (same length, so
-    the layout is unchanged) stops read_restart with an error naming it."""
+    """The restart file stores the sub-model names and coefficient counts; a name changed in the
+    file (same length, so the layout is unchanged) stops read_restart with an error naming it, and
+    so does a coefficient count that is not the sub-model's."""
     t.run_ok("""
 units lj
 atom_style sphere
@@ -200,7 +202,7 @@ create_atoms 1 single 1 1 1
 create_atoms 1 single 1.9 1 1
 set type 1 diameter 1.0
 pair_style griddem/granular
-pair_coeff * * hertz 1e4 5 tangential mindlin 1e3 1 0.5
+pair_coeff * * hertz 1e4 5 tangential mindlin 1e3 1 0.5 rolling sds 100 1 0.2
 fix integrate all nve/sphere
 run 2
 write_restart restart.mindlin
@@ -218,6 +220,15 @@ write_restart restart.mindlin
     errors = [l for l in out.splitlines() if "ERROR" in l]
     t.check(rc != 0 and any("restart file" in l and "mindlix" in l for l in errors),
             "restart naming an unknown sub-model mindlix stops read_restart naming it: %s" % errors[:1])
+    # rolling sds written as name length 3, "sds", 3 coefficients (native ints): claim 2
+    count = struct.pack("i", 3) + b"sds" + struct.pack("i", 3)
+    t.check(data.count(count) == 1, "restart file holds rolling sds with its 3 coefficients")
+    with open(os.path.join(wd, "restart.sds2"), "wb") as f:
+        f.write(data.replace(count, struct.pack("i", 3) + b"sds" + struct.pack("i", 2)))
+    rc, out = t.run_lmp(read.format(name="sds2"), wd, name="in.read_sds2")
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    t.check(rc != 0 and any("restart file gives 2 coefficients for rolling model sds, which takes 3" in l for l in errors),
+            "restart with a wrong coefficient count stops read_restart naming the sub-model: %s" % errors[:1])
 
 
 if __name__ == "__main__":
