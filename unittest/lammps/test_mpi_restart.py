@@ -1,7 +1,8 @@
 """MPI-decomposition invariance and restarts, for griddem/hooke/history and for griddem/granular
 on two atom types with tangential and rolling history (hertz, linear_history, sds), with JKR
 (contacts held beyond touching; mindlin_rescale with k from the material, rolling sds, twisting
-marshall) and with DMT (mindlin_rescale/force, twisting sds), cohesion weak enough for a gas.
+marshall), with DMT (mindlin_rescale/force, twisting sds), cohesion weak enough for a gas, and
+with mindlin, mindlin/force, linear_history_classic and coeff_restitution damping.
 1, 2 and 4 ranks give the same 100-step trajectory (atoms migrate between ranks and keep their
 contact history), and so do 2 OpenMP threads on one rank; a run continued from a restart file
 reproduces the uninterrupted run bit for bit. A sphere with ~1000 contacts crosses between ranks
@@ -46,6 +47,14 @@ PAIRS = {
     "dmt": "pair_style griddem/granular\n"
            "pair_coeff 1 1 dmt 5e4 20 0.3 2 tangential mindlin_rescale/force 1e4 0.5 0.5 twisting sds 2 0.005 0.2\n"
            "pair_coeff 2 2 dmt 3e4 10 0.25 1 tangential mindlin_rescale/force 8e3 0.4 0.3 twisting sds 1 0.002 0.1",
+    # the remaining history-keeping sub-models: mindlin (k from the material), mindlin/force,
+    # linear_history_classic; coeff_restitution damping
+    "mindlin": "pair_style griddem/granular\n"
+               "pair_coeff 1 1 hertz/material 2e4 0.8 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.5\n"
+               "pair_coeff 2 2 hertz/material 1.5e4 0.7 0.25 damping coeff_restitution tangential mindlin/force 8e3 0.4 0.3\n"
+               "pair_coeff 1 2 hertz/material 1.7e4 0.75 0.28 damping coeff_restitution tangential mindlin 9e3 0.45 0.4",
+    "classic": "pair_style griddem/granular\n"
+               "pair_coeff * * hooke 2e3 0.8 damping coeff_restitution tangential linear_history_classic 1e4 0.5 0.5",
 }
 
 
