@@ -24,7 +24,8 @@ import test_bidisperse_squeeze as scene  # noqa: E402
 VARIANTS = [("gran/hooke/history", "", "stock"),
             ("griddem/hooke/history", "", "griddem defaults"),
             ("griddem/hooke/history", "fix grid all griddem cell exact", "griddem exact"),
-            ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi")]
+            ("griddem/hooke/history", "fix grid all griddem cell multi", "griddem multi"),
+            ("griddem/hooke/history", "fix grid all griddem cell classes", "griddem classes")]
 
 
 def main():

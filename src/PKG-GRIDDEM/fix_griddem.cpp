@@ -31,11 +31,13 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
         cell_mode = GRIDDEM_CELL_EXACT;
       else if (strcmp(arg[iarg + 1], "multi") == 0)
         cell_mode = GRIDDEM_CELL_MULTI;
+      else if (strcmp(arg[iarg + 1], "classes") == 0)
+        cell_mode = GRIDDEM_CELL_CLASSES;
       else {
         cell_mode = GRIDDEM_CELL_FIXED;
         cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
         if (cell_edge <= 0.0)
-          error->all(FLERR, "Fix griddem cell must be auto, exact, multi or a positive edge, not {}",
+          error->all(FLERR, "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not {}",
                      arg[iarg + 1]);
       }
       iarg += 2;

@@ -2,6 +2,7 @@
 #include "griddem_engine.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 void griddem_engine_init(griddem_engine *e, int history_values)
@@ -12,10 +13,74 @@ void griddem_engine_init(griddem_engine *e, int history_values)
 
 void griddem_engine_free(griddem_engine *e)
 {
-  griddem_bins_free(&e->bins);
+  for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc);
   griddem_channels_free(&e->channels);
   griddem_history_free(&e->hist);
   memset(e, 0, sizeof(*e));
+}
+
+/* Number of size classes for radii in [rmin, rmax]: one per factor 2. */
+static int class_count(double rmin, double rmax)
+{
+  if (!(rmin > 0.0) || !(rmax > rmin)) return 1;
+  const int n = (int) floor(log2(rmax / rmin)) + 1;
+  return n < 1 ? 1 : (n > GRIDDEM_MAX_CLASSES ? GRIDDEM_MAX_CLASSES : n);
+}
+
+/* Class of radius r: the c with rmax/2^(c+1) < r <= rmax/2^c, the last class taking the rest. */
+static int class_of(double r, double rmax, int nclass)
+{
+  int c = r > 0.0 ? (int) floor(log2(rmax / r)) : nclass - 1;
+  if (c < 0) c = 0;
+  if (c > nclass - 1) c = nclass - 1;
+  while (c > 0 && r > ldexp(rmax, -c)) c--; /* log2 may round across a boundary */
+  return c;
+}
+
+static int grow_work(griddem_engine *e, int n)
+{
+  if (n <= e->work_cap) return 0;
+  const int cap = n + n / 4 + 16;
+  free(e->member), free(e->order), free(e->xc), free(e->keyc);
+  e->member = (int *) malloc(sizeof(int) * (size_t) cap);
+  e->order = (int *) malloc(sizeof(int) * (size_t) cap);
+  e->xc = (double *) malloc(sizeof(double) * 3 * (size_t) cap);
+  e->keyc = (int64_t *) malloc(sizeof(int64_t) * (size_t) cap);
+  e->work_cap = (e->member && e->order && e->xc && e->keyc) ? cap : 0;
+  return e->work_cap ? 0 : -1;
+}
+
+/* Bin each size class on its own grid; order: the particle of each slot, classes one after the
+ * other from the largest spheres. 0, or -1 without memory. */
+static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_grid *cls, int *coarsened)
+{
+  const griddem_particles *p = &s->particles;
+  const int n = p->nall, ncls = e->nclass;
+  if (grow_work(e, n) != 0) return -1;
+  int base[GRIDDEM_MAX_CLASSES + 1] = {0};
+  for (int i = 0; i < n; i++) base[class_of(p->radius[i], s->rmax, ncls) + 1]++;
+  for (int c = 0; c < ncls; c++) base[c + 1] += base[c];
+  int next[GRIDDEM_MAX_CLASSES];
+  for (int c = 0; c < ncls; c++) next[c] = base[c];
+  for (int i = 0; i < n; i++) {
+    const int m = next[class_of(p->radius[i], s->rmax, ncls)]++;
+    e->member[m] = i;
+    for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
+    e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
+  }
+  for (int c = 0; c < ncls; c++) {
+    const int nc = base[c + 1] - base[c];
+    const double rmax_c = ldexp(s->rmax, -c);
+    const double *xc = e->xc + 3 * (size_t) base[c];
+    *coarsened |= griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
+                                     griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, rmax_c, 0.0),
+                                     32L * nc + 65536L);
+    if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
+    for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
+    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = rmax_c;
+  }
+  return 0;
 }
 
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
@@ -23,27 +88,46 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
 {
   const griddem_particles *p = &s->particles;
   memset(result, 0, sizeof(*result));
-  *coarsened = griddem_grid_cover(&e->grid, s->anchor, p->nall, p->x, s->cell_edge, s->max_cells);
-  if (griddem_bin_points(&e->bins, &e->grid, p->nall, p->x, p->tag, p->tag_bytes) != 0 ||
-      griddem_channels_fill(&e->channels, &e->bins, p) != 0) {
+  *coarsened = 0;
+  e->nclass = s->size_classes ? class_count(s->rmin, s->rmax) : 1;
+  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
+  griddem_bins all; /* the channels' order of particles */
+  memset(&all, 0, sizeof(all));
+  all.n = p->nall;
+  if (e->nclass == 1) {
+    /* one grid: the particles are binned as they are, nothing gathered */
+    *coarsened = griddem_grid_cover(&e->grid[0], s->anchor, p->nall, p->x, s->cell_edge, s->max_cells);
+    if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
+      result->fault = GRIDDEM_FAULT_MEMORY;
+    cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
+    all.order = e->bins[0].order;
+  } else {
+    if (bin_classes(e, s, cls, coarsened) != 0) result->fault = GRIDDEM_FAULT_MEMORY;
+    all.order = e->order;
+  }
+  if (result->fault || griddem_channels_fill(&e->channels, &all, p) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
-  griddem_sweep(&e->grid, &e->bins, &e->channels, p->nlocal, s->rmax, s->model, s->excl, s->dt,
-                s->history_update, &e->hist, s->row_of, s->f, s->torque, s->vatom, s->want_virial,
-                result);
-  /* the history's row of sorted slot s is s */
+  griddem_sweep_classes(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
+                        s->dt, s->history_update, &e->hist, s->row_of, s->f, s->torque, s->vatom,
+                        s->want_virial, result);
+  /* the history's row of slot k is k */
   if (s->model->track_contacts)
-    for (int k = 0; k < e->bins.n; k++)
-      if (e->bins.order[k] < p->nlocal) s->row_of[e->bins.order[k]] = k;
+    for (int k = 0; k < p->nall; k++)
+      if (all.order[k] < p->nlocal) s->row_of[all.order[k]] = k;
 
-  /* how far the fastest owned particle moves in a step, in cells */
+  /* how far the fastest owned particle moves in a step, in cells of the finest grid */
   e->stats.max_speed = sqrt(e->channels.vmax2);
-  e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid.h;
+  e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->nclass - 1].h;
   e->stats.nonfinite_velocity = e->channels.nonfinite;
-  e->stats.occupied_cells = e->bins.occupied;
-  e->stats.max_occupancy = e->bins.max_occupancy;
-  e->stats.cell_edge = e->grid.h;
+  e->stats.occupied_cells = 0;
+  e->stats.max_occupancy = 0;
+  for (int c = 0; c < e->nclass; c++) {
+    e->stats.occupied_cells += e->bins[c].occupied;
+    if (e->bins[c].max_occupancy > e->stats.max_occupancy) e->stats.max_occupancy = e->bins[c].max_occupancy;
+  }
+  e->stats.cell_edge = e->grid[0].h;
   e->stats.contacts = result->contacts;
   e->stats.max_contacts = result->max_contacts;
   e->stats.elastic_energy = result->energy;
@@ -58,8 +142,10 @@ int griddem_engine_reserve(griddem_engine *e, int n, int contacts)
 double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
-  return (double) e->bins.ncell_cap * sizeof(int) + (double) e->bins.n_cap * (sizeof(int) + sizeof(long)) +
-      (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +
+  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
+  for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
+    bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
+  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +
                           sizeof(int64_t) + sizeof(int)) +
       griddem_history_memory(&e->hist);
 }

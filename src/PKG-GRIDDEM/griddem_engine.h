@@ -26,19 +26,30 @@ typedef struct griddem_engine_stats {
   int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
 } griddem_engine_stats;
 
+#define GRIDDEM_MAX_CLASSES 8 /* size classes: radius ratios up to 1:256 each get a grid */
+
 typedef struct griddem_engine {
-  griddem_grid grid;
-  griddem_bins bins;
+  int nclass;                             /* size classes of the last step (1: one grid) */
+  griddem_grid grid[GRIDDEM_MAX_CLASSES]; /* class c holds radii in (rmax/2^(c+1), rmax/2^c] */
+  griddem_bins bins[GRIDDEM_MAX_CLASSES];
   griddem_channels channels;
   griddem_history hist;
   griddem_engine_stats stats;
+  /* size classes' scratch: particles grouped by class, their positions and tags, the channels'
+   * order of particles */
+  int *member, *order;
+  double *xc;
+  int64_t *keyc;
+  int work_cap;
 } griddem_engine;
 
 /* One step's input. Particles hold owned ones first, then ghosts. */
 typedef struct griddem_step {
   griddem_particles particles;
   double anchor[3];        /* cell faces align to it (the box corner) */
-  double cell_edge;        /* wanted cell edge */
+  double cell_edge;        /* wanted cell edge (one grid) */
+  int size_classes;        /* 1: a grid per size class (edges 2 rmax/2^c), cell_edge unused */
+  double rmin;             /* smallest radius of any particle (size classes) */
   long max_cells;          /* the edge grows if the grid would need more cells */
   double rmax;             /* largest radius of any particle */
   const griddem_model *model;
@@ -55,7 +66,9 @@ void griddem_engine_init(griddem_engine *e, int history_values);
 void griddem_engine_free(griddem_engine *e);
 
 /* One step: bin, sweep, adopt the new history rows. Returns result->fault; 1 in *coarsened if
- * the cell edge had to grow (then e->stats.cell_edge is the edge used). */
+ * a cell edge had to grow (then e->stats.cell_edge is the edge used). With size classes, radius
+ * ratios rmax/rmin up to 2 keep one grid, each further factor 2 adds a class, up to
+ * GRIDDEM_MAX_CLASSES (the last takes all smaller spheres). */
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened);
 

@@ -12,7 +12,8 @@ double griddem_cell_edge(int mode, double rmin, double rmax, double value)
     case GRIDDEM_CELL_EXACT: return 2.0 * rmin / sqrt(3.0);
     /* a hair above the contact distance, so that the sweep's 3^3 stencil provably suffices */
     case GRIDDEM_CELL_MULTI:
-    case GRIDDEM_CELL_AUTO: return 2.0 * rmax * (1.0 + 1e-9);
+    case GRIDDEM_CELL_AUTO:
+    case GRIDDEM_CELL_CLASSES: return 2.0 * rmax * (1.0 + 1e-9); /* classes: of the largest */
     default: return value;
   }
 }

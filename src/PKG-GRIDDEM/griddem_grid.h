@@ -22,7 +22,8 @@ enum griddem_cell_mode {
   GRIDDEM_CELL_EXACT = 0, /* NN4DEM: edge d_min/sqrt(3), so a cell holds one centre unless overlapping */
   GRIDDEM_CELL_MULTI = 1, /* edge = largest contact distance 2*r_max (+1e-9): 3^3 stencil, several per cell */
   GRIDDEM_CELL_FIXED = 2, /* edge given by the user */
-  GRIDDEM_CELL_AUTO = 3   /* the default: the edge measured fastest (now multi's, see doc/choosing_a_mode.md) */
+  GRIDDEM_CELL_AUTO = 3,  /* the default: the geometry measured fastest (now classes, see doc/fix_griddem.md) */
+  GRIDDEM_CELL_CLASSES = 4 /* a grid per size class, each with multi's edge for its largest radius */
 };
 
 typedef struct griddem_grid {

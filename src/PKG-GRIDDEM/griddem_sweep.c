@@ -82,11 +82,9 @@ static void record_fault(griddem_sweep_result *r, int fault, int i, int j)
 
 /* Everything one sweep reads, shared by the threads. */
 typedef struct sweep_context {
-  const griddem_grid *g;
-  const griddem_bins *b;
+  const int *order;      /* particle of each slot of the channels */
   griddem_channels *ch;
   int nlocal;
-  double cut_extra;
   const griddem_model *model;
   const griddem_exclusions *excl;
   double dt;
@@ -122,7 +120,7 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 {
   griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
-  const int *order = cx->b->order;
+  const int *order = cx->order;
   const int ia = order[a], ib = order[b];
   const int b_owned = ib < cx->nlocal;
   const int nv = m->history_size;
@@ -224,7 +222,7 @@ static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows
 static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, const int *hits, int *nhit)
 {
   const griddem_channels *ch = cx->ch;
-  const int *order = cx->b->order;
+  const int *order = cx->order;
 #ifdef __GNUC__
   for (int q = 0; q < *nhit; q++) {
     __builtin_prefetch(&ch->state[hits[q]]);
@@ -245,13 +243,14 @@ static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, const i
   *nhit = 0;
 }
 
-/* Pairs (s, t) of the slots s in cell (cx,cy,cz) with the slots t > s of its forward stencil. */
-static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_row *rows,
-                       int nrows, int x, int y, int z)
+/* Pairs (s, t) of the slots s in cell (x,y,z) of class grid k with the slots t > s of its forward
+ * stencil (slots of the channels are the class's slots + k->base). */
+static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
+                       const stencil_row *rows, int nrows, int x, int y, int z)
 {
-  const griddem_grid *g = cx->g;
+  const griddem_grid *g = k->g;
   const griddem_channels *ch = cx->ch;
-  const int *start = cx->b->cell_start;
+  const int *start = k->b->cell_start, base = k->base;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   const long cell = x + nx * y + nxy * z;
   const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
@@ -264,18 +263,18 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
     const int x0 = x + rows[r].dxlo < 0 ? 0 : x + rows[r].dxlo;
     const int x1 = x + rows[r].dxhi >= g->n[0] ? g->n[0] - 1 : x + rows[r].dxhi;
     const long rowcell = nx * yy + nxy * zz;
-    lo[nrange] = start[rowcell + x0];
-    hi[nrange] = start[rowcell + x1 + 1];
+    lo[nrange] = base + start[rowcell + x0];
+    hi[nrange] = base + start[rowcell + x1 + 1];
     if (hi[nrange] > lo[nrange] || r == 0) nrange++;
   }
 
   int hits[CANDIDATE_BLOCK];
   const double reach = cx->model->reach_extra;
-  for (int s = start[cell]; s < start[cell + 1]; s++) {
+  for (int s = base + start[cell]; s < base + start[cell + 1]; s++) {
     const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + reach;
     int nhit = 0;
-    for (int k = 0; k < nrange; k++) {
-      const int jbegin = k == 0 ? s + 1 : lo[k], jend = hi[k];
+    for (int q = 0; q < nrange; q++) {
+      const int jbegin = q == 0 ? s + 1 : lo[q], jend = hi[q];
       /* branch-free distance test over runs of candidates; the few that touch are collected */
       for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK / 2) {
         const int t1 = t0 + CANDIDATE_BLOCK / 2 < jend ? t0 + CANDIDATE_BLOCK / 2 : jend;
@@ -292,79 +291,160 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const stencil_
   }
 }
 
+/* Pairs of each slot of class grid k with the particles of the coarser class grid l (l holds the
+ * larger spheres): every cell of l within reach of the slot's cell, the slot on its own side. */
+static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
+                         const griddem_class_grid *l, int reach)
+{
+  const griddem_grid *g = l->g;
+  const griddem_channels *ch = cx->ch;
+  const int *start = l->b->cell_start;
+  const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
+  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
+  const double extra = cx->model->reach_extra;
+  int hits[CANDIDATE_BLOCK];
+  for (int s = k->base; s < k->base + k->b->n; s++) {
+    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + extra;
+    const long c = griddem_cell_of(g, xi, yi, zi);
+    const int x = (int) (c % nx), y = (int) ((c / nx) % g->n[1]), z = (int) (c / nxy);
+    const int x0 = x - reach < 0 ? 0 : x - reach, x1 = x + reach >= g->n[0] ? g->n[0] - 1 : x + reach;
+    int nhit = 0;
+    for (int zz = z - reach; zz <= z + reach; zz++)
+      for (int yy = y - reach; yy <= y + reach; yy++) {
+        if (zz < 0 || zz >= g->n[2] || yy < 0 || yy >= g->n[1]) continue;
+        const long rowcell = nx * yy + nxy * zz;
+        const int jend = l->base + start[rowcell + x1 + 1];
+        for (int t = l->base + start[rowcell + x0]; t < jend; t++) {
+          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
+          const double rs = radi + R[t];
+          hits[nhit] = t;
+          nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
+          if (nhit == CANDIDATE_BLOCK) sweep_hits(cx, sums, s, hits, &nhit);
+        }
+      }
+    sweep_hits(cx, sums, s, hits, &nhit);
+  }
+}
+
+/* Largest contact distance between spheres of radii up to r1 and r2, with a margin for the
+ * rounding of coordinates into the cells of g */
+static double contact_reach(const griddem_grid *g, double r1, double r2, double extra)
+{
+  double extent = 0.0;
+  for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
+  return (r1 + r2 + extra) * (1.0 + 1e-10) + 1e-14 * extent;
+}
+
 int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
                   double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
                   double dt, int history_update, griddem_history *hist, const int *row_of,
                   double *f, double *torque, double *vatom, int want_virial,
                   griddem_sweep_result *result)
 {
-  const sweep_context cx = {g, b, ch, nlocal, cut_extra, model,
+  const griddem_class_grid one = {g, b, 0, cut_extra};
+  return griddem_sweep_classes(&one, 1, b->order, ch, nlocal, model, excl, dt, history_update, hist,
+                               row_of, f, torque, vatom, want_virial, result);
+}
+
+int griddem_sweep_classes(const griddem_class_grid *cls, int ncls, const int *order,
+                          griddem_channels *ch, int nlocal, const griddem_model *model,
+                          const griddem_exclusions *excl, double dt, int history_update,
+                          griddem_history *hist, const int *row_of, double *f, double *torque,
+                          double *vatom, int want_virial, griddem_sweep_result *result)
+{
+  const sweep_context cx = {order, ch, nlocal, model,
                             (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,
                             dt, history_update, hist, row_of, vatom, want_virial, result};
-  const long nxy = (long) g->n[0] * g->n[1];
   memset(result, 0, sizeof(*result));
-
-  /* largest contact distance, with a margin for the rounding of coordinates into cells */
-  double extent = 0.0;
-  for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
-  const double cutmax = (2.0 * cut_extra + model->reach_extra) * (1.0 + 1e-10) + 1e-14 * extent;
-  stencil_row rows[MAX_ROWS];
-  const int nrows = build_stencil(g, cutmax, rows);
-  if (nrows == 0) {
-    result->fault = GRIDDEM_FAULT_STENCIL;
-    return result->fault;
-  }
-  const int reach = rows[nrows - 1].dz;
-
-  /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
   int nthreads = 1;
 #ifdef _OPENMP
   nthreads = omp_get_max_threads();
 #endif
-  int thick = g->n[2];
-  if (nthreads > 1) {
-    thick = g->n[2] / (4 * nthreads);
-    if (thick < reach) thick = reach;
-  }
-  const int nslab = (g->n[2] + thick - 1) / thick;
   if (model->track_contacts && griddem_history_begin(hist, nthreads) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
 
   double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
-  for (int colour = 0; colour < 2; colour++) {
+  for (int kc = 0; kc < ncls; kc++) {
+    /* pairs within class kc on its own grid */
+    const griddem_class_grid *k = &cls[kc];
+    const griddem_grid *g = k->g;
+    const griddem_bins *b = k->b;
+    if (b->n == 0) continue;
+    const long nxy = (long) g->n[0] * g->n[1];
+    stencil_row rows[MAX_ROWS];
+    const int nrows = build_stencil(g, contact_reach(g, k->rmax, k->rmax, model->reach_extra), rows);
+    if (nrows == 0) {
+      result->fault = GRIDDEM_FAULT_STENCIL;
+      return result->fault;
+    }
+    const int reach = rows[nrows - 1].dz;
+
+    /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
+    int thick = g->n[2];
+    if (nthreads > 1) {
+      thick = g->n[2] / (4 * nthreads);
+      if (thick < reach) thick = reach;
+    }
+    const int nslab = (g->n[2] + thick - 1) / thick;
+    for (int colour = 0; colour < 2; colour++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
-    for (int k = colour; k < nslab; k += 2) {
-      sweep_sums sums;
-      memset(&sums, 0, sizeof(sums));
+      for (int q = colour; q < nslab; q += 2) {
+        sweep_sums sums;
+        memset(&sums, 0, sizeof(sums));
 #ifdef _OPENMP
-      if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
+        if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
 #else
-      if (model->track_contacts) sums.log = &hist->logs[0];
+        if (model->track_contacts) sums.log = &hist->logs[0];
 #endif
-      const int zlo = k * thick, zhi = (k + 1) * thick < g->n[2] ? (k + 1) * thick : g->n[2];
-      /* occupied cells only, found through their slots: a dilute grid costs nothing extra */
-      for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
-        const long c = b->cell[b->order[s]];
-        sweep_cell(&cx, &sums, rows, nrows, (int) (c % g->n[0]), (int) ((c / g->n[0]) % g->n[1]),
-                   (int) (c / nxy));
-        s = b->cell_start[c + 1];
+        const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
+        /* occupied cells only, found through their slots: a dilute grid costs nothing extra */
+        for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
+          const long c = b->cell[b->order[s]];
+          sweep_cell(&cx, &sums, k, rows, nrows, (int) (c % g->n[0]), (int) ((c / g->n[0]) % g->n[1]),
+                     (int) (c / nxy));
+          s = b->cell_start[c + 1];
+        }
+        v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
+        v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
+        energy += sums.energy;
       }
-      v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
-      v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
-      energy += sums.energy;
     }
   }
 
+  /* pairs across classes, from the smaller sphere into the coarser grid (one thread: both
+     partners' sums are written) */
+  if (ncls > 1) {
+    sweep_sums sums;
+    memset(&sums, 0, sizeof(sums));
+    if (model->track_contacts) sums.log = &hist->logs[0];
+    for (int kc = 1; kc < ncls; kc++)
+      for (int lc = 0; lc < kc; lc++) {
+        const griddem_class_grid *k = &cls[kc], *l = &cls[lc];
+        if (k->b->n == 0 || l->b->n == 0) continue;
+        const int reach = griddem_stencil_reach(l->g->h, contact_reach(l->g, k->rmax, l->rmax, model->reach_extra));
+        if (reach > MAX_REACH) {
+          result->fault = GRIDDEM_FAULT_STENCIL;
+          return result->fault;
+        }
+        sweep_across(&cx, &sums, k, l, reach);
+      }
+    v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
+    v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
+    energy += sums.energy;
+  }
+
+  int nslot = 0;
+  for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
   if (model->track_contacts &&
-      griddem_history_build(hist, b->n, ch->ncontact, ch->tag, model->history_parity) != 0)
+      griddem_history_build(hist, nslot, ch->ncontact, ch->tag, model->history_parity) != 0)
     record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
   long contacts = 0;
   int most = 0;
-  for (int s = 0; s < b->n; s++) {
-    const int i = b->order[s];
+  for (int s = 0; s < nslot; s++) {
+    const int i = order[s];
     if (i >= nlocal) continue;
     for (int d = 0; d < 3; d++) f[3 * i + d] += ch->sum[s].f[d], torque[3 * i + d] += ch->sum[s].t[d];
     contacts += ch->ncontact[s];

@@ -99,6 +99,25 @@ int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels
                   double *f, double *torque, double *vatom, int want_virial,
                   griddem_sweep_result *result);
 
+/* One size class: its particles binned on its own grid g (b's slots are slots base.. of the
+ * channels), and the largest radius it may hold. */
+typedef struct griddem_class_grid {
+  const griddem_grid *g;
+  const griddem_bins *b;
+  int base;
+  double rmax;
+} griddem_class_grid;
+
+/* The sweep over size classes, cls[0] holding the largest spheres: pairs within a class on its
+ * own grid (as griddem_sweep), pairs across classes from the smaller sphere into the coarser
+ * grid. order: the particle of each slot of the channels. Same contract as griddem_sweep
+ * otherwise. */
+int griddem_sweep_classes(const griddem_class_grid *cls, int ncls, const int *order,
+                          griddem_channels *ch, int nlocal, const griddem_model *model,
+                          const griddem_exclusions *excl, double dt, int history_update,
+                          griddem_history *hist, const int *row_of, double *f, double *torque,
+                          double *vatom, int want_virial, griddem_sweep_result *result);
+
 #ifdef __cplusplus
 }
 #endif

@@ -352,6 +352,8 @@ void PairGriddem::compute(int eflag, int vflag)
   part.frozen_bit = freeze_group_bit;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
   step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
+  step.size_classes = fix->cell_mode == GRIDDEM_CELL_CLASSES || fix->cell_mode == GRIDDEM_CELL_AUTO;
+  step.rmin = rmin;
   step.max_cells = 32L * nall + 65536L;
   step.rmax = rmax;
   step.model = &model;

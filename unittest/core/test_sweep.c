@@ -6,6 +6,7 @@
  * excluded type pairs and with 1 or 3 threads; momentum balance holds; a particle's history row
  * grows with its contacts; faults name the particles. */
 #include "check.h"
+#include "griddem_engine.h"
 #include "griddem_sweep.h"
 #include "spec_text.h"
 
@@ -19,10 +20,10 @@ enum { N = 400 };
 static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
 static int tag[N], type[N], mask[N];
 
-static void make_configuration(void)
+static void make_configuration(double rlo, double rhi)
 {
   for (int i = 0; i < N; i++) {
-    rad[i] = 0.05 + 0.15 * check_uniform(); /* radius ratio up to 1:4 */
+    rad[i] = rlo + (rhi - rlo) * check_uniform();
     mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
     for (int d = 0; d < 3; d++) {
       x[3 * i + d] = 2.0 * check_uniform(); /* dense: many overlaps */
@@ -271,9 +272,72 @@ static void check_faults(void)
   griddem_channels_free(&ch);
 }
 
+/* Size classes (radii 0.03-0.24: three classes, pairs within each on its own grid and across
+ * classes from the smaller sphere into the coarser grid) through the engine: every contact,
+ * force, torque, the virial and the history equal the all-pairs evaluation, over steps in which
+ * the history accumulates; 1 and 3 threads. */
+static void size_classes(const char *law, int threads)
+{
+  make_configuration(0.03, 0.24);
+  const griddem_model m = model_of(law);
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  static double dense[GRIDDEM_MAX_HISTORY * N * N], f[3 * N], t[3 * N], fr[3 * N], tr[3 * N];
+  static unsigned char touched[N * N];
+  memset(dense, 0, sizeof(dense));
+  memset(touched, 0, sizeof(touched));
+  int row_of[N];
+  for (int i = 0; i < N; i++) row_of[i] = -1;
+  griddem_engine e;
+  griddem_engine_init(&e, m.history_size);
+  griddem_step st;
+  memset(&st, 0, sizeof(st));
+  const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  st.particles = part;
+  st.size_classes = 1, st.rmin = 1e30, st.rmax = 0.0;
+  for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
+  st.cell_edge = griddem_cell_edge(GRIDDEM_CELL_CLASSES, st.rmin, st.rmax, 0.0);
+  st.max_cells = 1L << 26, st.model = &m, st.dt = 1e-4, st.history_update = 1;
+  st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
+  for (int step = 0; step < 3; step++) {
+    memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t));
+    griddem_sweep_result res;
+    int coarsened;
+    double vr[6], energy_ref;
+    long contacts_ref;
+    griddem_engine_step(&e, &st, &res, &coarsened);
+    all_pairs(&m, NULL, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    CHECK(e.nclass == 3 && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", law, e.nclass, res.fault);
+    CHECK(res.contacts == contacts_ref && contacts_ref > N, "%s classes step %d: %ld contacts, all-pairs %ld",
+          law, step, res.contacts, contacts_ref);
+    double ferr = 0.0, terr = 0.0, verr = 0.0, herr = 0.0, hscale = 0.0;
+    for (int k = 0; k < 3 * N; k++) ferr = fmax(ferr, fabs(f[k] - fr[k])), terr = fmax(terr, fabs(t[k] - tr[k]));
+    for (int k = 0; k < 6; k++) verr = fmax(verr, fabs(res.virial[k] - vr[k]));
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < N; j++) {
+        const double *h = griddem_engine_find(&e, row_of[i], (double) tag[j]);
+        for (int q = 0; h && q < m.history_size; q++) {
+          const double ref = dense[GRIDDEM_MAX_HISTORY * ((size_t) i * N + j) + q];
+          herr = fmax(herr, fabs(h[q] - ref)), hscale = fmax(hscale, fabs(ref));
+        }
+      }
+    CHECK(ferr <= 1e-12 * max_abs(fr, 3 * N), "%s classes step %d: force error %g", law, step, ferr);
+    CHECK(terr <= 1e-12 * max_abs(tr, 3 * N), "%s classes step %d: torque error %g", law, step, terr);
+    CHECK(verr <= 1e-12 * max_abs(vr, 6), "%s classes step %d: virial error %g", law, step, verr);
+    CHECK(herr <= 1e-12 * hscale, "%s classes step %d: history error %g of %g", law, step, herr, hscale);
+    CHECK(fabs(res.energy - energy_ref) <= 1e-12 * energy_ref, "%s classes step %d: energy", law, step);
+    for (int k = 0; k < 3 * N; k++) x[k] *= 1.002; /* the packing loosens: contacts change */
+  }
+  griddem_engine_free(&e);
+}
+
 int main(void)
 {
-  make_configuration();
+  size_classes(LAWS[0], 1);
+  size_classes(LAWS[3], 3);
+  size_classes(LAWS[5], 1);
+  make_configuration(0.05, 0.2); /* radius ratio up to 1:4 */
   static const unsigned char exclude_22[9] = {0, 0, 0, 0, 0, 0, 0, 0, 1};
   for (int mode = GRIDDEM_CELL_EXACT; mode <= GRIDDEM_CELL_FIXED; mode++) {
     for (size_t k = 0; k < sizeof(LAWS) / sizeof(LAWS[0]); k++) {

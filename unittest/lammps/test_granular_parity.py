@@ -124,7 +124,7 @@ def main():
                            ntypes=2)
     for k, (label, c1, c2) in enumerate(MODELS):
         ref = run(wd, "stock_%d" % k, data, "granular", c1, c2)
-        for cell in ["exact", "multi"]:
+        for cell in ["exact", "multi", "classes"]:
             compare("granular %s, cell %s" % (label, cell), ref,
                     run(wd, "grid_%d_%s" % (k, cell), data, "griddem/granular", c1, c2,
                         "fix grid all griddem contacts 64 cell " + cell))

@@ -60,7 +60,7 @@ def main():
 
     hist = "1e4 NULL 50 NULL 0.5 1"
     ref = run(wd, "stock_hh", data, "gran/hooke/history " + hist)
-    for cell in ["exact", "multi", "0.37"]:
+    for cell in ["exact", "multi", "0.37", "classes"]:
         compare("hooke/history cell " + cell, ref,
                 run(wd, "grid_hh_" + cell, data, "griddem/hooke/history " + hist,
                     "fix grid all griddem contacts 64 cell " + cell))
