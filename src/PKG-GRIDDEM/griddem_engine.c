@@ -28,16 +28,6 @@ static int class_count(double rmin, double rmax)
   return n < 1 ? 1 : (n > GRIDDEM_MAX_CLASSES ? GRIDDEM_MAX_CLASSES : n);
 }
 
-/* Class of radius r: the c with rmax/2^(c+1) < r <= rmax/2^c, the last class taking the rest. */
-static int class_of(double r, double rmax, int nclass)
-{
-  int c = r > 0.0 ? (int) floor(log2(rmax / r)) : nclass - 1;
-  if (c < 0) c = 0;
-  if (c > nclass - 1) c = nclass - 1;
-  while (c > 0 && r > ldexp(rmax, -c)) c--; /* log2 may round across a boundary */
-  return c;
-}
-
 static int grow_work(griddem_engine *e, int n)
 {
   if (n <= e->work_cap) return 0;
@@ -51,36 +41,65 @@ static int grow_work(griddem_engine *e, int n)
   return e->work_cap ? 0 : -1;
 }
 
-/* Bin each size class on its own grid; order: the particle of each slot, classes one after the
- * other from the largest spheres. 0, or -1 without memory. */
+/* Whether particle i can touch an owned particle: inside the owned region, or a ghost within
+ * reach of it (its radius, the largest radius and the pull-off distance) */
+static int within_reach(const griddem_step *s, int i, double reach)
+{
+  if (!s->sublo || i < s->particles.nlocal) return 1;
+  const double *x = s->particles.x + 3 * (size_t) i;
+  double d2 = 0.0;
+  for (int d = 0; d < 3; d++) {
+    const double out = x[d] < s->sublo[d] ? s->sublo[d] - x[d] : (x[d] > s->subhi[d] ? x[d] - s->subhi[d] : 0.0);
+    d2 += out * out;
+  }
+  const double r = (s->particles.radius[i] + reach) * (1.0 + 1e-10);
+  return d2 < r * r;
+}
+
+/* Bin each size class on its own grid, class c holding radii in (rmax/2^(c+1), rmax/2^c], the
+ * last the rest; order: the particle of each slot, classes one after the other from the largest
+ * spheres. Returns the number of slots, or -1 without memory. */
 static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_grid *cls, int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
   if (grow_work(e, n) != 0) return -1;
+  double upper[GRIDDEM_MAX_CLASSES + 1];
+  for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -c);
+  upper[ncls] = 0.0;
+  const double reach = s->rmax + s->model->reach_extra;
+  /* class of each particle to be binned (-1: a ghost out of reach), counted per class */
   int base[GRIDDEM_MAX_CLASSES + 1] = {0};
-  for (int i = 0; i < n; i++) base[class_of(p->radius[i], s->rmax, ncls) + 1]++;
+  for (int i = 0; i < n; i++) {
+    int c = -1;
+    if (within_reach(s, i, reach)) {
+      c = 0;
+      while (c < ncls - 1 && p->radius[i] <= upper[c + 1]) c++;
+      base[c + 1]++;
+    }
+    e->order[i] = c;
+  }
   for (int c = 0; c < ncls; c++) base[c + 1] += base[c];
   int next[GRIDDEM_MAX_CLASSES];
   for (int c = 0; c < ncls; c++) next[c] = base[c];
   for (int i = 0; i < n; i++) {
-    const int m = next[class_of(p->radius[i], s->rmax, ncls)]++;
+    if (e->order[i] < 0) continue;
+    const int m = next[e->order[i]]++;
     e->member[m] = i;
     for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
     e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
   }
   for (int c = 0; c < ncls; c++) {
     const int nc = base[c + 1] - base[c];
-    const double rmax_c = ldexp(s->rmax, -c);
     const double *xc = e->xc + 3 * (size_t) base[c];
     *coarsened |= griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
-                                     griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, rmax_c, 0.0),
+                                     griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0),
                                      32L * nc + 65536L);
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
-    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = rmax_c;
+    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = upper[c];
   }
-  return 0;
+  return base[ncls];
 }
 
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
@@ -102,7 +121,8 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
     all.order = e->bins[0].order;
   } else {
-    if (bin_classes(e, s, cls, coarsened) != 0) result->fault = GRIDDEM_FAULT_MEMORY;
+    all.n = bin_classes(e, s, cls, coarsened);
+    if (all.n < 0) result->fault = GRIDDEM_FAULT_MEMORY;
     all.order = e->order;
   }
   if (result->fault || griddem_channels_fill(&e->channels, &all, p) != 0) {
@@ -114,7 +134,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
                         s->want_virial, result);
   /* the history's row of slot k is k */
   if (s->model->track_contacts)
-    for (int k = 0; k < p->nall; k++)
+    for (int k = 0; k < all.n; k++)
       if (all.order[k] < p->nlocal) s->row_of[all.order[k]] = k;
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */

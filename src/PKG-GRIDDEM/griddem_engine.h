@@ -49,6 +49,8 @@ typedef struct griddem_step {
   double anchor[3];        /* cell faces align to it (the box corner) */
   double cell_edge;        /* wanted cell edge (one grid) */
   int size_classes;        /* 1: a grid per size class (edges 2 rmax/2^c), cell_edge unused */
+  const double *sublo, *subhi; /* size classes: the owned region (axis-aligned); ghosts farther
+                                  from it than any contact reaches are not binned. NULL: all */
   double rmin;             /* smallest radius of any particle (size classes) */
   long max_cells;          /* the edge grows if the grid would need more cells */
   double rmax;             /* largest radius of any particle */
