@@ -20,11 +20,11 @@ void griddem_engine_free(griddem_engine *e)
   memset(e, 0, sizeof(*e));
 }
 
-/* Number of size classes for radii in [rmin, rmax]: one per factor 2. */
+/* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
 static int class_count(double rmin, double rmax)
 {
   if (!(rmin > 0.0) || !(rmax > rmin)) return 1;
-  const int n = (int) floor(log2(rmax / rmin)) + 1;
+  const int n = (int) floor(log2(rmax / rmin) / GRIDDEM_CLASS_SHIFT) + 1;
   return n < 1 ? 1 : (n > GRIDDEM_MAX_CLASSES ? GRIDDEM_MAX_CLASSES : n);
 }
 
@@ -56,16 +56,16 @@ static int within_reach(const griddem_step *s, int i, double reach)
   return d2 < r * r;
 }
 
-/* Bin each size class on its own grid, class c holding radii in (rmax/2^(c+1), rmax/2^c], the
- * last the rest; order: the particle of each slot, classes one after the other from the largest
+/* Bin each size class on its own grid, class c holding radii in (upper[c+1], upper[c]], the last
+ * the rest; order: the particle of each slot, classes one after the other from the largest
  * spheres. Returns the number of slots, or -1 without memory. */
-static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_grid *cls, int *coarsened)
+static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_grid *cls)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
   if (grow_work(e, n) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
-  for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -c);
+  for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -GRIDDEM_CLASS_SHIFT * c);
   upper[ncls] = 0.0;
   const double reach = s->rmax + s->model->reach_extra;
   /* class of each particle to be binned (-1: a ghost out of reach), counted per class */
@@ -92,9 +92,10 @@ static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_g
   for (int c = 0; c < ncls; c++) {
     const int nc = base[c + 1] - base[c];
     const double *xc = e->xc + 3 * (size_t) base[c];
-    *coarsened |= griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
-                                     griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0),
-                                     32L * nc + 65536L);
+    /* a sparse class gets larger cells rather than a grid it does not fill (cleared every step);
+       the stencils follow the edge, so the same contacts are found */
+    griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
+                       griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0), 8L * nc + 1024L);
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
     cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = upper[c];
@@ -121,7 +122,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
     all.order = e->bins[0].order;
   } else {
-    all.n = bin_classes(e, s, cls, coarsened);
+    all.n = bin_classes(e, s, cls);
     if (all.n < 0) result->fault = GRIDDEM_FAULT_MEMORY;
     all.order = e->order;
   }

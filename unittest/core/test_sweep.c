@@ -272,13 +272,17 @@ static void check_faults(void)
   griddem_channels_free(&ch);
 }
 
-/* Size classes (radii 0.03-0.24: three classes, pairs within each on its own grid and across
+/* Size classes (radii log-uniform in 0.012-0.24: three classes, pairs within each on its own grid and across
  * classes from the smaller sphere into the coarser grid) through the engine: every contact,
  * force, torque, the virial and the history equal the all-pairs evaluation, over steps in which
  * the history accumulates; 1 and 3 threads. */
 static void size_classes(const char *law, int threads)
 {
-  make_configuration(0.03, 0.24);
+  make_configuration(0.012, 0.24);
+  for (int i = 0; i < N; i++) {
+    rad[i] = i == 0 ? 0.012 : 0.24 * pow(0.05, check_uniform());
+    mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
+  }
   const griddem_model m = model_of(law);
 #ifdef _OPENMP
   omp_set_num_threads(threads);

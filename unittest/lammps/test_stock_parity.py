@@ -91,6 +91,12 @@ def main():
     compare("hooke/history neigh_modify exclude group", run(wd, "stock_ex", data, "gran/hooke/history " + hist, exclude),
             run(wd, "grid_ex", data, "griddem/hooke/history " + hist, exclude))
 
+    # radii 1:8: two size classes, pairs across them from the small sphere into the coarse grid
+    poly = os.path.join(wd, "data.poly")
+    t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.05, 0.4, seed=9, vscale=1.0, wscale=5.0)
+    compare("hooke/history 1:8, cell classes", run(wd, "stock_poly", poly, "gran/hooke/history " + hist),
+            run(wd, "grid_poly", poly, "griddem/hooke/history " + hist, "fix grid all griddem contacts 64 cell classes"))
+
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
     t.finish()

@@ -1,0 +1,268 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package, Kokkos: what the griddem/.../kk pair styles share. One class template,
+   PairGriddemKokkos<DeviceType, Base>, derives from the CPU style Base (PairGriddemHooke,
+   PairGriddemGranular), which parses the arguments, mixes and checks the coefficients and fills
+   `model`/`params`; this class only replaces compute() with device kernels:
+
+   1. scan: bounding box of owned + ghost centres, non-finite positions and velocities, fastest
+      owned atom, radius range (one parallel_reduce);
+   2. binning: a counting sort of the centres into cells of edge 2*rmax*(1+1e-9) anchored at
+      domain->boxlo (fix griddem's `cell multi` grid); within a cell the slots are ordered by tag
+      (then position, for periodic images of one atom), so sums do not depend on storage order;
+      the sorted positions, radii, velocities, masses, types and masks are the "channels";
+   3. sweep: one thread per sorted owned particle visits the (2R+1)^3 cells around its own
+      (R = 1 unless a pull-off distance reaches further) and evaluates every touching pair from
+      its own side with griddem_contact_eval. The law is exactly odd under i <-> j, so each
+      particle sums its own force and torque: no atomics, no colouring, no reverse communication.
+      The global virial (half of del*f per owned side) and the first coincident-centres fault come
+      back from the same parallel_reduce.
+
+   Only laws without contact history (model.track_contacts == 0) are evaluated; the others are
+   refused by name until fix griddem has a Kokkos twin. Views grow, never shrink, and are not
+   reallocated in a step unless a size grew.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_PAIR_GRIDDEM_KOKKOS_H
+#define LMP_PAIR_GRIDDEM_KOKKOS_H
+
+#include "griddem_contact.h"
+#include "kokkos_type.h"
+#include "pair_kokkos.h"
+
+#include <climits>
+
+namespace LAMMPS_NS {
+
+/* what the scan finds */
+struct GriddemKKScanValue {
+  double lo[3], hi[3];    // bounding box of finite centres (owned and ghosts)
+  double rmin, rmax;      // radius range of owned atoms
+  double vmax2;           // largest squared speed of an owned atom
+  int ivmax;              // its index
+  int badx, badv;         // smallest index of a non-finite position (all) / velocity (owned); INT_MAX: none
+};
+
+template <class DeviceType> struct GriddemKKScan {
+  typedef DeviceType device_type;
+  typedef GriddemKKScanValue value_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typename AT::t_x_array_randomread x;
+  typename AT::t_v_array_randomread v;
+  typename AT::t_float_1d_randomread radius;
+  int nlocal;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type &s) const
+  {
+    for (int d = 0; d < 3; d++) s.lo[d] = 1e308, s.hi[d] = -1e308;
+    s.rmin = 1e308, s.rmax = 0.0, s.vmax2 = -1.0;
+    s.ivmax = -1, s.badx = s.badv = INT_MAX;
+  }
+  KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
+  {
+    for (int d = 0; d < 3; d++) {
+      if (o.lo[d] < s.lo[d]) s.lo[d] = o.lo[d];
+      if (o.hi[d] > s.hi[d]) s.hi[d] = o.hi[d];
+    }
+    if (o.rmin < s.rmin) s.rmin = o.rmin;
+    if (o.rmax > s.rmax) s.rmax = o.rmax;
+    if (o.vmax2 > s.vmax2 || (o.vmax2 == s.vmax2 && o.ivmax < s.ivmax)) s.vmax2 = o.vmax2, s.ivmax = o.ivmax;
+    if (o.badx < s.badx) s.badx = o.badx;
+    if (o.badv < s.badv) s.badv = o.badv;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &s) const
+  {
+    const double xi = x(i, 0), yi = x(i, 1), zi = x(i, 2);
+    if (!(Kokkos::isfinite(xi) && Kokkos::isfinite(yi) && Kokkos::isfinite(zi))) {
+      if (i < s.badx) s.badx = i;
+      return;
+    }
+    const double p[3] = {xi, yi, zi};
+    for (int d = 0; d < 3; d++) {
+      if (p[d] < s.lo[d]) s.lo[d] = p[d];
+      if (p[d] > s.hi[d]) s.hi[d] = p[d];
+    }
+    if (i >= nlocal) return;
+    const double r = radius(i);
+    if (r < s.rmin) s.rmin = r;
+    if (r > s.rmax) s.rmax = r;
+    const double v2 = v(i, 0) * v(i, 0) + v(i, 1) * v(i, 1) + v(i, 2) * v(i, 2);
+    if (!Kokkos::isfinite(v2)) {
+      if (i < s.badv) s.badv = i;
+    } else if (v2 > s.vmax2 || (v2 == s.vmax2 && i < s.ivmax)) {
+      s.vmax2 = v2, s.ivmax = i;
+    }
+  }
+};
+
+/* the grid of one step, as griddem_grid: cell (ix,iy,iz) covers anchor + (k0 + i) * h */
+struct GriddemKKGrid {
+  double anchor[3], hinv;
+  long k0[3];
+  int n[3];
+  int ncell;
+  KOKKOS_INLINE_FUNCTION int axis_cell(int d, double x) const
+  {
+    const long c = (long) floor((x - anchor[d]) * hinv) - k0[d];
+    return c < 0 ? 0 : (c >= n[d] ? n[d] - 1 : (int) c);
+  }
+  KOKKOS_INLINE_FUNCTION int cell_of(double x, double y, double z) const
+  {
+    return axis_cell(0, x) + n[0] * (axis_cell(1, y) + n[1] * axis_cell(2, z));
+  }
+};
+
+/* what the sweep sums: global virial, and the coincident pair with the smallest owned index */
+struct GriddemKKSweepValue {
+  double v[6];
+  int fault_i, fault_j;    // local indices; fault_i == INT_MAX: none
+  int stencil_fault;
+};
+
+template <class DeviceType> struct GriddemKKSweep {
+  typedef DeviceType device_type;
+  typedef GriddemKKSweepValue value_type;
+  typedef ArrayTypes<DeviceType> AT;
+
+  GriddemKKGrid grid;
+  int reach;                 // cells visited on each side
+  double reach_extra;        // model.reach_extra
+  int nlocal, ntypes, frozen_bit, vflag_global, vflag_atom;
+  double dt;
+  Kokkos::View<const int *, DeviceType> start, order;
+  Kokkos::View<const double *[4], DeviceType> pos;    // x y z radius, sorted
+  Kokkos::View<const double *[7], DeviceType> state;  // v, omega, mass, sorted
+  Kokkos::View<const int *[2], DeviceType> tm;        // type, mask, sorted
+  Kokkos::View<const griddem_pair_params *, DeviceType> params;
+  Kokkos::View<const unsigned char *, DeviceType> excl_type;    // empty: no type exclusions
+  Kokkos::View<const int *, DeviceType> excl_group;             // pairs of group bits
+  typename AT::t_f_array f, torque;
+  typename AT::t_virial_array vatom;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type &s) const
+  {
+    for (int k = 0; k < 6; k++) s.v[k] = 0.0;
+    s.fault_i = s.fault_j = INT_MAX;
+    s.stencil_fault = 0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
+  {
+    for (int k = 0; k < 6; k++) s.v[k] += o.v[k];
+    if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
+    s.stencil_fault |= o.stencil_fault;
+  }
+
+  KOKKOS_INLINE_FUNCTION int excluded(int ta, int ma, int tb, int mb) const
+  {
+    if (excl_type.extent(0) && excl_type(ta * (ntypes + 1) + tb)) return 1;
+    for (int k = 0; k + 1 < (int) excl_group.extent(0); k += 2) {
+      const int b1 = excl_group(k), b2 = excl_group(k + 1);
+      if (((ma & b1) && (mb & b2)) || ((ma & b2) && (mb & b1))) return 1;
+    }
+    return 0;
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
+  {
+    const int i = order(s);
+    if (i >= nlocal) return;
+    const double xi = pos(s, 0), yi = pos(s, 1), zi = pos(s, 2), radi = pos(s, 3);
+    const int itype = tm(s, 0), imask = tm(s, 1);
+    const double mi = state(s, 6);
+    const int ix = grid.axis_cell(0, xi), iy = grid.axis_cell(1, yi), iz = grid.axis_cell(2, zi);
+    const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+    double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0}, w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    double hist[GRIDDEM_MAX_HISTORY];
+    for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
+    const int x0 = ix - reach < 0 ? 0 : ix - reach;
+    const int x1 = ix + reach >= nx ? nx - 1 : ix + reach;
+
+    for (int z = iz - reach; z <= iz + reach; z++) {
+      if (z < 0 || z >= nz) continue;
+      for (int y = iy - reach; y <= iy + reach; y++) {
+        if (y < 0 || y >= ny) continue;
+        const int row = nx * (y + ny * z);
+        const int tend = start(row + x1 + 1);
+        for (int t = start(row + x0); t < tend; t++) {
+          if (t == s) continue;
+          const double dx = xi - pos(t, 0), dy = yi - pos(t, 1), dz = zi - pos(t, 2);
+          const double radj = pos(t, 3);
+          const double rsq = dx * dx + dy * dy + dz * dz;
+          const double rs = radi + reach_extra + radj;
+          if (!(rsq < rs * rs)) continue;
+          if (rsq == 0.0) {
+            if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(t);
+            continue;
+          }
+          const int jtype = tm(t, 0), jmask = tm(t, 1);
+          if (excluded(itype, imask, jtype, jmask)) continue;
+          const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
+          if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, 0)) continue;
+
+          griddem_contact c;
+          c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
+          c.rsq = rsq;
+          c.radi = radi, c.radj = radj;
+          for (int d = 0; d < 3; d++) {
+            c.vr[d] = state(s, d) - state(t, d);
+            c.wi[d] = state(s, 3 + d), c.wj[d] = state(t, 3 + d);
+          }
+          c.meff = griddem_effective_mass(mi, state(t, 6), (imask & frozen_bit) != 0, (jmask & frozen_bit) != 0);
+          c.dt = dt;
+          c.history_update = 0;
+          c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
+          double fc[3], ti[3], tj[3];
+          griddem_contact_eval(law, &c, hist, fc, ti, tj);
+          for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
+          if (vflag_global || vflag_atom) {
+            w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
+            w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
+          }
+        }
+      }
+    }
+    for (int d = 0; d < 3; d++) f(i, d) += fsum[d], torque(i, d) += tsum[d];
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) sum.v[k] += w[k];
+    if (vflag_atom)
+      for (int k = 0; k < 6; k++) vatom(i, k) += w[k];
+  }
+};
+
+template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
+ public:
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+
+  PairGriddemKokkos(class LAMMPS *);
+  ~PairGriddemKokkos() override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  void compute(int, int) override;
+
+ protected:
+  // sizes the Views below were allocated for
+  int nmax_atoms, nmax_cells;
+  Kokkos::View<int *, DeviceType> d_cell;     // [nall] cell of each atom
+  Kokkos::View<int *, DeviceType> d_count;    // [ncell+1] atoms per cell, then fill cursor
+  Kokkos::View<int *, DeviceType> d_start;    // [ncell+1] first slot of each cell
+  Kokkos::View<int *, DeviceType> d_unsorted; // [nall] slots filled in arrival order
+  Kokkos::View<int *, DeviceType> d_order;    // [nall] atom index of each sorted slot
+  Kokkos::View<double *[4], DeviceType> d_pos;
+  Kokkos::View<double *[7], DeviceType> d_state;
+  Kokkos::View<int *[2], DeviceType> d_tm;
+  Kokkos::View<griddem_pair_params *, DeviceType> d_params;
+  Kokkos::View<unsigned char *, DeviceType> d_excl_type;
+  Kokkos::View<int *, DeviceType> d_excl_group;
+  int params_stale;
+  int coarsened_warned_kk;
+
+  DAT::tdual_virial_array k_vatom;
+
+  void refuse_history();
+  void upload_tables();
+  void report_coincident(int i, int j);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

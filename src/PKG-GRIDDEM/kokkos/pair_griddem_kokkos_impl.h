@@ -1,0 +1,334 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package, Kokkos: the member functions of PairGriddemKokkos (pair_griddem_kokkos.h),
+   included by the .cpp file of each style, which instantiates the template for its base class.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_PAIR_GRIDDEM_KOKKOS_IMPL_H
+#define LMP_PAIR_GRIDDEM_KOKKOS_IMPL_H
+
+#include "pair_griddem_kokkos.h"
+
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_griddem.h"
+#include "force.h"
+#include "griddem_grid.h"
+#include "memory_kokkos.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <string>
+
+namespace LAMMPS_NS {
+
+template <class DeviceType, class Base>
+PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
+    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0)
+{
+  this->kokkosable = 1;
+  this->atomKK = (AtomKokkos *) this->atom;
+  this->execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  this->datamask_read = X_MASK | V_MASK | OMEGA_MASK | F_MASK | TORQUE_MASK | TYPE_MASK | MASK_MASK |
+      TAG_MASK | RMASS_MASK | RADIUS_MASK;
+  this->datamask_modify = F_MASK | TORQUE_MASK;
+}
+
+template <class DeviceType, class Base> PairGriddemKokkos<DeviceType, Base>::~PairGriddemKokkos()
+{
+  if (this->copymode) return;
+  this->memoryKK->destroy_kokkos(k_vatom, this->vatom);
+  this->vatom = nullptr;
+}
+
+/* the laws that keep contact history need fix griddem's per-atom rows, which have no Kokkos
+   twin yet: refuse them, naming the sub-model */
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::refuse_history()
+{
+  if (!this->model.track_contacts) return;
+  std::string culprit = "its contact law";
+  const int n = this->atom->ntypes + 1;
+  for (int i = 1; i < n && culprit == "its contact law"; i++)
+    for (int j = i; j < n; j++) {
+      if (!this->allocated || !this->setflag[i][j]) continue;
+      const griddem_pair_spec &s = this->specs[i * n + j];
+      for (int axis = 0; axis < GRIDDEM_NAXES; axis++) {
+        const griddem_submodel *m = s.sub[axis];
+        if (!m || !(m->history > 0 || (m->flags & GRIDDEM_SUBMODEL_BEYOND_CONTACT))) continue;
+        culprit = (m->flags & GRIDDEM_SUBMODEL_INTERNAL)
+            ? std::string("its shear history")
+            : fmt::format("{} model {} (types {} {})", griddem_axis_name(axis), m->name, i, j);
+        break;
+      }
+      if (culprit != "its contact law") break;
+    }
+  this->error->all(FLERR,
+                   "Pair style {}: {} keeps contact history, which is not implemented on Kokkos yet; "
+                   "use sub-models without history (e.g. tangential linear_nohistory, no rolling or "
+                   "twisting, not jkr) or run the style without the kk suffix",
+                   this->force->pair_style, culprit);
+}
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::coeff(int narg, char **arg)
+{
+  Base::coeff(narg, arg);
+  refuse_history();
+}
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::init_style()
+{
+  refuse_history();    // also after read_restart, which sets the specs without coeff()
+  Base::init_style();
+  params_stale = 1;    // init_one() fills params after init_style()
+}
+
+/* the law table and the exclusions, copied to the device after each init */
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_tables()
+{
+  const int n = this->atom->ntypes + 1;
+  d_params = Kokkos::View<griddem_pair_params *, DeviceType>("griddem/kk:params", n * n);
+  auto h_params = Kokkos::create_mirror_view(d_params);
+  for (int k = 0; k < n * n; k++) h_params(k) = this->params[k];
+  Kokkos::deep_copy(d_params, h_params);
+
+  const int ntype_pairs = this->excluded_types.empty() ? 0 : n * n;
+  d_excl_type = Kokkos::View<unsigned char *, DeviceType>("griddem/kk:excl_type", ntype_pairs);
+  auto h_excl_type = Kokkos::create_mirror_view(d_excl_type);
+  for (int k = 0; k < ntype_pairs; k++) h_excl_type(k) = this->excluded_types[k];
+  Kokkos::deep_copy(d_excl_type, h_excl_type);
+
+  const int ngroup = (int) this->excluded_groups.size();
+  d_excl_group = Kokkos::View<int *, DeviceType>("griddem/kk:excl_group", ngroup);
+  auto h_excl_group = Kokkos::create_mirror_view(d_excl_group);
+  for (int k = 0; k < ngroup; k++) h_excl_group(k) = this->excluded_groups[k];
+  Kokkos::deep_copy(d_excl_group, h_excl_group);
+  params_stale = 0;
+}
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::report_coincident(int i, int j)
+{
+  this->atomKK->sync(Host, X_MASK | TAG_MASK);
+  double **x = this->atom->x;
+  this->error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
+                   this->force->pair_style, this->atom->tag[i], this->atom->tag[j], x[i][0], x[i][1], x[i][2]);
+}
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
+{
+  Error *error = this->error;
+  const char *style = this->force->pair_style;
+
+  this->ev_init(eflag, vflag, 0);
+  if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared
+    if ((int) k_vatom.extent(0) < this->maxvatom) {
+      this->memoryKK->destroy_kokkos(k_vatom, this->vatom);
+      this->memoryKK->create_kokkos(k_vatom, this->vatom, this->maxvatom, "pair:vatom");
+    } else {
+      Kokkos::deep_copy(k_vatom.template view<DeviceType>(), 0.0);
+    }
+  }
+  if (params_stale) upload_tables();
+
+  AtomKokkos *atomKK = this->atomKK;
+  atomKK->sync(this->execution_space, this->datamask_read);
+  atomKK->modified(this->execution_space, this->datamask_modify);
+
+  auto x = atomKK->k_x.template view<DeviceType>();
+  auto v = atomKK->k_v.template view<DeviceType>();
+  auto omega = atomKK->k_omega.template view<DeviceType>();
+  auto radius = atomKK->k_radius.template view<DeviceType>();
+  auto rmass = atomKK->k_rmass.template view<DeviceType>();
+  auto type = atomKK->k_type.template view<DeviceType>();
+  auto mask = atomKK->k_mask.template view<DeviceType>();
+  auto tag = atomKK->k_tag.template view<DeviceType>();
+  const int nlocal = this->atom->nlocal;
+  const int nall = nlocal + this->atom->nghost;
+
+  // 1. scan
+  GriddemKKScan<DeviceType> scan;
+  scan.x = x;
+  scan.v = v;
+  scan.radius = radius;
+  scan.nlocal = nlocal;
+  GriddemKKScanValue sc;
+  Kokkos::parallel_reduce("griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan, sc);
+  if (sc.badx != INT_MAX) {
+    atomKK->sync(Host, X_MASK | TAG_MASK);
+    const int b = sc.badx;
+    double **xh = this->atom->x;
+    error->one(FLERR, "Pair style {}: atom {} has a non-finite position ({} {} {})", style,
+               this->atom->tag[b], xh[b][0], xh[b][1], xh[b][2]);
+  }
+  if (sc.badv != INT_MAX) {
+    atomKK->sync(Host, V_MASK | TAG_MASK);
+    const int b = sc.badv;
+    double **vh = this->atom->v;
+    error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", style,
+               this->atom->tag[b], vh[b][0], vh[b][1], vh[b][2]);
+  }
+  if (this->neighbor->ago == 0) {    // radius range, refreshed as the CPU style does
+    double local[2] = {nlocal ? sc.rmin : INFINITY, -sc.rmax}, global[2];
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, this->world);
+    this->rmin = global[0];
+    this->rmax = -global[1];
+    if (this->rmax > 0.0 && !(this->rmin > 0.0))
+      error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", style, this->rmin);
+  }
+  const double rmax = this->rmax;
+  if (rmax == 0.0) return;    // no atoms yet
+
+  // NN4DEM rule, as the CPU style: no atom crosses more than one exact-mode cell per step
+  const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, rmax, 0.0);
+  if (sc.ivmax >= 0 && sqrt(sc.vmax2) * this->update->dt > h_nn4dem) {
+    atomKK->sync(Host, TAG_MASK);
+    error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
+               style, this->atom->tag[sc.ivmax], sqrt(sc.vmax2) * this->update->dt, sqrt(sc.vmax2), h_nn4dem);
+  }
+
+  // 2. grid: fix griddem's multi edge, anchored at boxlo, enlarged if it would need too many cells
+  GriddemKKGrid grid;
+  double h = griddem_cell_edge(GRIDDEM_CELL_MULTI, this->rmin, rmax, 0.0);
+  const long max_cells = 32L * nall + 65536L;
+  double extent = 0.0;
+  for (int d = 0; d < 3; d++) {
+    grid.anchor[d] = this->domain->boxlo[d];
+    if (nall == 0) sc.lo[d] = sc.hi[d] = grid.anchor[d];
+    extent = MAX(extent, MAX(fabs(sc.lo[d] - grid.anchor[d]), fabs(sc.hi[d] - grid.anchor[d])));
+  }
+  long total;
+  int coarsened = 0;
+  while (true) {
+    total = 1;
+    for (int d = 0; d < 3; d++) {
+      grid.k0[d] = (long) floor((sc.lo[d] - grid.anchor[d]) / h);
+      const long cells = (long) floor((sc.hi[d] - grid.anchor[d]) / h) - grid.k0[d] + 1;
+      grid.n[d] = (int) MIN(cells, 1000000000L);
+      total = total < 4000000000000L / grid.n[d] ? total * grid.n[d] : 4000000000000L;
+    }
+    if (total <= max_cells && total < INT_MAX) break;
+    h *= 1.25;
+    coarsened = 1;
+  }
+  if (coarsened && !coarsened_warned_kk) {
+    coarsened_warned_kk = 1;
+    error->warning(FLERR, "Pair style {}: cell edge enlarged to {} so that the grid over this process's atoms stays within {} cells",
+                   style, h, max_cells);
+  }
+  grid.hinv = 1.0 / h;
+  grid.ncell = (int) total;
+  const double cutmax = (2.0 * rmax + this->model.reach_extra) * (1.0 + 1e-10) + 1e-14 * extent;
+  const int reach = griddem_stencil_reach(h, cutmax);
+  if (reach > GRIDDEM_MAX_REACH)
+    error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {}", style,
+               cutmax, GRIDDEM_MAX_REACH, h);
+
+  // Views grow only
+  if (nall > nmax_atoms) {
+    nmax_atoms = MAX(nall, (int) (1.2 * nmax_atoms));
+    d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
+    d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
+    d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
+    d_pos = Kokkos::View<double *[4], DeviceType>("griddem/kk:pos", nmax_atoms);
+    d_state = Kokkos::View<double *[7], DeviceType>("griddem/kk:state", nmax_atoms);
+    d_tm = Kokkos::View<int *[2], DeviceType>("griddem/kk:tm", nmax_atoms);
+  }
+  if (grid.ncell + 1 > nmax_cells) {
+    nmax_cells = MAX(grid.ncell + 1, (int) MIN(1.2 * nmax_cells, (double) INT_MAX));
+    d_count = Kokkos::View<int *, DeviceType>("griddem/kk:count", nmax_cells);
+    d_start = Kokkos::View<int *, DeviceType>("griddem/kk:start", nmax_cells);
+  }
+
+  // 3. counting sort by cell
+  const int ncell = grid.ncell;
+  auto cell = d_cell;
+  auto count = d_count;
+  auto start = d_start;
+  auto unsorted = d_unsorted;
+  auto order = d_order;
+  auto pos = d_pos;
+  auto state = d_state;
+  auto tm = d_tm;
+  Kokkos::parallel_for("griddem/kk:clear", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
+                       KOKKOS_LAMBDA(const int c) { count(c) = 0; });
+  Kokkos::parallel_for("griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+    const int c = grid.cell_of(x(i, 0), x(i, 1), x(i, 2));
+    cell(i) = c;
+    Kokkos::atomic_inc(&count(c));
+  });
+  Kokkos::parallel_scan("griddem/kk:scan_cells", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
+                        KOKKOS_LAMBDA(const int c, int &partial, const bool final) {
+                          const int k = count(c);
+                          if (final) {
+                            start(c) = partial;
+                            count(c) = 0;    // from here on: the cell's fill cursor
+                          }
+                          partial += k;
+                        });
+  Kokkos::parallel_for("griddem/kk:fill", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+    const int c = cell(i);
+    unsorted(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
+  });
+  // within a cell, slot = rank by (tag, x, y, z): the same order whatever order atoms are stored in
+  Kokkos::parallel_for("griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int s) {
+    const int i = unsorted(s);
+    const int c = cell(i);
+    const tagint ti = tag(i);
+    const double xi = x(i, 0), yi = x(i, 1), zi = x(i, 2);
+    int rank = 0;
+    for (int u = start(c); u < start(c + 1); u++) {
+      const int j = unsorted(u);
+      const tagint tj = tag(j);
+      const double xj = x(j, 0), yj = x(j, 1), zj = x(j, 2);
+      rank += tj < ti ||
+          (tj == ti && (xj < xi || (xj == xi && (yj < yi || (yj == yi && zj < zi)))));
+    }
+    const int slot = start(c) + rank;
+    order(slot) = i;
+    pos(slot, 0) = xi, pos(slot, 1) = yi, pos(slot, 2) = zi, pos(slot, 3) = radius(i);
+    for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
+    state(slot, 6) = rmass(i);
+    tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
+  });
+
+  // 4. sweep
+  GriddemKKSweep<DeviceType> sweep;
+  sweep.grid = grid;
+  sweep.reach = reach;
+  sweep.reach_extra = this->model.reach_extra;
+  sweep.nlocal = nlocal;
+  sweep.ntypes = this->atom->ntypes;
+  sweep.frozen_bit = this->freeze_group_bit;
+  sweep.vflag_global = this->vflag_global;
+  sweep.vflag_atom = this->vflag_atom;
+  sweep.dt = this->update->dt;
+  sweep.start = d_start;
+  sweep.order = d_order;
+  sweep.pos = d_pos;
+  sweep.state = d_state;
+  sweep.tm = d_tm;
+  sweep.params = d_params;
+  sweep.excl_type = d_excl_type;
+  sweep.excl_group = d_excl_group;
+  sweep.f = atomKK->k_f.template view<DeviceType>();
+  sweep.torque = atomKK->k_torque.template view<DeviceType>();
+  if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
+  GriddemKKSweepValue sums;
+  Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep, sums);
+
+  if (sums.fault_i != INT_MAX) report_coincident(sums.fault_i, sums.fault_j);
+  if (this->vflag_global)
+    for (int k = 0; k < 6; k++) this->virial[k] += sums.v[k];
+  if (this->vflag_atom) {
+    k_vatom.template modify<DeviceType>();
+    k_vatom.template sync<LMPHostType>();
+  }
+}
+
+}    // namespace LAMMPS_NS
+
+#endif
