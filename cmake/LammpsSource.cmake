@@ -71,3 +71,22 @@ endif()
 
 # The package folder is a symbolic link, so editing src/PKG-GRIDDEM needs no re-staging.
 file(CREATE_LINK "${PROJECT_SOURCE_DIR}/src/PKG-GRIDDEM" "${GRIDDEM_LAMMPS_TREE}/src/GRIDDEM" SYMBOLIC)
+
+# Kokkos styles (src/PKG-GRIDDEM/kokkos/*_kokkos.{h,cpp}): with PKG_KOKKOS on, each file is linked
+# into the staged src/KOKKOS, where LAMMPS's KOKKOS.cmake finds pair_<name>_kokkos.h next to the
+# style pair_<name>.h of an enabled package (RegisterStylesExt) and compiles its .cpp. Without
+# KOKKOS, links left by an earlier configure are removed so the staged tree matches the options.
+file(GLOB _griddem_kk_staged LIST_DIRECTORIES false "${GRIDDEM_LAMMPS_TREE}/src/KOKKOS/*griddem*")
+foreach(_f ${_griddem_kk_staged})
+  if(IS_SYMLINK "${_f}")
+    file(REMOVE "${_f}")
+  endif()
+endforeach()
+if(PKG_KOKKOS)
+  file(GLOB _griddem_kk_files CONFIGURE_DEPENDS
+    "${PROJECT_SOURCE_DIR}/src/PKG-GRIDDEM/kokkos/*.h" "${PROJECT_SOURCE_DIR}/src/PKG-GRIDDEM/kokkos/*.cpp")
+  foreach(_f ${_griddem_kk_files})
+    get_filename_component(_name "${_f}" NAME)
+    file(CREATE_LINK "${_f}" "${GRIDDEM_LAMMPS_TREE}/src/KOKKOS/${_name}" SYMBOLIC)
+  endforeach()
+endif()

@@ -1,0 +1,211 @@
+"""The Kokkos styles griddem/hooke/kk and griddem/granular/kk against the CPU griddem styles and
+stock gran/hooke and pair granular: forces and torques at step 0, positions and velocities after
+20 steps, and the virial (thermo press and the pair part of compute pressure) agree to 1e-10
+relative on a dense random polydisperse (1:3) configuration of two atom types with random
+linear and angular velocities, run with `-k on t N -sf kk -pk kokkos newton off neigh half` on
+1 and 2 Kokkos (OpenMP) threads and on 1 and 2 MPI ranks. A law that keeps contact history is
+refused under the kk suffix with a message naming the sub-model; griddem/hooke/history, which
+has no kk variant, falls back to the CPU style as LAMMPS does for any style without one.
+
+Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package."""
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+from test_stock_parity import FORCES, STATE, compare as parity_compare, run as parity_run
+
+SKIP = 77
+
+
+def installed_packages():
+    """Package names in the 'Installed packages:' section of lmp -h."""
+    try:
+        out = subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             universal_newlines=True, timeout=120).stdout
+    except OSError as e:
+        print("cannot run %s: %s" % (t.LMP, e))
+        sys.exit(1)
+    packages, inside = set(), False
+    for line in out.splitlines():
+        if line.startswith("Installed packages:"):
+            inside = True
+            continue
+        if inside:
+            if not line.strip():
+                if packages:
+                    break
+                continue
+            packages.update(line.split())
+    return packages
+
+
+def kk_args(threads):
+    return ["-k", "on", "t", str(threads), "-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
+
+
+def run(wd, name, data, pair, coeffs, nprocs=1, threads=None, extra=""):
+    """parity_run (test_stock_parity) with Kokkos options when threads is given."""
+    if threads is None and nprocs == 1:
+        return parity_run(wd, name, data, pair, extra, coeffs)
+    text = t.PERIODIC_SPHERES.format(data=data, pair=pair, coeffs=coeffs) + """
+{extra}
+timestep 1e-5
+fix integrate all nve/sphere
+compute virial all pressure NULL pair
+thermo_style custom step ke press c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6]
+thermo_modify format float %.17g
+thermo 10
+dump snap all custom 20 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 20
+""".format(extra=extra, name=name)
+    rc, out = t.run_lmp(text, wd, nprocs=nprocs, name="in." + name,
+                        extra=kk_args(threads) if threads else (), threads=threads)
+    if rc != 0:
+        print(out[-4000:], file=sys.stderr)
+        raise SystemExit("lmp failed (exit %d) on %s" % (rc, name))
+    return t.read_dumps(os.path.join(wd, "dump." + name)), out
+
+
+def compare(label, ref, test):
+    """test_stock_parity's checks, and the largest relative differences printed."""
+    (ref_snaps, ref_out), (snaps, out) = ref, test
+    if len(snaps) == 2 and len(ref_snaps) == 2:
+        forces = max(t.max_rel_diff(snaps[k], ref_snaps[k], FORCES) for k in (0, 1))
+        state = t.max_rel_diff(snaps[1], ref_snaps[1], STATE)
+        a, b = t.thermo_values(out, "Press"), t.thermo_values(ref_out, "Press")
+        press = max(abs(x - y) for x, y in zip(a, b)) / (max(abs(v) for v in b) or 1.0) if a and b else -1
+        print("%s: force/torque %.2g, x/v at step 20 %.2g, press %.2g" % (label, forces, state, press))
+    parity_compare(label, ref, test)
+
+
+# (label, CPU griddem style and stock style with their coefficients); the 1-2 pair is mixed
+LAWS = [
+    ("hooke", "griddem/hooke 1e4 NULL 50 NULL 0.5 1", "gran/hooke 1e4 NULL 50 NULL 0.5 1", "pair_coeff * *"),
+    ("hooke dampflag 0 limit_damping", "griddem/hooke 2e4 3e3 80 20 0.3 0 limit_damping",
+     "gran/hooke 2e4 3e3 80 20 0.3 0 limit_damping", "pair_coeff * *"),
+    ("granular hooke mass_velocity linear_nohistory", "griddem/granular", "granular",
+     "pair_coeff 1 1 hooke 1e4 50 damping mass_velocity tangential linear_nohistory 0.5 0.5\n"
+     "pair_coeff 2 2 hooke 2e4 30 damping mass_velocity tangential linear_nohistory 0.4 0.3"),
+    ("granular hertz viscoelastic linear_nohistory", "griddem/granular", "granular",
+     "pair_coeff 1 1 hertz 1e5 20 tangential linear_nohistory 0.5 0.5\n"
+     "pair_coeff 2 2 hertz 2e5 10 tangential linear_nohistory 0.6 0.4"),
+    ("granular hertz/material tsuji linear_nohistory limit_damping", "griddem/granular", "granular",
+     "pair_coeff 1 1 hertz/material 1e6 0.8 0.3 damping tsuji tangential linear_nohistory 1.0 0.5 limit_damping\n"
+     "pair_coeff 2 2 hertz/material 5e5 0.6 0.25 damping tsuji tangential linear_nohistory 0.8 0.3 limit_damping"),
+]
+
+
+def main():
+    packages = installed_packages()
+    if "KOKKOS" not in packages:
+        print("SKIPPED: %s has no KOKKOS package (installed: %s); configure with -DPKG_KOKKOS=on "
+              "(README, 'Building with KOKKOS') and set GRIDDEM_LMP to that lmp" % (t.LMP, " ".join(sorted(packages))))
+        sys.exit(SKIP)
+
+    wd = t.workdir()
+    data = os.path.join(wd, "data.dense")
+    t.write_random_spheres(data, 1500, (4.5, 4.5, 4.5), 0.1, 0.3, seed=23, vscale=1.0, wscale=5.0,
+                           ntypes=2)
+    for k, (label, griddem, stock, coeffs) in enumerate(LAWS):
+        ref = run(wd, "stock_%d" % k, data, stock, coeffs)
+        cpu = run(wd, "cpu_%d" % k, data, griddem, coeffs)
+        for nprocs in (1, 2):
+            for threads in (1, 2):
+                kk = run(wd, "kk_%d_%d_%d" % (k, nprocs, threads), data, griddem, coeffs, nprocs, threads)
+                what = "%s/kk [%s], %d rank(s), %d thread(s)" % (griddem.split()[0], label, nprocs, threads)
+                compare(what + " vs stock " + stock.split()[0], ref, kk)
+                compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
+
+    # the kk styles really ran: with -sf kk the pair style is the kk one
+    for law in (LAWS[0], LAWS[2]):
+        style = law[1].split()[0]
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                            "print \"STYLE $(is_active(pair_style,%s/kk))\"\nrun 0\n" % style, wd,
+                            name="in.active", extra=kk_args(1))
+        t.check(rc == 0 and "STYLE 1" in out, "with -sf kk pair_style %s is %s/kk: %s"
+                % (style, style, [l for l in out.splitlines() if "STYLE" in l or "ERROR" in l][-1:]))
+
+    # the explicit /kk/host and /kk/device names (without -sf kk) give the same virial
+    for law, variant in ((LAWS[0], "host"), (LAWS[3], "device")):
+        words = law[1].split()
+        pair = " ".join([words[0] + "/kk/" + variant] + words[1:])
+        text = t.PERIODIC_SPHERES.format(data=data, pair=pair, coeffs=law[3]).replace(
+            "atom_style sphere", "atom_style sphere/kk") + (
+            "run_style verlet/kk\nfix integrate all nve/sphere/kk\ntimestep 1e-5\n"
+            "thermo_style custom step press\nthermo_modify format float %.17g\nthermo 10\nrun 20\n")
+        rc, out = t.run_lmp(text, wd, name="in.variant", extra=["-k", "on", "t", "1"])
+        a, b = t.thermo_values(out, "Press"), t.thermo_values(run(wd, "cpu_v", data, law[1], law[3])[1], "Press")
+        worst = max(abs(x - y) for x, y in zip(a, b)) / max(abs(v) for v in b) if rc == 0 and len(a) == 3 else 1.0
+        t.check(rc == 0 and worst <= 1e-10, "pair_style %s runs and matches the CPU style's press (%.3g, exit %d)"
+                % (pair.split()[0], worst, rc))
+
+    # neigh_modify exclude (type and group) and fix freeze (infinite mass) as the CPU style
+    extra = ("group low id <= 700\nneigh_modify exclude group low low exclude type 1 2\n"
+             "group base id > 1300\nset group base diameter 0.4\nset group base density 1.0\n"
+             "fix frozen base freeze")
+    for law in (LAWS[0], LAWS[3]):
+        style = law[1].split()[0]
+        cpu = run(wd, "cpu_ex", data, law[1], law[3], extra=extra)
+        compare("%s/kk with exclusions and fix freeze vs CPU" % style, cpu,
+                run(wd, "kk_ex", data, law[1], law[3], nprocs=2, threads=2, extra=extra))
+        compare("%s/kk with exclusions and fix freeze vs stock" % style,
+                run(wd, "stock_ex", data, law[2], law[3], extra=extra),
+                run(wd, "kk_ex1", data, law[1], law[3], threads=1, extra=extra))
+
+    # per-atom virial (compute stress/atom) as the CPU style's, on steps 0 to 3
+    stress = ("compute s all stress/atom NULL pair\n"
+              "dump st all custom 1 dump.st id c_s[1] c_s[2] c_s[3] c_s[4] c_s[5] c_s[6]\n"
+              "dump_modify st format float %.17g sort id\n"
+              "timestep 1e-5\nfix integrate all nve/sphere\nrun 3\n")
+    cols = ["c_s[%d]" % k for k in range(1, 7)]
+    per_atom = []
+    for extra in ([], kk_args(2)):
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[3][1], coeffs=LAWS[3][3]) + stress,
+                            wd, name="in.stress", extra=extra, threads=2)
+        t.check(rc == 0, "stress/atom run (exit %d)" % rc)
+        per_atom.append(t.read_dumps(os.path.join(wd, "dump.st")))
+    t.check(len(per_atom[0]) == len(per_atom[1]) == 4, "stress/atom dumped at steps 0 to 3")
+    err = max(t.max_rel_diff(a, b, cols) for a, b in zip(per_atom[1], per_atom[0]))
+    print("griddem/granular/kk per-atom virial vs CPU: %.2g" % err)
+    t.check(err <= 1e-10, "griddem/granular/kk per-atom virial relative error %.3g" % err)
+
+    # coincident centres: stopped with the atom IDs
+    rc, out = t.run_lmp("units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\n"
+                        "region b block 0 4 0 4 0 4\ncreate_box 1 b\ncreate_atoms 1 single 1 1 1\n"
+                        "create_atoms 1 single 2 2 2\ncreate_atoms 1 single 1 1 1\n"
+                        "pair_style %s\npair_coeff * *\nrun 0\n" % LAWS[0][1], wd, name="in.same", extra=kk_args(1))
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    t.check(rc != 0 and any("atoms 1 and 3 are at the same position" in l for l in errors),
+            "griddem/hooke/kk names coincident atoms: %s" % errors[:1])
+
+    # an atom faster than one exact-mode cell per step: stopped naming it, as the CPU style
+    rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") +
+                        "set atom 42 vx 1e5\ntimestep 1e-5\nfix integrate all nve/sphere\nrun 2\n", wd,
+                        name="in.fast", extra=kk_args(1))
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
+
+    # laws with contact history: refused by name under the kk suffix
+    box = "units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 2 b\ncomm_modify vel yes\n"
+    for coeffs, name in [("* * hooke 1e4 5 tangential linear_history 1 1 1", "linear_history"),
+                         ("* * hooke 1e4 5 tangential linear_nohistory 1 1 rolling sds 200 1 0.2", "sds"),
+                         ("* * jkr 1e4 5 0.3 1 tangential linear_nohistory 1 1", "jkr")]:
+        rc, out = t.run_lmp(box + "pair_style griddem/granular\npair_coeff %s\nrun 0\n" % coeffs, wd,
+                            name="in.hist", extra=kk_args(1))
+        errors = [l for l in out.splitlines() if "ERROR" in l]
+        t.check(rc != 0 and any("griddem/granular/kk" in l and name in l and "not implemented on Kokkos" in l
+                                for l in errors),
+                "griddem/granular/kk refuses %s by name: %s" % (name, errors[:1]))
+
+    # no kk variant of griddem/hooke/history: the suffix falls back to the CPU style
+    hist = "griddem/hooke/history 1e4 NULL 50 NULL 0.5 1"
+    compare("hooke/history under -sf kk (CPU fallback)", run(wd, "hh_cpu", data, hist, "pair_coeff * *"),
+            run(wd, "hh_kk", data, hist, "pair_coeff * *", threads=2))
+    t.finish()
+
+
+if __name__ == "__main__":
+    main()
