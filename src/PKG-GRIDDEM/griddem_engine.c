@@ -130,7 +130,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
-  griddem_sweep_classes(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
+  griddem_sweep(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
                         s->dt, s->history_update, &e->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
   /* the history's row of slot k is k */

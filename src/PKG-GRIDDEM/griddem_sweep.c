@@ -335,22 +335,10 @@ static double contact_reach(const griddem_grid *g, double r1, double r2, double 
   return (r1 + r2 + extra) * (1.0 + 1e-10) + 1e-14 * extent;
 }
 
-int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
-                  double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
-                  double dt, int history_update, griddem_history *hist, const int *row_of,
-                  double *f, double *torque, double *vatom, int want_virial,
-                  griddem_sweep_result *result)
-{
-  const griddem_class_grid one = {g, b, 0, cut_extra};
-  return griddem_sweep_classes(&one, 1, b->order, ch, nlocal, model, excl, dt, history_update, hist,
-                               row_of, f, torque, vatom, want_virial, result);
-}
-
-int griddem_sweep_classes(const griddem_class_grid *cls, int ncls, const int *order,
-                          griddem_channels *ch, int nlocal, const griddem_model *model,
-                          const griddem_exclusions *excl, double dt, int history_update,
-                          griddem_history *hist, const int *row_of, double *f, double *torque,
-                          double *vatom, int want_virial, griddem_sweep_result *result)
+int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
+                  int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
+                  int history_update, griddem_history *hist, const int *row_of, double *f,
+                  double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model,
                             (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,

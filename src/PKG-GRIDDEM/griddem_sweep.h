@@ -85,22 +85,8 @@ typedef struct griddem_sweep_result {
   int fault_i, fault_j;/* original indices of the particles involved */
 } griddem_sweep_result;
 
-/* One sweep. Each pair in contact is evaluated once (half stencil in sorted order) and its force
- * and torques go to whichever of its two particles are owned, so ghosts receive nothing (newton
- * off across processes). Adds into f and torque (3*nlocal), and half of del*f of each contact into
- * vatom (6*nlocal) if not NULL; sums the virial into result only if want_virial. cut_extra is the
- * largest radius any partner can have. If model->track_contacts, particle i's history is row
- * row_of[i] of hist (-1: none), and on return
- * hist holds the new rows, the row of sorted slot s being s. excl may be NULL. Returns
- * result->fault. */
-int griddem_sweep(const griddem_grid *g, const griddem_bins *b, griddem_channels *ch, int nlocal,
-                  double cut_extra, const griddem_model *model, const griddem_exclusions *excl,
-                  double dt, int history_update, griddem_history *hist, const int *row_of,
-                  double *f, double *torque, double *vatom, int want_virial,
-                  griddem_sweep_result *result);
-
 /* One size class: its particles binned on its own grid g (b's slots are slots base.. of the
- * channels), and the largest radius it may hold. */
+ * channels), and the largest radius it may hold. One class is the plain single grid. */
 typedef struct griddem_class_grid {
   const griddem_grid *g;
   const griddem_bins *b;
@@ -108,15 +94,19 @@ typedef struct griddem_class_grid {
   double rmax;
 } griddem_class_grid;
 
-/* The sweep over size classes, cls[0] holding the largest spheres: pairs within a class on its
- * own grid (as griddem_sweep), pairs across classes from the smaller sphere into the coarser
- * grid. order: the particle of each slot of the channels. Same contract as griddem_sweep
- * otherwise. */
-int griddem_sweep_classes(const griddem_class_grid *cls, int ncls, const int *order,
-                          griddem_channels *ch, int nlocal, const griddem_model *model,
-                          const griddem_exclusions *excl, double dt, int history_update,
-                          griddem_history *hist, const int *row_of, double *f, double *torque,
-                          double *vatom, int want_virial, griddem_sweep_result *result);
+/* One sweep over ncls size classes, cls[0] holding the largest spheres: pairs within a class on
+ * its own grid (forward half stencil in sorted order), pairs across classes from the smaller
+ * sphere into the coarser grid; order: the particle of each slot of the channels. Each pair in
+ * contact is evaluated once and its force and torques go to whichever of its two particles are
+ * owned, so ghosts receive nothing (newton off across processes). Adds into f and torque
+ * (3*nlocal), and half of del*f of each contact into vatom (6*nlocal) if not NULL; sums the virial
+ * into result only if want_virial. If model->track_contacts, particle i's history is row
+ * row_of[i] of hist (-1: none), and on return hist holds the new rows, the row of slot s being s.
+ * excl may be NULL. Returns result->fault. */
+int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
+                  int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
+                  int history_update, griddem_history *hist, const int *row_of, double *f,
+                  double *torque, double *vatom, int want_virial, griddem_sweep_result *result);
 
 #ifdef __cplusplus
 }

@@ -128,7 +128,8 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     griddem_bin_points(&b, &g, N, x, tag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
-    griddem_sweep(&g, &b, &ch, N, rmax, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
+    const griddem_class_grid one = {&g, &b, 0, rmax};
+    griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
     all_pairs(m, excluded, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     for (int i = 0; i < N; i++)
@@ -243,7 +244,8 @@ static void check_faults(void)
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  griddem_sweep(&g, &b, &ch, 3, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
+  const griddem_class_grid one = {&g, &b, 0, 1.0};
+  griddem_sweep(&one, 1, b.order, &ch, 3, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
   CHECK(res.fault_i == 1 || res.fault_i == 2, "first particle of the coincident pair");
   CHECK(res.fault_j == 3 - res.fault_i, "second particle of the coincident pair");
@@ -260,7 +262,7 @@ static void check_faults(void)
     griddem_grid_cover(&g, anchor, M, px, 2.0, 1000);
     griddem_bin_points(&b, &g, M, px, ptag, 4);
     griddem_channels_fill(&ch, &b, &part);
-    griddem_sweep(&g, &b, &ch, M, 1.0, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
+    griddem_sweep(&one, 1, b.order, &ch, M, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
     for (int k = 0; k < M; k++) row_of[b.order[k]] = k;
     CHECK(res.fault == GRIDDEM_FAULT_NONE && res.max_contacts == M - 1,
           "step %d: a particle with %d contacts, no fault (%d)", step, res.max_contacts, res.fault);
