@@ -41,18 +41,18 @@ static int grow_work(griddem_engine *e, int n)
   return e->work_cap ? 0 : -1;
 }
 
-/* Whether particle i can touch an owned particle: inside the owned region, or a ghost within
- * reach of it (its radius, the largest radius and the pull-off distance) */
-static int within_reach(const griddem_step *s, int i, double reach)
+/* Whether particle i can touch an owned particle: owned, or a ghost within reach (its radius,
+ * the largest radius and the pull-off distance) of the box around the owned centres lo..hi */
+static int within_reach(const griddem_particles *p, int i, const double *lo, const double *hi, double reach)
 {
-  if (!s->sublo || i < s->particles.nlocal) return 1;
-  const double *x = s->particles.x + 3 * (size_t) i;
+  if (i < p->nlocal) return 1;
+  const double *x = p->x + 3 * (size_t) i;
   double d2 = 0.0;
   for (int d = 0; d < 3; d++) {
-    const double out = x[d] < s->sublo[d] ? s->sublo[d] - x[d] : (x[d] > s->subhi[d] ? x[d] - s->subhi[d] : 0.0);
+    const double out = x[d] < lo[d] ? lo[d] - x[d] : (x[d] > hi[d] ? x[d] - hi[d] : 0.0);
     d2 += out * out;
   }
-  const double r = (s->particles.radius[i] + reach) * (1.0 + 1e-10);
+  const double r = (p->radius[i] + reach) * (1.0 + 1e-10);
   return d2 < r * r;
 }
 
@@ -67,12 +67,21 @@ static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_g
   double upper[GRIDDEM_MAX_CLASSES + 1];
   for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -GRIDDEM_CLASS_SHIFT * c);
   upper[ncls] = 0.0;
+  /* ghosts farther from every owned centre than any contact reaches are left out (judged
+     against the box around the owned centres, which bounds the distance from below) */
   const double reach = s->rmax + s->model->reach_extra;
+  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < p->nlocal; i++)
+    for (int d = 0; d < 3; d++) {
+      const double v = p->x[3 * (size_t) i + d];
+      lo[d] = (i == 0 || v < lo[d]) ? v : lo[d];
+      hi[d] = (i == 0 || v > hi[d]) ? v : hi[d];
+    }
   /* class of each particle to be binned (-1: a ghost out of reach), counted per class */
   int base[GRIDDEM_MAX_CLASSES + 1] = {0};
   for (int i = 0; i < n; i++) {
     int c = -1;
-    if (within_reach(s, i, reach)) {
+    if (within_reach(p, i, lo, hi, reach)) {
       c = 0;
       while (c < ncls - 1 && p->radius[i] <= upper[c + 1]) c++;
       base[c + 1]++;

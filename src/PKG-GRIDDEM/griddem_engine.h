@@ -51,9 +51,8 @@ typedef struct griddem_step {
   griddem_particles particles;
   double anchor[3];        /* cell faces align to it (the box corner) */
   double cell_edge;        /* wanted cell edge (one grid) */
-  int size_classes;        /* 1: a grid per size class (edge: twice its largest radius) */
-  const double *sublo, *subhi; /* size classes: the owned region (axis-aligned); ghosts farther
-                                  from it than any contact reaches are not binned. NULL: all */
+  int size_classes;        /* 1: a grid per size class (edge: twice its largest radius); ghosts
+                              out of reach of every owned particle are then not binned */
   double rmin;             /* smallest radius of any particle (size classes) */
   long max_cells;          /* the edge grows if the grid would need more cells */
   double rmax;             /* largest radius of any particle */

@@ -354,9 +354,6 @@ void PairGriddem::compute(int eflag, int vflag)
   step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
   step.size_classes = fix->cell_mode == GRIDDEM_CELL_CLASSES || fix->cell_mode == GRIDDEM_CELL_AUTO;
   step.rmin = rmin;
-  // ghosts beyond any contact with an owned atom are left out (orthogonal boxes)
-  step.sublo = domain->triclinic ? nullptr : domain->sublo;
-  step.subhi = domain->triclinic ? nullptr : domain->subhi;
   step.max_cells = 32L * nall + 65536L;
   step.rmax = rmax;
   step.model = &model;
