@@ -1,0 +1,208 @@
+#!/usr/bin/env python3
+"""Kokkos benchmark: LAMMPS's chute scene (bench/in.chute.scaled, data.chute replicated x*y to the
+given sizes) with stock gran/hooke/history/kk and GRIDDEM's kk styles, side by side in one job,
+with LAMMPS's benchmark switches (-k on g 1 | t N -sf kk -pk kokkos newton off neigh half).
+Appends one JSON line per run to bench/results/gpu.jsonl: atom-steps/s and peak memory (GPU:
+nvidia-smi's memory.used polled every 200 ms, less its value before the run; always the lmp
+process's peak host RSS). A run that fails (out of memory, a crash, a timeout) is recorded as
+failed with its reason and the job goes on; a style the lmp lacks is recorded as not available,
+never replaced by another. On a GPU without --sizes the sizes go on growing 4x past 32M while
+any style still runs.
+
+usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
+                    [--steps N] [--only STYLE,...] [--timeout S] [--lammps-bench DIR]"""
+import argparse
+import datetime
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+
+import benchlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOP = os.path.dirname(HERE)
+BASE = 32000  # atoms in data.chute
+# (pair style as written in the input, note); all with the chute's coefficients
+STYLES = [
+    ("gran/hooke/history/kk", "stock, LAMMPS's Kokkos chute benchmark"),
+    ("griddem/hooke/kk", "GRIDDEM, twin of gran/hooke"),
+    ("gran/hooke/kk", "stock, like for like with griddem/hooke/kk"),
+    ("griddem/hooke/history/kk", "GRIDDEM, twin of gran/hooke/history: history styles not on Kokkos yet"),
+]
+GPU_SIZES = ["0.5M", "2M", "8M", "32M"]
+CPU_SIZES = ["32k", "128k"]
+
+
+def atoms(text):
+    m = re.fullmatch(r"([0-9.]+)([kKmM]?)", text.strip())
+    return int(round(float(m.group(1)) * {"": 1, "k": 1e3, "m": 1e6}[m.group(2).lower()]))
+
+
+def replicas(natoms):
+    """x, y with x*y copies of data.chute nearest natoms, as square as divides evenly."""
+    n = max(1, int(round(natoms / BASE)))
+    y = max(d for d in range(1, int(math.isqrt(n)) + 1) if n % d == 0)
+    return n // y, y
+
+
+def lmp_info(lmp):
+    out = subprocess.run([lmp, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         universal_newlines=True).stdout
+    api = re.search(r"KOKKOS package API:\s*(.*)", out)
+    pairs = out.split("* Pair styles:", 1)[-1].split("* Bond styles:", 1)[0].split()
+    return (api.group(1).strip() if api else None), set(pairs)
+
+
+def gpu_name():
+    try:
+        out = subprocess.run(["nvidia-smi", "--query-gpu=name", "--format=csv,noheader", "-i", "0"],
+                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, universal_newlines=True)
+    except OSError:
+        return None
+    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else None
+
+
+def gpu_mem_used():
+    out = subprocess.run(["nvidia-smi", "--query-gpu=memory.used", "--format=csv,noheader,nounits",
+                          "-i", "0"], stdout=subprocess.PIPE, universal_newlines=True).stdout
+    return float(out.split()[0])
+
+
+def run(cmd, cwd, timeout, gpu):
+    """(exit code or -signal, output, peak host RSS MiB, peak GPU MiB above idle or None, timed out)"""
+    log = open(os.path.join(cwd, "out.txt"), "w+")
+    poll = None
+    if gpu:
+        idle = gpu_mem_used()
+        poll = subprocess.Popen(["nvidia-smi", "--query-gpu=memory.used", "--format=csv,noheader,nounits",
+                                 "-i", "0", "-lms", "200"], stdout=subprocess.PIPE, universal_newlines=True)
+    env = dict(os.environ)
+    env.setdefault("OMP_PROC_BIND", "spread")  # as Kokkos advises
+    env.setdefault("OMP_PLACES", "threads")
+    p = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=log, stderr=subprocess.STDOUT)
+    start, timed_out = time.time(), False
+    while True:
+        pid, status, usage = os.wait4(p.pid, os.WNOHANG)
+        if pid:
+            break
+        if time.time() - start > timeout and not timed_out:
+            timed_out = True
+            p.kill()
+        time.sleep(0.1)
+    p.returncode = os.waitstatus_to_exitcode(status)
+    gpu_peak = None
+    if poll:
+        poll.terminate()
+        used = [float(v) for v in poll.communicate()[0].split() if re.fullmatch(r"[0-9.]+", v)]
+        gpu_peak = max(used + [gpu_mem_used()]) - idle
+    log.seek(0)
+    out = log.read()
+    log.close()
+    return p.returncode, out, usage.ru_maxrss / 1024.0, gpu_peak, timed_out
+
+
+def reason(rc, out, timed_out, timeout):
+    if timed_out:
+        return "timed out after %d s" % timeout
+    if rc < 0:
+        sig = signal.Signals(-rc).name
+        return "killed by %s%s" % (sig, " (out of host memory?)" if sig == "SIGKILL" else "")
+    lines = [l.strip() for l in out.splitlines() if l.strip()]
+    for l in lines:
+        if re.search(r"ERROR|Exception|[Oo]ut of memory|failed to allocate|terminate called|what\(\)", l):
+            return l[:300]
+    return (lines[-1][:300] if lines else "no output") + " (exit %d)" % rc
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--lmp", default=os.path.join(TOP, "build-kk", "lmp"))
+    ap.add_argument("--gpu", type=int, nargs="?", const=1, default=None,
+                    help="run on N GPUs (only 1 supported; default when nvidia-smi and a GPU lmp are found)")
+    ap.add_argument("--threads", type=int, default=None, help="OpenMP threads on the CPU (default: all cores)")
+    ap.add_argument("--sizes", default=None, help="atoms, e.g. 32k,128k,0.5M,2M (rounded to copies of 32,000)")
+    ap.add_argument("--steps", type=int, default=100)
+    ap.add_argument("--only", default=None, help="comma-separated pair styles to run")
+    ap.add_argument("--timeout", type=int, default=1800, help="seconds per run")
+    ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    args = ap.parse_args()
+
+    api, have = lmp_info(args.lmp)
+    if not api:
+        raise SystemExit("%s has no KOKKOS package" % args.lmp)
+    device_api = [b for b in ("CUDA", "HIP", "SYCL") if b in api.split()]
+    gpu = args.gpu if args.gpu is not None else (1 if device_api and gpu_name() and args.threads is None else None)
+    if gpu:
+        if not device_api:
+            raise SystemExit("%s was built for Kokkos %s, not for a GPU" % (args.lmp, api))
+        if gpu != 1:
+            raise SystemExit("only --gpu 1 is supported (one rank)")
+        kk = ["-k", "on", "g", "1"]
+        device = "%s, Kokkos %s" % (gpu_name() or "unknown GPU", device_api[0])
+    else:
+        threads = args.threads or os.cpu_count()
+        kk = ["-k", "on", "t", str(threads)]
+        device = "%s, Kokkos %s, %d threads" % (benchlib.device(), api.split()[0], threads)
+    kk += ["-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
+    sizes = [atoms(s) for s in (args.sizes.split(",") if args.sizes else GPU_SIZES if gpu else CPU_SIZES)]
+    grow = gpu and not args.sizes
+
+    wd = tempfile.mkdtemp(prefix="griddem-gpu-")
+    shutil.copy(os.path.join(args.lammps_bench, "data.chute"), wd)
+    with open(os.path.join(args.lammps_bench, "in.chute.scaled")) as f:
+        scaled = f.read()
+    out_path = os.path.join(HERE, "results", "gpu.jsonl")
+    only = args.only.split(",") if args.only else None
+    styles = [(s, note) for s, note in STYLES if not only or s in only]
+    failed = set()
+    i = 0
+    while i < len(sizes):
+        x, y = replicas(sizes[i])
+        ran = False
+        for style, note in styles:
+            record = {"date": datetime.date.today().isoformat(), "device": device, "scene": "chute",
+                      "natoms": BASE * x * y, "replicate": "%d %d 1" % (x, y), "steps": args.steps,
+                      "style": style, "note": note}
+            if style not in have:
+                record.update(status="not available", reason="%s is not in %s" % (style, args.lmp))
+            elif style in failed:
+                continue  # failed at a smaller size
+            else:
+                text = scaled.replace("gran/hooke/history ", style + " ")
+                text = re.sub(r"run\s+100", "run %d" % args.steps, text)
+                with open(os.path.join(wd, "in.run"), "w") as f:
+                    f.write(text)
+                cmd = [args.lmp] + kk + ["-var", "x", str(x), "-var", "y", str(y), "-in", "in.run",
+                                         "-log", "none"]
+                rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu)
+                found = re.findall(r"Loop time of ([0-9.e+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", out)
+                if rc == 0 and found:
+                    loop, steps, n = float(found[-1][0]), int(found[-1][1]), int(found[-1][2])
+                    pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
+                    record.update(status="ok", natoms=n, steps=steps, loop_s=loop,
+                                  atom_steps_per_s=n * steps / loop,
+                                  pair_pct=float(pair_pct.group(1)) if pair_pct else None)
+                    ran = True
+                else:
+                    record.update(status="failed", reason=reason(rc, out, timed_out, args.timeout))
+                    failed.add(style)
+                record["host_peak_rss_mib"] = round(rss, 1)
+                if gpu:
+                    record["gpu_peak_mem_mib"] = gpu_mem
+                    record["gpu_mem_how"] = "nvidia-smi memory.used, polled every 200 ms, less the idle value"
+            print(json.dumps(record), flush=True)
+            with open(out_path, "a") as f:
+                f.write(json.dumps(record) + "\n")
+        i += 1
+        if grow and i == len(sizes) and ran:
+            sizes.append(sizes[-1] * 4)
+    shutil.rmtree(wd, ignore_errors=True)
+
+
+main()
