@@ -23,3 +23,32 @@ def loop_time(out, what):
         raise SystemExit("no loop time for " + what)
     loop, _, steps, atoms = found[-1]
     return float(loop), int(steps), int(atoms)
+
+
+def run_lmp(lmp, wd, text, ranks, threads=1):
+    """Run an input text with lmp on `ranks` MPI ranks and `threads` OpenMP threads each; returns
+    (loop seconds, steps, atoms, screen output) of its last run."""
+    import subprocess
+    with open(os.path.join(wd, "in.run"), "w") as f:
+        f.write(text)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS=str(threads))
+    cmd = [lmp, "-in", "in.run", "-log", "none"]
+    if ranks > 1:
+        cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core", "-x", "OMP_NUM_THREADS"] + cmd
+    out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         universal_newlines=True).stdout
+    return loop_time(out, "%s on %d ranks" % (text.splitlines()[0], ranks)) + (out,)
+
+
+def record(path, scene, style, ranks, threads, loop, steps, atoms, **extra):
+    """One JSON line for a run (date, machine, scene, style, speed), printed and appended to path."""
+    import datetime
+    import json
+    line = {"date": datetime.date.today().isoformat(), "device": device(), "scene": scene,
+            "natoms": atoms, "steps": steps, "ranks": ranks, "threads": threads, "style": style}
+    line.update(extra)
+    line.update({"loop_s": loop, "atom_steps_per_s": atoms * steps / loop})
+    print(json.dumps(line))
+    with open(path, "a") as f:
+        f.write(json.dumps(line) + "\n")

@@ -8,8 +8,6 @@ default the checkout's commit) so that two builds run back to back compare.
 usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]
                       [--lammps-bench DIR]"""
 import argparse
-import datetime
-import json
 import os
 import re
 import shutil
@@ -52,33 +50,14 @@ def main():
         for style, fix, label, threads in VARIANTS:
             if ranks * threads > (os.cpu_count() or 1) or (only and label not in only):
                 continue
-            env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                       OMP_NUM_THREADS=str(threads))
             text = stock.replace("gran/hooke/history", style)
             text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
-            with open(os.path.join(wd, "in.run"), "w") as f:
-                f.write(text)
-            cmd = [args.lmp, "-in", "in.run", "-log", "none"]
-            if ranks > 1:
-                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core", "-x", "OMP_NUM_THREADS"] + cmd
-            out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE,
-                                 stderr=subprocess.STDOUT, universal_newlines=True).stdout
-            loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
+            loop, steps, atoms, out = benchlib.run_lmp(args.lmp, wd, text, ranks, threads)
             pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
             neigh_pct = re.search(r"^Neigh\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
-            record = {
-                "date": datetime.date.today().isoformat(),
-                "device": benchlib.device(),
-                "scene": "chute", "natoms": atoms, "steps": steps, "ranks": ranks, "threads": threads,
-                "style": label, "build": build, "loop_s": loop,
-                "atom_steps_per_s": atoms * steps / loop,
-                "pair_pct": float(pair_pct.group(1)) if pair_pct else None,
-                "neigh_pct": float(neigh_pct.group(1)) if neigh_pct else None,
-            }
-            print(json.dumps(record))
-            with open(out_path, "a") as f:
-                f.write(json.dumps(record) + "\n")
-
+            benchlib.record(out_path, "chute", label, ranks, threads, loop, steps, atoms, build=build,
+                            pair_pct=float(pair_pct.group(1)) if pair_pct else None,
+                            neigh_pct=float(neigh_pct.group(1)) if neigh_pct else None)
 
 main()

@@ -8,10 +8,7 @@ at the end.
 
 usage: bench/poured_bed.py [--steps 20000] [--ranks 1,2] [--lmp build/lmp] [--only LABEL,...]"""
 import argparse
-import datetime
-import json
 import os
-import subprocess
 import tempfile
 
 import benchlib
@@ -51,25 +48,14 @@ def main():
     args = ap.parse_args()
     only = args.only.split(",") if args.only else None
     wd = tempfile.mkdtemp(prefix="griddem-bed-")
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label in VARIANTS:
             if only and label not in only:
                 continue
-            with open(os.path.join(wd, "in.run"), "w") as f:
-                f.write(SCENE.format(style=style, fix=fix, steps=args.steps))
-            cmd = [args.lmp, "-in", "in.run", "-log", "none"]
-            if ranks > 1:
-                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
-            out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                 universal_newlines=True).stdout
-            loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
-            record = {"date": datetime.date.today().isoformat(), "device": benchlib.device(),
-                      "scene": "poured bed 1:10", "natoms": atoms, "steps": steps, "ranks": ranks,
-                      "threads": 1, "style": label, "loop_s": loop, "atom_steps_per_s": atoms * steps / loop}
-            print(json.dumps(record))
-            with open(os.path.join(HERE, "results", "cpu.jsonl"), "a") as f:
-                f.write(json.dumps(record) + "\n")
+            text = SCENE.format(style=style, fix=fix, steps=args.steps)
+            loop, steps, atoms, _ = benchlib.run_lmp(args.lmp, wd, text, ranks)
+            benchlib.record(os.path.join(HERE, "results", "cpu.jsonl"), "poured bed 1:10", label, ranks, 1,
+                            loop, steps, atoms)
 
 
 main()

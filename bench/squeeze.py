@@ -7,10 +7,7 @@ run to bench/results/cpu.jsonl.
 
 usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--only LABEL,...]"""
 import argparse
-import datetime
-import json
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -39,27 +36,15 @@ def main():
     wd = tempfile.mkdtemp(prefix="griddem-squeeze-")
     data = os.path.join(wd, "data.squeeze")
     scene.write_packing(data)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label in VARIANTS:
             if only and label not in only:
                 continue
             text = scene.TEMPLATE.format(data=data, pair=style, scale=scene.SCALE, most="", steps=args.steps,
                                          name="bench").replace("pair_coeff * *", "pair_coeff * *\n" + fix)
-            with open(os.path.join(wd, "in.run"), "w") as f:
-                f.write(text)
-            cmd = [args.lmp, "-in", "in.run", "-log", "none"]
-            if ranks > 1:
-                cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + cmd
-            out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                 universal_newlines=True).stdout
-            loop, steps, atoms = benchlib.loop_time(out, "%s on %d ranks" % (label, ranks))
-            record = {"date": datetime.date.today().isoformat(), "device": benchlib.device(),
-                      "scene": "squeeze 1:4", "natoms": atoms, "steps": steps, "ranks": ranks, "threads": 1,
-                      "style": label, "loop_s": loop, "atom_steps_per_s": atoms * steps / loop}
-            print(json.dumps(record))
-            with open(os.path.join(HERE, "results", "cpu.jsonl"), "a") as f:
-                f.write(json.dumps(record) + "\n")
+            loop, steps, atoms, _ = benchlib.run_lmp(args.lmp, wd, text, ranks)
+            benchlib.record(os.path.join(HERE, "results", "cpu.jsonl"), "squeeze 1:4", label, ranks, 1,
+                            loop, steps, atoms)
 
 
 main()
