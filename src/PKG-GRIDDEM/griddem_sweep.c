@@ -291,10 +291,11 @@ static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const griddem_
   }
 }
 
-/* Pairs of each slot of class grid k with the particles of the coarser class grid l (l holds the
- * larger spheres): every cell of l within reach of the slot's cell, the slot on its own side. */
-static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
-                         const griddem_class_grid *l, int reach)
+/* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
+ * grid l (l holds the larger spheres): every cell of l within reach of the slot's cell, the slot
+ * on its own side. */
+static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
+                         int reach, const int *slots, int n)
 {
   const griddem_grid *g = l->g;
   const griddem_channels *ch = cx->ch;
@@ -303,7 +304,8 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
   const double extra = cx->model->reach_extra;
   int hits[CANDIDATE_BLOCK];
-  for (int s = k->base; s < k->base + k->b->n; s++) {
+  for (int q = 0; q < n; q++) {
+    const int s = slots[q];
     const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + extra;
     const long c = griddem_cell_of(g, xi, yi, zi);
     const int x = (int) (c % nx), y = (int) ((c / nx) % g->n[1]), z = (int) (c / nxy);
@@ -401,27 +403,62 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     }
   }
 
-  /* pairs across classes, from the smaller sphere into the coarser grid (one thread: both
-     partners' sums are written) */
-  if (ncls > 1) {
-    sweep_sums sums;
-    memset(&sums, 0, sizeof(sums));
-    if (model->track_contacts) sums.log = &hist->logs[0];
-    for (int kc = 1; kc < ncls; kc++)
-      for (int lc = 0; lc < kc; lc++) {
-        const griddem_class_grid *k = &cls[kc], *l = &cls[lc];
-        if (k->b->n == 0 || l->b->n == 0) continue;
-        const int reach = griddem_stencil_reach(l->g->h, contact_reach(l->g, k->rmax, l->rmax, model->reach_extra));
-        if (reach > MAX_REACH) {
-          result->fault = GRIDDEM_FAULT_STENCIL;
-          return result->fault;
-        }
-        sweep_across(&cx, &sums, k, l, reach);
+  /* pairs across classes, from the smaller sphere into the coarser grid. Threads take the small
+     spheres by slabs of the coarse grid's cell layers (at least the reach thick) in three colours:
+     the partners of slabs q and q+3 lie in disjoint slabs, so no two threads write one particle */
+  for (int kc = 1; kc < ncls; kc++)
+    for (int lc = 0; lc < kc; lc++) {
+      const griddem_class_grid *k = &cls[kc], *l = &cls[lc];
+      const int nk = k->b->n;
+      if (nk == 0 || l->b->n == 0) continue;
+      const griddem_grid *g = l->g;
+      const int reach = griddem_stencil_reach(g->h, contact_reach(g, k->rmax, l->rmax, model->reach_extra));
+      if (reach > MAX_REACH) {
+        result->fault = GRIDDEM_FAULT_STENCIL;
+        return result->fault;
       }
-    v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
-    v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
-    energy += sums.energy;
-  }
+      int thick = g->n[2];
+      if (nthreads > 1) {
+        thick = g->n[2] / (4 * nthreads);
+        if (thick < reach) thick = reach;
+      }
+      const int nslab = (g->n[2] + thick - 1) / thick;
+      /* the small spheres' slots by slab of the coarse grid (a stable counting sort) */
+      int *slab = (int *) malloc(sizeof(int) * (size_t) nk), *slots = (int *) malloc(sizeof(int) * (size_t) nk);
+      int *first = (int *) calloc((size_t) nslab + 1, sizeof(int));
+      if (!slab || !slots || !first) {
+        free(slab), free(slots), free(first);
+        result->fault = GRIDDEM_FAULT_MEMORY;
+        return result->fault;
+      }
+      const long nxy = (long) g->n[0] * g->n[1];
+      for (int q = 0; q < nk; q++) {
+        const int s = k->base + q;
+        slab[q] = (int) (griddem_cell_of(g, ch->x[s], ch->y[s], ch->z[s]) / nxy) / thick;
+        first[slab[q] + 1]++;
+      }
+      for (int q = 0; q < nslab; q++) first[q + 1] += first[q];
+      for (int q = 0; q < nk; q++) slots[first[slab[q]]++] = k->base + q;
+      for (int q = nslab; q > 0; q--) first[q] = first[q - 1];
+      first[0] = 0;
+      for (int colour = 0; colour < 3; colour++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
+        for (int q = colour; q < nslab; q += 3) {
+          sweep_sums sums;
+          memset(&sums, 0, sizeof(sums));
+#ifdef _OPENMP
+          if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
+#else
+          if (model->track_contacts) sums.log = &hist->logs[0];
+#endif
+          sweep_across(&cx, &sums, l, reach, slots + first[q], first[q + 1] - first[q]);
+          v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
+          v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
+          energy += sums.energy;
+        }
+      }
+      free(slab), free(slots), free(first);
+    }
 
   int nslot = 0;
   for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;

@@ -67,8 +67,8 @@ def main():
 
 def size_classes(wd):
     """Radii 0.05-0.35 (1:7): two size classes, pairs across them searched from the small sphere
-    into the coarse grid. 1, 2 and 4 ranks agree to 1e-10 after 100 steps; a restart at step 50
-    continues bit for bit on 1 and 2 ranks."""
+    into the coarse grid. 1, 2 and 4 ranks and 2 OpenMP threads agree to 1e-10 after 100 steps; a
+    restart at step 50 continues bit for bit on 1 and 2 ranks."""
     data = os.path.join(wd, "data.classes")
     t.write_random_spheres(data, 700, (4.5, 4.5, 4.5), 0.05, 0.35, seed=21, vscale=2.0, wscale=5.0)
     setup = SETUP.replace("{pair}", "pair_style griddem/hooke/history 500 NULL 5 NULL 0.5 1\npair_coeff * *\n"
@@ -82,6 +82,12 @@ def size_classes(wd):
     for n in (2, 4):
         err = t.max_rel_diff(snaps[n][-1], snaps[1][-1], STATE)
         t.check(err <= 1e-10, "size classes, %d ranks vs 1: trajectory differs by %.3g relative" % (n, err))
+    # the same runs (50 steps, a restart file, 50 more) as the 1-rank reference
+    text = setup.format(start="read_data " + data) + "run 50\nwrite_restart restart.classes_omp2\n" + \
+        DUMP.format(every=50, name="classes_omp2") + "run 50\n"
+    t.run_ok(text, wd, name="in.classes_omp2", threads=2)
+    err = t.max_rel_diff(t.read_dumps(os.path.join(wd, "dump.classes_omp2"))[-1], snaps[1][-1], STATE)
+    t.check(err <= 1e-10, "size classes, 2 OpenMP threads vs 1: trajectory differs by %.3g relative" % err)
     for n in (1, 2):
         again = setup.format(start="read_restart restart.classes%d" % n)
         t.run_ok(again + DUMP.format(every=50, name="classes_again%d" % n) + "run 50\n", wd, nprocs=n,
