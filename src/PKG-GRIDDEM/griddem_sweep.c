@@ -328,6 +328,28 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   }
 }
 
+/* Layers of cells per slab for nthreads threads: about four slabs per thread, at least reach
+ * thick; one slab for one thread (so one thread visits in sorted order) */
+static int slab_thickness(int nz, int nthreads, int reach)
+{
+  if (nthreads == 1) return nz;
+  const int thick = nz / (4 * nthreads);
+  return thick < reach ? reach : thick;
+}
+
+/* A thread's empty accumulators, logging into its own history log */
+static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
+{
+  sweep_sums sums;
+  memset(&sums, 0, sizeof(sums));
+#ifdef _OPENMP
+  if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
+#else
+  if (model->track_contacts) sums.log = &hist->logs[0];
+#endif
+  return sums;
+}
+
 /* Largest contact distance between spheres of radii up to r1 and r2, with a margin for the
  * rounding of coordinates into the cells of g */
 static double contact_reach(const griddem_grid *g, double r1, double r2, double extra)
@@ -372,22 +394,12 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     const int reach = rows[nrows - 1].dz;
 
     /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
-    int thick = g->n[2];
-    if (nthreads > 1) {
-      thick = g->n[2] / (4 * nthreads);
-      if (thick < reach) thick = reach;
-    }
+    const int thick = slab_thickness(g->n[2], nthreads, reach);
     const int nslab = (g->n[2] + thick - 1) / thick;
     for (int colour = 0; colour < 2; colour++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
       for (int q = colour; q < nslab; q += 2) {
-        sweep_sums sums;
-        memset(&sums, 0, sizeof(sums));
-#ifdef _OPENMP
-        if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
-#else
-        if (model->track_contacts) sums.log = &hist->logs[0];
-#endif
+        sweep_sums sums = thread_sums(model, hist);
         const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
         /* occupied cells only, found through their slots: a dilute grid costs nothing extra */
         for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
@@ -417,11 +429,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
         result->fault = GRIDDEM_FAULT_STENCIL;
         return result->fault;
       }
-      int thick = g->n[2];
-      if (nthreads > 1) {
-        thick = g->n[2] / (4 * nthreads);
-        if (thick < reach) thick = reach;
-      }
+      const int thick = slab_thickness(g->n[2], nthreads, reach);
       const int nslab = (g->n[2] + thick - 1) / thick;
       /* the small spheres' slots by slab of the coarse grid (a stable counting sort) */
       int *slab = (int *) malloc(sizeof(int) * (size_t) nk), *slots = (int *) malloc(sizeof(int) * (size_t) nk);
@@ -444,13 +452,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       for (int colour = 0; colour < 3; colour++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
         for (int q = colour; q < nslab; q += 3) {
-          sweep_sums sums;
-          memset(&sums, 0, sizeof(sums));
-#ifdef _OPENMP
-          if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
-#else
-          if (model->track_contacts) sums.log = &hist->logs[0];
-#endif
+          sweep_sums sums = thread_sums(model, hist);
           sweep_across(&cx, &sums, l, reach, slots + first[q], first[q + 1] - first[q]);
           v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
           v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
