@@ -7,7 +7,9 @@ linear and angular velocities, run with `-k on t N -sf kk -pk kokkos newton off 
 refused under the kk suffix with a message naming the sub-model; griddem/hooke/history, which
 has no kk variant, falls back to the CPU style as LAMMPS does for any style without one.
 
-Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package."""
+Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
+GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
+instead of OpenMP threads and 1 and 2 ranks."""
 import os
 import subprocess
 import sys
@@ -17,6 +19,9 @@ import griddem_testlib as t
 from test_stock_parity import FORCES, STATE, compare as parity_compare, run as parity_run
 
 SKIP = 77
+GPUS = os.environ.get("GRIDDEM_KK_GPUS")
+RANKS = (1,) if GPUS else (1, 2)
+THREADS = (1,) if GPUS else (1, 2)
 
 
 def installed_packages():
@@ -42,7 +47,8 @@ def installed_packages():
 
 
 def kk_args(threads):
-    return ["-k", "on", "t", str(threads), "-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
+    device = ["g", GPUS] if GPUS else ["t", str(threads)]
+    return ["-k", "on"] + device + ["-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
 
 
 def run(wd, name, data, pair, coeffs, nprocs=1, threads=None, extra=""):
@@ -112,8 +118,8 @@ def main():
     for k, (label, griddem, stock, coeffs) in enumerate(LAWS):
         ref = run(wd, "stock_%d" % k, data, stock, coeffs)
         cpu = run(wd, "cpu_%d" % k, data, griddem, coeffs)
-        for nprocs in (1, 2):
-            for threads in (1, 2):
+        for nprocs in RANKS:
+            for threads in THREADS:
                 kk = run(wd, "kk_%d_%d_%d" % (k, nprocs, threads), data, griddem, coeffs, nprocs, threads)
                 what = "%s/kk [%s], %d rank(s), %d thread(s)" % (griddem.split()[0], label, nprocs, threads)
                 compare(what + " vs stock " + stock.split()[0], ref, kk)
@@ -136,7 +142,7 @@ def main():
             "atom_style sphere", "atom_style sphere/kk") + (
             "run_style verlet/kk\nfix integrate all nve/sphere/kk\ntimestep 1e-5\n"
             "thermo_style custom step press\nthermo_modify format float %.17g\nthermo 10\nrun 20\n")
-        rc, out = t.run_lmp(text, wd, name="in.variant", extra=["-k", "on", "t", "1"])
+        rc, out = t.run_lmp(text, wd, name="in.variant", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
         a, b = t.thermo_values(out, "Press"), t.thermo_values(run(wd, "cpu_v", data, law[1], law[3])[1], "Press")
         worst = max(abs(x - y) for x, y in zip(a, b)) / max(abs(v) for v in b) if rc == 0 and len(a) == 3 else 1.0
         t.check(rc == 0 and worst <= 1e-10, "pair_style %s runs and matches the CPU style's press (%.3g, exit %d)"
@@ -150,7 +156,7 @@ def main():
         style = law[1].split()[0]
         cpu = run(wd, "cpu_ex", data, law[1], law[3], extra=extra)
         compare("%s/kk with exclusions and fix freeze vs CPU" % style, cpu,
-                run(wd, "kk_ex", data, law[1], law[3], nprocs=2, threads=2, extra=extra))
+                run(wd, "kk_ex", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=extra))
         compare("%s/kk with exclusions and fix freeze vs stock" % style,
                 run(wd, "stock_ex", data, law[2], law[3], extra=extra),
                 run(wd, "kk_ex1", data, law[1], law[3], threads=1, extra=extra))
