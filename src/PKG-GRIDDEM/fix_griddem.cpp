@@ -18,7 +18,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), engine(),
+    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), engine(),
     row_of(nullptr), reserved(0)
 {
   int iarg = 3;

@@ -37,12 +37,16 @@ class FixGriddem : public Fix {
   double compute_vector(int) override;
 
   // the pair style's history layout; rows already stored are converted
-  void set_values(int values);
+  virtual void set_values(int values);
   // one engine step; the step's row_of is this fix's
   int run_step(griddem_step &step, griddem_sweep_result &result, int &coarsened);
   const griddem_engine_stats &stats() const { return engine.stats; }
+  // a step that ran outside the engine (the Kokkos styles) reports its statistics here
+  void set_stats(const griddem_engine_stats &s) { engine.stats = s; }
   // stored history values of atom i's contact with the atom tagged partner, or nullptr
-  const double *find_history(int i, double partner) const;
+  virtual const double *find_history(int i, double partner) const;
+  // 1: the rows live in fix griddem/kk's Kokkos arrays, not in the engine
+  int kokkos_history;
 
   // grid options (keywords cell and contacts)
   int cell_mode;        // enum griddem_cell_mode

@@ -143,12 +143,14 @@ double PairGriddem::init_one(int i, int j)
 
 void PairGriddem::create_default_fix()
 {
-  Fix *existing = modify->get_fix_by_id(AUTO_FIX_ID);
-  if (existing && model.track_contacts && dynamic_cast<FixGriddem *>(existing)->contacts == 0)
-    modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history
+  const std::string wanted = history_fix_style();
+  auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
+  if (existing && model.track_contacts &&
+      (existing->contacts == 0 || existing->kokkos_history != (wanted != "griddem")))
+    modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
-  modify->add_fix(fmt::format("{} all griddem{}", AUTO_FIX_ID, model.track_contacts ? "" : " contacts 0"));
+  modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0"));
 }
 
 void PairGriddem::init_style()
@@ -184,6 +186,10 @@ void PairGriddem::init_style()
   fix = dynamic_cast<FixGriddem *>(fixes.front());
   if (model.track_contacts && fix->contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
+  if (model.track_contacts && fix->kokkos_history != (history_fix_style() != "griddem"))
+    error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
+               "define the fix with the same Kokkos suffix as the pair style (or none)", style,
+               history_fix_style(), fix->id, fix->kokkos_history ? "griddem/kk" : "griddem");
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);
   fix->set_values(model.history_size);
 

@@ -44,6 +44,8 @@ class PairGriddem : public Pair {
 
   void allocate();
   void create_default_fix();
+  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant
+  virtual std::string history_fix_style() const { return "griddem"; }
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // take the history layout of s (the first spec sets it, later ones must match; types: for

@@ -1,11 +1,13 @@
-"""The Kokkos styles griddem/hooke/kk and griddem/granular/kk against the CPU griddem styles and
-stock gran/hooke and pair granular: forces and torques at step 0, positions and velocities after
-20 steps, and the virial (thermo press and the pair part of compute pressure) agree to 1e-10
-relative on a dense random polydisperse (1:3) configuration of two atom types with random
-linear and angular velocities, run with `-k on t N -sf kk -pk kokkos newton off neigh half` on
-1 and 2 Kokkos (OpenMP) threads and on 1 and 2 MPI ranks. A law that keeps contact history is
-refused under the kk suffix with a message naming the sub-model; griddem/hooke/history, which
-has no kk variant, falls back to the CPU style as LAMMPS does for any style without one.
+"""The Kokkos styles griddem/hooke/kk, griddem/hooke/history/kk and griddem/granular/kk (with and
+without contact history: linear_history, mindlin variants, rolling and twisting, dmt, jkr)
+against the CPU griddem styles and stock gran/hooke(/history) and pair granular: forces and
+torques at step 0, positions and velocities after 20 steps, and the virial (thermo press and the
+pair part of compute pressure) agree to 1e-10 relative on a dense random polydisperse (1:3)
+configuration of two atom types with random linear and angular velocities, run with
+`-k on t N -sf kk -pk kokkos newton off neigh half` on 1 and 2 Kokkos (OpenMP) threads and on
+1 and 2 MPI ranks. History rows that start too short (fix griddem contacts 1) grow without
+changing a number; a restart written by a kk run continues bit for bit under kk and the CPU
+style, and a CPU restart under kk.
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
@@ -16,6 +18,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
+from test_granular_parity import FROZEN_LIST, MODELS
 from test_stock_parity import FORCES, STATE, compare as parity_compare, run as parity_run
 
 SKIP = 77
@@ -101,7 +104,13 @@ LAWS = [
     ("granular hertz/material tsuji linear_nohistory limit_damping", "griddem/granular", "granular",
      "pair_coeff 1 1 hertz/material 1e6 0.8 0.3 damping tsuji tangential linear_nohistory 1.0 0.5 limit_damping\n"
      "pair_coeff 2 2 hertz/material 5e5 0.6 0.25 damping tsuji tangential linear_nohistory 0.8 0.3 limit_damping"),
-]
+    ("hooke/history", "griddem/hooke/history 1e4 NULL 50 NULL 0.5 1", "gran/hooke/history 1e4 NULL 50 NULL 0.5 1",
+     "pair_coeff * *"),
+    ("hooke/history dampflag 0 limit_damping", "griddem/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping",
+     "gran/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping", "pair_coeff * *"),
+] + [("granular " + label, "griddem/granular", "granular", "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
+     for label, c1, c2 in MODELS if "nohistory" not in label]
+HISTORY = LAWS[5]
 
 
 def main():
@@ -116,7 +125,7 @@ def main():
     t.write_random_spheres(data, 1500, (4.5, 4.5, 4.5), 0.1, 0.3, seed=23, vscale=1.0, wscale=5.0,
                            ntypes=2)
     for k, (label, griddem, stock, coeffs) in enumerate(LAWS):
-        ref = run(wd, "stock_%d" % k, data, stock, coeffs)
+        ref = run(wd, "stock_%d" % k, data, stock, coeffs, extra=FROZEN_LIST)
         cpu = run(wd, "cpu_%d" % k, data, griddem, coeffs)
         for nprocs in RANKS:
             for threads in THREADS:
@@ -126,7 +135,7 @@ def main():
                 compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
 
     # the kk styles really ran: with -sf kk the pair style is the kk one
-    for law in (LAWS[0], LAWS[2]):
+    for law in (LAWS[0], LAWS[2], HISTORY):
         style = law[1].split()[0]
         rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
                             "print \"STYLE $(is_active(pair_style,%s/kk))\"\nrun 0\n" % style, wd,
@@ -194,23 +203,80 @@ def main():
     errors = [l for l in out.splitlines() if "ERROR" in l]
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
-    # laws with contact history: refused by name under the kk suffix
-    box = "units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 2 b\ncomm_modify vel yes\n"
-    for coeffs, name in [("* * hooke 1e4 5 tangential linear_history 1 1 1", "linear_history"),
-                         ("* * hooke 1e4 5 tangential linear_nohistory 1 1 rolling sds 200 1 0.2", "sds"),
-                         ("* * jkr 1e4 5 0.3 1 tangential linear_nohistory 1 1", "jkr")]:
-        rc, out = t.run_lmp(box + "pair_style griddem/granular\npair_coeff %s\nrun 0\n" % coeffs, wd,
-                            name="in.hist", extra=kk_args(1))
-        errors = [l for l in out.splitlines() if "ERROR" in l]
-        t.check(rc != 0 and any("griddem/granular/kk" in l and name in l and "not implemented on Kokkos" in l
-                                for l in errors),
-                "griddem/granular/kk refuses %s by name: %s" % (name, errors[:1]))
+    # history rows that start with room for one contact grow, the numbers unchanged
+    few = "fix rows all griddem contacts 1"
+    for law in (HISTORY, LAWS[-1]):
+        compare("%s/kk [%s] with contacts 1 vs CPU" % (law[1].split()[0], law[0]),
+                run(wd, "few_cpu", data, law[1], law[3], extra=few),
+                run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
 
-    # no kk variant of griddem/hooke/history: the suffix falls back to the CPU style
-    hist = "griddem/hooke/history 1e4 NULL 50 NULL 0.5 1"
-    compare("hooke/history under -sf kk (CPU fallback)", run(wd, "hh_cpu", data, hist, "pair_coeff * *"),
-            run(wd, "hh_kk", data, hist, "pair_coeff * *", threads=2))
+    # rows that migrate: atoms crossing between ranks and re-sorted in memory every 3 steps, with
+    # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank
+    moving = ("neigh_modify every 1 delay 0 check no\natom_modify sort 3 0.5\n"
+              "velocity all scale 30.0\ntimestep 1e-4\nfix integrate all nve/sphere\nrun 60\n"
+              "dump snap all custom 1 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz\n"
+              "dump_modify snap format float %.17g sort id\nrun 0\n")
+    for law in (HISTORY, LAWS[-1]):
+        got = []
+        for name, nprocs, extra in (("mv_cpu", 1, ()), ("mv_kk", RANKS[-1], kk_args(THREADS[-1]))):
+            rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                                moving.format(name=name), wd, nprocs=nprocs, name="in." + name, extra=extra,
+                                threads=THREADS[-1] if extra else None)
+            t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+            got.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
+        err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
+        print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
+        t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
+
+    # restart: 10 steps, write, read, 10 more, against 20 straight (kk, and across CPU and kk)
+    check_restarts(wd, data)
     t.finish()
+
+
+RESTART = t.PERIODIC_SPHERES.replace("read_data {data}", "{start}") + """
+{write}
+timestep 1e-5
+fix integrate all nve/sphere
+thermo_style custom step ke press
+thermo_modify format float %.17g
+thermo 10
+dump snap all custom 10 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 10
+{finish}
+"""
+
+
+def restart_run(wd, name, data, law, kk_first, kk_second):
+    """10 steps, written to a restart file, then 10 steps from it: the state at step 20."""
+    first = RESTART.format(start="read_data %s" % data, pair=law[1], coeffs=law[3], name=name + "_a",
+                           write="", finish="write_restart restart.%s" % name)
+    rc, out = t.run_lmp(first, wd, name="in.%s_a" % name, extra=kk_args(1) if kk_first else ())
+    t.check(rc == 0, "%s: first half runs (exit %d)" % (name, rc))
+    second = RESTART.format(start="read_restart restart.%s" % name, pair=law[1], coeffs=law[3],
+                            name=name + "_b", write="", finish="")
+    rc, out = t.run_lmp(second, wd, name="in.%s_b" % name, extra=kk_args(1) if kk_second else ())
+    t.check(rc == 0, "%s: second half runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+    return t.read_dumps(os.path.join(wd, "dump.%s_b" % name))[-1]
+
+
+def check_restarts(wd, data):
+    for law in (HISTORY, LAWS[-1]):
+        straight = RESTART.format(start="read_data %s" % data, pair=law[1], coeffs=law[3], name="straight",
+                                  write="", finish="run 10")
+        rc, out = t.run_lmp(straight, wd, name="in.straight", extra=kk_args(1))
+        t.check(rc == 0, "straight kk run (exit %d)" % rc)
+        ref = t.read_dumps(os.path.join(wd, "dump.straight"))[-1]
+        for kk_first, kk_second in ((True, True), (True, False), (False, True)):
+            name = "rs_%d%d" % (kk_first, kk_second)
+            got = restart_run(wd, name, data, law, kk_first, kk_second)
+            err = t.max_rel_diff(got, ref, STATE + FORCES)
+            what = "%s [%s] restart %s -> %s" % (law[1].split()[0], law[0], "kk" if kk_first else "CPU",
+                                                 "kk" if kk_second else "CPU")
+            print("%s: %.2g" % (what, err))
+            # kk after kk: bit for bit; across CPU and kk: the engines' round-off
+            t.check(err == 0.0 if kk_first and kk_second else err <= 1e-10, "%s: state at step 20 (%.3g)" % (what, err))
+
 
 
 if __name__ == "__main__":

@@ -17,14 +17,15 @@
       The global virial (half of del*f per owned side) and the first coincident-centres fault come
       back from the same parallel_reduce.
 
-   Only laws without contact history (model.track_contacts == 0) are evaluated; the others are
-   refused by name until fix griddem has a Kokkos twin. Views grow, never shrink, and are not
-   reallocated in a step unless a size grew.
+   Laws with contact history keep it in fix griddem/kk (one row per atom, rewritten in place by
+   the atom's own thread: GriddemKKSweep). Views grow, never shrink, and are not reallocated in a
+   step unless a size grew.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_PAIR_GRIDDEM_KOKKOS_H
 #define LMP_PAIR_GRIDDEM_KOKKOS_H
 
+#include "fix_griddem_kokkos.h"
 #include "griddem_contact.h"
 #include "kokkos_type.h"
 #include "pair_kokkos.h"
@@ -111,13 +112,24 @@ struct GriddemKKGrid {
   }
 };
 
-/* what the sweep sums: global virial, and the coincident pair with the smallest owned index */
+/* what the sweep sums: global virial, statistics, and the coincident pair with the smallest
+   owned index */
 struct GriddemKKSweepValue {
   double v[6];
+  double energy;           // elastic energy in the springs (a pair counts half on each side)
+  long contacts;           // contacts of owned atoms (an owned pair counts twice)
+  int most;                // most contacts of one owned atom
+  int incomplete;          // owned atoms with new contacts their row had no room for
   int fault_i, fault_j;    // local indices; fault_i == INT_MAX: none
-  int stencil_fault;
 };
 
+/* One thread per sorted owned particle sums the force and torque of its contacts (griddem_contact_eval)
+   and, for laws with history, rewrites its own row of fix griddem/kk in place: an entry found
+   for a partner is advanced and marked (partner + 0.5, exact for tags below 2^52); a new contact
+   is appended; at the end unmarked entries (contacts that ended) are dropped. A new contact the
+   row has no room for is not stored and the atom is counted incomplete: the pass `repair`
+   (run after the rows grew, before atoms move) evaluates each owned atom's contacts missing from
+   its row again, with zero history as the sweep did, and appends them, adding no force. */
 template <class DeviceType> struct GriddemKKSweep {
   typedef DeviceType device_type;
   typedef GriddemKKSweepValue value_type;
@@ -128,27 +140,39 @@ template <class DeviceType> struct GriddemKKSweep {
   double reach_extra;        // model.reach_extra
   int nlocal, ntypes, frozen_bit, vflag_global, vflag_atom;
   double dt;
+  int history_update;        // 0 in setup: stored values are read, not advanced
+  int track;                 // model.track_contacts: rows are kept
+  int nv, capacity;          // values per contact, entries per row
+  int repair;                // 1: only append the contacts missing from the rows
   Kokkos::View<const int *, DeviceType> start, order;
   Kokkos::View<const double *[4], DeviceType> pos;    // x y z radius, sorted
   Kokkos::View<const double *[7], DeviceType> state;  // v, omega, mass, sorted
   Kokkos::View<const int *[2], DeviceType> tm;        // type, mask, sorted
+  typename AT::t_tagint_1d_randomread tag;            // by atom index
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
   Kokkos::View<const unsigned char *, DeviceType> excl_type;    // empty: no type exclusions
   Kokkos::View<const int *, DeviceType> excl_group;             // pairs of group bits
+  Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> rows;    // fix griddem/kk's rows
+  Kokkos::View<int *, DeviceType> count;
   typename AT::t_f_array f, torque;
   typename AT::t_virial_array vatom;
 
   KOKKOS_INLINE_FUNCTION void init(value_type &s) const
   {
     for (int k = 0; k < 6; k++) s.v[k] = 0.0;
+    s.energy = 0.0;
+    s.contacts = 0;
+    s.most = s.incomplete = 0;
     s.fault_i = s.fault_j = INT_MAX;
-    s.stencil_fault = 0;
   }
   KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
   {
     for (int k = 0; k < 6; k++) s.v[k] += o.v[k];
+    s.energy += o.energy;
+    s.contacts += o.contacts;
+    if (o.most > s.most) s.most = o.most;
+    s.incomplete += o.incomplete;
     if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
-    s.stencil_fault |= o.stencil_fault;
   }
 
   KOKKOS_INLINE_FUNCTION int excluded(int ta, int ma, int tb, int mb) const
@@ -161,6 +185,38 @@ template <class DeviceType> struct GriddemKKSweep {
     return 0;
   }
 
+  // the entry of partner p among the first n of atom i's row, or -1
+  KOKKOS_INLINE_FUNCTION int find(int i, int n, double p) const
+  {
+    for (int e = 0; e < n; e++)
+      if (rows(i, e * (1 + nv)) == p) return e;
+    return -1;
+  }
+
+  KOKKOS_INLINE_FUNCTION void store(int i, int e, double p, const double *hist) const
+  {
+    rows(i, e * (1 + nv)) = p;
+    for (int k = 0; k < nv; k++) rows(i, e * (1 + nv) + 1 + k) = hist[k];
+  }
+
+  // drop the entries below `old` that were not marked; unmark the others. Returns the count.
+  KOKKOS_INLINE_FUNCTION int compact(int i, int old, int n) const
+  {
+    int kept = 0;
+    for (int e = 0; e < n; e++) {
+      double p = rows(i, e * (1 + nv));
+      if (e < old) {
+        if (p == (double) (int64_t) p) continue;    // not seen this step: the contact ended
+        p -= 0.5;
+      }
+      rows(i, kept * (1 + nv)) = p;
+      if (kept != e)
+        for (int k = 1; k <= nv; k++) rows(i, kept * (1 + nv) + k) = rows(i, e * (1 + nv) + k);
+      kept++;
+    }
+    return kept;
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
   {
     const int i = order(s);
@@ -171,8 +227,9 @@ template <class DeviceType> struct GriddemKKSweep {
     const int ix = grid.axis_cell(0, xi), iy = grid.axis_cell(1, yi), iz = grid.axis_cell(2, zi);
     const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
     double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0}, w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double hist[GRIDDEM_MAX_HISTORY];
-    for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
+    double energy = 0.0;
+    const int old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
+    int n = old, lost = 0, ncontact = 0;
     const int x0 = ix - reach < 0 ? 0 : ix - reach;
     const int x1 = ix + reach >= nx ? nx - 1 : ix + reach;
 
@@ -196,7 +253,10 @@ template <class DeviceType> struct GriddemKKSweep {
           const int jtype = tm(t, 0), jmask = tm(t, 1);
           if (excluded(itype, imask, jtype, jmask)) continue;
           const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
-          if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, 0)) continue;
+          const double partner = track ? (double) tag(order(t)) : 0.0;
+          const int e = track ? find(i, old, partner) : -1;
+          if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, e >= 0)) continue;
+          if (repair && e >= 0) continue;
 
           griddem_contact c;
           c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
@@ -208,11 +268,25 @@ template <class DeviceType> struct GriddemKKSweep {
           }
           c.meff = griddem_effective_mass(mi, state(t, 6), (imask & frozen_bit) != 0, (jmask & frozen_bit) != 0);
           c.dt = dt;
-          c.history_update = 0;
+          c.history_update = history_update;
           c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
+          double hist[GRIDDEM_MAX_HISTORY];
+          for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
+          for (int k = 0; k < nv && e >= 0; k++) hist[k] = rows(i, e * (1 + nv) + 1 + k);
           double fc[3], ti[3], tj[3];
-          griddem_contact_eval(law, &c, hist, fc, ti, tj);
+          const double u = griddem_contact_eval(law, &c, hist, fc, ti, tj);
+          if (track) {
+            if (e >= 0)
+              store(i, e, partner + 0.5, hist);
+            else if (n < capacity)
+              store(i, n++, partner, hist);
+            else
+              lost++;
+          }
+          if (repair) continue;
           for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
+          energy += 0.5 * u;
+          ncontact++;
           if (vflag_global || vflag_atom) {
             w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
             w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
@@ -220,7 +294,17 @@ template <class DeviceType> struct GriddemKKSweep {
         }
       }
     }
+    if (track) {
+      const int kept = repair ? n : compact(i, old, n);
+      count(i) = kept;
+      if (lost) sum.incomplete++;
+      if (repair && kept > sum.most) sum.most = kept;
+    }
+    if (repair) return;
+    sum.contacts += ncontact;
+    if (ncontact > sum.most) sum.most = ncontact;
     for (int d = 0; d < 3; d++) f(i, d) += fsum[d], torque(i, d) += tsum[d];
+    sum.energy += energy;
     if (vflag_global)
       for (int k = 0; k < 6; k++) sum.v[k] += w[k];
     if (vflag_atom)
@@ -235,7 +319,6 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
 
   PairGriddemKokkos(class LAMMPS *);
   ~PairGriddemKokkos() override;
-  void coeff(int, char **) override;
   void init_style() override;
   void compute(int, int) override;
 
@@ -255,10 +338,11 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   Kokkos::View<int *, DeviceType> d_excl_group;
   int params_stale;
   int coarsened_warned_kk;
+  FixGriddemKokkos<DeviceType> *history;    // fix griddem/kk, when the law keeps history
 
   DAT::tdual_virial_array k_vatom;
 
-  void refuse_history();
+  std::string history_fix_style() const override;
   void upload_tables();
   void report_coincident(int i, int j);
 };

@@ -21,12 +21,13 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace LAMMPS_NS {
 
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
-    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0)
+    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0), history(nullptr)
 {
   this->kokkosable = 1;
   this->atomKK = (AtomKokkos *) this->atom;
@@ -43,45 +44,19 @@ template <class DeviceType, class Base> PairGriddemKokkos<DeviceType, Base>::~Pa
   this->vatom = nullptr;
 }
 
-/* the laws that keep contact history need fix griddem's per-atom rows, which have no Kokkos
-   twin yet: refuse them, naming the sub-model */
-
-template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::refuse_history()
+template <class DeviceType, class Base>
+std::string PairGriddemKokkos<DeviceType, Base>::history_fix_style() const
 {
-  if (!this->model.track_contacts) return;
-  std::string culprit = "its contact law";
-  const int n = this->atom->ntypes + 1;
-  for (int i = 1; i < n && culprit == "its contact law"; i++)
-    for (int j = i; j < n; j++) {
-      if (!this->allocated || !this->setflag[i][j]) continue;
-      const griddem_pair_spec &s = this->specs[i * n + j];
-      for (int axis = 0; axis < GRIDDEM_NAXES; axis++) {
-        const griddem_submodel *m = s.sub[axis];
-        if (!m || !(m->history > 0 || (m->flags & GRIDDEM_SUBMODEL_BEYOND_CONTACT))) continue;
-        culprit = (m->flags & GRIDDEM_SUBMODEL_INTERNAL)
-            ? std::string("its shear history")
-            : fmt::format("{} model {} (types {} {})", griddem_axis_name(axis), m->name, i, j);
-        break;
-      }
-      if (culprit != "its contact law") break;
-    }
-  this->error->all(FLERR,
-                   "Pair style {}: {} keeps contact history, which is not implemented on Kokkos yet; "
-                   "use sub-models without history (e.g. tangential linear_nohistory, no rolling or "
-                   "twisting, not jkr) or run the style without the kk suffix",
-                   this->force->pair_style, culprit);
-}
-
-template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::coeff(int narg, char **arg)
-{
-  Base::coeff(narg, arg);
-  refuse_history();
+  return std::is_same<DeviceType, LMPDeviceType>::value ? "griddem/kk" : "griddem/kk/host";
 }
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::init_style()
 {
-  refuse_history();    // also after read_restart, which sets the specs without coeff()
   Base::init_style();
+  history = dynamic_cast<FixGriddemKokkos<DeviceType> *>(this->fix);
+  if (this->model.track_contacts && !history)
+    this->error->all(FLERR, "Pair style {} needs fix {} for its contact history, not fix {} {}",
+                     this->force->pair_style, history_fix_style(), this->fix->id, this->fix->style);
   params_stale = 1;    // init_one() fills params after init_style()
 }
 
@@ -295,7 +270,8 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
   });
 
-  // 4. sweep
+  // 4. sweep, and the history rows of atoms whose new contacts did not fit
+  const int track = this->model.track_contacts;
   GriddemKKSweep<DeviceType> sweep;
   sweep.grid = grid;
   sweep.reach = reach;
@@ -306,19 +282,44 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   sweep.vflag_global = this->vflag_global;
   sweep.vflag_atom = this->vflag_atom;
   sweep.dt = this->update->dt;
+  sweep.history_update = this->update->setupflag ? 0 : 1;
+  sweep.track = track;
+  sweep.repair = 0;
   sweep.start = d_start;
   sweep.order = d_order;
   sweep.pos = d_pos;
   sweep.state = d_state;
   sweep.tm = d_tm;
+  sweep.tag = tag;
   sweep.params = d_params;
   sweep.excl_type = d_excl_type;
   sweep.excl_group = d_excl_group;
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
+  auto bind_rows = [&]() {
+    sweep.rows = history->rows_on_device();
+    sweep.count = history->counts_on_device();
+    sweep.nv = history->values_per_contact();
+    sweep.capacity = history->entry_capacity();
+  };
+  sweep.nv = sweep.capacity = 0;
+  if (track) bind_rows();
   GriddemKKSweepValue sums;
   Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep, sums);
+  if (track) {
+    history->rows_modified_on_device();
+    for (int incomplete = sums.incomplete; incomplete;) {
+      history->reserve_entries(sums.most + 2);
+      bind_rows();
+      sweep.repair = 1;
+      GriddemKKSweepValue repaired;
+      Kokkos::parallel_reduce("griddem/kk:repair", Kokkos::RangePolicy<DeviceType>(0, nall), sweep, repaired);
+      history->rows_modified_on_device();
+      incomplete = repaired.incomplete;
+    }
+    history->set_longest_row(sums.most);
+  }
 
   if (sums.fault_i != INT_MAX) report_coincident(sums.fault_i, sums.fault_j);
   if (this->vflag_global)
@@ -327,6 +328,28 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     k_vatom.template modify<DeviceType>();
     k_vatom.template sync<LMPHostType>();
   }
+
+  // fix griddem's diagnostics, as the CPU engine reports them
+  int occupied = 0, occupancy = 0;
+  Kokkos::parallel_reduce(
+      "griddem/kk:occupancy", Kokkos::RangePolicy<DeviceType>(0, ncell),
+      KOKKOS_LAMBDA(const int c, int &cells, int &most) {
+        const int k = start(c + 1) - start(c);
+        cells += k > 0;
+        if (k > most) most = k;
+      },
+      occupied, Kokkos::Max<int>(occupancy));
+  griddem_engine_stats stats;
+  stats.occupied_cells = occupied;
+  stats.max_occupancy = occupancy;
+  stats.cell_edge = h;
+  stats.contacts = sums.contacts;
+  stats.max_contacts = sums.most;
+  stats.elastic_energy = sums.energy;
+  stats.max_speed = sc.ivmax >= 0 ? sqrt(sc.vmax2) : 0.0;
+  stats.max_cells_moved = stats.max_speed * this->update->dt / h;
+  stats.nonfinite_velocity = 0;
+  this->fix->set_stats(stats);
 }
 
 }    // namespace LAMMPS_NS
