@@ -31,9 +31,9 @@ BASE = 32000  # atoms in data.chute
 # (pair style as written in the input, note); all with the chute's coefficients
 STYLES = [
     ("gran/hooke/history/kk", "stock, LAMMPS's Kokkos chute benchmark"),
-    ("griddem/hooke/kk", "GRIDDEM, twin of gran/hooke"),
+    ("griddem/hooke/history/kk", "GRIDDEM, twin of gran/hooke/history"),
+    ("griddem/hooke/kk", "GRIDDEM, twin of gran/hooke (no tangential history)"),
     ("gran/hooke/kk", "stock, like for like with griddem/hooke/kk"),
-    ("griddem/hooke/history/kk", "GRIDDEM, twin of gran/hooke/history: history styles not on Kokkos yet"),
 ]
 GPU_SIZES = ["0.5M", "2M", "8M", "32M"]
 CPU_SIZES = ["32k", "128k"]

@@ -79,14 +79,14 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_longest_row(i
 }
 
 template <class DeviceType>
-typename FixGriddemKokkos<DeviceType>::tdual_rows::t_dev FixGriddemKokkos<DeviceType>::rows_on_device()
+typename FixGriddemKokkos<DeviceType>::t_rows FixGriddemKokkos<DeviceType>::rows_on_device()
 {
   k_rows.template sync<DeviceType>();
   return k_rows.template view<DeviceType>();
 }
 
 template <class DeviceType>
-typename FixGriddemKokkos<DeviceType>::tdual_count::t_dev FixGriddemKokkos<DeviceType>::counts_on_device()
+typename FixGriddemKokkos<DeviceType>::t_count FixGriddemKokkos<DeviceType>::counts_on_device()
 {
   k_count.template sync<DeviceType>();
   return k_count.template view<DeviceType>();

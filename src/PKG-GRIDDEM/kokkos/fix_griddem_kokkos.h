@@ -33,8 +33,11 @@ namespace LAMMPS_NS {
 template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public KokkosBase {
  public:
   typedef DeviceType device_type;
-  typedef Kokkos::DualView<double **, Kokkos::LayoutRight, DeviceType> tdual_rows;
-  typedef Kokkos::DualView<int *, DeviceType> tdual_count;
+  // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there
+  typedef Kokkos::DualView<double **, Kokkos::LayoutRight, LMPDeviceType> tdual_rows;
+  typedef DAT::tdual_int_1d tdual_count;
+  typedef Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> t_rows;
+  typedef Kokkos::View<int *, DeviceType> t_count;
 
   FixGriddemKokkos(class LAMMPS *, int, char **);
   ~FixGriddemKokkos() override;
@@ -62,8 +65,8 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
 
   // for the pair style: the rows on its device, made current there, and room for `entries`
   // contacts in every row (rows keep their entries)
-  typename tdual_rows::t_dev rows_on_device();
-  typename tdual_count::t_dev counts_on_device();
+  t_rows rows_on_device();
+  t_count counts_on_device();
   void rows_modified_on_device();
   void reserve_entries(int entries);
   int entry_capacity() const { return capacity; }
