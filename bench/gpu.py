@@ -132,6 +132,7 @@ def main():
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per run")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     args = ap.parse_args()
+    args.lmp = os.path.abspath(args.lmp)    # runs happen in a scratch folder
 
     api, have = lmp_info(args.lmp)
     if not api:
