@@ -228,9 +228,59 @@ def main():
         print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
         t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
 
+    # beside the stock kk fixes: gravity, wall/gran, deform (triclinic shear), freeze, nve/sphere
+    check_stock_kk_fixes(wd)
+
     # restart: 10 steps, write, read, 10 more, against 20 straight (kk, and across CPU and kk)
     check_restarts(wd, data)
     t.finish()
+
+
+FIXES = """
+units lj
+atom_style sphere
+boundary p p m
+comm_modify vel yes
+read_data {data}
+pair_style griddem/hooke/history 1e4 NULL 50 NULL 0.5 1
+pair_coeff * *
+group base id <= 40
+timestep 1e-4
+fix frozen base freeze
+fix integrate all nve/sphere
+fix down all gravity 10.0 vector 0 0 -1
+fix floor all wall/gran hooke/history 1e4 NULL 50 NULL 0.0 1 zplane 0.1 NULL
+fix shear all deform 1 xy erate 0.5 remap v
+info fixes
+thermo_style custom step ke press
+thermo 100
+dump snap all custom 300 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 300
+"""
+
+
+def check_stock_kk_fixes(wd):
+    """The kk fixes LAMMPS ships (gravity/kk, wall/gran/kk, deform/kk, freeze/kk, nve/sphere/kk)
+    with griddem/hooke/history/kk, against the CPU style with the CPU fixes. The wall is
+    frictionless: with friction, LAMMPS 4Feb2025's wall/gran/kk departs from its CPU wall/gran
+    (stock gran/hooke/history with only that wall, CPU vs kk: relative 1 after 50 steps), so it
+    cannot be the reference; stock gran/hooke/history/kk itself departs from its CPU style in this
+    scene (0.07 after 50 steps), so the CPU griddem style is."""
+    data = os.path.join(wd, "data.tri")
+    t.write_random_spheres(data, 800, (4.5, 4.5, 4.5), 0.1, 0.3, seed=13, triclinic=(0.0, 0.0, 0.0))
+    snaps = []
+    for name, nprocs, extra in (("fx_cpu", 1, ()), ("fx_kk", RANKS[-1], kk_args(THREADS[-1]))):
+        rc, out = t.run_lmp(FIXES.format(data=data, name=name), wd, nprocs=nprocs, name="in." + name,
+                            extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+        snaps.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
+        if extra:
+            for fix in ("gravity/kk", "wall/gran/kk", "deform/kk", "freeze/kk", "nve/sphere/kk"):
+                t.check(fix in out, "the kk run uses fix %s" % fix)
+    err = t.max_rel_diff(snaps[1], snaps[0], STATE + FORCES)
+    print("griddem/hooke/history/kk beside the stock kk fixes, 300 steps, vs CPU: %.2g" % err)
+    t.check(err <= 1e-8, "griddem/hooke/history/kk beside the stock kk fixes vs CPU (%.3g)" % err)
 
 
 RESTART = t.PERIODIC_SPHERES.replace("read_data {data}", "{start}") + """
