@@ -18,7 +18,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), engine(),
+    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), engine(),
     row_of(nullptr), reserved(0)
 {
   int iarg = 3;
@@ -46,6 +46,15 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
       contacts = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
       if (contacts < 0 || contacts > 10000)
         error->all(FLERR, "Fix griddem contacts must be between 0 and 10000, not {}", contacts);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "precision") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem precision", error);
+      if (strcmp(arg[iarg + 1], "double") == 0)
+        precision = GRIDDEM_PRECISION_DOUBLE;
+      else if (strcmp(arg[iarg + 1], "single") == 0)
+        precision = GRIDDEM_PRECISION_SINGLE;
+      else
+        error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
       iarg += 2;
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);

@@ -17,6 +17,8 @@ FixStyle(griddem,FixGriddem);
 
 namespace LAMMPS_NS {
 
+enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
+
 class FixGriddem : public Fix {
  public:
   FixGriddem(class LAMMPS *, int, char **);
@@ -52,6 +54,7 @@ class FixGriddem : public Fix {
   int cell_mode;        // enum griddem_cell_mode
   double cell_edge;     // for GRIDDEM_CELL_FIXED
   int contacts;         // expected contacts per atom (initial history storage); 0: no history
+  int precision;        // of the sorted particle data (the Kokkos styles); GRIDDEM_PRECISION_*
 
  private:
   griddem_engine engine;

@@ -186,6 +186,9 @@ void PairGriddem::init_style()
   fix = dynamic_cast<FixGriddem *>(fixes.front());
   if (model.track_contacts && fix->contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
+  if (fix->precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
+    error->all(FLERR, "Pair style {}: fix {} precision single is implemented by the Kokkos styles only "
+               "(griddem/.../kk); the CPU styles work in double", style, fix->id);
   if (model.track_contacts && fix->kokkos_history != (history_fix_style() != "griddem"))
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,

@@ -107,6 +107,9 @@ case("xmu", "xmu must be in [0,10000]", pair="griddem/hooke/history 1e3 NULL 10 
 case("coeff_args", "takes only the two atom types", coeff="* * 1.0")
 case("fix_keyword", "Unknown fix griddem keyword: slots", pre="fix grid all griddem slots 3")
 case("fix_cell", "classes or a positive edge, not -1", pre="fix grid all griddem cell -1")
+case("fix_precision", "precision must be single or double, not half", pre="fix grid all griddem precision half")
+case("precision_cpu", "precision single is implemented by the Kokkos styles only",
+     pre="fix grid all griddem precision single")
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("exclude_molecule", "does not support neigh_modify exclude molecule",

@@ -210,6 +210,19 @@ def main():
                 run(wd, "few_cpu", data, law[1], law[3], extra=few),
                 run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
 
+    # fix griddem precision single: channels in float, positions relative to their cell. Their
+    # rounding (2^-24 of a cell edge, ~4e-8 here) moves forces by a few 1e-6 of the largest (the
+    # smallest overlaps are ~1e-3 of the radii); more than round-off, well below 1e-4
+    for law in (LAWS[0], HISTORY, LAWS[-1]):
+        double = run(wd, "prec_d", data, law[1], law[3], 1, 1, extra="fix grid all griddem precision double")
+        single = run(wd, "prec_s", data, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem precision single")
+        forces = max(t.max_rel_diff(single[0][k], double[0][k], FORCES) for k in (0, 1))
+        state = t.max_rel_diff(single[0][1], double[0][1], STATE)
+        print("%s/kk [%s] precision single vs double: force/torque %.2g, x/v at step 20 %.2g"
+              % (law[1].split()[0], law[0], forces, state))
+        t.check(1e-9 < forces < 1e-4 and state < 1e-5, "%s/kk [%s] single precision error %.3g (forces), %.3g (x/v)"
+                % (law[1].split()[0], law[0], forces, state))
+
     # rows that migrate: atoms crossing between ranks and re-sorted in memory every 3 steps, with
     # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank
     moving = ("neigh_modify every 1 delay 0 check no\natom_modify sort 3 0.5\n"
@@ -297,32 +310,33 @@ run 10
 """
 
 
-def restart_run(wd, name, data, law, kk_first, kk_second):
+def restart_run(wd, name, data, law, kk_first, kk_second, fix=""):
     """10 steps, written to a restart file, then 10 steps from it: the state at step 20."""
     first = RESTART.format(start="read_data %s" % data, pair=law[1], coeffs=law[3], name=name + "_a",
-                           write="", finish="write_restart restart.%s" % name)
+                           write=fix, finish="write_restart restart.%s" % name)
     rc, out = t.run_lmp(first, wd, name="in.%s_a" % name, extra=kk_args(1) if kk_first else ())
     t.check(rc == 0, "%s: first half runs (exit %d)" % (name, rc))
     second = RESTART.format(start="read_restart restart.%s" % name, pair=law[1], coeffs=law[3],
-                            name=name + "_b", write="", finish="")
+                            name=name + "_b", write=fix, finish="")
     rc, out = t.run_lmp(second, wd, name="in.%s_b" % name, extra=kk_args(1) if kk_second else ())
     t.check(rc == 0, "%s: second half runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
     return t.read_dumps(os.path.join(wd, "dump.%s_b" % name))[-1]
 
 
 def check_restarts(wd, data):
-    for law in (HISTORY, LAWS[-1]):
+    # the second hooke/history case defines fix griddem in the script (named through -sf kk)
+    for law, fix in ((HISTORY, ""), (LAWS[-1], ""), (HISTORY, "fix grid all griddem contacts 3")):
         straight = RESTART.format(start="read_data %s" % data, pair=law[1], coeffs=law[3], name="straight",
-                                  write="", finish="run 10")
+                                  write=fix, finish="run 10")
         rc, out = t.run_lmp(straight, wd, name="in.straight", extra=kk_args(1))
         t.check(rc == 0, "straight kk run (exit %d)" % rc)
         ref = t.read_dumps(os.path.join(wd, "dump.straight"))[-1]
         for kk_first, kk_second in ((True, True), (True, False), (False, True)):
             name = "rs_%d%d" % (kk_first, kk_second)
-            got = restart_run(wd, name, data, law, kk_first, kk_second)
+            got = restart_run(wd, name, data, law, kk_first, kk_second, fix)
             err = t.max_rel_diff(got, ref, STATE + FORCES)
-            what = "%s [%s] restart %s -> %s" % (law[1].split()[0], law[0], "kk" if kk_first else "CPU",
-                                                 "kk" if kk_second else "CPU")
+            what = "%s [%s%s] restart %s -> %s" % (law[1].split()[0], law[0], ", " + fix if fix else "",
+                                                   "kk" if kk_first else "CPU", "kk" if kk_second else "CPU")
             print("%s: %.2g" % (what, err))
             # kk after kk: bit for bit; across CPU and kk: the engines' round-off
             t.check(err == 0.0 if kk_first and kk_second else err <= 1e-10, "%s: state at step 20 (%.3g)" % (what, err))

@@ -24,8 +24,6 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
   execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
   datamask_read = datamask_modify = EMPTY_MASK;
   kokkos_history = 1;
-  delete[] style;    // one name for CPU and Kokkos runs: restart files match either
-  style = utils::strdup("griddem");
 
   capacity = MAX(contacts, 1);
   grow_arrays(atom->nmax);    // rows start empty (Views are zero-filled)
@@ -38,6 +36,15 @@ template <class DeviceType> FixGriddemKokkos<DeviceType>::~FixGriddemKokkos()
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::init() {}
+
+/* one name for CPU and Kokkos runs, so that restart files match either; here, not in the
+   constructor, since Modify names a fix made through a suffix after constructing it */
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::post_constructor()
+{
+  delete[] style;
+  style = utils::strdup("griddem");
+}
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_host()
 {

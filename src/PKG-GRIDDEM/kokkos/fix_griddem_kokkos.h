@@ -41,6 +41,7 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
 
   FixGriddemKokkos(class LAMMPS *, int, char **);
   ~FixGriddemKokkos() override;
+  void post_constructor() override;
   void init() override;
 
   void grow_arrays(int) override;

@@ -97,7 +97,7 @@ template <class DeviceType> struct GriddemKKScan {
 
 /* the grid of one step, as griddem_grid: cell (ix,iy,iz) covers anchor + (k0 + i) * h */
 struct GriddemKKGrid {
-  double anchor[3], hinv;
+  double anchor[3], h, hinv;
   long k0[3];
   int n[3];
   int ncell;
@@ -110,6 +110,21 @@ struct GriddemKKGrid {
   {
     return axis_cell(0, x) + n[0] * (axis_cell(1, y) + n[1] * axis_cell(2, z));
   }
+  // lower face along d of the cell holding coordinate x
+  KOKKOS_INLINE_FUNCTION double cell_origin(int d, double x) const
+  {
+    return anchor[d] + (double) (k0[d] + axis_cell(d, x)) * h;
+  }
+};
+
+/* The sorted particles' data the sweep reads, in the precision of fix griddem's `precision`:
+   positions relative to their cell's lower corner (so single precision keeps ~1e-7 of a cell,
+   not of the box), radius, velocity, angular velocity, mass. */
+template <class DeviceType, typename Real> struct GriddemKKChannels {
+  typedef Kokkos::View<Real *[4], DeviceType> t_pos;      // x y z in the cell, radius
+  typedef Kokkos::View<Real *[7], DeviceType> t_state;    // v, omega, mass
+  t_pos pos;
+  t_state state;
 };
 
 /* what the sweep sums: global virial, statistics, and the coincident pair with the smallest
@@ -130,12 +145,13 @@ struct GriddemKKSweepValue {
    row has no room for is not stored and the atom is counted incomplete: the pass `repair`
    (run after the rows grew, before atoms move) evaluates each owned atom's contacts missing from
    its row again, with zero history as the sweep did, and appends them, adding no force. */
-template <class DeviceType> struct GriddemKKSweep {
+template <class DeviceType, typename Real> struct GriddemKKSweep {
   typedef DeviceType device_type;
   typedef GriddemKKSweepValue value_type;
   typedef ArrayTypes<DeviceType> AT;
 
   GriddemKKGrid grid;
+  double h;                  // cell edge
   int reach;                 // cells visited on each side
   double reach_extra;        // model.reach_extra
   int nlocal, ntypes, frozen_bit, vflag_global, vflag_atom;
@@ -144,9 +160,9 @@ template <class DeviceType> struct GriddemKKSweep {
   int track;                 // model.track_contacts: rows are kept
   int nv, capacity;          // values per contact, entries per row
   int repair;                // 1: only append the contacts missing from the rows
-  Kokkos::View<const int *, DeviceType> start, order;
-  Kokkos::View<const double *[4], DeviceType> pos;    // x y z radius, sorted
-  Kokkos::View<const double *[7], DeviceType> state;  // v, omega, mass, sorted
+  Kokkos::View<const int *, DeviceType> start, order, cell;    // cell: of each atom
+  Kokkos::View<const Real *[4], DeviceType> pos;      // GriddemKKChannels, sorted
+  Kokkos::View<const Real *[7], DeviceType> state;
   Kokkos::View<const int *[2], DeviceType> tm;        // type, mask, sorted
   typename AT::t_tagint_1d_randomread tag;            // by atom index
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
@@ -221,27 +237,31 @@ template <class DeviceType> struct GriddemKKSweep {
   {
     const int i = order(s);
     if (i >= nlocal) return;
-    const double xi = pos(s, 0), yi = pos(s, 1), zi = pos(s, 2), radi = pos(s, 3);
+    const double pi[3] = {pos(s, 0), pos(s, 1), pos(s, 2)}, radi = pos(s, 3);
     const int itype = tm(s, 0), imask = tm(s, 1);
     const double mi = state(s, 6);
-    const int ix = grid.axis_cell(0, xi), iy = grid.axis_cell(1, yi), iz = grid.axis_cell(2, zi);
     const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+    const int ci = cell(i);
+    const int ic[3] = {ci % nx, (ci / nx) % ny, ci / (nx * ny)};
     double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0}, w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double energy = 0.0;
     const int old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
     int n = old, lost = 0, ncontact = 0;
-    const int x0 = ix - reach < 0 ? 0 : ix - reach;
-    const int x1 = ix + reach >= nx ? nx - 1 : ix + reach;
 
-    for (int z = iz - reach; z <= iz + reach; z++) {
+    for (int z = ic[2] - reach; z <= ic[2] + reach; z++) {
       if (z < 0 || z >= nz) continue;
-      for (int y = iy - reach; y <= iy + reach; y++) {
+      for (int y = ic[1] - reach; y <= ic[1] + reach; y++) {
         if (y < 0 || y >= ny) continue;
-        const int row = nx * (y + ny * z);
-        const int tend = start(row + x1 + 1);
-        for (int t = start(row + x0); t < tend; t++) {
+        for (int x = ic[0] - reach; x <= ic[0] + reach; x++) {
+          if (x < 0 || x >= nx) continue;
+          const int cell = x + nx * (y + ny * z);
+          // x_i - x_j from the positions in their cells and the cells' offset
+          const double shift[3] = {(ic[0] - x) * h, (ic[1] - y) * h, (ic[2] - z) * h};
+          for (int t = start(cell); t < start(cell + 1); t++) {
           if (t == s) continue;
-          const double dx = xi - pos(t, 0), dy = yi - pos(t, 1), dz = zi - pos(t, 2);
+          const double dx = (pi[0] - (double) pos(t, 0)) + shift[0];
+          const double dy = (pi[1] - (double) pos(t, 1)) + shift[1];
+          const double dz = (pi[2] - (double) pos(t, 2)) + shift[2];
           const double radj = pos(t, 3);
           const double rsq = dx * dx + dy * dy + dz * dz;
           const double rs = radi + reach_extra + radj;
@@ -291,6 +311,7 @@ template <class DeviceType> struct GriddemKKSweep {
             w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
             w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
           }
+          }
         }
       }
     }
@@ -330,8 +351,10 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   Kokkos::View<int *, DeviceType> d_start;    // [ncell+1] first slot of each cell
   Kokkos::View<int *, DeviceType> d_unsorted; // [nall] slots filled in arrival order
   Kokkos::View<int *, DeviceType> d_order;    // [nall] atom index of each sorted slot
-  Kokkos::View<double *[4], DeviceType> d_pos;
-  Kokkos::View<double *[7], DeviceType> d_state;
+  GriddemKKChannels<DeviceType, double> channels_double;
+  GriddemKKChannels<DeviceType, float> channels_single;
+  GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
+  GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
   Kokkos::View<int *[2], DeviceType> d_tm;
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
@@ -343,6 +366,8 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   DAT::tdual_virial_array k_vatom;
 
   std::string history_fix_style() const override;
+  template <typename Real>
+  void bin_and_sweep(const GriddemKKGrid &grid, double h, int reach, const GriddemKKScanValue &sc);
   void upload_tables();
   void report_coincident(int i, int j);
 };

@@ -200,6 +200,7 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     error->warning(FLERR, "Pair style {}: cell edge enlarged to {} so that the grid over this process's atoms stays within {} cells",
                    style, h, max_cells);
   }
+  grid.h = h;
   grid.hinv = 1.0 / h;
   grid.ncell = (int) total;
   const double cutmax = (2.0 * rmax + this->model.reach_extra) * (1.0 + 1e-10) + 1e-14 * extent;
@@ -208,15 +209,44 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {}", style,
                cutmax, GRIDDEM_MAX_REACH, h);
 
+  if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
+    bin_and_sweep<float>(grid, h, reach, sc);
+  else
+    bin_and_sweep<double>(grid, h, reach, sc);
+}
+
+/* counting sort into the channels (of Real: positions relative to their cell, velocities,
+   angular velocities, mass, radius), the sweep, and fix griddem's statistics */
+
+template <class DeviceType, class Base>
+template <typename Real>
+void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &grid, double h, int reach,
+                                                        const GriddemKKScanValue &sc)
+{
+  AtomKokkos *atomKK = this->atomKK;
+  auto x = atomKK->k_x.template view<DeviceType>();
+  auto v = atomKK->k_v.template view<DeviceType>();
+  auto omega = atomKK->k_omega.template view<DeviceType>();
+  auto radius = atomKK->k_radius.template view<DeviceType>();
+  auto rmass = atomKK->k_rmass.template view<DeviceType>();
+  auto type = atomKK->k_type.template view<DeviceType>();
+  auto mask = atomKK->k_mask.template view<DeviceType>();
+  auto tag = atomKK->k_tag.template view<DeviceType>();
+  const int nlocal = this->atom->nlocal;
+  const int nall = nlocal + this->atom->nghost;
+  auto &chan = channels(Real());
+
   // Views grow only
   if (nall > nmax_atoms) {
     nmax_atoms = MAX(nall, (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
-    d_pos = Kokkos::View<double *[4], DeviceType>("griddem/kk:pos", nmax_atoms);
-    d_state = Kokkos::View<double *[7], DeviceType>("griddem/kk:state", nmax_atoms);
     d_tm = Kokkos::View<int *[2], DeviceType>("griddem/kk:tm", nmax_atoms);
+  }
+  if (nall > (int) chan.pos.extent(0)) {
+    chan.pos = typename GriddemKKChannels<DeviceType, Real>::t_pos("griddem/kk:pos", nmax_atoms);
+    chan.state = typename GriddemKKChannels<DeviceType, Real>::t_state("griddem/kk:state", nmax_atoms);
   }
   if (grid.ncell + 1 > nmax_cells) {
     nmax_cells = MAX(grid.ncell + 1, (int) MIN(1.2 * nmax_cells, (double) INT_MAX));
@@ -231,8 +261,8 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   auto start = d_start;
   auto unsorted = d_unsorted;
   auto order = d_order;
-  auto pos = d_pos;
-  auto state = d_state;
+  auto pos = chan.pos;
+  auto state = chan.state;
   auto tm = d_tm;
   Kokkos::parallel_for("griddem/kk:clear", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
                        KOKKOS_LAMBDA(const int c) { count(c) = 0; });
@@ -270,7 +300,9 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     }
     const int slot = start(c) + rank;
     order(slot) = i;
-    pos(slot, 0) = xi, pos(slot, 1) = yi, pos(slot, 2) = zi, pos(slot, 3) = radius(i);
+    const double p[3] = {xi, yi, zi};
+    for (int d = 0; d < 3; d++) pos(slot, d) = (Real) (p[d] - grid.cell_origin(d, p[d]));
+    pos(slot, 3) = radius(i);
     for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
     state(slot, 6) = rmass(i);
     tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
@@ -278,8 +310,9 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
 
   // 4. sweep, and the history rows of atoms whose new contacts did not fit
   const int track = this->model.track_contacts;
-  GriddemKKSweep<DeviceType> sweep;
+  GriddemKKSweep<DeviceType, Real> sweep;
   sweep.grid = grid;
+  sweep.h = h;
   sweep.reach = reach;
   sweep.reach_extra = this->model.reach_extra;
   sweep.nlocal = nlocal;
@@ -293,8 +326,9 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   sweep.repair = 0;
   sweep.start = d_start;
   sweep.order = d_order;
-  sweep.pos = d_pos;
-  sweep.state = d_state;
+  sweep.cell = d_cell;
+  sweep.pos = chan.pos;
+  sweep.state = chan.state;
   sweep.tm = d_tm;
   sweep.tag = tag;
   sweep.params = d_params;
