@@ -1,0 +1,280 @@
+"""compute griddem/cg: coarse-grained fields by cloud-in-cell assignment and FFT Gaussian smoothing.
+Each number checked has its own reason: total mass and solid volume (conservation: the kernel
+sums to 1), the packing fraction and coordination of a simple cubic lattice, the slope of a
+linear shear profile (cloud-in-cell and a symmetric kernel keep linear fields exactly), the
+pressure tensor of compute pressure (the stress field is built from the same per-atom virial and
+velocities), a direct real-space convolution written here from the documented scheme, and the
+same fields on 1, 2 and 4 ranks."""
+import math
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+ALL = ["solid", "density", "vx", "vy", "vz", "pxx", "pyy", "pzz", "pxy", "pxz", "pyz",
+       "temperature", "coordination"]
+TRUNCATION = 1e-6    # the Gaussian is cut where it falls below this fraction of its peak
+
+RANDOM = """
+units lj
+atom_style sphere
+boundary {boundary}
+comm_modify vel yes
+read_data {data}
+pair_style {pair}
+pair_coeff * * {coeffs}
+fix integrate all nve/sphere
+compute T all temp
+compute P all pressure T
+compute W all pressure NULL virial
+thermo_style custom step c_P[1] c_P[2] c_P[3] c_P[4] c_P[5] c_P[6] c_W
+thermo_modify format float %.17g
+"""
+
+
+def cg_lines(grid, width, values):
+    """compute griddem/cg and one grid/vtk dump per value (vtk files hold the grid in global order)."""
+    lines = ["compute cg all griddem/cg %d %d %d %.17g %s" % (grid + (width, " ".join(values)))]
+    for v in values:
+        lines.append("dump f_%s all grid/vtk 1 %s.*.vti c_cg:grid:%s" % (v, v, v))
+        lines.append("dump_modify f_%s format float %%.17g" % v)
+    return "\n".join(lines + ["run 0"]) + "\n"
+
+
+def read_vti(path):
+    """Cell values of a one-value .vti file, x fastest."""
+    with open(path) as f:
+        text = f.read()
+    block = re.search(r"<CellData>.*?format=\"ascii\">(.*?)</DataArray>", text, re.S).group(1)
+    return [float(v) for v in block.split()]
+
+
+def read_fields(wd, values):
+    return {v: read_vti(os.path.join(wd, "%s.0.vti" % v)) for v in values}
+
+
+def read_atoms(path):
+    """(mass, volume, x, y, z) of each atom of a write_random_spheres file (density 1)."""
+    with open(path) as f:
+        block = f.read().split("Atoms # sphere")[1].split("Velocities")[0]
+    atoms = []
+    for line in block.strip().splitlines():
+        w = line.split()
+        d, rho = float(w[2]), float(w[3])
+        vol = math.pi / 6.0 * d ** 3
+        atoms.append((rho * vol, vol, float(w[4]), float(w[5]), float(w[6])))
+    return atoms
+
+
+def cic(x, h, n, periodic):
+    """Documented assignment: grid points at cell centres, weights 1-f and f on floor(u), floor(u)+1
+    with u = x/h - 1/2; along a non-periodic axis indices are moved into 0..n-1, else wrapped."""
+    u = x / h - 0.5
+    i0 = math.floor(u)
+    f = u - i0
+    out = []
+    for i, w in ((i0, 1.0 - f), (i0 + 1, f)):
+        out.append((i % n if periodic else min(max(i, 0), n - 1), w))
+    return out
+
+
+def direct_density(atoms, grid, box, width, periodic):
+    """Density by assignment and a real-space convolution with the truncated Gaussian, normalised to
+    sum 1 over its offsets; periodic axes wrap, non-periodic ones drop what leaves the box."""
+    h = [box[d] / grid[d] for d in range(3)]
+    npts = grid[0] * grid[1] * grid[2]
+    field = [0.0] * npts
+    for m, _, *x in atoms:
+        parts = [cic(x[d], h[d], grid[d], periodic[d]) for d in range(3)]
+        for ix, wx in parts[0]:
+            for iy, wy in parts[1]:
+                for iz, wz in parts[2]:
+                    field[ix + grid[0] * (iy + grid[1] * iz)] += m * wx * wy * wz
+    cut2 = -2.0 * width ** 2 * math.log(TRUNCATION)
+    reach = [int(math.floor(math.sqrt(cut2) / h[d])) for d in range(3)]
+    kernel = {}
+    for dz in range(-reach[2], reach[2] + 1):
+        for dy in range(-reach[1], reach[1] + 1):
+            for dx in range(-reach[0], reach[0] + 1):
+                r2 = (dx * h[0]) ** 2 + (dy * h[1]) ** 2 + (dz * h[2]) ** 2
+                if r2 <= cut2:
+                    kernel[(dx, dy, dz)] = math.exp(-r2 / (2 * width ** 2))
+    norm = sum(kernel.values())
+    out = [0.0] * npts
+    cellvol = box[0] * box[1] * box[2] / npts
+    for j, mass in enumerate(field):
+        if mass == 0.0:
+            continue
+        jx, jy, jz = j % grid[0], j // grid[0] % grid[1], j // (grid[0] * grid[1])
+        for (dx, dy, dz), g in kernel.items():
+            i = [jx + dx, jy + dy, jz + dz]
+            if any(not periodic[d] and not 0 <= i[d] < grid[d] for d in range(3)):
+                continue
+            i = [i[d] % grid[d] for d in range(3)]
+            out[i[0] + grid[0] * (i[1] + grid[1] * i[2])] += mass * g / norm / cellvol
+    return out
+
+
+def max_diff(a, b):
+    return max(abs(p - q) for p, q in zip(a, b))
+
+
+def check_random(wd, pair, coeffs, tag, ranks_list):
+    """Random overlapping spheres with random velocities, periodic: conservation, stress integral
+    against compute pressure, the direct convolution, and agreement across ranks."""
+    data = os.path.join(wd, "data.%s" % tag)
+    box, grid, width = (4.0, 4.0, 4.0), (8, 6, 5), 0.45
+    t.write_random_spheres(data, 300, box, 0.1, 0.3, seed=11)
+    atoms = read_atoms(data)
+    mass, volume = sum(a[0] for a in atoms), sum(a[1] for a in atoms)
+    cellvol = box[0] * box[1] * box[2] / (grid[0] * grid[1] * grid[2])
+    text = RANDOM.format(boundary="p p p", data=data, pair=pair, coeffs=coeffs) + cg_lines(grid, width, ALL)
+    reference = None
+    for ranks in ranks_list:
+        sub = os.path.join(wd, "%s.np%d" % (tag, ranks))
+        os.mkdir(sub)
+        out = t.run_ok(text, sub, nprocs=ranks, name="in.cg")
+        f = read_fields(sub, ALL)
+        what = "%s, %d ranks" % (tag, ranks)
+        total = sum(f["density"]) * cellvol
+        t.check(abs(total - mass) <= 1e-12 * mass, "%s: integral of density %.17g = total mass %.17g" % (what, total, mass))
+        solid = sum(f["solid"]) * cellvol
+        t.check(abs(solid - volume) <= 1e-12 * volume, "%s: integral of solid fraction %.17g = sphere volume %.17g" % (what, solid, volume))
+        # compute pressure (with compute temp) is (sum m v v + virial) / V: fluctuations about zero
+        # velocity. The field's kinetic part is about the local mean velocity V, so add back the
+        # mean-flow flux rho V V, from the dumped density and velocity fields, before comparing.
+        pressure = [t.thermo_values(out, "c_P[%d]" % k)[0] for k in range(1, 7)]
+        pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+        vel = [f["vx"], f["vy"], f["vz"]]
+        scale = max(abs(p) for p in pressure) * box[0] * box[1] * box[2]
+        worst = 0.0
+        for k, name in enumerate(["pxx", "pyy", "pzz", "pxy", "pxz", "pyz"]):
+            a, b = pairs[k]
+            integral = sum(s + rho * va * vb for s, rho, va, vb in zip(f[name], f["density"], vel[a], vel[b])) * cellvol
+            worst = max(worst, abs(integral - pressure[k] * box[0] * box[1] * box[2]) / scale)
+        t.check(worst <= 1e-10, "%s: stress integral + mean-flow flux = compute pressure * V (rel. %.3g)" % (what, worst))
+        contact = t.thermo_values(out, "c_W")[0]
+        t.check(contact > 0.1 * sum(pressure[:3]) / 3 and min(f["temperature"]) > 0.0,
+                "%s: contacts carry a real share of the pressure (%.3g of %.3g), temperature > 0" % (what, contact, sum(pressure[:3]) / 3))
+        if reference is None:
+            reference = f
+            direct = direct_density(atoms, grid, box, width, (True, True, True))
+            diff = max_diff(f["density"], direct) / max(direct)
+            t.check(diff <= 1e-12, "%s: FFT density = direct real-space convolution (rel. %.3g)" % (what, diff))
+        else:
+            worst = max(max_diff(f[v], reference[v]) / (max(abs(x) for x in reference[v]) or 1.0) for v in ALL)
+            t.check(worst <= 1e-12, "%s: all fields equal the 1-rank fields (rel. %.3g)" % (what, worst))
+
+
+def check_wall(wd):
+    """z non-periodic, atoms in the lowest quarter: the zero-padded FFT equals the open-boundary
+    direct convolution (which drops what the kernel puts below the wall) and the top of the box
+    stays empty, where the periodic box carries mass across."""
+    data = os.path.join(wd, "data.wall")
+    box, grid, width = (3.0, 3.0, 8.0), (6, 6, 16), 0.3
+    t.write_random_spheres(data, 60, (3.0, 3.0, 2.0), 0.1, 0.2, seed=3)
+    with open(data) as f:
+        text = f.read().replace("0 2 zlo zhi", "0 8 zlo zhi")
+    with open(data, "w") as f:
+        f.write(text)
+    atoms = read_atoms(data)
+    for boundary, periodic in (("p p f", False), ("p p p", True)):
+        for ranks in (1, 2):
+            sub = os.path.join(wd, "wall.%s.np%d" % (boundary.replace(" ", ""), ranks))
+            os.mkdir(sub)
+            t.run_ok(RANDOM.format(boundary=boundary, data=data, pair="granular",
+                                   coeffs="hooke 1000 0 tangential linear_nohistory 0 0.5") +
+                     cg_lines(grid, width, ["density"]), sub, nprocs=ranks, name="in.cg")
+            rho = read_fields(sub, ["density"])["density"]
+            direct = direct_density(atoms, grid, box, width, (True, True, periodic))
+            what = "%s, %d ranks" % (boundary, ranks)
+            t.check(max_diff(rho, direct) <= 1e-12 * max(direct),
+                    "%s: FFT density = direct convolution (rel. %.3g)" % (what, max_diff(rho, direct) / max(direct)))
+            top = max(rho[-grid[0] * grid[1]:])
+            if periodic:
+                t.check(top > 1e-3 * max(rho), "%s: the periodic box carries mass across z (top plane %.3g)" % (what, top))
+            else:
+                t.check(top <= 1e-13 * max(rho), "%s: nothing folded onto the top wall (%.3g)" % (what, top))
+
+
+LATTICE = """
+units lj
+atom_style sphere
+boundary p p {zboundary}
+comm_modify vel yes
+lattice sc 1.0 origin 0.37 0.21 0.55
+region b block 0 {n} 0 {n} 0 {nz}
+create_box 1 b
+create_atoms 1 box
+set group all diameter {diameter}
+variable shear atom {gamma}*z
+velocity all set v_shear 0.25 -0.5
+pair_style granular
+pair_coeff * * hooke 1000 0 tangential linear_nohistory 0 0.5
+"""
+
+
+def check_lattice(wd):
+    """Simple cubic lattice of spacing 1 = grid spacing, shifted off the grid points so each atom
+    splits its weights: cloud-in-cell then gives every point the same mass, so solid fraction and
+    coordination are exact; and vx = gamma z comes back with slope gamma away from walls."""
+    d, n = 1.001, 6
+    sub = os.path.join(wd, "lattice")
+    os.mkdir(sub)
+    t.run_ok(LATTICE.format(zboundary="p", n=n, nz=n, diameter=d, gamma=0.0) +
+             cg_lines((n, n, n), 0.8, ["solid", "coordination", "vy", "temperature"]), sub, name="in.cg")
+    f = read_fields(sub, ["solid", "coordination", "vy", "temperature"])
+    packing = math.pi / 6.0 * d ** 3
+    t.check(max(abs(s - packing) for s in f["solid"]) <= 1e-12 * packing,
+            "lattice: solid fraction = packing fraction pi d^3/6 = %.12g (%.12g..%.12g)" % (packing, min(f["solid"]), max(f["solid"])))
+    t.check(max(abs(c - 6.0) for c in f["coordination"]) <= 1e-12,
+            "lattice of touching spheres: 6 contacts per particle (%.15g..%.15g)" % (min(f["coordination"]), max(f["coordination"])))
+    t.check(max(abs(v - 0.25) for v in f["vy"]) <= 1e-12, "common velocity 0.25 recovered")
+    t.check(max(abs(T) for T in f["temperature"]) <= 1e-12, "no fluctuation, no temperature")
+
+    gamma, nz, width = 0.5, 16, 0.6
+    for ranks in (1, 2):
+        sub = os.path.join(wd, "shear.np%d" % ranks)
+        os.mkdir(sub)
+        t.run_ok(LATTICE.format(zboundary="f", n=n, nz=nz, diameter=d, gamma=gamma) +
+                 cg_lines((n, n, nz), width, ["vx"]), sub, nprocs=ranks, name="in.cg")
+        vx = read_fields(sub, ["vx"])["vx"]
+        reach = int(math.floor(width * math.sqrt(-2.0 * math.log(TRUNCATION))))
+        # interior points: the kernel reaches neither wall nor the wall point the clamp loads
+        worst = 0.0
+        for k in range(reach + 1, nz - reach - 1):
+            for j in range(n * n):
+                worst = max(worst, abs(vx[j + n * n * k] - gamma * (k + 0.5)) / (gamma * nz))
+        t.check(worst <= 1e-12, "%d ranks: linear shear vx = gamma z at interior points (rel. %.3g)" % (ranks, worst))
+        slope = (vx[n * n * (nz - reach - 2)] - vx[n * n * (reach + 1)]) / (nz - 2 * reach - 3)
+        t.check(abs(slope - gamma) <= 1e-12 * gamma, "%d ranks: slope %.15g = gamma %g" % (ranks, slope, gamma))
+
+
+def check_errors(wd):
+    base = "units lj\natom_style sphere\n%s\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\ncompute c all griddem/cg %s\n"
+    for dim, args, expect in [("", "2 2 2 0.5 density stress", "unknown value stress"),
+                              ("", "2 2 2 0 density", "kernel width W must be > 0, not 0"),
+                              ("", "2 0 2 0.5 density", "grid count Ny must be at least 1, not 0"),
+                              ("", "2 2 2 0.5", "Illegal compute griddem/cg command: missing argument"),
+                              ("dimension 2\nboundary p p p", "2 2 1 0.5 density", "requires a 3d simulation")]:
+        text = base % (dim, args)
+        if dim:
+            text = text.replace("0 1 0 1 0 1", "0 1 0 1 -0.5 0.5")
+        rc, out = t.run_lmp(text, wd, name="in.bad")
+        t.check(rc != 0 and expect in out, "compute griddem/cg %s: '%s'" % (args, expect))
+
+
+def main():
+    wd = t.workdir()
+    check_random(wd, "griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", "", "griddem", (1, 2, 4))
+    check_random(wd, "granular", "hooke 1000 0.5 tangential linear_history 500 0.5 0.5", "stock", (1, 2))
+    check_wall(wd)
+    check_lattice(wd)
+    check_errors(wd)
+    t.finish()
+
+
+if __name__ == "__main__":
+    main()
