@@ -20,8 +20,7 @@ void griddem_engine_free(griddem_engine *e)
   memset(e, 0, sizeof(*e));
 }
 
-/* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
-static int class_count(double rmin, double rmax)
+int griddem_class_count(double rmin, double rmax)
 {
   if (!(rmin > 0.0) || !(rmax > rmin)) return 1;
   const int n = (int) floor(log2(rmax / rmin) / GRIDDEM_CLASS_SHIFT) + 1;
@@ -101,10 +100,8 @@ static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_g
   for (int c = 0; c < ncls; c++) {
     const int nc = base[c + 1] - base[c];
     const double *xc = e->xc + 3 * (size_t) base[c];
-    /* a sparse class gets larger cells rather than a grid it does not fill (cleared every step);
-       the stencils follow the edge, so the same contacts are found */
     griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
-                       griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0), 8L * nc + 1024L);
+                       griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0), GRIDDEM_CLASS_MAX_CELLS(nc));
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
     cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = upper[c];
@@ -118,7 +115,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   const griddem_particles *p = &s->particles;
   memset(result, 0, sizeof(*result));
   *coarsened = 0;
-  e->nclass = s->size_classes ? class_count(s->rmin, s->rmax) : 1;
+  e->nclass = s->size_classes ? griddem_class_count(s->rmin, s->rmax) : 1;
   griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
   griddem_bins all; /* the channels' order of particles */
   memset(&all, 0, sizeof(all));

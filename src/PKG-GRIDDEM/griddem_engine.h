@@ -30,6 +30,12 @@ typedef struct griddem_engine_stats {
  * faster than 2 on the 1:4 squeeze and a 1:10 pour); the last class takes all smaller ones. */
 #define GRIDDEM_CLASS_SHIFT 2
 #define GRIDDEM_MAX_CLASSES 8
+/* Most cells of a class's grid holding n centres: a sparse class gets larger cells rather than a
+ * grid it does not fill (cleared every step); the stencils follow the edge. */
+#define GRIDDEM_CLASS_MAX_CELLS(n) (8L * (n) + 1024L)
+
+/* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
+int griddem_class_count(double rmin, double rmax);
 
 typedef struct griddem_engine {
   int nclass;                             /* size classes of the last step (1: one grid) */

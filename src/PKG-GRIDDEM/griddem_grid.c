@@ -54,16 +54,20 @@ int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const dou
                        long max_cells)
 {
   double lo[3], hi[3];
-  for (int d = 0; d < 3; d++) {
-    g->anchor[d] = anchor[d];
-    lo[d] = hi[d] = n > 0 ? x[d] : anchor[d];
-  }
+  for (int d = 0; d < 3; d++) lo[d] = hi[d] = n > 0 ? x[d] : anchor[d];
   for (int i = 1; i < n; i++)
     for (int d = 0; d < 3; d++) {
       const double v = x[3 * i + d];
       if (v < lo[d]) lo[d] = v;
       if (v > hi[d]) hi[d] = v;
     }
+  return griddem_grid_fit(g, anchor, lo, hi, h, max_cells);
+}
+
+int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3], const double hi[3],
+                     double h, long max_cells)
+{
+  for (int d = 0; d < 3; d++) g->anchor[d] = anchor[d];
   int coarsened = 0;
   long total = cells_for(g, lo, hi, h, g->k0, g->n);
   while (total > max_cells) {

@@ -53,6 +53,9 @@ int griddem_first_nonfinite(int n, const double *x);
  * must not allocate space they do not fill); returns 1 then, 0 otherwise. Points must be finite. */
 int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
                        long max_cells);
+/* The same for the box lo..hi (the points' bounding box, known to the caller). */
+int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3], const double hi[3],
+                     double h, long max_cells);
 
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);

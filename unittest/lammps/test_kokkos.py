@@ -203,6 +203,29 @@ def main():
     errors = [l for l in out.splitlines() if "ERROR" in l]
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
+    # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
+    # classes searched from both sides; and the same on one grid (fix griddem cell multi)
+    poly = os.path.join(wd, "data.poly")
+    t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.025, 0.4, seed=5, density=100.0, vscale=1.0, wscale=5.0, ntypes=2)
+    for law in (HISTORY, LAWS[-1]):
+        ref = run(wd, "poly_stock", poly, law[2], law[3], extra=FROZEN_LIST)
+        cpu = run(wd, "poly_cpu", poly, law[1], law[3])
+        for cell in ("classes", "multi"):
+            kk = run(wd, "poly_kk", poly, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem cell " + cell)
+            what = "%s/kk [%s] radii 1:16, cell %s" % (law[1].split()[0], law[0], cell)
+            compare(what + " vs stock", ref, kk)
+            compare(what + " vs CPU", cpu, kk)
+    # the classes are real: the smaller spheres' own finer grid spreads them over more cells
+    occupancy = {}
+    for cell in ("classes", "multi"):
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=poly, pair=HISTORY[1], coeffs=HISTORY[3]) +
+                            "fix grid all griddem cell %s\nthermo_style custom step f_grid[1]\nrun 0\n" % cell,
+                            wd, name="in.occ", extra=kk_args(1))
+        occupancy[cell] = t.thermo_values(out, "f_grid[1]")
+    print("occupied cells, radii 1:16: classes %s, multi %s" % (occupancy["classes"], occupancy["multi"]))
+    t.check(occupancy["classes"] and occupancy["multi"] and occupancy["classes"][0] > 1.5 * occupancy["multi"][0],
+            "size classes on kk: %s occupied cells, against %s on one grid" % (occupancy["classes"], occupancy["multi"]))
+
     # history rows that start with room for one contact grow, the numbers unchanged
     few = "fix rows all griddem contacts 1"
     for law in (HISTORY, LAWS[-1]):

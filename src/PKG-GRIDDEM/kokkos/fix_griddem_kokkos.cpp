@@ -117,7 +117,8 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
     for (int e = 0; e < k_count.h_view(i); e++) {
       converted.h_view(i, e * new_entry) = k_rows.h_view(i, e * old_entry);
       for (int k = 1; k < new_entry; k++)
-        converted.h_view(i, e * new_entry + k) = k < old_entry ? k_rows.h_view(i, e * old_entry + k) : 0.0;
+        converted.h_view(i, e * new_entry + k) = k < old_entry ? k_rows.h_view(i, e * old_entry + k)
+                                                               : 0.0;
     }
   k_rows = converted;
   nv = values;
@@ -125,7 +126,8 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
   maxexchange = 2 + width();
 }
 
-template <class DeviceType> const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) const
+template <class DeviceType>
+const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) const
 {
   auto self = const_cast<FixGriddemKokkos<DeviceType> *>(this);
   self->sync_host();
@@ -141,7 +143,8 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_arrays(int i)
   modify_host();
 }
 
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
+template <class DeviceType>
+void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
 {
   sync_host();
   k_count.h_view(j) = k_count.h_view(i);
@@ -161,7 +164,8 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int 
 /* a message's entries beyond the capacity make room for themselves (restart files and other
    processes may hold longer rows); values are converted from `values` per contact */
 
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
+template <class DeviceType>
+int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
 {
   const int count = static_cast<int>(buf[0]);
   sync_host();
@@ -238,9 +242,11 @@ void FixGriddemKokkos<DeviceType>::sort_kokkos(Kokkos::BinSort<KeyViewType, BinO
    messages; the slot of each sent atom is refilled from copylist */
 
 template <class DeviceType>
-int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend, DAT::tdual_xfloat_2d &k_buf,
+int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
+                                                       DAT::tdual_xfloat_2d &k_buf,
                                                        DAT::tdual_int_1d k_sendlist,
-                                                       DAT::tdual_int_1d k_copylist, ExecutionSpace /*space*/)
+                                                       DAT::tdual_int_1d k_copylist,
+                                                       ExecutionSpace /*space*/)
 {
   k_rows.template sync<DeviceType>();
   k_count.template sync<DeviceType>();
@@ -252,7 +258,7 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend, DAT::td
   auto sendlist = k_sendlist.template view<DeviceType>();
   auto copylist = k_copylist.template view<DeviceType>();
   typename ArrayTypes<DeviceType>::t_xfloat_1d_um buf(k_buf.template view<DeviceType>().data(),
-                                                     k_buf.extent(0) * k_buf.extent(1));
+                                                      k_buf.extent(0) * k_buf.extent(1));
   const int entry = 1 + nv;
 
   int total = 0;
@@ -272,7 +278,8 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend, DAT::td
       total);
   // refill the sent slots only after every message is packed: a copy source may be sent too
   Kokkos::parallel_for(
-      "griddem/kk:fill_sent", Kokkos::RangePolicy<DeviceType>(0, nsend), KOKKOS_LAMBDA(const int s) {
+      "griddem/kk:fill_sent", Kokkos::RangePolicy<DeviceType>(0, nsend),
+      KOKKOS_LAMBDA(const int s) {
         const int i = sendlist(s), j = copylist(s);
         if (j < 0) return;
         const int n = count(j);
@@ -287,12 +294,13 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend, DAT::td
 template <class DeviceType>
 void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &k_buf,
                                                           DAT::tdual_int_1d &k_indices, int nrecv,
-                                                          int nrecv1, int nextrarecv1, ExecutionSpace /*space*/)
+                                                          int nrecv1, int nextrarecv1,
+                                                          ExecutionSpace /*space*/)
 {
   k_buf.template sync<DeviceType>();
   k_indices.template sync<DeviceType>();
   typename ArrayTypes<DeviceType>::t_xfloat_1d_um buf(k_buf.template view<DeviceType>().data(),
-                                                     k_buf.extent(0) * k_buf.extent(1));
+                                                      k_buf.extent(0) * k_buf.extent(1));
   auto indices = k_indices.template view<DeviceType>();
   const int entry = 1 + nv;
 
@@ -315,7 +323,8 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
   auto count = k_count.template view<DeviceType>();
 
   Kokkos::parallel_for(
-      "griddem/kk:unpack_exchange", Kokkos::RangePolicy<DeviceType>(0, nrecv), KOKKOS_LAMBDA(const int r) {
+      "griddem/kk:unpack_exchange", Kokkos::RangePolicy<DeviceType>(0, nrecv),
+      KOKKOS_LAMBDA(const int r) {
         const int i = indices(r);
         if (i < 0) return;
         int m = (int) d_ubuf(buf(r)).i;

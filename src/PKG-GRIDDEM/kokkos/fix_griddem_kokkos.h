@@ -56,8 +56,9 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   double memory_usage() override;
 
   void sort_kokkos(Kokkos::BinSort<KeyViewType, BinOp> &Sorter) override;
-  int pack_exchange_kokkos(const int &nsend, DAT::tdual_xfloat_2d &k_buf, DAT::tdual_int_1d k_sendlist,
-                           DAT::tdual_int_1d k_copylist, ExecutionSpace space) override;
+  int pack_exchange_kokkos(const int &nsend, DAT::tdual_xfloat_2d &k_buf,
+                           DAT::tdual_int_1d k_sendlist, DAT::tdual_int_1d k_copylist,
+                           ExecutionSpace space) override;
   void unpack_exchange_kokkos(DAT::tdual_xfloat_2d &k_buf, DAT::tdual_int_1d &k_indices, int nrecv,
                               int nrecv1, int nextrarecv1, ExecutionSpace space) override;
 

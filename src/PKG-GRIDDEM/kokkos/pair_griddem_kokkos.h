@@ -27,6 +27,7 @@
 
 #include "fix_griddem_kokkos.h"
 #include "griddem_contact.h"
+#include "griddem_engine.h"
 #include "kokkos_type.h"
 #include "pair_kokkos.h"
 
@@ -40,7 +41,8 @@ struct GriddemKKScanValue {
   double rmin, rmax;      // radius range of owned atoms
   double vmax2;           // largest squared speed of an owned atom
   int ivmax;              // its index
-  int badx, badv;         // smallest index of a non-finite position (all) / velocity (owned); INT_MAX: none
+  int badx,
+      badv;    // smallest index of a non-finite position (all) / velocity (owned); INT_MAX: none
 };
 
 template <class DeviceType> struct GriddemKKScan {
@@ -66,7 +68,8 @@ template <class DeviceType> struct GriddemKKScan {
     }
     if (o.rmin < s.rmin) s.rmin = o.rmin;
     if (o.rmax > s.rmax) s.rmax = o.rmax;
-    if (o.vmax2 > s.vmax2 || (o.vmax2 == s.vmax2 && o.ivmax < s.ivmax)) s.vmax2 = o.vmax2, s.ivmax = o.ivmax;
+    if (o.vmax2 > s.vmax2 || (o.vmax2 == s.vmax2 && o.ivmax < s.ivmax))
+      s.vmax2 = o.vmax2, s.ivmax = o.ivmax;
     if (o.badx < s.badx) s.badx = o.badx;
     if (o.badv < s.badv) s.badv = o.badv;
   }
@@ -110,10 +113,73 @@ struct GriddemKKGrid {
   {
     return axis_cell(0, x) + n[0] * (axis_cell(1, y) + n[1] * axis_cell(2, z));
   }
-  // lower face along d of the cell holding coordinate x
+  // lower face along d of cell c, and of the cell holding coordinate x
+  KOKKOS_INLINE_FUNCTION double corner(int d, int c) const
+  {
+    return anchor[d] + (double) (k0[d] + c) * h;
+  }
   KOKKOS_INLINE_FUNCTION double cell_origin(int d, double x) const
   {
-    return anchor[d] + (double) (k0[d] + axis_cell(d, x)) * h;
+    return corner(d, axis_cell(d, x));
+  }
+};
+
+/* One grid per size class (one class unless fix griddem's cell mode is auto or classes and the
+   radii span a factor 4), as the CPU engine: class c holds radii in (upper[c+1], upper[c]] on a
+   grid of edge 2 upper[c] (larger for a sparse class); the classes' cells are numbered one
+   after the other, so a single counting sort bins them all. */
+struct GriddemKKGrids {
+  int ncls;
+  GriddemKKGrid g[GRIDDEM_MAX_CLASSES];
+  int offset[GRIDDEM_MAX_CLASSES + 1];      // first cell of each class; offset[ncls]: all cells
+  double upper[GRIDDEM_MAX_CLASSES + 1];    // upper[ncls] = 0
+  KOKKOS_INLINE_FUNCTION int class_of(double r) const
+  {
+    int c = 0;
+    while (c < ncls - 1 && r <= upper[c + 1]) c++;
+    return c;
+  }
+};
+
+/* per size class: atoms, and the bounding box of their centres */
+struct GriddemKKClassBoxes {
+  int count[GRIDDEM_MAX_CLASSES];
+  double lo[GRIDDEM_MAX_CLASSES][3], hi[GRIDDEM_MAX_CLASSES][3];
+};
+
+template <class DeviceType> struct GriddemKKClassScan {
+  typedef DeviceType device_type;
+  typedef GriddemKKClassBoxes value_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typename AT::t_x_array_randomread x;
+  typename AT::t_float_1d_randomread radius;
+  GriddemKKGrids grids;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type &s) const
+  {
+    for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) {
+      s.count[c] = 0;
+      for (int d = 0; d < 3; d++) s.lo[c][d] = 1e308, s.hi[c][d] = -1e308;
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
+  {
+    for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) {
+      s.count[c] += o.count[c];
+      for (int d = 0; d < 3; d++) {
+        if (o.lo[c][d] < s.lo[c][d]) s.lo[c][d] = o.lo[c][d];
+        if (o.hi[c][d] > s.hi[c][d]) s.hi[c][d] = o.hi[c][d];
+      }
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &s) const
+  {
+    const int c = grids.class_of(radius(i));
+    s.count[c]++;
+    for (int d = 0; d < 3; d++) {
+      if (x(i, d) < s.lo[c][d]) s.lo[c][d] = x(i, d);
+      if (x(i, d) > s.hi[c][d]) s.hi[c][d] = x(i, d);
+    }
   }
 };
 
@@ -150,24 +216,23 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
   typedef GriddemKKSweepValue value_type;
   typedef ArrayTypes<DeviceType> AT;
 
-  GriddemKKGrid grid;
-  double h;                  // cell edge
-  int reach;                 // cells visited on each side
-  double reach_extra;        // model.reach_extra
+  GriddemKKGrids grids;
+  double slack;          // added to every search distance: round-off of the positions
+  double reach_extra;    // model.reach_extra
   int nlocal, ntypes, frozen_bit, vflag_global, vflag_atom;
   double dt;
-  int history_update;        // 0 in setup: stored values are read, not advanced
-  int track;                 // model.track_contacts: rows are kept
-  int nv, capacity;          // values per contact, entries per row
-  int repair;                // 1: only append the contacts missing from the rows
-  Kokkos::View<const int *, DeviceType> start, order, cell;    // cell: of each atom
-  Kokkos::View<const Real *[4], DeviceType> pos;      // GriddemKKChannels, sorted
+  int history_update;    // 0 in setup: stored values are read, not advanced
+  int track;             // model.track_contacts: rows are kept
+  int nv, capacity;      // values per contact, entries per row
+  int repair;            // 1: only append the contacts missing from the rows
+  Kokkos::View<const int *, DeviceType> start, order, cell, cls;    // cell, class: of each atom
+  Kokkos::View<const Real *[4], DeviceType> pos;                    // GriddemKKChannels, sorted
   Kokkos::View<const Real *[7], DeviceType> state;
-  Kokkos::View<const int *[2], DeviceType> tm;        // type, mask, sorted
-  typename AT::t_tagint_1d_randomread tag;            // by atom index
+  Kokkos::View<const int *[2], DeviceType> tm;    // type, mask, sorted
+  typename AT::t_tagint_1d_randomread tag;        // by atom index
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
-  Kokkos::View<const unsigned char *, DeviceType> excl_type;    // empty: no type exclusions
-  Kokkos::View<const int *, DeviceType> excl_group;             // pairs of group bits
+  Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
+  Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
   Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> rows;    // fix griddem/kk's rows
   Kokkos::View<int *, DeviceType> count;
   typename AT::t_f_array f, torque;
@@ -240,80 +305,90 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
     const double pi[3] = {pos(s, 0), pos(s, 1), pos(s, 2)}, radi = pos(s, 3);
     const int itype = tm(s, 0), imask = tm(s, 1);
     const double mi = state(s, 6);
-    const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
-    const int ci = cell(i);
-    const int ic[3] = {ci % nx, (ci / nx) % ny, ci / (nx * ny)};
-    double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0}, w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    // own cell, its lower corner, and the absolute centre
+    const GriddemKKGrid &gi = grids.g[cls(i)];
+    const int ci = cell(i) - grids.offset[cls(i)];
+    const int ic[3] = {ci % gi.n[0], (ci / gi.n[0]) % gi.n[1], ci / (gi.n[0] * gi.n[1])};
+    double corner[3], xi[3];
+    for (int d = 0; d < 3; d++) corner[d] = gi.corner(d, ic[d]), xi[d] = corner[d] + pi[d];
+    double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0},
+           w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double energy = 0.0;
     const int old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
     int n = old, lost = 0, ncontact = 0;
 
-    for (int z = ic[2] - reach; z <= ic[2] + reach; z++) {
-      if (z < 0 || z >= nz) continue;
-      for (int y = ic[1] - reach; y <= ic[1] + reach; y++) {
-        if (y < 0 || y >= ny) continue;
-        for (int x = ic[0] - reach; x <= ic[0] + reach; x++) {
-          if (x < 0 || x >= nx) continue;
-          const int cell = x + nx * (y + ny * z);
-          // x_i - x_j from the positions in their cells and the cells' offset
-          const double shift[3] = {(ic[0] - x) * h, (ic[1] - y) * h, (ic[2] - z) * h};
-          for (int t = start(cell); t < start(cell + 1); t++) {
-          if (t == s) continue;
-          const double dx = (pi[0] - (double) pos(t, 0)) + shift[0];
-          const double dy = (pi[1] - (double) pos(t, 1)) + shift[1];
-          const double dz = (pi[2] - (double) pos(t, 2)) + shift[2];
-          const double radj = pos(t, 3);
-          const double rsq = dx * dx + dy * dy + dz * dz;
-          const double rs = radi + reach_extra + radj;
-          if (!(rsq < rs * rs)) continue;
-          if (rsq == 0.0) {
-            if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(t);
-            continue;
-          }
-          const int jtype = tm(t, 0), jmask = tm(t, 1);
-          if (excluded(itype, imask, jtype, jmask)) continue;
-          const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
-          const double partner = track ? (double) tag(order(t)) : 0.0;
-          const int e = track ? find(i, old, partner) : -1;
-          if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, e >= 0)) continue;
-          if (repair && e >= 0) continue;
+    // every class's cells within reach of a partner as large as the class allows
+    for (int cj = 0; cj < grids.ncls; cj++) {
+      const GriddemKKGrid &g = grids.g[cj];
+      const double d = radi + grids.upper[cj] + reach_extra + slack;
+      int lo[3], hi[3];
+      for (int k = 0; k < 3; k++)
+        lo[k] = g.axis_cell(k, xi[k] - d), hi[k] = g.axis_cell(k, xi[k] + d);
+      for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+          for (int x = lo[0]; x <= hi[0]; x++) {
+            const int slot_cell = grids.offset[cj] + x + g.n[0] * (y + g.n[1] * z);
+            // x_i - x_j from the positions in their cells and the cells' corners
+            const double shift[3] = {corner[0] - g.corner(0, x), corner[1] - g.corner(1, y),
+                                     corner[2] - g.corner(2, z)};
+            for (int t = start(slot_cell); t < start(slot_cell + 1); t++) {
+              if (t == s) continue;
+              const double dx = (pi[0] - (double) pos(t, 0)) + shift[0];
+              const double dy = (pi[1] - (double) pos(t, 1)) + shift[1];
+              const double dz = (pi[2] - (double) pos(t, 2)) + shift[2];
+              const double radj = pos(t, 3);
+              const double rsq = dx * dx + dy * dy + dz * dz;
+              const double rs = radi + reach_extra + radj;
+              if (!(rsq < rs * rs)) continue;
+              if (rsq == 0.0) {
+                if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(t);
+                continue;
+              }
+              const int jtype = tm(t, 0), jmask = tm(t, 1);
+              if (excluded(itype, imask, jtype, jmask)) continue;
+              const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
+              const double partner = track ? (double) tag(order(t)) : 0.0;
+              const int e = track ? find(i, old, partner) : -1;
+              if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, e >= 0))
+                continue;
+              if (repair && e >= 0) continue;
 
-          griddem_contact c;
-          c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
-          c.rsq = rsq;
-          c.radi = radi, c.radj = radj;
-          for (int d = 0; d < 3; d++) {
-            c.vr[d] = state(s, d) - state(t, d);
-            c.wi[d] = state(s, 3 + d), c.wj[d] = state(t, 3 + d);
+              griddem_contact c;
+              c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
+              c.rsq = rsq;
+              c.radi = radi, c.radj = radj;
+              for (int d = 0; d < 3; d++) {
+                c.vr[d] = state(s, d) - state(t, d);
+                c.wi[d] = state(s, 3 + d), c.wj[d] = state(t, 3 + d);
+              }
+              c.meff = griddem_effective_mass(mi, state(t, 6), (imask & frozen_bit) != 0,
+                                              (jmask & frozen_bit) != 0);
+              c.dt = dt;
+              c.history_update = history_update;
+              c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
+              double hist[GRIDDEM_MAX_HISTORY];
+              for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
+              for (int k = 0; k < nv && e >= 0; k++) hist[k] = rows(i, e * (1 + nv) + 1 + k);
+              double fc[3], ti[3], tj[3];
+              const double u = griddem_contact_eval(law, &c, hist, fc, ti, tj);
+              if (track) {
+                if (e >= 0)
+                  store(i, e, partner + 0.5, hist);
+                else if (n < capacity)
+                  store(i, n++, partner, hist);
+                else
+                  lost++;
+              }
+              if (repair) continue;
+              for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
+              energy += 0.5 * u;
+              ncontact++;
+              if (vflag_global || vflag_atom) {
+                w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
+                w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
+              }
+            }
           }
-          c.meff = griddem_effective_mass(mi, state(t, 6), (imask & frozen_bit) != 0, (jmask & frozen_bit) != 0);
-          c.dt = dt;
-          c.history_update = history_update;
-          c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
-          double hist[GRIDDEM_MAX_HISTORY];
-          for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
-          for (int k = 0; k < nv && e >= 0; k++) hist[k] = rows(i, e * (1 + nv) + 1 + k);
-          double fc[3], ti[3], tj[3];
-          const double u = griddem_contact_eval(law, &c, hist, fc, ti, tj);
-          if (track) {
-            if (e >= 0)
-              store(i, e, partner + 0.5, hist);
-            else if (n < capacity)
-              store(i, n++, partner, hist);
-            else
-              lost++;
-          }
-          if (repair) continue;
-          for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
-          energy += 0.5 * u;
-          ncontact++;
-          if (vflag_global || vflag_atom) {
-            w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
-            w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
-          }
-          }
-        }
-      }
     }
     if (track) {
       const int kept = repair ? n : compact(i, old, n);
@@ -346,11 +421,12 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
  protected:
   // sizes the Views below were allocated for
   int nmax_atoms, nmax_cells;
-  Kokkos::View<int *, DeviceType> d_cell;     // [nall] cell of each atom
-  Kokkos::View<int *, DeviceType> d_count;    // [ncell+1] atoms per cell, then fill cursor
-  Kokkos::View<int *, DeviceType> d_start;    // [ncell+1] first slot of each cell
-  Kokkos::View<int *, DeviceType> d_unsorted; // [nall] slots filled in arrival order
-  Kokkos::View<int *, DeviceType> d_order;    // [nall] atom index of each sorted slot
+  Kokkos::View<int *, DeviceType> d_cell;        // [nall] cell of each atom
+  Kokkos::View<int *, DeviceType> d_cls;         // [nall] size class of each atom
+  Kokkos::View<int *, DeviceType> d_count;       // [ncell+1] atoms per cell, then fill cursor
+  Kokkos::View<int *, DeviceType> d_start;       // [ncell+1] first slot of each cell
+  Kokkos::View<int *, DeviceType> d_unsorted;    // [nall] slots filled in arrival order
+  Kokkos::View<int *, DeviceType> d_order;       // [nall] atom index of each sorted slot
   GriddemKKChannels<DeviceType, double> channels_double;
   GriddemKKChannels<DeviceType, float> channels_single;
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
@@ -367,7 +443,7 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
 
   std::string history_fix_style() const override;
   template <typename Real>
-  void bin_and_sweep(const GriddemKKGrid &grid, double h, int reach, const GriddemKKScanValue &sc);
+  void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
   void upload_tables();
   void report_coincident(int i, int j);
 };

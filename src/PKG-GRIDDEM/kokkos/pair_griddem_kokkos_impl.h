@@ -27,13 +27,14 @@ namespace LAMMPS_NS {
 
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
-    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0), history(nullptr)
+    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0),
+    history(nullptr)
 {
   this->kokkosable = 1;
   this->atomKK = (AtomKokkos *) this->atom;
   this->execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
-  this->datamask_read = X_MASK | V_MASK | OMEGA_MASK | F_MASK | TORQUE_MASK | TYPE_MASK | MASK_MASK |
-      TAG_MASK | RMASS_MASK | RADIUS_MASK;
+  this->datamask_read = X_MASK | V_MASK | OMEGA_MASK | F_MASK | TORQUE_MASK | TYPE_MASK |
+      MASK_MASK | TAG_MASK | RMASS_MASK | RADIUS_MASK;
   this->datamask_modify = F_MASK | TORQUE_MASK;
 }
 
@@ -63,7 +64,8 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   // device only if some neighbor list lives there; this style requests none, so without this
   // every step would copy the positions to the host and check them there (measured on an H100:
   // 90% of a 2M-atom chute step)
-  if (std::is_same<DeviceType, LMPDeviceType>::value) ((NeighborKokkos *) this->neighbor)->device_flag = 1;
+  if (std::is_same<DeviceType, LMPDeviceType>::value)
+    ((NeighborKokkos *) this->neighbor)->device_flag = 1;
 }
 
 /* the law table and the exclusions, copied to the device after each init */
@@ -95,11 +97,15 @@ void PairGriddemKokkos<DeviceType, Base>::report_coincident(int i, int j)
 {
   this->atomKK->sync(Host, X_MASK | TAG_MASK);
   double **x = this->atom->x;
-  this->error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
-                   this->force->pair_style, this->atom->tag[i], this->atom->tag[j], x[i][0], x[i][1], x[i][2]);
+  this->error->one(FLERR,
+                   "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the "
+                   "contact normal is undefined",
+                   this->force->pair_style, this->atom->tag[i], this->atom->tag[j], x[i][0],
+                   x[i][1], x[i][2]);
 }
 
-template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
 {
   Error *error = this->error;
   const char *style = this->force->pair_style;
@@ -158,7 +164,8 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     this->rmin = global[0];
     this->rmax = -global[1];
     if (this->rmax > 0.0 && !(this->rmin > 0.0))
-      error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", style, this->rmin);
+      error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", style,
+                 this->rmin);
   }
   const double rmax = this->rmax;
   if (rmax == 0.0) return;    // no atoms yet
@@ -167,52 +174,75 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, rmax, 0.0);
   if (sc.ivmax >= 0 && sqrt(sc.vmax2) * this->update->dt > h_nn4dem) {
     atomKK->sync(Host, TAG_MASK);
-    error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
-               style, this->atom->tag[sc.ivmax], sqrt(sc.vmax2) * this->update->dt, sqrt(sc.vmax2), h_nn4dem);
+    error->one(FLERR,
+               "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid "
+               "cell allows (dt <= dx/v_max); reduce the timestep",
+               style, this->atom->tag[sc.ivmax], sqrt(sc.vmax2) * this->update->dt, sqrt(sc.vmax2),
+               h_nn4dem);
   }
 
-  // 2. grid: fix griddem's multi edge, anchored at boxlo, enlarged if it would need too many cells
-  GriddemKKGrid grid;
-  double h = griddem_cell_edge(GRIDDEM_CELL_MULTI, this->rmin, rmax, 0.0);
-  const long max_cells = 32L * nall + 65536L;
+  // 2. grids: one per size class (fix griddem's classes; multi: one), anchored at boxlo, a class
+  // given larger cells where it would need too many
+  GriddemKKGrids grids;
+  const int classes = this->fix->cell_mode != GRIDDEM_CELL_MULTI;
+  grids.ncls = classes ? griddem_class_count(this->rmin, rmax) : 1;
+  for (int c = 0; c < grids.ncls; c++) grids.upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
+  grids.upper[grids.ncls] = 0.0;
+  GriddemKKClassBoxes boxes;
+  if (grids.ncls == 1) {
+    boxes.count[0] = nall;
+    for (int d = 0; d < 3; d++) boxes.lo[0][d] = sc.lo[d], boxes.hi[0][d] = sc.hi[d];
+  } else {
+    GriddemKKClassScan<DeviceType> class_scan;
+    class_scan.x = x;
+    class_scan.radius = radius;
+    class_scan.grids = grids;
+    Kokkos::parallel_reduce("griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall),
+                            class_scan, boxes);
+  }
   double extent = 0.0;
-  for (int d = 0; d < 3; d++) {
-    grid.anchor[d] = this->domain->boxlo[d];
-    if (nall == 0) sc.lo[d] = sc.hi[d] = grid.anchor[d];
-    extent = MAX(extent, MAX(fabs(sc.lo[d] - grid.anchor[d]), fabs(sc.hi[d] - grid.anchor[d])));
-  }
-  long total;
-  int coarsened = 0;
-  while (true) {
-    total = 1;
+  long total = 0;
+  for (int c = 0; c < grids.ncls; c++) {
+    double lo[3], hi[3];
     for (int d = 0; d < 3; d++) {
-      grid.k0[d] = (long) floor((sc.lo[d] - grid.anchor[d]) / h);
-      const long cells = (long) floor((sc.hi[d] - grid.anchor[d]) / h) - grid.k0[d] + 1;
-      grid.n[d] = (int) MIN(cells, 1000000000L);
-      total = total < 4000000000000L / grid.n[d] ? total * grid.n[d] : 4000000000000L;
+      lo[d] = boxes.count[c] ? boxes.lo[c][d] : this->domain->boxlo[d];
+      hi[d] = boxes.count[c] ? boxes.hi[c][d] : this->domain->boxlo[d];
+      extent = MAX(extent,
+                   MAX(fabs(lo[d] - this->domain->boxlo[d]), fabs(hi[d] - this->domain->boxlo[d])));
     }
-    if (total <= max_cells && total < INT_MAX) break;
-    h *= 1.25;
-    coarsened = 1;
+    const long max_cells = grids.ncls == 1 ? 32L * nall + 65536L
+                                           : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
+    griddem_grid fitted;
+    const int coarsened = griddem_grid_fit(
+        &fitted, this->domain->boxlo, lo, hi,
+        griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0), max_cells);
+    if (coarsened && !coarsened_warned_kk) {
+      coarsened_warned_kk = 1;
+      error->warning(FLERR,
+                     "Pair style {}: cell edge of size class {} enlarged to {} so that its grid "
+                     "over this process's atoms stays within {} cells",
+                     style, c, fitted.h, max_cells);
+    }
+    GriddemKKGrid &g = grids.g[c];
+    for (int d = 0; d < 3; d++)
+      g.anchor[d] = fitted.anchor[d], g.k0[d] = fitted.k0[d], g.n[d] = fitted.n[d];
+    g.h = fitted.h;
+    g.hinv = fitted.hinv;
+    g.ncell = (int) fitted.ncell;
+    grids.offset[c] = (int) total;
+    total += fitted.ncell;
+    if (total >= INT_MAX)
+      error->one(FLERR, "Pair style {}: the grids would need {} cells, more than an int counts",
+                 style, total);
   }
-  if (coarsened && !coarsened_warned_kk) {
-    coarsened_warned_kk = 1;
-    error->warning(FLERR, "Pair style {}: cell edge enlarged to {} so that the grid over this process's atoms stays within {} cells",
-                   style, h, max_cells);
-  }
-  grid.h = h;
-  grid.hinv = 1.0 / h;
-  grid.ncell = (int) total;
-  const double cutmax = (2.0 * rmax + this->model.reach_extra) * (1.0 + 1e-10) + 1e-14 * extent;
-  const int reach = griddem_stencil_reach(h, cutmax);
-  if (reach > GRIDDEM_MAX_REACH)
-    error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {}", style,
-               cutmax, GRIDDEM_MAX_REACH, h);
+  grids.offset[grids.ncls] = (int) total;
+  // the search distance's margin for round-off of positions relative to their cells
+  const double slack = 1e-10 * (2.0 * rmax + this->model.reach_extra) + 1e-14 * extent;
 
   if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
-    bin_and_sweep<float>(grid, h, reach, sc);
+    bin_and_sweep<float>(grids, slack, sc);
   else
-    bin_and_sweep<double>(grid, h, reach, sc);
+    bin_and_sweep<double>(grids, slack, sc);
 }
 
 /* counting sort into the channels (of Real: positions relative to their cell, velocities,
@@ -220,7 +250,7 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
 
 template <class DeviceType, class Base>
 template <typename Real>
-void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &grid, double h, int reach,
+void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &grids, double slack,
                                                         const GriddemKKScanValue &sc)
 {
   AtomKokkos *atomKK = this->atomKK;
@@ -240,23 +270,26 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &gri
   if (nall > nmax_atoms) {
     nmax_atoms = MAX(nall, (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
+    d_cls = Kokkos::View<int *, DeviceType>("griddem/kk:class", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
     d_tm = Kokkos::View<int *[2], DeviceType>("griddem/kk:tm", nmax_atoms);
   }
   if (nall > (int) chan.pos.extent(0)) {
     chan.pos = typename GriddemKKChannels<DeviceType, Real>::t_pos("griddem/kk:pos", nmax_atoms);
-    chan.state = typename GriddemKKChannels<DeviceType, Real>::t_state("griddem/kk:state", nmax_atoms);
+    chan.state =
+        typename GriddemKKChannels<DeviceType, Real>::t_state("griddem/kk:state", nmax_atoms);
   }
-  if (grid.ncell + 1 > nmax_cells) {
-    nmax_cells = MAX(grid.ncell + 1, (int) MIN(1.2 * nmax_cells, (double) INT_MAX));
+  const int ncell = grids.offset[grids.ncls];
+  if (ncell + 1 > nmax_cells) {
+    nmax_cells = MAX(ncell + 1, (int) MIN(1.2 * nmax_cells, (double) INT_MAX));
     d_count = Kokkos::View<int *, DeviceType>("griddem/kk:count", nmax_cells);
     d_start = Kokkos::View<int *, DeviceType>("griddem/kk:start", nmax_cells);
   }
 
   // 3. counting sort by cell
-  const int ncell = grid.ncell;
   auto cell = d_cell;
+  auto cls = d_cls;
   auto count = d_count;
   auto start = d_start;
   auto unsorted = d_unsorted;
@@ -264,56 +297,63 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &gri
   auto pos = chan.pos;
   auto state = chan.state;
   auto tm = d_tm;
-  Kokkos::parallel_for("griddem/kk:clear", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
-                       KOKKOS_LAMBDA(const int c) { count(c) = 0; });
-  Kokkos::parallel_for("griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-    const int c = grid.cell_of(x(i, 0), x(i, 1), x(i, 2));
-    cell(i) = c;
-    Kokkos::atomic_inc(&count(c));
-  });
-  Kokkos::parallel_scan("griddem/kk:scan_cells", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
-                        KOKKOS_LAMBDA(const int c, int &partial, const bool final) {
-                          const int k = count(c);
-                          if (final) {
-                            start(c) = partial;
-                            count(c) = 0;    // from here on: the cell's fill cursor
-                          }
-                          partial += k;
-                        });
-  Kokkos::parallel_for("griddem/kk:fill", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-    const int c = cell(i);
-    unsorted(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
-  });
+  Kokkos::parallel_for(
+      "griddem/kk:clear", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
+      KOKKOS_LAMBDA(const int c) { count(c) = 0; });
+  Kokkos::parallel_for(
+      "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+        const int k = grids.class_of(radius(i));
+        cls(i) = k;
+        const int c = grids.offset[k] + grids.g[k].cell_of(x(i, 0), x(i, 1), x(i, 2));
+        cell(i) = c;
+        Kokkos::atomic_inc(&count(c));
+      });
+  Kokkos::parallel_scan(
+      "griddem/kk:scan_cells", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
+      KOKKOS_LAMBDA(const int c, int &partial, const bool final) {
+        const int k = count(c);
+        if (final) {
+          start(c) = partial;
+          count(c) = 0;    // from here on: the cell's fill cursor
+        }
+        partial += k;
+      });
+  Kokkos::parallel_for(
+      "griddem/kk:fill", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+        const int c = cell(i);
+        unsorted(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
+      });
   // within a cell, slot = rank by (tag, x, y, z): the same order whatever order atoms are stored in
-  Kokkos::parallel_for("griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int s) {
-    const int i = unsorted(s);
-    const int c = cell(i);
-    const tagint ti = tag(i);
-    const double xi = x(i, 0), yi = x(i, 1), zi = x(i, 2);
-    int rank = 0;
-    for (int u = start(c); u < start(c + 1); u++) {
-      const int j = unsorted(u);
-      const tagint tj = tag(j);
-      const double xj = x(j, 0), yj = x(j, 1), zj = x(j, 2);
-      rank += tj < ti ||
-          (tj == ti && (xj < xi || (xj == xi && (yj < yi || (yj == yi && zj < zi)))));
-    }
-    const int slot = start(c) + rank;
-    order(slot) = i;
-    const double p[3] = {xi, yi, zi};
-    for (int d = 0; d < 3; d++) pos(slot, d) = (Real) (p[d] - grid.cell_origin(d, p[d]));
-    pos(slot, 3) = radius(i);
-    for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
-    state(slot, 6) = rmass(i);
-    tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
-  });
+  Kokkos::parallel_for(
+      "griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int s) {
+        const int i = unsorted(s);
+        const int c = cell(i);
+        const tagint ti = tag(i);
+        const double xi = x(i, 0), yi = x(i, 1), zi = x(i, 2);
+        int rank = 0;
+        for (int u = start(c); u < start(c + 1); u++) {
+          const int j = unsorted(u);
+          const tagint tj = tag(j);
+          const double xj = x(j, 0), yj = x(j, 1), zj = x(j, 2);
+          rank += tj < ti ||
+              (tj == ti && (xj < xi || (xj == xi && (yj < yi || (yj == yi && zj < zi)))));
+        }
+        const int slot = start(c) + rank;
+        order(slot) = i;
+        const double p[3] = {xi, yi, zi};
+        for (int d = 0; d < 3; d++)
+          pos(slot, d) = (Real) (p[d] - grids.g[cls(i)].cell_origin(d, p[d]));
+        pos(slot, 3) = radius(i);
+        for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
+        state(slot, 6) = rmass(i);
+        tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
+      });
 
   // 4. sweep, and the history rows of atoms whose new contacts did not fit
   const int track = this->model.track_contacts;
   GriddemKKSweep<DeviceType, Real> sweep;
-  sweep.grid = grid;
-  sweep.h = h;
-  sweep.reach = reach;
+  sweep.grids = grids;
+  sweep.slack = slack;
   sweep.reach_extra = this->model.reach_extra;
   sweep.nlocal = nlocal;
   sweep.ntypes = this->atom->ntypes;
@@ -327,6 +367,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &gri
   sweep.start = d_start;
   sweep.order = d_order;
   sweep.cell = d_cell;
+  sweep.cls = d_cls;
   sweep.pos = chan.pos;
   sweep.state = chan.state;
   sweep.tm = d_tm;
@@ -346,15 +387,17 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &gri
   sweep.nv = sweep.capacity = 0;
   if (track) bind_rows();
   GriddemKKSweepValue sums;
-  Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep, sums);
+  Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
+                          sums);
   if (track) {
     history->rows_modified_on_device();
     for (int incomplete = sums.incomplete; incomplete;) {
-      history->reserve_entries(sums.most + 2);
+      history->reserve_entries(sums.most + 2 + sums.most / 4);    // geometric: few regrowths
       bind_rows();
       sweep.repair = 1;
       GriddemKKSweepValue repaired;
-      Kokkos::parallel_reduce("griddem/kk:repair", Kokkos::RangePolicy<DeviceType>(0, nall), sweep, repaired);
+      Kokkos::parallel_reduce("griddem/kk:repair", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
+                              repaired);
       history->rows_modified_on_device();
       incomplete = repaired.incomplete;
     }
@@ -382,12 +425,12 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrid &gri
   griddem_engine_stats stats;
   stats.occupied_cells = occupied;
   stats.max_occupancy = occupancy;
-  stats.cell_edge = h;
+  stats.cell_edge = grids.g[0].h;
   stats.contacts = sums.contacts;
   stats.max_contacts = sums.most;
   stats.elastic_energy = sums.energy;
   stats.max_speed = sc.ivmax >= 0 ? sqrt(sc.vmax2) : 0.0;
-  stats.max_cells_moved = stats.max_speed * this->update->dt / h;
+  stats.max_cells_moved = stats.max_speed * this->update->dt / grids.g[grids.ncls - 1].h;
   stats.nonfinite_velocity = 0;
   this->fix->set_stats(stats);
 }
