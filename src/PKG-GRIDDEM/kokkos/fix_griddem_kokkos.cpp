@@ -164,20 +164,24 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int 
 /* a message's entries beyond the capacity make room for themselves (restart files and other
    processes may hold longer rows); values are converted from `values` per contact */
 
-template <class DeviceType>
-int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
+template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, const double *message)
 {
-  const int count = static_cast<int>(buf[0]);
+  const int count = static_cast<int>(message[0]);
   sync_host();
   if (count > capacity) {
     reserve_entries(count);
     sync_host();
   }
-  k_count.h_view(nlocal) = count;
-  for (int k = 0; k < count * (1 + nv); k++) k_rows.h_view(nlocal, k) = buf[1 + k];
+  k_count.h_view(i) = count;
+  for (int k = 0; k < count * (1 + nv); k++) k_rows.h_view(i, k) = message[1 + k];
   modify_host();
   longest = MAX(longest, count);
   return 1 + count * (1 + nv);
+}
+
+template <class DeviceType> int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
+{
+  return put_row(nlocal, buf);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_restart(int i, double *buf)
@@ -193,17 +197,9 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::unpack_restart(in
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
   const double *record = &extra[nlocal][m];
-  const int record_values = static_cast<int>(record[1]), count = static_cast<int>(record[2]);
+  const int record_values = static_cast<int>(record[1]);
   if (record_values != nv) set_values(record_values);
-  sync_host();
-  if (count > capacity) {
-    reserve_entries(count);
-    sync_host();
-  }
-  k_count.h_view(nlocal) = count;
-  for (int k = 0; k < count * (1 + nv); k++) k_rows.h_view(nlocal, k) = record[3 + k];
-  modify_host();
-  longest = MAX(longest, count);
+  put_row(nlocal, record + 2);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::size_restart(int nlocal)

@@ -85,6 +85,8 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   int width() const { return capacity * (1 + nv); }
   void sync_host();
   void modify_host();
+  // store a row message as atom i's row; returns its length
+  int put_row(int i, const double *message);
 };
 
 }    // namespace LAMMPS_NS

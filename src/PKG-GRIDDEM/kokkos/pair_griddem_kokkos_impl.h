@@ -127,12 +127,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
 
   auto x = atomKK->k_x.template view<DeviceType>();
   auto v = atomKK->k_v.template view<DeviceType>();
-  auto omega = atomKK->k_omega.template view<DeviceType>();
   auto radius = atomKK->k_radius.template view<DeviceType>();
-  auto rmass = atomKK->k_rmass.template view<DeviceType>();
-  auto type = atomKK->k_type.template view<DeviceType>();
-  auto mask = atomKK->k_mask.template view<DeviceType>();
-  auto tag = atomKK->k_tag.template view<DeviceType>();
   const int nlocal = this->atom->nlocal;
   const int nall = nlocal + this->atom->nghost;
 
