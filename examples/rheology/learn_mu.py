@@ -4,7 +4,7 @@ numbers chosen adaptively where an ensemble of small NumPy MLPs disagrees, fits 
 GDR MiDi / Jop form, regularises the learned curve at low I, and checks it against steady inclined
 layers (in.incline) through the Bagnold profile. Writes results.json, mu_I.png and incline.png.
 
-    /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.01] [--quick]
+    /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.005] [--max-runs 6] [--uniform-levels 2]
 
 (/usr/bin/python3: Debian's interpreter, which has NumPy, SciPy and matplotlib.) DEM results are
 cached in work/ (one folder per run), so a second call only refits and redraws."""
@@ -297,11 +297,12 @@ def main():
     ap.add_argument("--lmp", default=default_lmp())
     ap.add_argument("--Ilo", type=float, default=0.01, help="lowest I run (1e-3 requested: see README)")
     ap.add_argument("--Ihi", type=float, default=0.3)
-    ap.add_argument("--tol", type=float, default=0.01, help="max ensemble std of mu")
-    ap.add_argument("--max-runs", type=int, default=8)
+    ap.add_argument("--tol", type=float, default=0.005, help="max ensemble std of mu")
+    ap.add_argument("--max-runs", type=int, default=6)
     ap.add_argument("--thetas", default="22,24,26")
     ap.add_argument("--incline-steps", type=int, default=300000)
     ap.add_argument("--no-uniform", action="store_true", help="skip the uniform-sampling comparison")
+    ap.add_argument("--uniform-levels", type=int, default=2, help="nested uniform grids of 3, 5, 9.. points: how many")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
 
@@ -315,7 +316,7 @@ def main():
     print("adaptive: runs and max std of mu:", hist)
     out = dict(adaptive=dict(runs=len(pts), history=hist, tol=a.tol, Ilo=a.Ilo, Ihi=a.Ihi))
     if not a.no_uniform:
-        upts, uhist, _ = uniform(run, a.Ilo, a.Ihi, a.tol)
+        upts, uhist, _ = uniform(run, a.Ilo, a.Ihi, a.tol, max_level=a.uniform_levels)
         print("uniform: runs and max std of mu:", uhist)
         out["uniform"] = dict(runs=len(upts), history=uhist)
     # all distinct measured points for the fits
