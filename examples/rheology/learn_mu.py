@@ -145,7 +145,11 @@ def adaptive(run, Ilo, Ihi, tol, max_runs, grid=60, **ens):
         history.append((len(points), float(std.max())))
         if std.max() <= tol or len(points) >= max_runs:
             return points, history, e
-        points.append(run(float(Ig[int(np.argmax(std))])))
+        # never the same I twice (a cached rerun adds no information): mask sampled grid points
+        done = np.array([any(abs(math.log(x / p["Irequested"])) < 1e-6 for p in points) for x in Ig])
+        if np.all(done):
+            return points, history, e
+        points.append(run(float(Ig[int(np.argmax(np.where(done, -1.0, std)))])))
 
 
 def uniform(run, Ilo, Ihi, tol, max_level=3, grid=60, **ens):
