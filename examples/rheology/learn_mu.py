@@ -1,0 +1,393 @@
+#!/usr/bin/python3
+"""mu(I) rheology learned from DEM: runs in.rve (build/lmp, one process, one thread) at inertial
+numbers chosen adaptively where an ensemble of small NumPy MLPs disagrees, fits the
+GDR MiDi / Jop form, regularises the learned curve at low I, and checks it against steady inclined
+layers (in.incline) through the Bagnold profile. Writes results.json, mu_I.png and incline.png.
+
+    /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.005] [--max-runs 6] [--uniform-levels 2]
+
+(/usr/bin/python3: Debian's interpreter, which has NumPy, SciPy and matplotlib.) DEM results are
+cached in work/ (one folder per run), so a second call only refits and redraws."""
+import argparse
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+WORK = os.path.join(HERE, "work")
+RESULT = re.compile(r"GRIDDEM rheology: result I (\S+) \+- (\S+) mu (\S+) \+- (\S+) phi (\S+) \+- (\S+)")
+FAILED = "GRIDDEM rheology: pressure control failed"
+
+
+# ---------------------------------------------------------------- DEM runs
+def default_lmp():
+    return os.environ.get("GRIDDEM_LMP", os.path.join(HERE, "..", "..", "build", "lmp"))
+
+
+def parse_rve(text):
+    """The closing result line of in.rve: dict of I, dI, mu, dmu, phi, dphi; None if absent."""
+    m = RESULT.search(text)
+    if not m:
+        return None
+    v = [float(x) for x in m.groups()]
+    return dict(I=v[0], dI=v[1], mu=v[2], dmu=v[3], phi=v[4], dphi=v[5])
+
+
+def run_rve(lmp, I, extra=(), workdir=None):
+    """One RVE at requested inertial number I (cached in work/rve_<I>/result.json)."""
+    workdir = workdir or os.path.join(WORK, "rve_%.5g" % I)
+    cache = os.path.join(workdir, "result.json")
+    if os.path.exists(cache):
+        with open(cache) as f:
+            return json.load(f)
+    os.makedirs(workdir, exist_ok=True)
+    cmd = [lmp, "-in", os.path.join(HERE, "in.rve"), "-var", "I", "%.6g" % I, "-log", "log.lammps",
+           "-echo", "none"] + list(extra)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    proc = subprocess.run(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, env=env)
+    if FAILED in proc.stdout:
+        raise RuntimeError("RVE at I=%g: %s" % (I, [l for l in proc.stdout.splitlines() if FAILED in l][0]))
+    res = parse_rve(proc.stdout)
+    if proc.returncode != 0 or res is None:
+        raise RuntimeError("RVE at I=%g failed (exit %d):\n%s" % (I, proc.returncode, proc.stdout[-2000:]))
+    res["Irequested"] = I
+    res["steady"] = "no steady state" not in proc.stdout
+    with open(cache, "w") as f:
+        json.dump(res, f)
+    return res
+
+
+# ---------------------------------------------------------------- ensemble of small MLPs
+class MLP:
+    """1 input (scaled log I) -> H tanh units -> 2 outputs (scaled mu, phi), trained by Adam on a
+    squared error weighted by 1/(error^2 + floor^2); targets perturbed by their error bars (each
+    member sees its own noisy copy, so the spread carries the data noise as well as the fit's)."""
+
+    def __init__(self, hidden, seed):
+        rng = np.random.default_rng(seed)
+        self.W1 = rng.normal(0, 1.5, (1, hidden))
+        self.b1 = rng.normal(0, 1.0, hidden)
+        self.W2 = rng.normal(0, 1.0 / math.sqrt(hidden), (hidden, 2))
+        self.b2 = np.zeros(2)
+        self.rng = rng
+
+    def forward(self, x):
+        h = np.tanh(x[:, None] @ self.W1 + self.b1)
+        return h, h @ self.W2 + self.b2
+
+    def fit(self, x, y, w, iters=3000, lr=0.01, decay=1e-4):
+        params = [self.W1, self.b1, self.W2, self.b2]
+        m = [np.zeros_like(p) for p in params]
+        v = [np.zeros_like(p) for p in params]
+        b1, b2, eps = 0.9, 0.999, 1e-8
+        for t in range(1, iters + 1):
+            h, out = self.forward(x)
+            r = (out - y) * w / len(x)                     # d(loss)/d(out), loss = sum w r^2 / 2n
+            gW2 = h.T @ r + decay * self.W2
+            gb2 = r.sum(0)
+            dh = (r @ self.W2.T) * (1 - h * h)
+            gW1 = x[:, None].T @ dh + decay * self.W1
+            gb1 = dh.sum(0)
+            for k, (p, g) in enumerate(zip(params, [gW1, gb1, gW2, gb2])):
+                m[k] = b1 * m[k] + (1 - b1) * g
+                v[k] = b2 * v[k] + (1 - b2) * g * g
+                p -= lr * (m[k] / (1 - b1 ** t)) / (np.sqrt(v[k] / (1 - b2 ** t)) + eps)
+        return self
+
+
+class Ensemble:
+    """members MLPs on x = log10 I scaled to [-1, 1] over [Ilo, Ihi]; mu and phi scaled by the data."""
+
+    def __init__(self, Ilo, Ihi, members=8, hidden=6, seed=12345):
+        self.a, self.b = math.log10(Ilo), math.log10(Ihi)
+        self.members, self.hidden, self.seed = members, hidden, seed
+
+    def x(self, I):
+        return 2 * (np.log10(np.asarray(I, float)) - self.a) / (self.b - self.a) - 1
+
+    def fit(self, points, floor=0.003):
+        I = np.array([p["I"] for p in points])
+        Y = np.array([[p["mu"], p["phi"]] for p in points])
+        E = np.array([[p["dmu"], p["dphi"]] for p in points])
+        self.mean, self.scale = Y.mean(0), np.maximum(Y.std(0), 0.02)
+        w = 1.0 / ((E / self.scale) ** 2 + (floor / self.scale) ** 2)
+        w = w / w.mean(0)
+        self.nets = []
+        for k in range(self.members):
+            net = MLP(self.hidden, self.seed + k)
+            noisy = Y + E * net.rng.normal(size=Y.shape)
+            net.fit(self.x(I), (noisy - self.mean) / self.scale, w)
+            self.nets.append(net)
+        return self
+
+    def predict(self, I):
+        """(mean, std) over members, each of shape (len(I), 2): columns mu, phi."""
+        outs = np.array([n.forward(self.x(I))[1] * self.scale + self.mean for n in self.nets])
+        return outs.mean(0), outs.std(0)
+
+
+def adaptive(run, Ilo, Ihi, tol, max_runs, grid=60, **ens):
+    """Start from Ilo, Ihi and their geometric middle; while the ensemble's std of mu anywhere on a
+    log grid of [Ilo, Ihi] exceeds tol, run the RVE at the grid point of largest std.
+    Returns (points, history of (runs, max std))."""
+    Ig = np.logspace(math.log10(Ilo), math.log10(Ihi), grid)
+    points = [run(I) for I in (Ilo, math.sqrt(Ilo * Ihi), Ihi)]
+    history = []
+    while True:
+        e = Ensemble(Ilo, Ihi, **ens).fit(points)
+        std = e.predict(Ig)[1][:, 0]
+        history.append((len(points), float(std.max())))
+        if std.max() <= tol or len(points) >= max_runs:
+            return points, history, e
+        # never the same I twice (a cached rerun adds no information): mask sampled grid points
+        done = np.array([any(abs(math.log(x / p["Irequested"])) < 1e-6 for p in points) for x in Ig])
+        if np.all(done):
+            return points, history, e
+        points.append(run(float(Ig[int(np.argmax(np.where(done, -1.0, std)))])))
+
+
+def uniform(run, Ilo, Ihi, tol, max_level=3, grid=60, **ens):
+    """Nested uniform log grids of 3, 5, 9, ... points until the max std of mu is below tol."""
+    Ig = np.logspace(math.log10(Ilo), math.log10(Ihi), grid)
+    history = []
+    for level in range(1, max_level + 1):
+        n = 2 ** level + 1
+        points = [run(float(I)) for I in np.logspace(math.log10(Ilo), math.log10(Ihi), n)]
+        e = Ensemble(Ilo, Ihi, **ens).fit(points)
+        s = float(e.predict(Ig)[1][:, 0].max())
+        history.append((n, s))
+        if s <= tol:
+            break
+    return points, history, e
+
+
+# ---------------------------------------------------------------- closed forms and regularisation
+def mu_jop(I, mu_s, mu_2, I_0):
+    """GDR MiDi / Jop et al. (2006): mu = mu_s + (mu_2 - mu_s) / (1 + I_0 / I)."""
+    I = np.asarray(I, float)
+    return mu_s + (mu_2 - mu_s) / (1.0 + I_0 / I)
+
+
+def fit_jop(I, mu, dmu=None):
+    """Weighted least squares of mu_jop (scipy curve_fit): ((mu_s, mu_2, I_0), their std errors)."""
+    from scipy.optimize import curve_fit
+    I, mu = np.asarray(I, float), np.asarray(mu, float)
+    p0 = (mu.min(), mu.max() + 0.1, math.sqrt(I.min() * I.max()))
+    p, cov = curve_fit(mu_jop, I, mu, p0=p0, sigma=dmu, absolute_sigma=dmu is not None,
+                       bounds=([0, 0, 1e-6], [2, 5, 100]), maxfev=20000)
+    return p, np.sqrt(np.diag(cov))
+
+
+def isotonic(y, w=None):
+    """Pool-adjacent-violators: the non-decreasing sequence closest to y in weighted least squares."""
+    y = np.asarray(y, float)
+    w = np.ones_like(y) if w is None else np.asarray(w, float)
+    blocks = []                                            # [value, weight, count]
+    for yi, wi in zip(y, w):
+        blocks.append([yi, wi, 1])
+        while len(blocks) > 1 and blocks[-2][0] > blocks[-1][0]:
+            v2, w2, c2 = blocks.pop()
+            v1, w1, c1 = blocks.pop()
+            blocks.append([(v1 * w1 + v2 * w2) / (w1 + w2), w1 + w2, c1 + c2])
+    return np.concatenate([[v] * c for v, w_, c in blocks])
+
+
+def regularise(I_grid, mu_grid, I_c):
+    """The regularised mu(I): above the cutoff I_c, the isotonic (non-decreasing) version of mu_grid
+    (linear in log I between grid points); below I_c, Barker & Gray's (2017) well-posed low-I form
+        mu(I) = sqrt(alpha / ln(A / I)),   alpha = mu_c^3 / (2 I_c mu'_c),  A = I_c exp(alpha / mu_c^2),
+    which matches the value mu_c and slope mu'_c at I_c (C1), increases monotonically and tends to 0
+    as I -> 0. mu'_c: slope of the isotonic curve over the first half decade above I_c, at least 1e-3
+    of mu_c per unit ln I. Returns a function of I."""
+    lg = np.log(np.asarray(I_grid, float))
+    mono = isotonic(mu_grid)
+    keep = lg >= math.log(I_c)
+    lg, mono = lg[keep], mono[keep]
+    mu_c = float(np.interp(math.log(I_c), lg, mono))
+    span = lg <= math.log(I_c) + math.log(10 ** 0.5)
+    slope_ln = max(np.polyfit(lg[span], mono[span], 1)[0] if span.sum() >= 2 else 0.0, 1e-3 * mu_c)
+    dmu_c = slope_ln / I_c                                  # d mu / d I at I_c
+    alpha = mu_c ** 3 / (2 * I_c * dmu_c)
+    A = I_c * math.exp(alpha / mu_c ** 2)
+
+    def mu(I):
+        I = np.asarray(I, float)
+        low = np.sqrt(alpha / np.log(A / np.minimum(I, I_c)))
+        high = np.interp(np.log(np.maximum(I, I_c)), lg, mono)
+        return np.where(I < I_c, low, high)
+    mu.params = dict(I_c=I_c, mu_c=mu_c, dmu_c=dmu_c, alpha=alpha, A=A)
+    return mu
+
+
+def invert(mu, target, Ilo=1e-8, Ihi=10.0):
+    """I with mu(I) = target for a non-decreasing mu (bisection in log I); None outside its range."""
+    a, b = math.log(Ilo), math.log(Ihi)
+    if not (mu(math.exp(a)) <= target <= mu(math.exp(b))):
+        return None
+    for _ in range(100):
+        c = 0.5 * (a + b)
+        if mu(math.exp(c)) < target:
+            a = c
+        else:
+            b = c
+    return math.exp(0.5 * (a + b))
+
+
+def bagnold(z, H, I, phi, theta, g=1.0, d=1.0):
+    """Steady uniform layer of depth H on a slope theta: P = phi rho g cos(theta) (H - z), I constant,
+    so u(z) = (2/3) (I / d) sqrt(phi g cos theta) (H^{3/2} - (H - z)^{3/2}) (no slip at z = 0)."""
+    z = np.clip(np.asarray(z, float), 0, H)
+    return 2.0 / 3.0 * I / d * math.sqrt(phi * g * math.cos(theta)) * (H ** 1.5 - (H - z) ** 1.5)
+
+
+# ---------------------------------------------------------------- inclined layers
+def run_incline(lmp, theta, steps, N=700):
+    workdir = os.path.join(WORK, "incline_%g" % theta)
+    prof = os.path.join(workdir, "profile.%g.txt" % theta)
+    if not os.path.exists(prof):
+        os.makedirs(workdir, exist_ok=True)
+        subprocess.run([lmp, "-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta,
+                        "-var", "steps", str(steps), "-var", "N", str(N), "-var", "tag", "%g" % theta,
+                        "-log", "log.lammps", "-echo", "none"], cwd=workdir, check=True,
+                       stdout=subprocess.DEVNULL, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    return read_profile(prof)
+
+
+def read_profile(path):
+    """Last block of a fix ave/chunk file: arrays z, mass density, vx (layers with mass only)."""
+    with open(path) as f:
+        lines = [l.split() for l in f if not l.startswith("#")]
+    rows, k = [], 0
+    while k < len(lines):
+        n = int(lines[k][1])
+        rows = [[float(v) for v in r[1:]] for r in lines[k + 1:k + 1 + n]]
+        k += 1 + n
+    a = np.array([r for r in rows if r[1] > 0])
+    return a[:, 0], a[:, 2], a[:, 3]
+
+
+Z_BASE = 0.625    # flow starts at the base spheres' mean top: centre jitter U(0,0.25) mean 0.125 + radius 0.5
+
+
+def compare_incline(z, rho, vx, theta_deg, mu_reg, phi_of_I, dz=0.5):
+    """Bagnold prediction from the learned rheology against a DEM profile; no fitted parameter: I
+    from mu_reg(I) = tan theta, phi = phi(I), H = DEM mass per area / (phi rho_p) above Z_BASE."""
+    theta = math.radians(theta_deg)
+    I = invert(mu_reg, math.tan(theta))
+    if I is None:
+        return None
+    phi = float(phi_of_I(I))
+    H = float(rho[z > Z_BASE].sum() * dz / phi)
+    inside = (z > Z_BASE + 0.5) & (z < Z_BASE + H - 1.0)
+    u = bagnold(z - Z_BASE, H, I, phi, theta)
+    usurf = float(vx[inside].max())
+    err = float(np.sqrt(np.mean((vx[inside] - u[inside]) ** 2)) / usurf)
+    slip = float(vx[inside][0] - u[inside][0])
+    err_slip = float(np.sqrt(np.mean((vx[inside] - u[inside] - slip) ** 2)) / usurf)
+    return dict(theta=theta_deg, I=I, phi=phi, H=H, rms_rel=err, rms_rel_slip=err_slip,
+                u_surface_dem=usurf, u_surface_bagnold=float(u[inside].max()),
+                z=z.tolist(), vx=vx.tolist(), u=u.tolist(), slip=slip)
+
+
+# ---------------------------------------------------------------- main
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lmp", default=default_lmp())
+    ap.add_argument("--Ilo", type=float, default=0.01, help="lowest I run (1e-3 requested: see README)")
+    ap.add_argument("--Ihi", type=float, default=0.3)
+    ap.add_argument("--tol", type=float, default=0.005, help="max ensemble std of mu")
+    ap.add_argument("--max-runs", type=int, default=6)
+    ap.add_argument("--thetas", default="22,24,26")
+    ap.add_argument("--incline-steps", type=int, default=300000)
+    ap.add_argument("--no-uniform", action="store_true", help="skip the uniform-sampling comparison")
+    ap.add_argument("--uniform-levels", type=int, default=2, help="nested uniform grids of 3, 5, 9.. points: how many")
+    a = ap.parse_args()
+    lmp = os.path.abspath(a.lmp)
+
+    def run(I):
+        r = run_rve(lmp, I)
+        print("RVE I=%.4g: I %.4g +- %.2g  mu %.4f +- %.4f  phi %.4f +- %.4f" %
+              (I, r["I"], r["dI"], r["mu"], r["dmu"], r["phi"], r["dphi"]), flush=True)
+        return r
+
+    pts, hist, ens = adaptive(run, a.Ilo, a.Ihi, a.tol, a.max_runs)
+    print("adaptive: runs and max std of mu:", hist)
+    out = dict(adaptive=dict(runs=len(pts), history=hist, tol=a.tol, Ilo=a.Ilo, Ihi=a.Ihi))
+    if not a.no_uniform:
+        upts, uhist, _ = uniform(run, a.Ilo, a.Ihi, a.tol, max_level=a.uniform_levels)
+        print("uniform: runs and max std of mu:", uhist)
+        out["uniform"] = dict(runs=len(upts), history=uhist)
+    # all distinct measured points for the fits
+    allpts = {}
+    for d in sorted(os.listdir(WORK)):
+        c = os.path.join(WORK, d, "result.json")
+        if d.startswith("rve_") and os.path.exists(c):
+            with open(c) as f:
+                allpts[d] = json.load(f)
+    P = sorted(allpts.values(), key=lambda p: p["I"])
+    I = np.array([p["I"] for p in P]); mu = np.array([p["mu"] for p in P]); dmu = np.array([p["dmu"] for p in P])
+    pj, pe = fit_jop(I, mu, np.maximum(dmu, 1e-3))
+    out["points"] = P
+    out["jop_fit"] = dict(mu_s=pj[0], mu_2=pj[1], I_0=pj[2], err=pe.tolist())
+    print("fit mu_s %.4f +- %.4f  mu_2 %.4f +- %.4f  I_0 %.4f +- %.4f" % (pj[0], pe[0], pj[1], pe[1], pj[2], pe[2]))
+    final = Ensemble(a.Ilo, a.Ihi).fit(P)
+    Ig = np.logspace(math.log10(a.Ilo), math.log10(a.Ihi), 60)
+    mean, std = final.predict(Ig)
+    mu_reg = regularise(Ig, mean[:, 0], I_c=a.Ilo)
+    out["regularised"] = mu_reg.params
+
+    def phi_of_I(x):
+        return final.predict([min(max(x, a.Ilo), a.Ihi)])[0][0, 1]
+    inc = []
+    for t in [float(s) for s in a.thetas.split(",")]:
+        z, rho, vx = run_incline(lmp, t, a.incline_steps)
+        c = compare_incline(z, rho, vx, t, lambda x: float(mu_reg(x)), phi_of_I)
+        if c is None:
+            print("theta %g: tan theta outside the learned mu range: no steady Bagnold layer" % t)
+            continue
+        print("theta %g: I %.4f phi %.3f H %.2f  u_surface DEM %.3f Bagnold %.3f  rms error %.3f (%.3f after the slip offset)"
+              % (t, c["I"], c["phi"], c["H"], c["u_surface_dem"], c["u_surface_bagnold"], c["rms_rel"], c["rms_rel_slip"]))
+        inc.append(c)
+    out["incline"] = inc
+    with open(os.path.join(HERE, "results.json"), "w") as f:
+        json.dump(out, f, indent=1)
+    plot(out, Ig, mean, std, mu_reg, pj)
+
+
+def plot(out, Ig, mean, std, mu_reg, pj):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    P = out["points"]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    a1.errorbar([p["I"] for p in P], [p["mu"] for p in P], xerr=[p["dI"] for p in P],
+                yerr=[p["dmu"] for p in P], fmt="ko", ms=4, label="DEM RVE (block averages)")
+    a1.plot(Ig, mean[:, 0], "b-", label="MLP ensemble mean")
+    a1.fill_between(Ig, mean[:, 0] - 2 * std[:, 0], mean[:, 0] + 2 * std[:, 0], color="b", alpha=0.2, label="±2 std")
+    Il = np.logspace(-3, math.log10(0.3), 100)
+    a1.plot(Il, mu_reg(Il), "g--", label="regularised (Barker-Gray below I_c)")
+    a1.plot(Il, mu_jop(Il, *pj), "r:", label="fit mu_s=%.3f mu_2=%.3f I_0=%.3f" % tuple(pj))
+    a1.plot(Il, mu_jop(Il, math.tan(math.radians(20.9)), math.tan(math.radians(32.76)), 0.279), "m-.",
+            lw=1, label="Jop et al. 2006 (glass beads)")
+    a1.set_xscale("log"); a1.set_xlabel("I"); a1.set_ylabel("mu"); a1.legend(fontsize=7)
+    a2.errorbar([p["I"] for p in P], [p["phi"] for p in P], yerr=[p["dphi"] for p in P], fmt="ko", ms=4)
+    a2.plot(Ig, mean[:, 1], "b-"); a2.set_xscale("log"); a2.set_xlabel("I"); a2.set_ylabel("solid fraction phi")
+    fig.tight_layout(); fig.savefig(os.path.join(HERE, "mu_I.png"), dpi=80)
+    if out["incline"]:
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        for c, col in zip(out["incline"], "bgrcm"):
+            z = np.array(c["z"])
+            ax.plot(c["vx"], z, col + "o", ms=3, label="DEM %g°" % c["theta"])
+            ax.plot(c["u"], z, col + "-", label="Bagnold, rms %.2f" % c["rms_rel"])
+        ax.set_xlabel("downhill velocity"); ax.set_ylabel("z"); ax.legend(fontsize=7)
+        fig.tight_layout(); fig.savefig(os.path.join(HERE, "incline.png"), dpi=80)
+
+
+if __name__ == "__main__":
+    main()
