@@ -58,4 +58,5 @@ def main():
                             loop, steps, atoms)
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -1,14 +1,15 @@
 #!/usr/bin/python3
 """Speed against accuracy of GRIDDEM's modes, per scene, against stock gran/hooke/history.
 
-usage: bench/tradeoff.py [--quick] [--lmp build/lmp]
+usage: bench/tradeoff.py [--quick] [--lmp build/lmp] [--only dense,squeeze,...]
 
 Scenes: dense (4000 random overlapping polydisperse spheres at solid fraction ~0.6, periodic,
 damped), pour (a bed poured under gravity, ~1200 spheres), chute (LAMMPS's chute, 32,000
 spheres), cascade (a sphere shot into a cubic block of 1000 nearly touching spheres), oblique
-(two spheres meeting at 45 degrees: the tangential restitution). Modes: cell
-geometry exact|multi x tangential history|simple|none, plus stock gran/hooke/history (the
-reference) and stock gran/hooke. Each run is timed on one rank; errors are measured against the
+(two spheres meeting at 45 degrees: the tangential restitution), and two polydisperse ones:
+squeeze (the 1:4 bidisperse packing of bench/squeeze.py compressed by fix deform) and bed (the
+1:10 poured bed of bench/poured_bed.py). Modes: cell geometry exact|multi|classes x tangential
+history|simple|none, plus stock gran/hooke/history (the reference) and stock gran/hooke. Each run is timed on one rank; errors are measured against the
 reference: the force error on the scene's initial state (where it has contacts: dense, chute),
 the largest relative deviation of the kinetic-energy trajectory, and the scene's own number
 (kinetic energy left in the dense box and after the cascade; packing fraction of the poured bed;
@@ -32,6 +33,8 @@ TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
 import griddem_testlib as t  # noqa: E402
 import benchlib  # noqa: E402
+import poured_bed  # noqa: E402
+import test_bidisperse_squeeze as squeeze  # noqa: E402
 
 # (label, pair style, tangential arguments replacing "xmu dampflag", fix griddem cell)
 HOOKE = "{kn} NULL {gn} NULL {xmu} 1"
@@ -44,6 +47,9 @@ MODES = [
     ("multi simple", "griddem/hooke", None, "multi"),
     ("exact none", "griddem/hooke", 0.0, "exact"),
     ("multi none", "griddem/hooke", 0.0, "multi"),
+    ("classes history", "griddem/hooke/history", None, "classes"),
+    ("classes simple", "griddem/hooke", None, "classes"),
+    ("classes none", "griddem/hooke", 0.0, "classes"),
 ]
 REFERENCE = "stock history"
 
@@ -186,6 +192,29 @@ variable        beta equal -v_gt/0.70710678118654752
                 number_label="tangential restitution of a 45 degree impact", force_probe=False)
 
 
+def squeeze_scene(steps, data):
+    text = squeeze.TEMPLATE.format(data=data, pair="{style}", scale=squeeze.SCALE, most="", steps=steps,
+                                   name="squeeze")
+    text = text.replace("pair_style {style} 1000 NULL 50 NULL 0.5 1", "pair_style {style} {args}")
+    text = text.replace("pair_coeff * *", "pair_coeff * *\n{grid}")
+    text = text[:text.index("compute c all contact/atom")] + COMMON_TAIL.format(extra_thermo="press")
+    return dict(name="squeeze", text=text, kn=1000.0, gn=50.0, xmu=0.5, steps=steps, number="Press",
+                number_label="pressure of the squeezed packing", force_probe=True)
+
+
+def bed_scene(steps):
+    text = poured_bed.SCENE.replace("pair_style {style} 2000.0 NULL 50.0 NULL 0.5 1", "pair_style {style} {args}")
+    text = text.replace("{fix}", "{grid}")
+    text = text[:text.index("thermo 5000")] + """compute         height all reduce max z
+variable        zcut equal 0.5*c_height
+variable        insidevol atom (z<v_zcut)*4.0/3.0*PI*radius^3
+compute         solid all reduce sum v_insidevol
+variable        phi equal c_solid/(lx*ly*v_zcut)
+""" + COMMON_TAIL.format(extra_thermo="v_phi")
+    return dict(name="bed", text=text, kn=2000.0, gn=50.0, xmu=0.5, steps=steps, number="v_phi",
+                number_label="packing fraction of the lower bed (1:10 radii)", force_probe=False)
+
+
 def run(scene, mode, wd, lmp, data_chute, dump_step):
     label, style, xmu, cell = mode
     args = HOOKE.format(kn=scene["kn"], gn=scene["gn"], xmu=scene["xmu"] if xmu is None else xmu)
@@ -209,15 +238,21 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="short runs, to try the harness")
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--only", default=None, help="comma-separated scenes to run")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     args = ap.parse_args()
     scale = 0.1 if args.quick else 1.0
     wd0 = tempfile.mkdtemp(prefix="griddem-tradeoff-")
     dense_data = os.path.join(wd0, "data.dense")
     t.write_random_spheres(dense_data, 4000, (6.3, 6.3, 6.3), 0.1, 0.2, seed=41, vscale=1.0, wscale=3.0)
+    squeeze_data = os.path.join(wd0, "data.squeeze")
+    squeeze.write_packing(squeeze_data)
     scenes = [dense_scene(int(2000 * scale), dense_data), pour_scene(int(25000 * scale)),
               chute_scene(int(1000 * scale)), cascade_scene(int(4000 * scale)),
-              oblique_scene(int(20000 * scale))]
+              oblique_scene(int(20000 * scale)), squeeze_scene(int(3000 * scale), squeeze_data),
+              bed_scene(int(20000 * scale))]
+    only = args.only.split(",") if args.only else None
+    scenes = [sc for sc in scenes if not only or sc["name"] in only]
     data_chute = os.path.join(args.lammps_bench, "data.chute")
     device = benchlib.device()
     today = datetime.date.today().isoformat()
@@ -253,23 +288,34 @@ def main():
         shutil.rmtree(wd, ignore_errors=True)
     if args.quick:
         return
-    with open(os.path.join(HERE, "results", "tradeoff.jsonl"), "a") as f:
+    path = os.path.join(HERE, "results", "tradeoff.jsonl")
+    with open(path, "a") as f:
         for r in records:
             f.write(json.dumps(r) + "\n")
-    write_table(records, os.path.join(HERE, "results", "tradeoff.md"), device, today)
+    # the table holds each scene's latest run, so a run of some scenes keeps the others' rows
+    latest = {}
+    with open(path) as f:
+        for line in f:
+            r = json.loads(line)
+            rows = latest.setdefault(r["scene"], [])
+            if any(q["mode"] == r["mode"] for q in rows):    # a mode again: a later run begins
+                rows.clear()
+            rows.append(r)
+    write_table([r for rows in latest.values() for r in rows], os.path.join(HERE, "results", "tradeoff.md"))
     for scene in scenes:
         plot(scene["name"], [r for r in records if r["scene"] == scene["name"]], device, today)
 
 
-def write_table(records, path, device, today):
-    lines = ["# Speed and accuracy of GRIDDEM's modes (%s, %s, 1 rank)" % (today, device), "",
+def write_table(records, path):
+    lines = ["# Speed and accuracy of GRIDDEM's modes (1 rank; each scene's latest run, with its date and machine)", "",
              "Errors are relative to stock gran/hooke/history: force error on the scene's initial state (max over "
              "atoms, relative to the largest force), kinetic-energy trajectory (max deviation relative to "
              "the largest value), and the scene's number.", ""]
     for scene in sorted(set(r["scene"] for r in records), key=lambda s: [r["scene"] for r in records].index(s)):
         rows = [r for r in records if r["scene"] == scene]
-        lines += ["## %s (%d atoms, %d steps); number: %s" % (scene, rows[0]["natoms"], rows[0]["steps"],
-                                                             rows[0]["number_label"]), "",
+        lines += ["## %s (%d atoms, %d steps; %s, %s); number: %s" % (
+                      scene, rows[0]["natoms"], rows[0]["steps"], rows[0]["date"], rows[0]["device"],
+                      rows[0]["number_label"]), "",
                   "| mode | Matom-steps/s | force error | KE trajectory error | number | its error | its trajectory error |",
                   "| --- | --- | --- | --- | --- | --- | --- |"]
         for r in rows:
