@@ -252,6 +252,51 @@ def check_lattice(wd):
         t.check(abs(slope - gamma) <= 1e-12 * gamma, "%d ranks: slope %.15g = gamma %g" % (ranks, slope, gamma))
 
 
+BED = """
+units lj
+atom_style sphere
+boundary p p f
+comm_modify vel yes
+lattice sc 0.7 origin 0.5 0.5 0.5
+region box block 0 12 0 12 0 24
+create_box 1 box
+region fill block 0 12 0 12 0 12
+create_atoms 1 region fill
+set group all diameter 1.0
+velocity all create 0.1 7 loop geom
+pair_style griddem/hooke/history 2000 NULL 20 NULL 0.5 1
+pair_coeff * *
+fix walls all wall/gran hooke/history 2000 NULL 20 NULL 0.5 1 zplane 0 NULL
+fix gravity all gravity 1.0 vector 0 0 -1
+fix damp all viscous 0.5
+fix integrate all nve/sphere
+timestep 0.002
+run 8000
+"""
+
+
+def check_static_bed(wd):
+    """Momentum balance: in a bed settled on a floor under gravity g = 1, the coarse-grained pzz at
+    each height equals the weight of the material above it per unit area, g times the integral
+    of the coarse-grained density above (measured to 0.7%; 3% allowed for what the damped bed
+    still moves), at heights beyond 3 W from the floor (W = 1.5), where less than 0.2% of the
+    kernel reaches past the wall."""
+    rc, out = t.run_lmp(BED + cg_lines((12, 12, 24), 1.5, ["density", "pzz"]), wd, name="in.bed")
+    t.check(rc == 0, "settled bed runs (exit %d)" % rc)
+    if rc:
+        return
+    rho, pzz = (read_vti(os.path.join(wd, "%s.8000.vti" % v)) for v in ("density", "pzz"))
+    nxy, dz = 144, (1.0 / 0.7) ** (1.0 / 3.0)    # lattice sc 0.7: the box is 24 lattice spacings high
+    plane = lambda f, k: sum(f[k * nxy:(k + 1) * nxy]) / nxy
+    worst = 0.0
+    for k in range(24):
+        above = sum(plane(rho, m) for m in range(k + 1, 24)) * dz + 0.5 * plane(rho, k) * dz
+        if (k + 0.5) * dz > 4.5 and above > 0.5:
+            worst = max(worst, abs(plane(pzz, k) - above) / above)
+    print("settled bed: |pzz - weight above| / weight <= %.3g beyond 3 W from the floor" % worst)
+    t.check(worst <= 0.03, "settled bed: pzz = weight of the material above (relative %.3g)" % worst)
+
+
 def check_errors(wd):
     base = "units lj\natom_style sphere\n%s\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\ncompute c all griddem/cg %s\n"
     for dim, args, expect in [("", "2 2 2 0.5 density stress", "unknown value stress"),
@@ -272,6 +317,7 @@ def main():
     check_random(wd, "granular", "hooke 1000 0.5 tangential linear_history 500 0.5 0.5", "stock", (1, 2))
     check_wall(wd)
     check_lattice(wd)
+    check_static_bed(wd)
     check_errors(wd)
     t.finish()
 
