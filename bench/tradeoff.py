@@ -63,6 +63,15 @@ run             {{steps}}
 """
 
 
+# packing fraction of the lower half of a bed
+LOWER_BED_PHI = """compute         height all reduce max z
+variable        zcut equal 0.5*c_height
+variable        insidevol atom (z<v_zcut)*4.0/3.0*PI*radius^3
+compute         solid all reduce sum v_insidevol
+variable        phi equal c_solid/(lx*ly*v_zcut)
+"""
+
+
 def dense_scene(steps, data):
     text = """
 units           lj
@@ -97,12 +106,7 @@ fix             gravity all gravity 1.0 vector 0 0 -1
 fix             floor all wall/gran hooke/history 2000.0 NULL 50.0 NULL 0.5 0 zplane 0.0 NULL
 region          slab block 0.5 9.5 0.5 9.5 15 35 units box
 fix             feed all pour 1500 1 4767548 vol 0.3 20 diam range 0.8 1.2 region slab
-compute         height all reduce max z
-variable        zcut equal 0.5*c_height
-variable        insidevol atom (z<v_zcut)*4.0/3.0*PI*radius^3
-compute         solid all reduce sum v_insidevol
-variable        phi equal c_solid/(lx*ly*v_zcut)
-""" + COMMON_TAIL.format(extra_thermo="v_phi")
+""" + LOWER_BED_PHI + COMMON_TAIL.format(extra_thermo="v_phi")
     return dict(name="pour", text=text, kn=2000.0, gn=50.0, xmu=0.5, steps=steps, number="v_phi",
                 number_label="packing fraction of the lower bed", force_probe=False)
 
@@ -205,12 +209,7 @@ def squeeze_scene(steps, data):
 def bed_scene(steps):
     text = poured_bed.SCENE.replace("pair_style {style} 2000.0 NULL 50.0 NULL 0.5 1", "pair_style {style} {args}")
     text = text.replace("{fix}", "{grid}")
-    text = text[:text.index("thermo 5000")] + """compute         height all reduce max z
-variable        zcut equal 0.5*c_height
-variable        insidevol atom (z<v_zcut)*4.0/3.0*PI*radius^3
-compute         solid all reduce sum v_insidevol
-variable        phi equal c_solid/(lx*ly*v_zcut)
-""" + COMMON_TAIL.format(extra_thermo="v_phi")
+    text = text[:text.index("thermo 5000")] + LOWER_BED_PHI + COMMON_TAIL.format(extra_thermo="v_phi")
     return dict(name="bed", text=text, kn=2000.0, gn=50.0, xmu=0.5, steps=steps, number="v_phi",
                 number_label="packing fraction of the lower bed (1:10 radii)", force_probe=False)
 
