@@ -226,6 +226,19 @@ def main():
     t.check(occupancy["classes"] and occupancy["multi"] and occupancy["classes"][0] > 1.5 * occupancy["multi"][0],
             "size classes on kk: %s occupied cells, against %s on one grid" % (occupancy["classes"], occupancy["multi"]))
 
+    # fix griddem's diagnostics from the kk sweep, as the CPU engine reports them: cell edge,
+    # contacts, most contacts of one atom, elastic energy (the same grid: cell multi)
+    stats = {}
+    for name, extra in (("cpu", ()), ("kk", kk_args(THREADS[-1]))):
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
+                            "fix grid all griddem cell multi\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
+                            "thermo_modify format float %.17g\nrun 0\n", wd, name="in.stats", extra=extra,
+                            threads=THREADS[-1] if extra else None)
+        stats[name] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
+    print("fix griddem diagnostics (edge, contacts, most, energy): CPU %s, kk %s" % (stats["cpu"], stats["kk"]))
+    t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
+            stats["cpu"][1][0] > 0, "kk diagnostics equal the CPU engine's: %s vs %s" % (stats["kk"], stats["cpu"]))
+
     # history rows that start with room for one contact grow, the numbers unchanged
     few = "fix rows all griddem contacts 1"
     for law in (HISTORY, LAWS[-1]):
