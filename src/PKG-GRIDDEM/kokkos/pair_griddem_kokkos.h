@@ -417,6 +417,9 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   ~PairGriddemKokkos() override;
   void init_style() override;
   void compute(int, int) override;
+  // public only because CUDA's extended lambdas may not live in a protected member function
+  template <typename Real>
+  void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
 
  protected:
   // sizes the Views below were allocated for
@@ -442,8 +445,6 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   DAT::tdual_virial_array k_vatom;
 
   std::string history_fix_style() const override;
-  template <typename Real>
-  void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
   void upload_tables();
   void report_coincident(int i, int j);
 };
