@@ -72,7 +72,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 6;
+  size_vector = 7;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
@@ -257,13 +257,34 @@ void FixGriddemRom::post_force(int)
   zero_kinematic_forces();
 }
 
+/* A kinematic atom whose force (contacts with dynamic atoms, walls, gravity, other fixes) would
+   change its velocity by more than eps v0 within a classification period, |f| N dt / m > eps v0,
+   is released (made dynamic, keeping its force): a hard hit, or a wall it is driven into. The
+   others lose their force and torque. */
 void FixGriddemRom::zero_kinematic_forces()
 {
-  const int *mask = atom->mask;
+  int *mask = atom->mask;
   double **f = atom->f, **torque = atom->torque;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (mask[i] & kinematic_bit)
-      for (int d = 0; d < 3; d++) f[i][d] = torque[i][d] = 0.0;
+  const double *rmass = atom->rmass;
+  const double scale = period * update->dt, threshold = eps * v0;
+  int released = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & kinematic_bit)) continue;
+    const double fm = sqrt(f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+    if (fm * scale > threshold * rmass[i]) {
+      mask[i] &= ~kinematic_bit;
+      released++;
+      continue;
+    }
+    for (int d = 0; d < 3; d++) f[i][d] = torque[i][d] = 0.0;
+  }
+  int any = released, all = 0;
+  MPI_Allreduce(&any, &all, 1, MPI_INT, MPI_SUM, world);
+  if (all) {
+    comm->forward_comm(this);    // the ghosts of released atoms too
+    counts[5] += all;
+    counts[0] -= all;
+  }
 }
 
 void FixGriddemRom::end_of_step()
@@ -354,7 +375,7 @@ void FixGriddemRom::classify()
   MPI_Allreduce(mine, all, 5, MPI_DOUBLE, MPI_SUM, world);
   counts[0] = all[0];
   for (int k = 1; k < 5; k++) counts[k] += all[k];
-  counts[5] += 1;
+  counts[6] += 1;
 }
 
 void FixGriddemRom::fill_state()
@@ -384,8 +405,9 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-/* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5: made dynamic again by a hit, by an
-   overlap, by leaving the model box (2-5 summed over the run's classifications); 6: classifications */
+/* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5, 6: made dynamic again by a hit (a
+   touching partner's relative speed), by an overlap, by leaving the model box, by a force (2-6
+   summed over the run); 7: classifications */
 double FixGriddemRom::compute_vector(int n)
 {
   return counts[n];

@@ -53,7 +53,7 @@ class FixGriddemRom : public Fix {
   double *state;    // per-atom output: 1 kinematic, 0 dynamic
   int nmax;
   class NeighList *list;
-  double counts[6];    // kinematic now, made kinematic, freed by hits, by overlap, by leaving, steps
+  double counts[7];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces; classifications
 
   void read_model(const char *file);
   void classify();
