@@ -9,7 +9,13 @@
 - contacts: two resting kinematic atoms that overlap exert no force (the pair virial is exactly
   zero, and nonzero in the same scene without the fix), while a dynamic atom overlapping a
   kinematic one is pushed away by it and the kinematic one does not move; an atom overlapping
-  beyond `overlap` min(ri, rj) is never made kinematic."""
+  beyond `overlap` min(ri, rj) is never made kinematic; the same on 2 processes with the two
+  kinematic atoms on different processes (their state reaches the ghosts);
+- release: a kinematic atom driven by the field into a wall is released once the wall's force
+  exceeds eps v0 m / (N dt), so its penetration stays below that force's spring length plus one
+  step's travel and a small margin (it would reach 0.13 otherwise); a kinematic atom hit by a fast
+  dynamic one is released and takes up momentum;
+- train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
 import math
 import os
 import sys
@@ -216,7 +222,129 @@ run 10
     t.check(all(v != 0.0 for v in vir[2:]), "the same pair without the fix keeps pushing")
 
 
+def processes():
+    model = os.path.join(WD, "rest2.model")
+    write_model(model, (3, 3, 3), BOX)
+    text = HEAD.format(bnd="f f f").replace("region box", "processors 2 1 1\nregion box") + """
+create_atoms 1 single 2.6 3.0 3.0
+create_atoms 1 single 3.595 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix integrate all nve/sphere
+{rom}
+compute vir all pressure NULL virial
+thermo_style custom step c_vir
+thermo_modify format float %.17g
+thermo 1
+run 10
+"""
+    out = t.run_ok(text.format(rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
+                   WD, nprocs=2, name="in.procs")
+    vir = t.thermo_values(out, "c_vir")
+    t.check(vir[0] != 0.0 and all(v == 0.0 for v in vir[2:]),
+            "2 processes: kinematic pair across the boundary exerts no force (virial %s)" % vir[:4])
+
+
+def release():
+    model = os.path.join(WD, "left.model")
+    U = -0.3
+    write_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 0.52 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix integrate all nve/sphere
+fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+variable x equal x[1]
+thermo_style custom step v_x f_rom[6]
+thermo_modify format float %.17g
+thermo 1
+run 500
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.release")
+    xs, released = t.thermo_values(out, "v_x"), t.thermo_values(out, "f_rom[6]")
+    m, kn, n, dt = math.pi / 6.0, 2000.0, 5, 0.001
+    bound = 0.5 * 1.0 * m / (kn * n * dt)       # eps v0 m / (kn N dt)
+    depth = 0.5 - min(xs)
+    t.check(released[-1] >= 1, "kinematic atom released by the wall's force")
+    t.check(depth <= bound + abs(U) * dt + 0.01, "penetration %.4f within the release bound %.4f" % (depth, bound))
+
+    model0 = os.path.join(WD, "rest3.model")
+    write_model(model0, (3, 3, 3), BOX)
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 3.0 3.0 3.0
+create_atoms 1 single 1.5 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+set atom 2 vx 1.0
+group target id 1
+""" + PAIR + """
+fix integrate all nve/sphere
+fix rom target griddem/rom model {m} eps 0.2 v0 1 every 1
+dump d all custom 100 hit.dump id vx f_rom
+dump_modify d format float %.17g sort id
+run 1000
+""".format(m=model0)
+    t.run_ok(text, WD, name="in.hit")
+    snaps = t.read_dumps(os.path.join(WD, "hit.dump"))
+    t.check(snaps[1][1][1][1] == 1.0, "resting atom kinematic before the hit")
+    t.check(snaps[-1][1][1][1] == 0.0 and snaps[-1][1][1][0] > 0.1,
+            "hit atom released and moving (vx %g)" % snaps[-1][1][1][0])
+
+
+def training():
+    """Synthetic dumps whose velocities are an exact linear function of density and control."""
+    import random
+    rng = random.Random(5)
+    n, m = (2, 1, 2), 4
+    A = [[rng.uniform(-1, 1) for _ in range(m + 1)] for _ in range(3 * m)]   # density + control
+    b = [rng.uniform(-1, 1) for _ in range(3 * m)]
+    specs = []
+    for run, w in enumerate((1.0, 2.0, 3.0)):
+        path = os.path.join(WD, "syn%d.txt" % run)
+        with open(path, "w") as f:
+            for frame in range(30):
+                rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
+                vel = [b[r] + sum(A[r][k] * rho[k] for k in range(m)) + A[r][m] * w for r in range(3 * m)]
+                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % (frame * 10))
+                f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
+                f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
+                for v in range(m):
+                    f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
+        specs.append("%s:%g" % (path, w))
+    here = os.path.dirname(os.path.abspath(__file__))
+    script = os.path.join(os.path.dirname(os.path.dirname(here)), "examples", "rom-pile", "train_rom.py")
+    import subprocess
+    out_model = os.path.join(WD, "syn.model")
+    proc = subprocess.run(["/usr/bin/python3", script, out_model] + specs, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True)
+    t.check(proc.returncode == 0, "train_rom.py runs: " + proc.stdout[-300:])
+    if proc.returncode != 0:
+        return
+    words = []
+    with open(out_model) as f:
+        for line in f:
+            words += line.split("#")[0].split()
+    k = words.index("weights")
+    nrow, ncol = int(words[k + 1]), int(words[k + 2])
+    t.check(words[:2] == ["griddem/rom", "1"] and words[2:6] == ["grid", "2", "1", "2"] and
+            (nrow, ncol) == (12, 6), "model header: version 1, grid 2 1 2, 12 x 6 weights")
+    W = [[float(x) for x in words[k + 3 + r * ncol:k + 3 + (r + 1) * ncol]] for r in range(nrow)]
+    worst = max(max(abs(W[r][0] - b[r]), max(abs(W[r][1 + c] - A[r][c]) for c in range(m + 1)))
+                for r in range(nrow))
+    t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map (worst weight error %.2g)" % worst)
+
+
 model_checks()
+processes()
+release()
+training()
 eps_zero()
 uniform_field()
 contacts()
