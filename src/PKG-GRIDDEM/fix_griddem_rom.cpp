@@ -224,6 +224,8 @@ void FixGriddemRom::init()
       error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}",
                  grid.lo[d], grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d]);
   }
+  if (!comm->ghost_velocity)
+    error->all(FLERR, "Fix griddem/rom needs comm_modify vel yes (its hit test reads ghost velocities)");
   control_vars.clear();
   for (const auto &name : control_names) {
     const int ivar = input->variable->find(name.c_str());
