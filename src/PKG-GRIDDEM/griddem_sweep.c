@@ -106,6 +106,7 @@ typedef struct sweep_sums {
 static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch, int a, int b)
 {
   const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
+  if (e->both_bit && (A->mask & e->both_bit) && (B->mask & e->both_bit)) return 1;
   if (e->type_pair && e->type_pair[A->type * (e->ntypes + 1) + B->type]) return 1;
   for (int k = 0; k < e->ngroup_pairs; k++) {
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];
@@ -365,7 +366,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model,
-                            (excl && (excl->type_pair || excl->ngroup_pairs)) ? excl : NULL,
+                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit)) ? excl : NULL,
                             dt, history_update, hist, row_of, vatom, want_virial, result};
   memset(result, 0, sizeof(*result));
   int nthreads = 1;

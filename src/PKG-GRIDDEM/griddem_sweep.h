@@ -64,6 +64,8 @@ typedef struct griddem_exclusions {
   int ntypes;
   int ngroup_pairs;
   const int *group_bits;          /* [2*ngroup_pairs]: (bit1, bit2) per excluded pair of groups */
+  int both_bit;                   /* pairs whose two masks both have this bit (fix griddem/rom's
+                                   * kinematic particles); 0: none */
 } griddem_exclusions;
 
 enum griddem_fault {

@@ -257,6 +257,15 @@ void PairGriddem::setup_exclusions()
   exclusions.ntypes = atom->ntypes;
   exclusions.ngroup_pairs = neighbor->nex_group;
   exclusions.group_bits = excluded_groups.data();
+  // fix griddem/rom: pairs of two kinematic atoms (both in the fix's kinematic group) are skipped
+  exclusions.both_bit = 0;
+  auto roms = modify->get_fix_by_style("^griddem/rom$");
+  if (roms.size() > 1) error->all(FLERR, "Only one fix griddem/rom may be defined");
+  if (!roms.empty()) {
+    int nbit = 0;
+    auto bit = (int *) roms.front()->extract("kinematic_bit", nbit);
+    if (bit) exclusions.both_bit = *bit;
+  }
 }
 
 std::vector<double> PairGriddem::max_radius_by_type()

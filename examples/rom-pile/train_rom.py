@@ -1,0 +1,82 @@
+#!/usr/bin/python3
+"""Ridge regression of the voxel velocity field on the voxel density field and the controls,
+from resolved runs' coarse-grained fields (dump grid of compute griddem/cg density vx vy vz).
+
+    train_rom.py OUT.model DUMP:CONTROL[,CONTROL...] [DUMP:CONTROL ...]
+
+Features per frame: the densities of all voxels and the controls, each standardised over the
+training frames; targets: vx, vy, vz of every voxel. Closed form: W = (X'X + lambda I)^-1 X'Y on
+centred data. lambda is chosen by leave-one-run-out validation (mean squared velocity error
+over the held-out run's frames) from a logarithmic grid, then the model is refitted on all runs
+and written with the scaling folded in (plain weights on raw densities and controls)."""
+import sys
+
+import numpy as np
+
+from romtools import read_grid_dump, write_model
+
+
+def load(specs):
+    runs, n, box = [], None, None
+    for spec in specs:
+        path, controls = spec.rsplit(":", 1)
+        c = [float(v) for v in controls.split(",")]
+        X, Y = [], []
+        for step, b, nn, cols in read_grid_dump(path):
+            if n is None:
+                n, box = nn, b
+            if nn != n or not np.allclose(b, box):
+                raise SystemExit("%s: grid %s box %s differ from the first run's %s %s" % (path, nn, b, n, box))
+            X.append(np.concatenate([cols["density"], c]))
+            Y.append(np.stack([cols["vx"], cols["vy"], cols["vz"]], axis=1).ravel())
+        runs.append((path, np.array(X), np.array(Y)))
+    return runs, n, box
+
+
+def fit(X, Y, lam):
+    """Ridge on standardised features; returns (raw weights with bias column, scaling)."""
+    xm, xs = X.mean(0), X.std(0)
+    xs[xs == 0] = 1.0
+    ym = Y.mean(0)
+    Z = (X - xm) / xs
+    A = Z.T @ Z + lam * np.eye(Z.shape[1])
+    B = np.linalg.solve(A, Z.T @ (Y - ym))      # [nfeat, nout]
+    W = (B / xs[:, None]).T                      # raw weights [nout, nfeat]
+    bias = ym - W @ xm
+    return np.hstack([bias[:, None], W])
+
+
+def predict(Wfull, X):
+    return Wfull[:, 0][None, :] + X @ Wfull[:, 1:].T
+
+
+def main():
+    if len(sys.argv) < 4:
+        raise SystemExit(__doc__)
+    out, specs = sys.argv[1], sys.argv[2:]
+    runs, n, box = load(specs)
+    lams = 10.0 ** np.arange(-3, 5.01, 0.5)
+    scores = []
+    for lam in lams:
+        err = []
+        for k, (path, Xv, Yv) in enumerate(runs):
+            Xt = np.vstack([r[1] for j, r in enumerate(runs) if j != k])
+            Yt = np.vstack([r[2] for j, r in enumerate(runs) if j != k])
+            err.append(np.mean((predict(fit(Xt, Yt, lam), Xv) - Yv) ** 2))
+        scores.append(np.mean(err))
+        print("lambda %-10.4g leave-one-run-out rms velocity error %.5f" % (lam, np.sqrt(scores[-1])))
+    best = lams[int(np.argmin(scores))]
+    X = np.vstack([r[1] for r in runs])
+    Y = np.vstack([r[2] for r in runs])
+    W = fit(X, Y, best)
+    train_rms = np.sqrt(np.mean((predict(W, X) - Y) ** 2))
+    zero_rms = np.sqrt(np.mean(Y ** 2))
+    note = ("trained by train_rom.py on %d frames of %s\nlambda %.4g (standardised features) by "
+            "leave-one-run-out validation: rms %.5f; training rms %.5f; rms of the velocities %.5f"
+            % (len(X), " ".join(specs), best, np.sqrt(min(scores)), train_rms, zero_rms))
+    write_model(out, n, box, best, W, note)
+    print(note)
+
+
+if __name__ == "__main__":
+    main()

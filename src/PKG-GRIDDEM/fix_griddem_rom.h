@@ -1,0 +1,67 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package: adaptive reduced-order DEM. A ridge-regression model predicts the voxel
+   velocity field from the voxel density field and control variables; particles moving with the
+   field become kinematic (carried by it, no contact forces, no contacts among themselves).
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(griddem/rom,FixGriddemRom);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_GRIDDEM_ROM_H
+#define LMP_FIX_GRIDDEM_ROM_H
+
+#include "fix.h"
+#include "griddem_rom.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixGriddemRom : public Fix {
+ public:
+  FixGriddemRom(class LAMMPS *, int, char **);
+  ~FixGriddemRom() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void post_force(int) override;
+  void end_of_step() override;
+  void grow_arrays(int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  double compute_vector(int) override;
+  void *extract(const char *, int &) override;
+  double memory_usage() override;
+
+  int kinematic_bit;    // group bit of the kinematic atoms (group ID_kinematic)
+
+ private:
+  griddem_rom_grid grid;
+  int ncontrol;
+  double lambda;
+  std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol]
+  std::vector<std::string> control_names;
+  std::vector<int> control_vars;
+  double eps, v0, overlap_max;
+  int period;    // classification every period steps
+  std::vector<double> density, feature, field;
+  double *state;    // per-atom output: 1 kinematic, 0 dynamic
+  int nmax;
+  class NeighList *list;
+  double counts[7];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces; classifications
+
+  void read_model(const char *file);
+  void classify();
+  void zero_kinematic_forces();
+  void fill_state();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

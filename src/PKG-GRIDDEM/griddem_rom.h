@@ -1,0 +1,48 @@
+/* GRIDDEM reduced-order model (fix griddem/rom): a voxel grid over a box, the voxel mass field of
+ * particles by cloud-in-cell weights (the same weights and boundary rule as griddem_cg_cic, so the
+ * field equals compute griddem/cg's density with a kernel width far below the voxel edge), a
+ * linear (ridge-regression) map from features [1, density of each voxel, controls] to the voxel
+ * velocities, and the trilinear interpolation of that velocity field at a point (the same
+ * weights again). Voxel m = i + nx (j + ny k); its centre is lo + (i + 1/2) h. */
+#ifndef GRIDDEM_ROM_H
+#define GRIDDEM_ROM_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define GRIDDEM_ROM_VERSION 1
+
+typedef struct griddem_rom_grid {
+  int n[3];
+  double lo[3], hi[3];
+  int periodic[3];
+} griddem_rom_grid;
+
+/* Number of voxels. */
+int griddem_rom_nvoxel(const griddem_rom_grid *g);
+
+/* 1 if x lies inside the grid's box (lo <= x < hi on every axis). */
+int griddem_rom_inside(const griddem_rom_grid *g, const double x[3]);
+
+/* The 8 voxels and their weights (summing to 1) of a point; along a non-periodic axis indices
+ * beyond the grid go to the boundary voxel, along a periodic one they wrap. */
+void griddem_rom_weights(const griddem_rom_grid *g, const double x[3], int voxel[8],
+                         double weight[8]);
+
+/* Adds the mass of each of n points inside the box, divided by the voxel volume, into
+ * density[nvoxel] (not zeroed: the caller sums over processes). Points outside are skipped. */
+void griddem_rom_deposit(const griddem_rom_grid *g, int n, const double *x, int xstride,
+                         const double *mass, const int *use, double *density);
+
+/* out[r] = sum_c w[r * ncol + c] * feature[c] for r < nrow. */
+void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feature, double *out);
+
+/* The velocity (3 components; field[3 m + d]) interpolated at x with griddem_rom_weights. */
+void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, const double x[3],
+                             double v[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,351 @@
+"""fix griddem/rom (adaptive reduced-order DEM), on models written here by hand:
+- model-file checks: a wrong format version, a weight matrix whose size does not fit the grid,
+  a number of controls other than the fix's, a box other than the simulation's: each refused with
+  an error naming it;
+- eps = 0: no atom becomes kinematic and the run is the plain run, digit for digit;
+- a uniform predicted field U (weights: bias only): a resting atom (|v - U| = |U| <= eps v0)
+  becomes kinematic, its velocity is U exactly and it moves by U dt per step although gravity
+  acts; an atom whose speed relative to U exceeds eps v0 stays dynamic and falls freely;
+- contacts: two resting kinematic atoms that overlap exert no force (the pair virial is exactly
+  zero, and nonzero in the same scene without the fix), while a dynamic atom overlapping a
+  kinematic one is pushed away by it and the kinematic one does not move; an atom overlapping
+  beyond `overlap` min(ri, rj) is never made kinematic; the same on 2 processes with the two
+  kinematic atoms on different processes (their state reaches the ghosts);
+- release: a kinematic atom driven by the field into a wall is released once the wall's force
+  exceeds eps v0 m / (N dt), so its penetration stays below that force's spring length plus one
+  step's travel and a small margin (it would reach 0.13 otherwise); a kinematic atom hit by a fast
+  dynamic one is released and takes up momentum;
+- train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+WD = t.workdir()
+
+
+def write_model(path, n, box, controls=0, bias=(0.0, 0.0, 0.0), version=1, nrow=None, ncol=None,
+                control_weight=None):
+    """A model whose field is the uniform bias (plus control_weight * control 1 on vx)."""
+    nvox = n[0] * n[1] * n[2]
+    nrow = 3 * nvox if nrow is None else nrow
+    ncol = 1 + nvox + controls if ncol is None else ncol
+    with open(path, "w") as f:
+        f.write("# test model\ngriddem/rom %s\ngrid %d %d %d\nbox %s\ncontrols %d\nlambda 0.001\n"
+                % (version, n[0], n[1], n[2], " ".join("%.17g" % b for b in box), controls))
+        f.write("weights %d %d\n" % (nrow, ncol))
+        for r in range(nrow):
+            row = [0.0] * ncol
+            row[0] = bias[r % 3]
+            if control_weight is not None and r % 3 == 0:
+                row[ncol - 1] = control_weight
+            f.write(" ".join("%.17g" % w for w in row) + "\n")
+
+
+BOX = (0.0, 6.0, 0.0, 6.0, 0.0, 6.0)
+HEAD = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary {bnd}
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+"""
+PAIR = """
+pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
+pair_coeff * *
+timestep 0.001
+"""
+
+
+def model_checks():
+    good = os.path.join(WD, "good.model")
+    write_model(good, (3, 3, 3), BOX, controls=1)
+    cases = [
+        ("version", dict(version=2), "format version 2"),
+        ("grid size", dict(nrow=3 * 26), "grid size 3 3 3"),
+        ("columns", dict(ncol=1 + 27), "grid size 3 3 3 and 1 controls"),
+        ("controls", dict(controls=2), "has 2 controls, the fix names 1"),
+    ]
+    for name, kw, expected in cases:
+        path = os.path.join(WD, "bad_%s.model" % name.replace(" ", "_"))
+        args = dict(controls=1)
+        args.update(kw)
+        write_model(path, (3, 3, 3), BOX, **args)
+        text = HEAD.format(bnd="f f f") + PAIR + """
+variable w equal 1.0
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+run 0
+""".format(m=path)
+        rc, out = t.run_lmp(text, WD, name="in.bad_" + name.replace(" ", "_"))
+        t.check(rc != 0 and expected in out, "model with a wrong %s refused naming it (%r)" % (name, expected))
+    path = os.path.join(WD, "bad_box.model")
+    write_model(path, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 7.0), controls=1)
+    text = HEAD.format(bnd="f f f") + PAIR + """
+variable w equal 1.0
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+run 0
+""".format(m=path)
+    rc, out = t.run_lmp(text, WD, name="in.bad_box")
+    t.check(rc != 0 and "differs from the simulation box" in out, "model with a wrong box refused")
+    # and the good one runs
+    text = HEAD.format(bnd="f f f") + PAIR + """
+variable w equal 1.0
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+run 0
+""".format(m=good)
+    rc, out = t.run_lmp(text, WD, name="in.good")
+    t.check(rc == 0, "a consistent model is accepted")
+
+
+def eps_zero():
+    model = os.path.join(WD, "zero.model")
+    write_model(model, (3, 3, 3), BOX)
+    base = HEAD.format(bnd="p p p") + """
+lattice sc 1.1 origin 0.5 0.5 0.5
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all create 0.5 4928 dist gaussian
+""" + PAIR + """
+fix integrate all nve/sphere
+{rom}
+dump d all custom 200 {dump} id x y z vx vy vz omegax fx {extra}
+dump_modify d format float %.17g sort id
+thermo 100
+run 400
+"""
+    t.run_ok(base.format(rom="", dump="plain.dump", extra=""), WD, name="in.plain")
+    t.run_ok(base.format(rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1" % model,
+                         dump="rom0.dump", extra="f_rom"), WD, name="in.rom0")
+    plain, rom = t.read_dumps(os.path.join(WD, "plain.dump")), t.read_dumps(os.path.join(WD, "rom0.dump"))
+    t.check(len(plain) == len(rom) == 3, "three snapshots each")
+    same = all(all(r[1][tag][:8] == p[1][tag] for tag in p[1]) for p, r in zip(plain, rom))
+    moved = any(abs(rom[-1][1][tag][4] - rom[0][1][tag][4]) > 0 for tag in rom[0][1])
+    t.check(moved, "the eps 0 scene has collisions (velocities change)")
+    t.check(same, "eps 0: positions, velocities, spins, forces equal the plain run exactly")
+    t.check(all(v[8] == 0.0 for snap in rom for v in snap[1].values()), "eps 0: no atom kinematic")
+
+
+def uniform_field():
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "uniform.model")
+    write_model(model, (3, 3, 3), BOX, bias=U)
+    g = 2.0
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 1.5 1.5 3.0
+create_atoms 1 single 4.5 4.5 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+set atom 2 vx 0.9
+""" + PAIR + """
+fix integrate all nve/sphere
+fix down all gravity {g} vector 0 0 -1
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+dump d all custom 5 uniform.dump id x y z vx vy vz f_rom
+dump_modify d format float %.17g sort id
+run 25
+""".format(g=g, m=model)
+    t.run_ok(text, WD, name="in.uniform")
+    snaps = t.read_dumps(os.path.join(WD, "uniform.dump"))
+    dt = 0.001
+    # |v1 - U| = |U| = 0.374 <= eps v0 = 0.5: kinematic from step 5 on
+    s5, s25 = snaps[1][1], snaps[-1][1]
+    t.check(s5[1][6] == 1.0 and s25[1][6] == 1.0, "resting atom made kinematic by a field within eps v0")
+    # the trilinear weights sum to 1 up to rounding: the field to a few ulps
+    t.check(all(abs(s25[1][3 + d] - U[d]) <= 4e-16 * abs(U[d]) for d in range(3)),
+            "kinematic velocity equals the field: %s" % s25[1][3:6])
+    ok = all(abs(s25[1][d] - (s5[1][d] + 20 * dt * U[d])) <= 1e-12 for d in range(3))
+    t.check(ok, "kinematic atom moves by U dt per step despite gravity")
+    # atom 2: |v - U| = sqrt(0.6^2 + 0.2^2 + 0.1^2) = 0.64 > 0.5: dynamic, free fall vz = -g t
+    t.check(all(s[1][2][6] == 0.0 for s in snaps), "atom moving at more than eps v0 relative to the field stays dynamic")
+    t.check(abs(s25[2][5] - (-g * 25 * dt)) <= 1e-12, "dynamic atom falls freely: vz %.15g, -g t %.15g" % (s25[2][5], -g * 25 * dt))
+
+
+def contacts():
+    model = os.path.join(WD, "rest.model")
+    write_model(model, (3, 3, 3), BOX)
+    # atoms 1, 2 overlap by 0.005 (bound 0.1 * 0.5 = 0.05); atom 3 (not in the fix group) overlaps
+    # atom 1 by 0.005 from the other side; atoms 4, 5 overlap by 0.1 > 0.05 (never kinematic)
+    base = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 3.0 3.0 3.0
+create_atoms 1 single 3.995 3.0 3.0
+create_atoms 1 single 3.0 3.995 3.0
+create_atoms 1 single 1.0 1.0 1.0
+create_atoms 1 single 1.9 1.0 1.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+group romable id 1 2 4 5
+""" + PAIR + """
+fix integrate all nve/sphere
+{rom}
+compute vir all pressure NULL virial
+thermo_style custom step c_vir
+thermo_modify format float %.17g
+thermo 1
+dump d all custom 10 {dump} id x y z vx vy vz {extra}
+dump_modify d format float %.17g sort id
+run 10
+"""
+    out = t.run_ok(base.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+                               dump="contacts.dump", extra="f_rom"), WD, name="in.contacts")
+    snaps = t.read_dumps(os.path.join(WD, "contacts.dump"))
+    s = snaps[-1][1]
+    t.check(s[1][6] == 1.0 and s[2][6] == 1.0, "resting overlapping atoms 1, 2 kinematic")
+    t.check(s[4][6] == 0.0 and s[5][6] == 0.0, "atoms 4, 5 overlapping beyond the bound stay dynamic")
+    t.check(s[3][6] == 0.0, "atom 3 (outside the fix group) dynamic")
+    # kinematic with a zero field: atoms 1, 2 stand still after their classification at step 1
+    t.check(s[1][3:6] == [0.0, 0.0, 0.0] and s[2][3:6] == [0.0, 0.0, 0.0], "kinematic atoms at rest")
+    # atom 3 is pushed away from atom 1 along +y
+    t.check(s[3][4] > 0.0, "dynamic atom pushed by the kinematic one: vy %g" % s[3][4])
+    # the virial: 1-3 and 4-5 contacts only; without the 1-2 contact
+    out_rom = out
+    # the same scene with atom 3 and atoms 4, 5 removed: only the kinematic pair 1-2 remains
+    only12 = base.replace("create_atoms 1 single 3.0 3.995 3.0\n", "").replace(
+        "create_atoms 1 single 1.0 1.0 1.0\ncreate_atoms 1 single 1.9 1.0 1.0\n", "").replace(
+        "group romable id 1 2 4 5", "group romable id 1 2")
+    out = t.run_ok(only12.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+                                 dump="only12.dump", extra="f_rom"), WD, name="in.only12")
+    vir = t.thermo_values(out, "c_vir")
+    t.check(vir[0] != 0.0, "before the first classification the pair 1-2 pushes (virial %g)" % vir[0])
+    t.check(all(v == 0.0 for v in vir[2:]), "after it the kinematic pair exerts no force (virial %s)" % vir[2:5])
+    out = t.run_ok(only12.format(rom="", dump="only12plain.dump", extra=""), WD, name="in.only12plain")
+    vir = t.thermo_values(out, "c_vir")
+    t.check(all(v != 0.0 for v in vir[2:]), "the same pair without the fix keeps pushing")
+
+
+def processes():
+    model = os.path.join(WD, "rest2.model")
+    write_model(model, (3, 3, 3), BOX)
+    text = HEAD.format(bnd="f f f").replace("region box", "processors 2 1 1\nregion box") + """
+create_atoms 1 single 2.6 3.0 3.0
+create_atoms 1 single 3.595 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix integrate all nve/sphere
+{rom}
+compute vir all pressure NULL virial
+thermo_style custom step c_vir
+thermo_modify format float %.17g
+thermo 1
+run 10
+"""
+    out = t.run_ok(text.format(rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
+                   WD, nprocs=2, name="in.procs")
+    vir = t.thermo_values(out, "c_vir")
+    t.check(vir[0] != 0.0 and all(v == 0.0 for v in vir[2:]),
+            "2 processes: kinematic pair across the boundary exerts no force (virial %s)" % vir[:4])
+
+
+def release():
+    model = os.path.join(WD, "left.model")
+    U = -0.3
+    write_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 0.52 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix integrate all nve/sphere
+fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+variable x equal x[1]
+thermo_style custom step v_x f_rom[6]
+thermo_modify format float %.17g
+thermo 1
+run 500
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.release")
+    xs, released = t.thermo_values(out, "v_x"), t.thermo_values(out, "f_rom[6]")
+    m, kn, n, dt = math.pi / 6.0, 2000.0, 5, 0.001
+    bound = 0.5 * 1.0 * m / (kn * n * dt)       # eps v0 m / (kn N dt)
+    depth = 0.5 - min(xs)
+    t.check(released[-1] >= 1, "kinematic atom released by the wall's force")
+    t.check(depth <= bound + abs(U) * dt + 0.01, "penetration %.4f within the release bound %.4f" % (depth, bound))
+
+    model0 = os.path.join(WD, "rest3.model")
+    write_model(model0, (3, 3, 3), BOX)
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 3.0 3.0 3.0
+create_atoms 1 single 1.5 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+set atom 2 vx 1.0
+group target id 1
+""" + PAIR + """
+fix integrate all nve/sphere
+fix rom target griddem/rom model {m} eps 0.2 v0 1 every 1
+dump d all custom 100 hit.dump id vx f_rom
+dump_modify d format float %.17g sort id
+run 1000
+""".format(m=model0)
+    t.run_ok(text, WD, name="in.hit")
+    snaps = t.read_dumps(os.path.join(WD, "hit.dump"))
+    t.check(snaps[1][1][1][1] == 1.0, "resting atom kinematic before the hit")
+    t.check(snaps[-1][1][1][1] == 0.0 and snaps[-1][1][1][0] > 0.1,
+            "hit atom released and moving (vx %g)" % snaps[-1][1][1][0])
+
+
+def training():
+    """Synthetic dumps whose velocities are an exact linear function of density and control."""
+    import random
+    rng = random.Random(5)
+    n, m = (2, 1, 2), 4
+    A = [[rng.uniform(-1, 1) for _ in range(m + 1)] for _ in range(3 * m)]   # density + control
+    b = [rng.uniform(-1, 1) for _ in range(3 * m)]
+    specs = []
+    for run, w in enumerate((1.0, 2.0, 3.0)):
+        path = os.path.join(WD, "syn%d.txt" % run)
+        with open(path, "w") as f:
+            for frame in range(30):
+                rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
+                vel = [b[r] + sum(A[r][k] * rho[k] for k in range(m)) + A[r][m] * w for r in range(3 * m)]
+                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % (frame * 10))
+                f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
+                f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
+                for v in range(m):
+                    f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
+        specs.append("%s:%g" % (path, w))
+    here = os.path.dirname(os.path.abspath(__file__))
+    script = os.path.join(os.path.dirname(os.path.dirname(here)), "examples", "rom-pile", "train_rom.py")
+    import subprocess
+    out_model = os.path.join(WD, "syn.model")
+    proc = subprocess.run(["/usr/bin/python3", script, out_model] + specs, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True)
+    t.check(proc.returncode == 0, "train_rom.py runs: " + proc.stdout[-300:])
+    if proc.returncode != 0:
+        return
+    words = []
+    with open(out_model) as f:
+        for line in f:
+            words += line.split("#")[0].split()
+    k = words.index("weights")
+    nrow, ncol = int(words[k + 1]), int(words[k + 2])
+    t.check(words[:2] == ["griddem/rom", "1"] and words[2:6] == ["grid", "2", "1", "2"] and
+            (nrow, ncol) == (12, 6), "model header: version 1, grid 2 1 2, 12 x 6 weights")
+    W = [[float(x) for x in words[k + 3 + r * ncol:k + 3 + (r + 1) * ncol]] for r in range(nrow)]
+    worst = max(max(abs(W[r][0] - b[r]), max(abs(W[r][1 + c] - A[r][c]) for c in range(m + 1)))
+                for r in range(nrow))
+    t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map (worst weight error %.2g)" % worst)
+
+
+model_checks()
+processes()
+release()
+training()
+eps_zero()
+uniform_field()
+contacts()
+t.finish()
