@@ -61,6 +61,16 @@ timestep 0.001
 """
 
 
+def model_input(path):
+    """A one-control fix griddem/rom reading the model file at path, run 0."""
+    return HEAD.format(bnd="f f f") + PAIR + """
+variable w equal 1.0
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+run 0
+""".format(m=path)
+
+
 def model_checks():
     good = os.path.join(WD, "good.model")
     write_model(good, (3, 3, 3), BOX, controls=1)
@@ -75,31 +85,16 @@ def model_checks():
         args = dict(controls=1)
         args.update(kw)
         write_model(path, (3, 3, 3), BOX, **args)
-        text = HEAD.format(bnd="f f f") + PAIR + """
-variable w equal 1.0
-fix integrate all nve/sphere
-fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
-run 0
-""".format(m=path)
+        text = model_input(path)
         rc, out = t.run_lmp(text, WD, name="in.bad_" + name.replace(" ", "_"))
         t.check(rc != 0 and expected in out, "model with a wrong %s refused naming it (%r)" % (name, expected))
     path = os.path.join(WD, "bad_box.model")
     write_model(path, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 7.0), controls=1)
-    text = HEAD.format(bnd="f f f") + PAIR + """
-variable w equal 1.0
-fix integrate all nve/sphere
-fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
-run 0
-""".format(m=path)
+    text = model_input(path)
     rc, out = t.run_lmp(text, WD, name="in.bad_box")
     t.check(rc != 0 and "differs from the simulation box" in out, "model with a wrong box refused")
     # and the good one runs
-    text = HEAD.format(bnd="f f f") + PAIR + """
-variable w equal 1.0
-fix integrate all nve/sphere
-fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
-run 0
-""".format(m=good)
+    text = model_input(good)
     rc, out = t.run_lmp(text, WD, name="in.good")
     t.check(rc == 0, "a consistent model is accepted")
 
