@@ -105,7 +105,7 @@ void procs2grid2d(int nprocs, int nx, int ny, int &px, int &py)
 ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), nslot(0), list(nullptr), grid3d(nullptr), ghost_sum(nullptr),
     channels(nullptr), gc_buf1(nullptr), gc_buf2(nullptr), fft(nullptr), to_fft(nullptr),
-    from_fft(nullptr), nmax(0), virial(nullptr)
+    from_fft(nullptr), nmax(0), virial_every_step(0), virial(nullptr)
 {
 #ifndef GRIDDEM_CG_HAVE_FFT
   error->all(FLERR, "Compute griddem/cg requires the KSPACE package (its FFT3d and Remap)");
@@ -169,6 +169,10 @@ void ComputeGriddemCg::init()
   }
   if (slot[VIRIAL] >= 0 && !force->pair)
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
+  // fix ave/grid (LAMMPS 4Feb2025) schedules grid computes only at the start of its windows, so
+  // the per-atom virial would be missing on its other samples: with one defined, ask for it on
+  // every step from the first invocation on
+  virial_every_step = slot[VIRIAL] >= 0 && !modify->get_fix_by_style("^ave/grid").empty();
 }
 
 void ComputeGriddemCg::init_list(int, NeighList *ptr)
@@ -365,6 +369,7 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
+  if (virial_every_step) addstep(update->ntimestep + 1);
   if (slot[VIRIAL] >= 0) gather_virial();
   if (slot[CONTACTS] >= 0) count_contacts();
 
@@ -482,6 +487,9 @@ int ComputeGriddemCg::get_griddata_by_name(int igrid, const std::string &name, i
 
 void *ComputeGriddemCg::get_griddata_by_index(int index)
 {
+  // fix ave/grid (LAMMPS 4Feb2025, grid mode) reads grid data without clearing the computes'
+  // invoked flags first, so it would be handed the fields of an earlier step: make them this step's
+  if (grid3d && invoked_pergrid != update->ntimestep) compute_pergrid();
   return index >= 0 && index < (int) fields.size() ? fields[index] : nullptr;
 }
 

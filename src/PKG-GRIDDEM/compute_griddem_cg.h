@@ -56,6 +56,7 @@ class ComputeGriddemCg : public Compute {
   std::vector<double> kernel_hat, work, fft_real, owned, smoothed;
 
   int nmax;
+  int virial_every_step;    // 1: the per-atom virial is asked for on every step (fix ave/grid)
   double **virial;               // per-atom virial (pair + fixes), ghosts summed back when newton
   std::vector<double> contacts;  // touching neighbours per owned atom
 

@@ -297,6 +297,33 @@ def check_static_bed(wd):
     t.check(worst <= 0.03, "settled bed: pzz = weight of the material above (relative %.3g)" % worst)
 
 
+def check_time_average(wd):
+    """fix ave/grid of the fields, a stress value among them (fix ave/grid schedules grid computes
+    only at the start of its windows and reads their data without clearing their invoked flags;
+    the compute then recomputes stale fields and asks for the per-atom virial every step): its
+    average over steps 6-10 equals the mean of the fields dumped on each of those steps."""
+    data = os.path.join(wd, "data.avg")
+    t.write_random_spheres(data, 300, (4.0, 4.0, 4.0), 0.1, 0.3, seed=11)
+    head = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", coeffs="")
+    head += "timestep 1e-4\ncompute cg all griddem/cg 8 6 5 0.45 vx pzz\n"
+    sub = os.path.join(wd, "avg")
+    os.mkdir(sub)
+    for value in ("vx", "pzz"):
+        averaged = head + ("fix avg all ave/grid 1 5 10 8 6 5 c_cg:grid:%s\n"
+                           "dump a all grid/vtk 10 %savg.*.vti f_avg:grid:data\n"
+                           "dump_modify a format float %%.17g\nrun 10\n") % (value, value)
+        rc, out = t.run_lmp(averaged, sub, name="in.avg")
+        t.check(rc == 0, "fix ave/grid averages %s (exit %d): %s" % (value, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+        t.run_ok(head + "dump p all grid/vtk 1 %s.*.vti c_cg:grid:%s\ndump_modify p format float %%.17g\nrun 10\n"
+                 % (value, value), sub, name="in.each")
+        if rc:
+            continue
+        steps = [read_vti(os.path.join(sub, "%s.%d.vti" % (value, k))) for k in range(6, 11)]
+        mean = [sum(v) / len(v) for v in zip(*steps)]
+        diff = max_diff(read_vti(os.path.join(sub, "%savg.10.vti" % value)), mean) / max(abs(v) for v in mean)
+        t.check(diff <= 1e-12, "fix ave/grid of %s over steps 6-10 = mean of the per-step fields (rel. %.3g)" % (value, diff))
+
+
 def check_errors(wd):
     base = "units lj\natom_style sphere\n%s\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\ncompute c all griddem/cg %s\n"
     for dim, args, expect in [("", "2 2 2 0.5 density stress", "unknown value stress"),
@@ -318,6 +345,7 @@ def main():
     check_wall(wd)
     check_lattice(wd)
     check_static_bed(wd)
+    check_time_average(wd)
     check_errors(wd)
     t.finish()
 
