@@ -59,6 +59,11 @@ def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None):
     return proc.returncode, proc.stdout
 
 
+def errors(out):
+    """The ERROR lines of a run's screen output."""
+    return [line for line in out.splitlines() if "ERROR" in line]
+
+
 def run_ok(text, cwd, nprocs=1, name="in.test", threads=None):
     rc, out = run_lmp(text, cwd, nprocs, name, threads=threads)
     if rc != 0:

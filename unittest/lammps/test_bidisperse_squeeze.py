@@ -99,7 +99,7 @@ def run(wd, name, data, pair, nprocs):
     text = TEMPLATE.format(data=data, pair=pair, scale=SCALE, most=most, steps=STEPS, name=name)
     rc, out = t.run_lmp(text, wd, nprocs=nprocs, name="in." + name)
     t.check(rc == 0, "%s: the run completes (exit %d): %s" % (
-        name, rc, [l for l in out.splitlines() if "ERROR" in l][:1] or out.strip().splitlines()[-1:]))
+        name, rc, t.errors(out)[:1] or out.strip().splitlines()[-1:]))
     if rc != 0:
         return None, out
     return t.read_dump(os.path.join(wd, "dump." + name)), out

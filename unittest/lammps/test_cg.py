@@ -313,7 +313,7 @@ def check_time_average(wd):
                            "dump a all grid/vtk 10 %savg.*.vti f_avg:grid:data\n"
                            "dump_modify a format float %%.17g\nrun 10\n") % (value, value)
         rc, out = t.run_lmp(averaged, sub, name="in.avg")
-        t.check(rc == 0, "fix ave/grid averages %s (exit %d): %s" % (value, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+        t.check(rc == 0, "fix ave/grid averages %s (exit %d): %s" % (value, rc, t.errors(out)[:1]))
         t.run_ok(head + "dump p all grid/vtk 1 %s.*.vti c_cg:grid:%s\ndump_modify p format float %%.17g\nrun 10\n"
                  % (value, value), sub, name="in.each")
         if rc:

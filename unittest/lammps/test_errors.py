@@ -47,7 +47,7 @@ def case(name, expect, warning=False, atom_style="sphere", dim=3, comm="comm_mod
     else:
         t.check(rc != 0, "%s: stops with an error (exit %d)" % (name, rc))
         t.check("ERROR" in out and expect in out, "%s: message '%s' in: %s" % (
-            name, expect, [l for l in out.splitlines() if "ERROR" in l][:2]))
+            name, expect, t.errors(out)[:2]))
     if not nan_expected:
         t.check("nan" not in out.lower().replace("nano", ""), "%s: no NaN printed" % name)
 
@@ -148,7 +148,7 @@ STATE = ["x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz", "fx", "f
 rc, out = t.run_lmp(THREE.format(pair="griddem/hooke/history", fix="fix grid all griddem contacts 1",
                                  most="f_grid[6]", name="one"), WD, name="in.contacts_one")
 t.check(rc == 0, "contacts 1 with an atom touching 2: the run completes (exit %d): %s" % (
-    rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+    rc, t.errors(out)[:1]))
 most = t.thermo_values(out, "f_grid[6]")
 t.check(most and max(most) == 2, "contacts 1: atom 1 has 2 contacts (%s)" % most)
 t.run_ok(THREE.format(pair="gran/hooke/history", fix="", most="ke", name="stock"), WD, name="in.contacts_stock")
@@ -199,7 +199,7 @@ dump_modify snap format float %.17g sort id
 run 20
 """, WD, name="in.read_contacts")
 t.check(rc == 0, "restart with more contacts than contacts 1: read and continued (exit %d): %s" % (
-    rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+    rc, t.errors(out)[:1]))
 if rc == 0:
     a, b = t.read_dumps(os.path.join(WD, "dump.whole")), t.read_dumps(os.path.join(WD, "dump.again"))
     t.check(len(a) == len(b) == 2, "restart read with contacts 1: two snapshots each")

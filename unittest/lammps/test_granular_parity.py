@@ -215,9 +215,9 @@ write_restart restart.mindlin
     read = "read_restart restart.{name}\ncomm_modify vel yes\nfix integrate all nve/sphere\nrun 2\n"
     rc, out = t.run_lmp(read.format(name="mindlin"), wd, name="in.read_mindlin")
     t.check(rc == 0, "restart with tangential mindlin read and continued (exit %d): %s" % (
-        rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+        rc, t.errors(out)[:1]))
     rc, out = t.run_lmp(read.format(name="mindlix"), wd, name="in.read_mindlix")
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = t.errors(out)
     t.check(rc != 0 and any("restart file" in l and "mindlix" in l for l in errors),
             "restart naming an unknown sub-model mindlix stops read_restart naming it: %s" % errors[:1])
     # rolling sds written as name length 3, "sds", 3 coefficients (native ints): claim 2
@@ -226,7 +226,7 @@ write_restart restart.mindlin
     with open(os.path.join(wd, "restart.sds2"), "wb") as f:
         f.write(data.replace(count, struct.pack("i", 3) + b"sds" + struct.pack("i", 2)))
     rc, out = t.run_lmp(read.format(name="sds2"), wd, name="in.read_sds2")
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = t.errors(out)
     t.check(rc != 0 and any("restart file gives 2 coefficients for rolling model sds, which takes 3" in l for l in errors),
             "restart with a wrong coefficient count stops read_restart naming the sub-model: %s" % errors[:1])
 

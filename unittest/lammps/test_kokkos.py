@@ -19,7 +19,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 from test_granular_parity import FROZEN_LIST, MODELS
-from test_stock_parity import FORCES, STATE, compare as parity_compare, run as parity_run
+from test_stock_parity import FORCES, STATE, TEMPLATE, compare as parity_compare, run as parity_run
 
 SKIP = 77
 GPUS = os.environ.get("GRIDDEM_KK_GPUS")
@@ -58,18 +58,7 @@ def run(wd, name, data, pair, coeffs, nprocs=1, threads=None, extra=""):
     """parity_run (test_stock_parity) with Kokkos options when threads is given."""
     if threads is None and nprocs == 1:
         return parity_run(wd, name, data, pair, extra, coeffs)
-    text = t.PERIODIC_SPHERES.format(data=data, pair=pair, coeffs=coeffs) + """
-{extra}
-timestep 1e-5
-fix integrate all nve/sphere
-compute virial all pressure NULL pair
-thermo_style custom step ke press c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6]
-thermo_modify format float %.17g
-thermo 10
-dump snap all custom 20 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
-dump_modify snap format float %.17g sort id
-run 20
-""".format(extra=extra, name=name)
+    text = TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name)
     rc, out = t.run_lmp(text, wd, nprocs=nprocs, name="in." + name,
                         extra=kk_args(threads) if threads else (), threads=threads)
     if rc != 0:
@@ -192,7 +181,7 @@ def main():
                         "region b block 0 4 0 4 0 4\ncreate_box 1 b\ncreate_atoms 1 single 1 1 1\n"
                         "create_atoms 1 single 2 2 2\ncreate_atoms 1 single 1 1 1\n"
                         "pair_style %s\npair_coeff * *\nrun 0\n" % LAWS[0][1], wd, name="in.same", extra=kk_args(1))
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = t.errors(out)
     t.check(rc != 0 and any("atoms 1 and 3 are at the same position" in l for l in errors),
             "griddem/hooke/kk names coincident atoms: %s" % errors[:1])
 
@@ -200,7 +189,7 @@ def main():
     rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") +
                         "set atom 42 vx 1e5\ntimestep 1e-5\nfix integrate all nve/sphere\nrun 2\n", wd,
                         name="in.fast", extra=kk_args(1))
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = t.errors(out)
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
     # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
@@ -271,7 +260,7 @@ def main():
             rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
                                 moving.format(name=name), wd, nprocs=nprocs, name="in." + name, extra=extra,
                                 threads=THREADS[-1] if extra else None)
-            t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+            t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
             got.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
         err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
         print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
@@ -322,7 +311,7 @@ def check_stock_kk_fixes(wd):
     for name, nprocs, extra in (("fx_cpu", 1, ()), ("fx_kk", RANKS[-1], kk_args(THREADS[-1]))):
         rc, out = t.run_lmp(FIXES.format(data=data, name=name), wd, nprocs=nprocs, name="in." + name,
                             extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
         snaps.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
         if extra:
             for fix in ("gravity/kk", "wall/gran/kk", "deform/kk", "freeze/kk", "nve/sphere/kk"):
@@ -355,7 +344,7 @@ def restart_run(wd, name, data, law, kk_first, kk_second, fix=""):
     second = RESTART.format(start="read_restart restart.%s" % name, pair=law[1], coeffs=law[3],
                             name=name + "_b", write=fix, finish="")
     rc, out = t.run_lmp(second, wd, name="in.%s_b" % name, extra=kk_args(1) if kk_second else ())
-    t.check(rc == 0, "%s: second half runs (exit %d): %s" % (name, rc, [l for l in out.splitlines() if "ERROR" in l][:1]))
+    t.check(rc == 0, "%s: second half runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
     return t.read_dumps(os.path.join(wd, "dump.%s_b" % name))[-1]
 
 

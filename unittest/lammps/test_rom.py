@@ -60,6 +60,16 @@ pair_coeff * *
 timestep 0.001
 """
 
+# integration, the fix griddem/rom line ({rom}) and the pair virial printed every step
+VIRIAL_EACH_STEP = """
+fix integrate all nve/sphere
+{rom}
+compute vir all pressure NULL virial
+thermo_style custom step c_vir
+thermo_modify format float %.17g
+thermo 1
+"""
+
 
 def model_input(path):
     """A one-control fix griddem/rom reading the model file at path, run 0."""
@@ -179,14 +189,7 @@ set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set 0 0 0
 group romable id 1 2 4 5
-""" + PAIR + """
-fix integrate all nve/sphere
-{rom}
-compute vir all pressure NULL virial
-thermo_style custom step c_vir
-thermo_modify format float %.17g
-thermo 1
-dump d all custom 10 {dump} id x y z vx vy vz {extra}
+""" + PAIR + VIRIAL_EACH_STEP + """dump d all custom 10 {dump} id x y z vx vy vz {extra}
 dump_modify d format float %.17g sort id
 run 10
 """
@@ -226,14 +229,7 @@ create_atoms 1 single 3.595 3.0 3.0
 set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set 0 0 0
-""" + PAIR + """
-fix integrate all nve/sphere
-{rom}
-compute vir all pressure NULL virial
-thermo_style custom step c_vir
-thermo_modify format float %.17g
-thermo 1
-run 10
+""" + PAIR + VIRIAL_EACH_STEP + """run 10
 """
     out = t.run_ok(text.format(rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
                    WD, nprocs=2, name="in.procs")

@@ -103,7 +103,6 @@ struct GriddemKKGrid {
   double anchor[3], h, hinv;
   long k0[3];
   int n[3];
-  int ncell;
   KOKKOS_INLINE_FUNCTION int axis_cell(int d, double x) const
   {
     const long c = (long) floor((x - anchor[d]) * hinv) - k0[d];

@@ -223,7 +223,6 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       g.anchor[d] = fitted.anchor[d], g.k0[d] = fitted.k0[d], g.n[d] = fitted.n[d];
     g.h = fitted.h;
     g.hinv = fitted.hinv;
-    g.ncell = (int) fitted.ncell;
     grids.offset[c] = (int) total;
     total += fitted.ncell;
     if (total >= INT_MAX)
