@@ -176,6 +176,15 @@ def main():
     print("griddem/granular/kk per-atom virial vs CPU: %.2g" % err)
     t.check(err <= 1e-10, "griddem/granular/kk per-atom virial relative error %.3g" % err)
 
+    # the history fix must match the pair style: a kk style with the CPU fix, and the reverse
+    for pair, fix, wanted in (("griddem/hooke/history/kk", "griddem", "griddem/kk, but fix grid is fix griddem:"),
+                              ("griddem/hooke/history", "griddem/kk", "griddem, but fix grid is fix griddem/kk:")):
+        text = t.PERIODIC_SPHERES.format(data=data, pair=pair + " 1e4 NULL 50 NULL 0.5 1", coeffs="pair_coeff * *")
+        text = text.replace("atom_style sphere", "atom_style sphere/kk") + "fix grid all %s\nrun 0\n" % fix
+        rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
+        t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
+                "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
+
     # coincident centres: stopped with the atom IDs
     rc, out = t.run_lmp("units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\n"
                         "region b block 0 4 0 4 0 4\ncreate_box 1 b\ncreate_atoms 1 single 1 1 1\n"
