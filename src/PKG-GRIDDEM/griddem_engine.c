@@ -14,7 +14,7 @@ void griddem_engine_init(griddem_engine *e, int history_values)
 void griddem_engine_free(griddem_engine *e)
 {
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
-  free(e->member), free(e->order), free(e->xc), free(e->keyc);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->active);
   griddem_channels_free(&e->channels);
   griddem_history_free(&e->hist);
   memset(e, 0, sizeof(*e));
@@ -55,14 +55,50 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
-/* Bin each size class on its own grid, class c holding radii in (upper[c+1], upper[c]], the last
- * the rest; order: the particle of each slot, classes one after the other from the largest
- * spheres. Returns the number of slots, or -1 without memory. */
-static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_grid *cls)
+/* Particles carrying idle_bit interact only with particles that lack it (pairs of two are
+ * excluded: fix griddem/rom's kinematic particles), so one that no particle without the bit can
+ * reach is left out of the grid and its cell drops out of the sweep. Marks, on a grid whose edge
+ * is at least the longest contact distance, every cell within one cell of a particle without the
+ * bit: a particle with the bit is needed only if its cell is marked. 0, or -1 without memory. */
+static int mark_active_reach(griddem_engine *e, const griddem_step *s, int idle_bit)
+{
+  const griddem_particles *p = &s->particles;
+  griddem_grid *g = &e->reach_grid;
+  griddem_grid_cover(g, s->anchor, p->nall, p->x, 2.0 * s->rmax + s->model->reach_extra,
+                     GRIDDEM_CLASS_MAX_CELLS(p->nall));
+  if (g->ncell > e->active_cap) {
+    free(e->active);
+    e->active = (unsigned char *) malloc((size_t) g->ncell);
+    e->active_cap = e->active ? g->ncell : 0;
+    if (!e->active) return -1;
+  }
+  memset(e->active, 0, (size_t) g->ncell);
+  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  for (int i = 0; i < p->nall; i++) {
+    if (p->mask[i] & idle_bit) continue;
+    const double *x = p->x + 3 * (size_t) i;
+    const long c = griddem_cell_of(g, x[0], x[1], x[2]);
+    const long cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++)
+        for (long xx = cx > 0 ? cx - 1 : 0; xx <= cx + 1 && xx < nx; xx++) e->active[xx + nx * (y + ny * z)] = 1;
+  }
+  return 0;
+}
+
+/* Bin the particles that can interact, each size class on its own grid (one class: the step's
+ * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; order: the
+ * particle of each slot, classes one after the other from the largest spheres. Left out: ghosts
+ * out of reach of every owned particle, and particles with idle_bit (0: none) out of reach of
+ * every particle without it; the speed of owned ones left out still enters the motion check.
+ * Returns the number of slots, or -1 without memory. */
+static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, griddem_class_grid *cls,
+                        int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
   if (grow_work(e, n) != 0) return -1;
+  if (idle_bit && mark_active_reach(e, s, idle_bit) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
   for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -GRIDDEM_CLASS_SHIFT * c);
   upper[ncls] = 0.0;
@@ -76,14 +112,23 @@ static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_g
       lo[d] = (i == 0 || v < lo[d]) ? v : lo[d];
       hi[d] = (i == 0 || v > hi[d]) ? v : hi[d];
     }
-  /* class of each particle to be binned (-1: a ghost out of reach), counted per class */
+  /* class of each particle to be binned (-1: left out), counted per class */
   int base[GRIDDEM_MAX_CLASSES + 1] = {0};
+  e->idle_vmax2 = 0.0;
+  e->idle_nonfinite = 0;
   for (int i = 0; i < n; i++) {
     int c = -1;
-    if (within_reach(p, i, lo, hi, reach)) {
+    const double *x = p->x + 3 * (size_t) i;
+    const int idle = idle_bit && (p->mask[i] & idle_bit) &&
+        !e->active[griddem_cell_of(&e->reach_grid, x[0], x[1], x[2])];
+    if (!idle && within_reach(p, i, lo, hi, reach)) {
       c = 0;
       while (c < ncls - 1 && p->radius[i] <= upper[c + 1]) c++;
       base[c + 1]++;
+    } else if (idle && i < p->nlocal) {
+      const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+      if (!isfinite(v2)) e->idle_nonfinite = 1;
+      else if (v2 > e->idle_vmax2) e->idle_vmax2 = v2;
     }
     e->order[i] = c;
   }
@@ -100,11 +145,14 @@ static int bin_classes(griddem_engine *e, const griddem_step *s, griddem_class_g
   for (int c = 0; c < ncls; c++) {
     const int nc = base[c + 1] - base[c];
     const double *xc = e->xc + 3 * (size_t) base[c];
-    griddem_grid_cover(&e->grid[c], s->anchor, nc, xc,
-                       griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0), GRIDDEM_CLASS_MAX_CELLS(nc));
+    if (ncls == 1)
+      *coarsened = griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, s->cell_edge, s->max_cells);
+    else
+      griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0),
+                         GRIDDEM_CLASS_MAX_CELLS(nc));
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
-    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = upper[c];
+    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = ncls == 1 ? s->rmax : upper[c];
   }
   return base[ncls];
 }
@@ -120,7 +168,10 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   griddem_bins all; /* the channels' order of particles */
   memset(&all, 0, sizeof(all));
   all.n = p->nall;
-  if (e->nclass == 1) {
+  const int idle_bit = s->excl ? s->excl->both_bit : 0;
+  e->idle_vmax2 = 0.0;
+  e->idle_nonfinite = 0;
+  if (e->nclass == 1 && !idle_bit) {
     /* one grid: the particles are binned as they are, nothing gathered */
     *coarsened = griddem_grid_cover(&e->grid[0], s->anchor, p->nall, p->x, s->cell_edge, s->max_cells);
     if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
@@ -128,7 +179,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
     all.order = e->bins[0].order;
   } else {
-    all.n = bin_classes(e, s, cls);
+    all.n = bin_gathered(e, s, idle_bit, cls, coarsened);
     if (all.n < 0) result->fault = GRIDDEM_FAULT_MEMORY;
     all.order = e->order;
   }
@@ -139,15 +190,18 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   griddem_sweep(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
                         s->dt, s->history_update, &e->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
-  /* the history's row of slot k is k */
+  /* the history's row of slot k is k; owned particles left out have none */
+  if (s->model->track_contacts && idle_bit)
+    for (int i = 0; i < p->nlocal; i++) s->row_of[i] = -1;
   if (s->model->track_contacts)
     for (int k = 0; k < all.n; k++)
       if (all.order[k] < p->nlocal) s->row_of[all.order[k]] = k;
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
-  e->stats.max_speed = sqrt(e->channels.vmax2);
+  const double vmax2 = e->channels.vmax2 > e->idle_vmax2 ? e->channels.vmax2 : e->idle_vmax2;
+  e->stats.max_speed = sqrt(vmax2);
   e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->nclass - 1].h;
-  e->stats.nonfinite_velocity = e->channels.nonfinite;
+  e->stats.nonfinite_velocity = e->channels.nonfinite || e->idle_nonfinite;
   e->stats.occupied_cells = 0;
   e->stats.max_occupancy = 0;
   for (int c = 0; c < e->nclass; c++) {
@@ -169,7 +223,7 @@ int griddem_engine_reserve(griddem_engine *e, int n, int contacts)
 double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
-  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
+  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t)) + (double) e->active_cap;
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +

@@ -3,7 +3,8 @@
  * each pair once and hands the partner the mirrored result) on a dense polydisperse (1:4)
  * configuration of two types, in every cell mode, for the gran/hooke(/history) laws and pair
  * granular sub-models (a per-type-pair table; jkr's contacts past touching included), with
- * excluded type pairs and with 1 or 3 threads; momentum balance holds; a particle's history row
+ * excluded type pairs and with 1 or 3 threads; through the engine, size classes and idle particles
+ * (all their pairs excluded) left out of the grid; momentum balance holds; a particle's history row
  * grows with its contacts; faults name the particles. */
 #include "check.h"
 #include "griddem_engine.h"
@@ -38,7 +39,7 @@ static void make_configuration(double rlo, double rhi)
 
 /* All ordered pairs from i's view, history in a dense matrix of nv values per ordered pair and
  * whether the pair interacted in touched (jkr holds pairs that touched before). */
-static void all_pairs(const griddem_model *m, const unsigned char *excluded, double dt, int update,
+static void all_pairs(const griddem_model *m, const unsigned char *excluded, int both_bit, double dt, int update,
                       double *hist, unsigned char *touched, double *f, double *t, double *vir,
                       double *energy, long *contacts)
 {
@@ -50,7 +51,7 @@ static void all_pairs(const griddem_model *m, const unsigned char *excluded, dou
   *contacts = 0;
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) {
-      if (i == j || (excluded && excluded[type[i] * 3 + type[j]])) continue;
+      if (i == j || (excluded && excluded[type[i] * 3 + type[j]]) || (mask[i] & mask[j] & both_bit)) continue;
       griddem_contact c;
       for (int d = 0; d < 3; d++) {
         c.dx[d] = x[3 * i + d] - x[3 * j + d];
@@ -103,7 +104,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   griddem_bins b = {0};
   griddem_channels ch = {0};
   griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
-  griddem_exclusions excl = {excluded, 2, 0, NULL};
+  griddem_exclusions excl = {excluded, 2, 0, NULL, 0};
 
   griddem_history hist;
   griddem_history_init(&hist, m->history_size);
@@ -131,7 +132,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     const griddem_class_grid one = {&g, &b, 0, rmax};
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
-    all_pairs(m, excluded, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    all_pairs(m, excluded, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) {
         const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
@@ -274,17 +275,27 @@ static void check_faults(void)
   griddem_channels_free(&ch);
 }
 
-/* Size classes (radii log-uniform in 0.012-0.24: three classes, pairs within each on its own grid and across
- * classes from the smaller sphere into the coarser grid) through the engine: every contact,
- * force, torque, the virial and the history equal the all-pairs evaluation, over steps in which
- * the history accumulates; 1 and 3 threads. */
-static void size_classes(const char *law, int threads)
+/* The engine against the all-pairs evaluation: every contact, force, torque, the virial and the
+ * history, over steps in which the history accumulates and the packing loosens.
+ * Size classes (radii log-uniform in 0.012-0.24: three classes, pairs within each on its own grid
+ * and across classes from the smaller sphere into the coarser grid), 1 and 3 threads.
+ * Idle particles (fix griddem/rom's kinematic ones: the exclusions' both_bit, here those with
+ * x > 0.6, pairs of two excluded): the same forces, and every one whose Chebyshev distance to all
+ * others is at least two cells of the longest contact distance is left out of the grid; an idle
+ * particle's speed still enters the motion check. */
+static void engine_against_all_pairs(const char *law, int threads, int size_classes, int idle)
 {
-  make_configuration(0.012, 0.24);
-  for (int i = 0; i < N; i++) {
-    rad[i] = i == 0 ? 0.012 : 0.24 * pow(0.05, check_uniform());
-    mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
-  }
+  if (size_classes) {
+    make_configuration(0.012, 0.24);
+    for (int i = 0; i < N; i++) {
+      rad[i] = i == 0 ? 0.012 : 0.24 * pow(0.05, check_uniform());
+      mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
+    }
+  } else
+    make_configuration(0.05, 0.2);
+  const int idle_bit = idle ? 2 : 0;
+  for (int i = 0; i < N; i++) mask[i] = 1 | (x[3 * i] > 0.6 ? idle_bit : 0);
+  const griddem_exclusions excl = {NULL, 2, 0, NULL, idle_bit};
   const griddem_model m = model_of(law);
 #ifdef _OPENMP
   omp_set_num_threads(threads);
@@ -301,11 +312,13 @@ static void size_classes(const char *law, int threads)
   memset(&st, 0, sizeof(st));
   const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
   st.particles = part;
-  st.size_classes = 1, st.rmin = 1e30, st.rmax = 0.0;
+  st.size_classes = size_classes, st.rmin = 1e30, st.rmax = 0.0;
   for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
-  st.cell_edge = griddem_cell_edge(GRIDDEM_CELL_CLASSES, st.rmin, st.rmax, 0.0);
-  st.max_cells = 1L << 26, st.model = &m, st.dt = 1e-4, st.history_update = 1;
+  st.cell_edge = griddem_cell_edge(size_classes ? GRIDDEM_CELL_CLASSES : GRIDDEM_CELL_MULTI, st.rmin, st.rmax, 0.0);
+  st.max_cells = 1L << 26, st.model = &m, st.excl = &excl, st.dt = 1e-4, st.history_update = 1;
   st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
+  char what[256];
+  snprintf(what, sizeof(what), "%s%s%s, %d threads", law, size_classes ? ", classes" : "", idle ? ", idle" : "", threads);
   for (int step = 0; step < 3; step++) {
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t));
     griddem_sweep_result res;
@@ -313,10 +326,11 @@ static void size_classes(const char *law, int threads)
     double vr[6], energy_ref;
     long contacts_ref;
     griddem_engine_step(&e, &st, &res, &coarsened);
-    all_pairs(&m, NULL, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
-    CHECK(e.nclass == 3 && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", law, e.nclass, res.fault);
-    CHECK(res.contacts == contacts_ref && contacts_ref > N, "%s classes step %d: %ld contacts, all-pairs %ld",
-          law, step, res.contacts, contacts_ref);
+    all_pairs(&m, NULL, idle_bit, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    CHECK(e.nclass == (size_classes ? 3 : 1) && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", what,
+          e.nclass, res.fault);
+    CHECK(res.contacts == contacts_ref && contacts_ref > (idle ? N / 4 : N), "%s step %d: %ld contacts, all-pairs %ld", what,
+          step, res.contacts, contacts_ref);
     double ferr = 0.0, terr = 0.0, verr = 0.0, herr = 0.0, hscale = 0.0;
     for (int k = 0; k < 3 * N; k++) ferr = fmax(ferr, fabs(f[k] - fr[k])), terr = fmax(terr, fabs(t[k] - tr[k]));
     for (int k = 0; k < 6; k++) verr = fmax(verr, fabs(res.virial[k] - vr[k]));
@@ -328,21 +342,42 @@ static void size_classes(const char *law, int threads)
           herr = fmax(herr, fabs(h[q] - ref)), hscale = fmax(hscale, fabs(ref));
         }
       }
-    CHECK(ferr <= 1e-12 * max_abs(fr, 3 * N), "%s classes step %d: force error %g", law, step, ferr);
-    CHECK(terr <= 1e-12 * max_abs(tr, 3 * N), "%s classes step %d: torque error %g", law, step, terr);
-    CHECK(verr <= 1e-12 * max_abs(vr, 6), "%s classes step %d: virial error %g", law, step, verr);
-    CHECK(herr <= 1e-12 * hscale, "%s classes step %d: history error %g of %g", law, step, herr, hscale);
-    CHECK(fabs(res.energy - energy_ref) <= 1e-12 * energy_ref, "%s classes step %d: energy", law, step);
+    CHECK(ferr <= 1e-12 * max_abs(fr, 3 * N), "%s step %d: force error %g", what, step, ferr);
+    CHECK(terr <= 1e-12 * max_abs(tr, 3 * N), "%s step %d: torque error %g", what, step, terr);
+    CHECK(verr <= 1e-12 * max_abs(vr, 6), "%s step %d: virial error %g", what, step, verr);
+    CHECK(herr <= 1e-12 * hscale, "%s step %d: history error %g of %g", what, step, herr, hscale);
+    CHECK(fabs(res.energy - energy_ref) <= 1e-12 * energy_ref, "%s step %d: energy", what, step);
+    if (idle) {
+      const double cell = 2.0 * st.rmax + m.reach_extra;
+      int far = 0;
+      double vmax = 0.0;
+      for (int i = 0; i < N; i++) {
+        vmax = fmax(vmax, sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
+        if (!(mask[i] & idle_bit)) continue;
+        double dmin = 1e30;
+        for (int j = 0; j < N; j++)
+          if (!(mask[j] & idle_bit))
+            dmin = fmin(dmin, fmax(fabs(x[3 * i] - x[3 * j]), fmax(fabs(x[3 * i + 1] - x[3 * j + 1]), fabs(x[3 * i + 2] - x[3 * j + 2]))));
+        far += dmin >= 2.0 * cell;
+      }
+      CHECK(far > N / 10 && e.channels.n <= N - far, "%s step %d: %d particles binned, %d far from every active one",
+            what, step, e.channels.n, far);
+      CHECK_CLOSE(e.stats.max_speed, vmax, 1e-15, 0.0);
+    }
     for (int k = 0; k < 3 * N; k++) x[k] *= 1.002; /* the packing loosens: contacts change */
   }
+  for (int i = 0; i < N; i++) mask[i] = 1;
   griddem_engine_free(&e);
 }
 
 int main(void)
 {
-  size_classes(LAWS[0], 1);
-  size_classes(LAWS[3], 3);
-  size_classes(LAWS[5], 1);
+  engine_against_all_pairs(LAWS[0], 1, 1, 0);
+  engine_against_all_pairs(LAWS[3], 3, 1, 0);
+  engine_against_all_pairs(LAWS[5], 1, 1, 0);
+  engine_against_all_pairs(LAWS[0], 1, 0, 1);
+  engine_against_all_pairs(LAWS[5], 3, 0, 1);
+  engine_against_all_pairs(LAWS[3], 1, 1, 1);
   make_configuration(0.05, 0.2); /* radius ratio up to 1:4 */
   static const unsigned char exclude_22[9] = {0, 0, 0, 0, 0, 0, 0, 0, 1};
   for (int mode = GRIDDEM_CELL_EXACT; mode <= GRIDDEM_CELL_FIXED; mode++) {
