@@ -7,7 +7,8 @@
   runs, so the error is independent of it); accuracy = 1 - mean over frames (second half of the
   run) and columns of |h_rom - h_res| / mean h_res;
 - velocity field: time-averaged (second half) voxel velocities (vx, vz) where the resolved mean
-  density exceeds 0.05; error = ||<v>_rom - <v>_res|| / ||<v>_res|| (L2 over those voxels)."""
+  density exceeds 0.05; error = ||<v>_rom - <v>_res|| / ||<v>_res|| (L2 over those voxels);
+- reduction: the mean fraction of kinematic atoms (thermo's v_nkin over atoms)."""
 import re
 import sys
 
@@ -34,26 +35,47 @@ def heights(frame):
     return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
 
 
-def main():
-    res_tag, rom_tag = sys.argv[1], sys.argv[2]
+def kinematic_fraction(tag):
+    """Mean over the thermo lines of the kinematic share of the atoms (columns: step time atoms ke
+    nkin), 0 for a resolved run."""
+    rows = []
+    with open("log." + tag) as f:
+        for line in f:
+            w = line.split()
+            if len(w) == 5 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
+                rows.append(float(w[4]) / float(w[2]))
+    return float(np.mean(rows)) if rows else 0.0
+
+
+def compare(res_tag, rom_tag):
+    """Speed-up, accuracies and the last frames' fill heights of a reduced against a resolved run."""
     res, rom = read_grid_dump("cg.%s.txt" % res_tag), read_grid_dump("cg.%s.txt" % rom_tag)
     nf = min(len(res), len(rom))
     half = range(nf // 2, nf)
     hr = np.array([heights(res[k]) for k in half])
     hm = np.array([heights(rom[k]) for k in half])
-    height_acc = 1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)
-    final_acc = 1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])
     rho = np.mean([res[k][3]["density"] for k in half], axis=0)
     mask = rho > 0.05
     vr = np.array([np.mean([res[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     vm = np.array([np.mean([rom[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
-    verr = np.linalg.norm(vm - vr) / np.linalg.norm(vr)
     tr, tm = loop_time(res_tag), loop_time(rom_tag)
-    print("loop time resolved %.2f s, reduced %.2f s: speed-up %.2f" % (tr, tm, tr / tm))
-    print("surface (fill) height accuracy %.3f over the second half, %.3f at the end" % (height_acc, final_acc))
-    print("final fill heights resolved %s" % np.round(hr[-1], 2))
-    print("final fill heights reduced  %s" % np.round(hm[-1], 2))
-    print("time-averaged velocity field error %.3f (relative L2 over %d voxels)" % (verr, mask.sum()))
+    return dict(loop_resolved_s=tr, loop_reduced_s=tm, speedup=tr / tm,
+                height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),
+                final_height_accuracy=float(1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])),
+                velocity_error=float(np.linalg.norm(vm - vr) / np.linalg.norm(vr)), voxels=int(mask.sum()),
+                kinematic_fraction=kinematic_fraction(rom_tag), heights_resolved=hr[-1], heights_reduced=hm[-1])
+
+
+def main():
+    c = compare(sys.argv[1], sys.argv[2])
+    print("loop time resolved %.2f s, reduced %.2f s: speed-up %.2f" % (c["loop_resolved_s"], c["loop_reduced_s"],
+                                                                       c["speedup"]))
+    print("mean kinematic fraction %.3f" % c["kinematic_fraction"])
+    print("surface (fill) height accuracy %.3f over the second half, %.3f at the end"
+          % (c["height_accuracy"], c["final_height_accuracy"]))
+    print("final fill heights resolved %s" % np.round(c["heights_resolved"], 2))
+    print("final fill heights reduced  %s" % np.round(c["heights_reduced"], 2))
+    print("time-averaged velocity field error %.3f (relative L2 over %d voxels)" % (c["velocity_error"], c["voxels"]))
 
 
 if __name__ == "__main__":

@@ -29,7 +29,8 @@ using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0), v0(-1.0),
-    overlap_max(0.1), period(1), state(nullptr), nmax(0), list(nullptr), counts()
+    overlap_max(0.1), period(1), state(nullptr), fpair(nullptr), nmax(0), list(nullptr),
+    counts()
 {
   std::string model_file;
   int every = 0;
@@ -86,11 +87,12 @@ FixGriddemRom::~FixGriddemRom()
 {
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(state);
+  memory->destroy(fpair);
 }
 
 int FixGriddemRom::setmask()
 {
-  return POST_FORCE | END_OF_STEP;
+  return PRE_REVERSE | POST_FORCE | END_OF_STEP;
 }
 
 /* The model file (format version 1; doc/fix_griddem_rom.md): '#' starts a comment; then
@@ -212,9 +214,8 @@ void FixGriddemRom::read_model(const char *file)
 
 void FixGriddemRom::init()
 {
-  if (!force->pair || !utils::strmatch(force->pair_style, "^griddem/") ||
-      utils::strmatch(force->pair_style, "/kk$"))
-    error->all(FLERR, "Fix griddem/rom needs a CPU griddem pair style (it skips kinematic-kinematic "
+  if (!force->pair || !utils::strmatch(force->pair_style, "^griddem/"))
+    error->all(FLERR, "Fix griddem/rom needs a griddem pair style (it skips kinematic-kinematic "
                "pairs through the pair's exclusions); pair style is {}",
                force->pair ? force->pair_style : "none");
   for (int d = 0; d < 3; d++) {
@@ -241,6 +242,12 @@ void FixGriddemRom::init()
       error->all(FLERR, "Fix griddem/rom must be defined after fix {} ({}), which adds forces",
                  modify->fix[i]->id, modify->fix[i]->style);
   neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
+  gravities.clear();
+  for (auto &ifix : modify->get_fix_by_style("^gravity")) {
+    int dim = 0;
+    auto gvec = (const double *) ifix->extract("gvec", dim);
+    if (gvec) gravities.emplace_back(ifix->groupbit, gvec);
+  }
 }
 
 void FixGriddemRom::init_list(int, NeighList *ptr)
@@ -254,15 +261,33 @@ void FixGriddemRom::setup(int vflag)
   fill_state();
 }
 
+void FixGriddemRom::setup_pre_reverse(int eflag, int vflag)
+{
+  pre_reverse(eflag, vflag);
+}
+
+/* The pair has run and no fix has added forces yet (griddem styles give ghosts nothing, so the
+   owned atoms' forces are final): f is the contact forces. */
+void FixGriddemRom::pre_reverse(int, int)
+{
+  double **f = atom->f;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int d = 0; d < 3; d++) fpair[i][d] = f[i][d];
+}
+
 void FixGriddemRom::post_force(int)
 {
   zero_kinematic_forces();
 }
 
-/* A kinematic atom whose force (contacts with dynamic atoms, walls, gravity, other fixes) would
-   change its velocity by more than eps v0 within a classification period, |f| N dt / m > eps v0,
-   is released (made dynamic, keeping its force): a hard hit, or a wall it is driven into. The
-   others lose their force and torque. */
+/* A kinematic atom is released (made dynamic, keeping its force) when the force on it other than
+   its contacts with atoms and gravity would change its velocity by more than eps v0 within a
+   classification period: |f - f_pair - m g| N dt / m > eps v0: a wall it is driven into, or
+   another fix's force. Its contacts with dynamic atoms do not count: in a resting pile a
+   kinematic atom carries the weight of dynamic ones above it, which is no reason to release it
+   (counting it released most of a loaded pile every step); a dynamic atom that hits it is judged
+   by the hit test at the next classification. Gravity is the field's business. The others lose
+   their force and torque. */
 void FixGriddemRom::zero_kinematic_forces()
 {
   int *mask = atom->mask;
@@ -272,8 +297,12 @@ void FixGriddemRom::zero_kinematic_forces()
   int released = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & kinematic_bit)) continue;
-    const double fm = sqrt(f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
-    if (fm * scale > threshold * rmass[i]) {
+    double fo[3] = {f[i][0] - fpair[i][0], f[i][1] - fpair[i][1], f[i][2] - fpair[i][2]};
+    for (const auto &g : gravities)
+      if (mask[i] & g.first)
+        for (int d = 0; d < 3; d++) fo[d] -= rmass[i] * g.second[d];
+    const double fm2 = fo[0] * fo[0] + fo[1] * fo[1] + fo[2] * fo[2];
+    if (sqrt(fm2) * scale > threshold * rmass[i]) {
       mask[i] &= ~kinematic_bit;
       released++;
       continue;
@@ -388,9 +417,11 @@ void FixGriddemRom::fill_state()
 void FixGriddemRom::grow_arrays(int n)
 {
   memory->grow(state, n, "griddem/rom:state");
+  memory->grow(fpair, n, 3, "griddem/rom:fpair");
   vector_atom = state;
   nmax = n;
 }
+
 
 int FixGriddemRom::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
@@ -424,5 +455,5 @@ void *FixGriddemRom::extract(const char *name, int &dim)
 
 double FixGriddemRom::memory_usage()
 {
-  return (double) nmax * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
+  return (double) nmax * 4 * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
 }

@@ -17,6 +17,7 @@ FixStyle(griddem/rom,FixGriddemRom);
 #include "griddem_rom.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -29,6 +30,8 @@ class FixGriddemRom : public Fix {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup(int) override;
+  void setup_pre_reverse(int, int) override;
+  void pre_reverse(int, int) override;
   void post_force(int) override;
   void end_of_step() override;
   void grow_arrays(int) override;
@@ -51,6 +54,8 @@ class FixGriddemRom : public Fix {
   int period;    // classification every period steps
   std::vector<double> density, feature, field;
   double *state;    // per-atom output: 1 kinematic, 0 dynamic
+  double **fpair;   // this step's contact forces (the pair's share of f)
+  std::vector<std::pair<int, const double *>> gravities;    // group bit, acceleration of each fix gravity
   int nmax;
   class NeighList *list;
   double counts[7];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces; classifications

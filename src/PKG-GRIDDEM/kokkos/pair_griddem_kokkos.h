@@ -232,6 +232,7 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
   Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
+  int excl_both;    // pairs whose two masks both have this bit (fix griddem/rom's kinematic atoms)
   Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> rows;    // fix griddem/kk's rows
   Kokkos::View<int *, DeviceType> count;
   typename AT::t_f_array f, torque;
@@ -257,6 +258,7 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
 
   KOKKOS_INLINE_FUNCTION int excluded(int ta, int ma, int tb, int mb) const
   {
+    if (ma & mb & excl_both) return 1;
     if (excl_type.extent(0) && excl_type(ta * (ntypes + 1) + tb)) return 1;
     for (int k = 0; k + 1 < (int) excl_group.extent(0); k += 2) {
       const int b1 = excl_group(k), b2 = excl_group(k + 1);

@@ -369,6 +369,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
   sweep.params = d_params;
   sweep.excl_type = d_excl_type;
   sweep.excl_group = d_excl_group;
+  sweep.excl_both = this->exclusions.both_bit;
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();

@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""Adaptive reduced-order DEM against resolved DEM on the rom-pile scene, in one job.
+
+    /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9] [--steps 30000]
+                                  [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10]
+
+Runs (in bench/work-rom/W<W>H<H>, kept between calls: training runs and the model are reused
+when present) the resolved training runs at the outlet widths --train, fits the ridge model
+(examples/rom-pile/train_rom.py), then the test width resolved and reduced back to back, and
+appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, loop times,
+speed-up, the mean fraction of kinematic atoms (the reduction), surface-height accuracy and
+velocity-field error (examples/rom-pile/compare.py defines them)."""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
+sys.path.insert(0, EXAMPLE)
+sys.path.insert(0, HERE)
+
+import benchlib  # noqa: E402
+from compare import compare  # noqa: E402
+
+
+def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
+    args = [lmp, "-in", os.path.join(EXAMPLE, "in.rom-pile"), "-var", "w", str(w), "-var", "steps", str(steps),
+            "-var", "tag", tag, "-log", "log." + tag, "-echo", "none", "-screen", "none"]
+    for k, v in scene.items():
+        args += ["-var", k, str(v)]
+    subprocess.run(args + list(extra), cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lmp", default=os.path.join(ROOT, "build", "lmp"))
+    ap.add_argument("--W", type=int, default=20, help="container width (even)")
+    ap.add_argument("--H", type=int, default=26, help="box top above the plate (H+6 even)")
+    ap.add_argument("--fill", type=float, default=9, help="initial pile height")
+    ap.add_argument("--steps", type=int, default=30000)
+    ap.add_argument("--train", default="3,4,5,6", help="outlet widths of the training runs")
+    ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
+    ap.add_argument("--eps", type=float, default=0.1)
+    ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
+    a = ap.parse_args()
+    lmp = os.path.abspath(a.lmp)
+    scene = dict(W=a.W, H=a.H, fill=a.fill)
+    wd = os.path.join(HERE, "work-rom", "W%dH%d" % (a.W, a.H))
+    os.makedirs(wd, exist_ok=True)
+    specs = []
+    for w in a.train.split(","):
+        tag = "train.w%s.s%d" % (w, a.steps)
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % tag)):
+            run_pile(lmp, wd, scene, a.steps, w, tag)
+        specs.append("cg.%s.txt:%s" % (tag, w))
+    model = "rom.%s.s%d.model" % (a.train.replace(",", "_"), a.steps)
+    if not os.path.exists(os.path.join(wd, model)):
+        subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=wd, check=True,
+                       stdout=subprocess.DEVNULL)
+    res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d" % (a.test, a.eps, a.every)
+    run_pile(lmp, wd, scene, a.steps, a.test, res)
+    run_pile(lmp, wd, scene, a.steps, a.test, rom,
+             ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every)])
+    here = os.getcwd()
+    os.chdir(wd)
+    c = compare(res, rom)
+    os.chdir(here)
+    _, steps, atoms = benchlib.loop_time(open(os.path.join(wd, "log." + res)).read(), res)
+    line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
+                scene="rom-pile W%d H%d fill %g" % (a.W, a.H, a.fill), natoms=atoms, steps=steps,
+                train=a.train, test=a.test, eps=a.eps, every=a.every, ranks=1, threads=1,
+                **{k: round(v, 4) for k, v in c.items() if isinstance(v, float)})
+    print(json.dumps(line))
+    with open(a.out, "a") as f:
+        f.write(json.dumps(line) + "\n")
+
+
+if __name__ == "__main__":
+    main()
