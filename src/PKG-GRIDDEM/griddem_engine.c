@@ -14,7 +14,7 @@ void griddem_engine_init(griddem_engine *e, int history_values)
 void griddem_engine_free(griddem_engine *e)
 {
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
-  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->active);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->reach_cell), free(e->active);
   griddem_channels_free(&e->channels);
   griddem_history_free(&e->hist);
   memset(e, 0, sizeof(*e));
@@ -31,12 +31,13 @@ static int grow_work(griddem_engine *e, int n)
 {
   if (n <= e->work_cap) return 0;
   const int cap = n + n / 4 + 16;
-  free(e->member), free(e->order), free(e->xc), free(e->keyc);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->reach_cell);
   e->member = (int *) malloc(sizeof(int) * (size_t) cap);
   e->order = (int *) malloc(sizeof(int) * (size_t) cap);
   e->xc = (double *) malloc(sizeof(double) * 3 * (size_t) cap);
   e->keyc = (int64_t *) malloc(sizeof(int64_t) * (size_t) cap);
-  e->work_cap = (e->member && e->order && e->xc && e->keyc) ? cap : 0;
+  e->reach_cell = (long *) malloc(sizeof(long) * (size_t) cap);
+  e->work_cap = (e->member && e->order && e->xc && e->keyc && e->reach_cell) ? cap : 0;
   return e->work_cap ? 0 : -1;
 }
 
@@ -55,11 +56,30 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
+/* Set every cell within one cell of a set cell (a 3^3 dilation, one axis after the other). */
+static void dilate_cells(unsigned char *a, const int n[3])
+{
+  const long stride[3] = {1, n[0], (long) n[0] * n[1]};
+  for (int d = 0; d < 3; d++) {
+    const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+    for (long u = 0; u < n[d1]; u++)
+      for (long w = 0; w < n[d2]; w++) {
+        unsigned char *line = a + u * stride[d1] + w * stride[d2], prev = 0;
+        for (long k = 0; k < n[d]; k++) {
+          const unsigned char cur = line[k * stride[d]], next = k + 1 < n[d] ? line[(k + 1) * stride[d]] : 0;
+          line[k * stride[d]] = prev | cur | next;
+          prev = cur;
+        }
+      }
+  }
+}
+
 /* Particles carrying idle_bit interact only with particles that lack it (pairs of two are
  * excluded: fix griddem/rom's kinematic particles), so one that no particle without the bit can
  * reach is left out of the grid and its cell drops out of the sweep. Marks, on a grid whose edge
  * is at least the longest contact distance, every cell within one cell of a particle without the
- * bit: a particle with the bit is needed only if its cell is marked. 0, or -1 without memory. */
+ * bit (e->reach_cell: each particle's cell there): a particle with the bit is needed only if its
+ * cell is marked. 0, or -1 without memory. */
 static int mark_active_reach(griddem_engine *e, const griddem_step *s, int idle_bit)
 {
   const griddem_particles *p = &s->particles;
@@ -73,16 +93,12 @@ static int mark_active_reach(griddem_engine *e, const griddem_step *s, int idle_
     if (!e->active) return -1;
   }
   memset(e->active, 0, (size_t) g->ncell);
-  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
   for (int i = 0; i < p->nall; i++) {
-    if (p->mask[i] & idle_bit) continue;
     const double *x = p->x + 3 * (size_t) i;
-    const long c = griddem_cell_of(g, x[0], x[1], x[2]);
-    const long cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
-      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++)
-        for (long xx = cx > 0 ? cx - 1 : 0; xx <= cx + 1 && xx < nx; xx++) e->active[xx + nx * (y + ny * z)] = 1;
+    e->reach_cell[i] = griddem_cell_of(g, x[0], x[1], x[2]);
+    if (!(p->mask[i] & idle_bit)) e->active[e->reach_cell[i]] = 1;
   }
+  dilate_cells(e->active, g->n);
   return 0;
 }
 
@@ -118,9 +134,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
   e->idle_nonfinite = 0;
   for (int i = 0; i < n; i++) {
     int c = -1;
-    const double *x = p->x + 3 * (size_t) i;
-    const int idle = idle_bit && (p->mask[i] & idle_bit) &&
-        !e->active[griddem_cell_of(&e->reach_grid, x[0], x[1], x[2])];
+    const int idle = idle_bit && (p->mask[i] & idle_bit) && !e->active[e->reach_cell[i]];
     if (!idle && within_reach(p, i, lo, hi, reach)) {
       c = 0;
       while (c < ncls - 1 && p->radius[i] <= upper[c + 1]) c++;
@@ -223,7 +237,7 @@ int griddem_engine_reserve(griddem_engine *e, int n, int contacts)
 double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
-  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t)) + (double) e->active_cap;
+  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t) + sizeof(long)) + (double) e->active_cap;
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +

@@ -53,6 +53,7 @@ typedef struct griddem_engine {
   /* particles that need no contacts (exclusions' both_bit): cells within reach of the others */
   griddem_grid reach_grid;
   unsigned char *active;
+  long *reach_cell;
   long active_cap;
   double idle_vmax2;  /* largest squared speed of an owned particle left out */
   int idle_nonfinite; /* 1: one of them has a non-finite velocity */
