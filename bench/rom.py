@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """Adaptive reduced-order DEM against resolved DEM on the rom-pile scene, in one job.
 
-    /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9] [--steps 30000]
+    /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10]
 
-Runs (in bench/work-rom/W<W>H<H>, kept between calls: training runs and the model are reused
+Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs and the model are reused
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
 (examples/rom-pile/train_rom.py), then the test width resolved and reduced back to back, and
 appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, loop times,
@@ -40,6 +40,7 @@ def main():
     ap.add_argument("--W", type=int, default=20, help="container width (even)")
     ap.add_argument("--H", type=int, default=26, help="box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="initial pile height")
+    ap.add_argument("--inlet", type=float, help="width of the feed region (default W - 2)")
     ap.add_argument("--steps", type=int, default=30000)
     ap.add_argument("--train", default="3,4,5,6", help="outlet widths of the training runs")
     ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
@@ -49,7 +50,9 @@ def main():
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     scene = dict(W=a.W, H=a.H, fill=a.fill)
-    wd = os.path.join(HERE, "work-rom", "W%dH%d" % (a.W, a.H))
+    if a.inlet is not None:
+        scene["inlet"] = a.inlet
+    wd = os.path.join(HERE, "work-rom", "W%dH%d" % (a.W, a.H) + ("I%g" % a.inlet if a.inlet is not None else ""))
     os.makedirs(wd, exist_ok=True)
     specs = []
     for w in a.train.split(","):
@@ -71,7 +74,8 @@ def main():
     os.chdir(here)
     _, steps, atoms = benchlib.loop_time(open(os.path.join(wd, "log." + res)).read(), res)
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
-                scene="rom-pile W%d H%d fill %g" % (a.W, a.H, a.fill), natoms=atoms, steps=steps,
+                scene="rom-pile W%d H%d fill %g inlet %g" % (a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet),
+                natoms=atoms, steps=steps,
                 train=a.train, test=a.test, eps=a.eps, every=a.every, ranks=1, threads=1,
                 **{k: round(v, 4) for k, v in c.items() if isinstance(v, float)})
     print(json.dumps(line))

@@ -5,7 +5,8 @@ from resolved runs' coarse-grained fields (dump grid of compute griddem/cg densi
     train_rom.py OUT.model DUMP:CONTROL[,CONTROL...] [DUMP:CONTROL ...]
 
 Features per frame: the densities of all voxels and the controls, each standardised over the
-training frames; targets: vx, vy, vz of every voxel. Closed form: W = (X'X + lambda I)^-1 X'Y on
+training frames (a spread below 5% of the median spread counts as that: a voxel the training
+runs almost never fill gets no huge weight); targets: vx, vy, vz of every voxel. Closed form: W = (X'X + lambda I)^-1 X'Y on
 centred data. lambda is chosen by leave-one-run-out validation (mean squared velocity error
 over the held-out run's frames) from a logarithmic grid, then the model is refitted on all runs
 and written with the scaling folded in (plain weights on raw densities and controls)."""
@@ -14,6 +15,9 @@ import sys
 import numpy as np
 
 from romtools import read_grid_dump, write_model
+
+
+STD_FLOOR = 0.05    # of the median feature spread: the smallest spread a feature is scaled by
 
 
 def load(specs):
@@ -36,7 +40,10 @@ def load(specs):
 def fit(X, Y, lam):
     """Ridge on standardised features; returns (raw weights with bias column, scaling)."""
     xm, xs = X.mean(0), X.std(0)
-    xs[xs == 0] = 1.0
+    # a voxel that training runs almost never fill has a tiny spread; dividing by it would make
+    # its raw weight huge, and a test run that fills it would get an absurd field (measured: 1e9)
+    floor = STD_FLOOR * np.median(xs[xs > 0]) if np.any(xs > 0) else 1.0
+    xs = np.maximum(xs, floor)
     ym = Y.mean(0)
     Z = (X - xm) / xs
     A = Z.T @ Z + lam * np.eye(Z.shape[1])

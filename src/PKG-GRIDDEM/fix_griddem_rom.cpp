@@ -73,7 +73,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 8;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
@@ -345,7 +345,7 @@ void FixGriddemRom::classify()
   const double threshold = eps * v0;
   std::vector<int> next(nlocal, 0);
   std::vector<double> u(3 * (size_t) nlocal, 0.0);
-  double made = 0, left = 0, hits = 0, overlaps = 0;
+  double made = 0, left = 0, hits = 0, overlaps = 0, jumps = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!use[i]) continue;
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
@@ -355,7 +355,11 @@ void FixGriddemRom::classify()
     }
     griddem_rom_interpolate(&grid, field.data(), x[i], &u[3 * i]);
     const double dx = v[i][0] - u[3 * i], dy = v[i][1] - u[3 * i + 1], dz = v[i][2] - u[3 * i + 2];
-    next[i] = was || (eps > 0.0 && sqrt(dx * dx + dy * dy + dz * dz) <= threshold);
+    // a kinematic atom follows the field only while it changes by at most eps v0 between
+    // classifications: a larger jump (a control switched, a mass distribution the model
+    // extrapolates badly) releases it with its velocity instead of kicking it
+    next[i] = eps > 0.0 && sqrt(dx * dx + dy * dy + dz * dz) <= threshold;
+    jumps += was && !next[i];
   }
 
   // contacts of the (would-be) kinematic atoms: an overlap beyond overlap_max min(ri, rj), or a
@@ -402,11 +406,12 @@ void FixGriddemRom::classify()
   }
   comm->forward_comm(this);
 
-  double mine[5] = {nkin, made, hits, overlaps, left}, all[5];
-  MPI_Allreduce(mine, all, 5, MPI_DOUBLE, MPI_SUM, world);
+  double mine[6] = {nkin, made, hits, overlaps, left, jumps}, all[6];
+  MPI_Allreduce(mine, all, 6, MPI_DOUBLE, MPI_SUM, world);
   counts[0] = all[0];
   for (int k = 1; k < 5; k++) counts[k] += all[k];
   counts[6] += 1;
+  counts[7] += all[5];
 }
 
 void FixGriddemRom::fill_state()
@@ -439,8 +444,8 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
 }
 
 /* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5, 6: made dynamic again by a hit (a
-   touching partner's relative speed), by an overlap, by leaving the model box, by a force (2-6
-   summed over the run); 7: classifications */
+   touching partner's relative speed), by an overlap, by leaving the model box, by a force; 7:
+   classifications; 8: made dynamic by a jump of the field (2-6 and 8 summed over the run) */
 double FixGriddemRom::compute_vector(int n)
 {
   return counts[n];

@@ -58,7 +58,8 @@ class FixGriddemRom : public Fix {
   std::vector<std::pair<int, const double *>> gravities;    // group bit, acceleration of each fix gravity
   int nmax;
   class NeighList *list;
-  double counts[7];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces; classifications
+  double counts[8];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces;
+                       // classifications; released by field jumps
 
   void read_model(const char *file);
   void classify();

@@ -277,6 +277,7 @@ def main():
 
     # beside the stock kk fixes: gravity, wall/gran, deform (triclinic shear), freeze, nve/sphere
     check_stock_kk_fixes(wd)
+    check_rom_kk(wd)
 
     # restart: 10 steps, write, read, 10 more, against 20 straight (kk, and across CPU and kk)
     check_restarts(wd, data)
@@ -328,6 +329,50 @@ def check_stock_kk_fixes(wd):
     err = t.max_rel_diff(snaps[1], snaps[0], STATE + FORCES)
     print("griddem/hooke/history/kk beside the stock kk fixes, 300 steps, vs CPU: %.2g" % err)
     t.check(err <= 1e-8, "griddem/hooke/history/kk beside the stock kk fixes vs CPU (%.3g)" % err)
+
+
+ROM = t.PERIODIC_SPHERES + """
+fix integrate all nve/sphere
+fix rom all griddem/rom model {model} eps 1.5 v0 1 every 5 overlap 0.5
+timestep 2e-4
+thermo_style custom step ke press f_rom[1]
+thermo_modify format float %.17g
+thermo 100
+dump snap all custom 400 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz f_rom
+dump_modify snap format float %.17g sort id
+run 400
+"""
+
+
+def check_rom_kk(wd):
+    """fix griddem/rom (a host fix) with griddem/hooke/history/kk equals it with the CPU style:
+    on a lattice of spacing 0.45 (radii 0.15-0.25: many touch), atoms slower than 1.5 (field 0)
+    become kinematic and the kk sweep skips their pairs with each other (the pressure, whose pair
+    virial holds those pairs unless skipped, equals the CPU style's, which test_rom checks skips
+    them); kinematic states, positions, velocities, forces after 400 steps."""
+    data = os.path.join(wd, "data.rom")
+    t.write_random_spheres(data, 729, (4.05, 4.05, 4.05), 0.15, 0.25, seed=31, lattice=0.45)
+    model = os.path.join(wd, "zero.model")
+    t.write_rom_model(model, (3, 3, 3), (0.0, 4.05, 0.0, 4.05, 0.0, 4.05))
+    runs = []
+    for name, extra in (("rom_cpu", ()), ("rom_kk", kk_args(THREADS[-1]))):
+        text = ROM.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3], model=model, name=name)
+        rc, out = t.run_lmp(text, wd, name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        runs.append((t.read_dumps(os.path.join(wd, "dump." + name))[-1], out))
+    (cpu, cpu_out), (kk, kk_out) = runs
+    kinematic = [t.thermo_values(o, "f_rom[1]") for o in (cpu_out, kk_out)]
+    t.check(kinematic[0] == kinematic[1] and min(kinematic[1][1:]) > 50,
+            "rom kk vs CPU: kinematic counts %s vs %s" % (kinematic[1], kinematic[0]))
+    press = [t.thermo_values(o, "Press") for o in (cpu_out, kk_out)]
+    perr = max(abs(a - b) for a, b in zip(*press)) / max(abs(b) for b in press[0])
+    t.check(len(press[1]) == 5 and perr <= 1e-10, "rom kk vs CPU: pressure %s vs %s" % (press[1], press[0]))
+    cols = cpu[0]
+    k = cols.index("f_rom")
+    t.check(all(cpu[1][i][k] == kk[1][i][k] for i in cpu[1]), "rom kk vs CPU: every atom's kinematic state equal")
+    err = t.max_rel_diff(kk, cpu, STATE + FORCES)
+    print("fix griddem/rom with griddem/hooke/history/kk vs CPU, 400 steps: %.2g" % err)
+    t.check(err <= 1e-8, "fix griddem/rom with griddem/hooke/history/kk vs CPU (%.3g)" % err)
 
 
 RESTART = t.PERIODIC_SPHERES.replace("read_data {data}", "{start}") + """

@@ -15,7 +15,8 @@
   exceeds eps v0 m / (N dt), so its penetration stays below that force's spring length plus one
   step's travel and a small margin (it would reach 0.13 otherwise); a kinematic atom hit by a fast
   dynamic one is released and takes up momentum; a kinematic atom carrying a resting dynamic one
-  under gravity is not released (contacts and gravity do not count in the force rule);
+  under gravity is not released (contacts and gravity do not count in the force rule); a
+  kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
 - train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
 import math
 import os
@@ -25,24 +26,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 
 WD = t.workdir()
-
-
-def write_model(path, n, box, controls=0, bias=(0.0, 0.0, 0.0), version=1, nrow=None, ncol=None,
-                control_weight=None):
-    """A model whose field is the uniform bias (plus control_weight * control 1 on vx)."""
-    nvox = n[0] * n[1] * n[2]
-    nrow = 3 * nvox if nrow is None else nrow
-    ncol = 1 + nvox + controls if ncol is None else ncol
-    with open(path, "w") as f:
-        f.write("# test model\ngriddem/rom %s\ngrid %d %d %d\nbox %s\ncontrols %d\nlambda 0.001\n"
-                % (version, n[0], n[1], n[2], " ".join("%.17g" % b for b in box), controls))
-        f.write("weights %d %d\n" % (nrow, ncol))
-        for r in range(nrow):
-            row = [0.0] * ncol
-            row[0] = bias[r % 3]
-            if control_weight is not None and r % 3 == 0:
-                row[ncol - 1] = control_weight
-            f.write(" ".join("%.17g" % w for w in row) + "\n")
 
 
 BOX = (0.0, 6.0, 0.0, 6.0, 0.0, 6.0)
@@ -84,7 +67,7 @@ run 0
 
 def model_checks():
     good = os.path.join(WD, "good.model")
-    write_model(good, (3, 3, 3), BOX, controls=1)
+    t.write_rom_model(good, (3, 3, 3), BOX, controls=1)
     cases = [
         ("version", dict(version=2), "format version 2"),
         ("grid size", dict(nrow=3 * 26), "grid size 3 3 3"),
@@ -95,12 +78,12 @@ def model_checks():
         path = os.path.join(WD, "bad_%s.model" % name.replace(" ", "_"))
         args = dict(controls=1)
         args.update(kw)
-        write_model(path, (3, 3, 3), BOX, **args)
+        t.write_rom_model(path, (3, 3, 3), BOX, **args)
         text = model_input(path)
         rc, out = t.run_lmp(text, WD, name="in.bad_" + name.replace(" ", "_"))
         t.check(rc != 0 and expected in out, "model with a wrong %s refused naming it (%r)" % (name, expected))
     path = os.path.join(WD, "bad_box.model")
-    write_model(path, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 7.0), controls=1)
+    t.write_rom_model(path, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 7.0), controls=1)
     text = model_input(path)
     rc, out = t.run_lmp(text, WD, name="in.bad_box")
     t.check(rc != 0 and "differs from the simulation box" in out, "model with a wrong box refused")
@@ -112,7 +95,7 @@ def model_checks():
 
 def eps_zero():
     model = os.path.join(WD, "zero.model")
-    write_model(model, (3, 3, 3), BOX)
+    t.write_rom_model(model, (3, 3, 3), BOX)
     base = HEAD.format(bnd="p p p") + """
 lattice sc 1.1 origin 0.5 0.5 0.5
 create_atoms 1 box
@@ -142,7 +125,7 @@ run 400
 def uniform_field():
     U = (0.3, -0.2, 0.1)
     model = os.path.join(WD, "uniform.model")
-    write_model(model, (3, 3, 3), BOX, bias=U)
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
     g = 2.0
     text = HEAD.format(bnd="f f f") + """
 create_atoms 1 single 1.5 1.5 3.0
@@ -177,7 +160,7 @@ run 25
 
 def contacts():
     model = os.path.join(WD, "rest.model")
-    write_model(model, (3, 3, 3), BOX)
+    t.write_rom_model(model, (3, 3, 3), BOX)
     # atoms 1, 2 overlap by 0.005 (bound 0.1 * 0.5 = 0.05); atom 3 (not in the fix group) overlaps
     # atom 1 by 0.005 from the other side; atoms 4, 5 overlap by 0.1 > 0.05 (never kinematic)
     base = HEAD.format(bnd="f f f") + """
@@ -223,7 +206,7 @@ run 10
 
 def processes():
     model = os.path.join(WD, "rest2.model")
-    write_model(model, (3, 3, 3), BOX)
+    t.write_rom_model(model, (3, 3, 3), BOX)
     text = HEAD.format(bnd="f f f").replace("region box", "processors 2 1 1\nregion box") + """
 create_atoms 1 single 2.6 3.0 3.0
 create_atoms 1 single 3.595 3.0 3.0
@@ -242,7 +225,7 @@ velocity all set 0 0 0
 def release():
     model = os.path.join(WD, "left.model")
     U = -0.3
-    write_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
     text = HEAD.format(bnd="f f f") + """
 create_atoms 1 single 0.52 3.0 3.0
 set type 1 diameter 1.0
@@ -267,7 +250,7 @@ run 500
     t.check(depth <= bound + abs(U) * dt + 0.01, "penetration %.4f within the release bound %.4f" % (depth, bound))
 
     model0 = os.path.join(WD, "rest3.model")
-    write_model(model0, (3, 3, 3), BOX)
+    t.write_rom_model(model0, (3, 3, 3), BOX)
     text = HEAD.format(bnd="f f f") + """
 create_atoms 1 single 3.0 3.0 3.0
 create_atoms 1 single 1.5 3.0 3.0
@@ -295,7 +278,7 @@ def loaded():
     gravity do not release it (the old rule, |f| N dt / m > eps v0 with f = 2 m g here, did: eps
     v0 = 0.08 lies between g N dt = 0.05 and 2 g N dt = 0.1); it stays put and carries the other."""
     model = os.path.join(WD, "rest.model")
-    write_model(model, (3, 3, 3), BOX)
+    t.write_rom_model(model, (3, 3, 3), BOX)
     text = HEAD.format(bnd="f f f") + """
 create_atoms 1 single 3.0 3.0 2.0
 create_atoms 1 single 3.0 3.0 3.0
@@ -324,6 +307,33 @@ run 3000
     overlap = 1.0 - (z2[-1] - z1[-1])
     t.check(0.0 < overlap < 3 * (math.pi / 6.0) / 2000.0,
             "the dynamic atom rests on it: overlap %.3g, about m g / kn = %.3g" % (overlap, math.pi / 6.0 / 2000.0))
+
+
+def field_jump():
+    """A resting kinematic atom where a control switches the field from 0 to 1 (> eps v0 = 0.5)
+    is released with its velocity, not kicked: it stays at rest and is counted (f_rom[8])."""
+    model = os.path.join(WD, "switch.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, controls=1, control_weight=1.0)
+    text = HEAD.format(bnd="f f f") + """
+create_atoms 1 single 3.0 3.0 3.0
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+variable on equal step>100
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 control v_on
+variable x equal x[1]
+thermo_style custom step v_x f_rom[1] f_rom[8]
+thermo_modify format float %.17g
+thermo 50
+run 300
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.jump")
+    xs, kin, jumps = t.thermo_values(out, "v_x"), t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[8]")
+    t.check(kin[1] == 1 and kin[-1] == 0 and jumps[-1] == 1, "kinematic before the switch, released by the jump "
+            "after it (kinematic %s, jumps %s)" % (kin, jumps))
+    t.check(all(x == 3.0 for x in xs), "the released atom stays at rest (x %s)" % xs[-1])
 
 
 def training():
@@ -373,6 +383,7 @@ model_checks()
 processes()
 release()
 loaded()
+field_jump()
 training()
 eps_zero()
 uniform_field()
