@@ -13,8 +13,6 @@
 #include "input.h"
 #include "memory.h"
 #include "modify.h"
-#include "neigh_list.h"
-#include "neighbor.h"
 #include "pair.h"
 #include "update.h"
 #include "variable.h"
@@ -29,8 +27,8 @@ using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0), v0(-1.0),
-    overlap_max(0.1), period(1), state(nullptr), fpair(nullptr), nmax(0), list(nullptr),
-    counts()
+    overlap_max(0.1), period(1), state(nullptr), fpair(nullptr), nmax(0), counts(),
+    check_grid(), check_bins()
 {
   std::string model_file;
   int every = 0;
@@ -88,6 +86,7 @@ FixGriddemRom::~FixGriddemRom()
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(state);
   memory->destroy(fpair);
+  griddem_bins_free(&check_bins);
 }
 
 int FixGriddemRom::setmask()
@@ -241,18 +240,12 @@ void FixGriddemRom::init()
     if (modify->fmask[i] & POST_FORCE)
       error->all(FLERR, "Fix griddem/rom must be defined after fix {} ({}), which adds forces",
                  modify->fix[i]->id, modify->fix[i]->style);
-  neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
     auto gvec = (const double *) ifix->extract("gvec", dim);
     if (gvec) gravities.emplace_back(ifix->groupbit, gvec);
   }
-}
-
-void FixGriddemRom::init_list(int, NeighList *ptr)
-{
-  list = ptr;
 }
 
 void FixGriddemRom::setup(int vflag)
@@ -365,30 +358,15 @@ void FixGriddemRom::classify()
   // contacts of the (would-be) kinematic atoms: an overlap beyond overlap_max min(ri, rj), or a
   // touching partner that is not kinematic and moves at more than eps v0 relative to the atom,
   // makes (or keeps) it dynamic. Partners' states are those before this classification.
-  neighbor->build_one(list);
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    if (!next[i]) continue;
-    const int was = (mask[i] & kinematic_bit) ? 1 : 0;
-    for (int jj = 0; jj < list->numneigh[i] && next[i]; jj++) {
-      const int j = list->firstneigh[i][jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-      const double r = sqrt(dx * dx + dy * dy + dz * dz), touch = radius[i] + radius[j];
-      if (r >= touch) continue;
-      if (touch - r > overlap_max * MIN(radius[i], radius[j])) {
-        next[i] = 0;
-        overlaps += was;
-        continue;
-      }
-      if (mask[j] & kinematic_bit) continue;
-      const double vi[3] = {was ? v[i][0] : u[3 * i], was ? v[i][1] : u[3 * i + 1], was ? v[i][2] : u[3 * i + 2]};
-      const double rx = vi[0] - v[j][0], ry = vi[1] - v[j][1], rz = vi[2] - v[j][2];
-      if (sqrt(rx * rx + ry * ry + rz * rz) > threshold) {
-        next[i] = 0;
-        hits += was;
-      }
-    }
-  }
+  const int nall = nlocal + atom->nghost;
+  std::vector<int> kinematic(nall);
+  for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
+  int nhits = 0, noverlaps = 0;
+  if (nall && griddem_rom_check_contacts(nlocal, nall, x[0], v[0], radius, kinematic.data(), u.data(), threshold,
+                                         overlap_max, next.data(), &nhits, &noverlaps, &check_grid, &check_bins) != 0)
+    error->one(FLERR, "Fix griddem/rom: out of memory for the contact check of {} atoms", nall);
+  hits = nhits;
+  overlaps = noverlaps;
 
   double nkin = 0;
   for (int i = 0; i < nlocal; i++) {

@@ -28,7 +28,6 @@ class FixGriddemRom : public Fix {
   ~FixGriddemRom() override;
   int setmask() override;
   void init() override;
-  void init_list(int, class NeighList *) override;
   void setup(int) override;
   void setup_pre_reverse(int, int) override;
   void pre_reverse(int, int) override;
@@ -57,7 +56,8 @@ class FixGriddemRom : public Fix {
   double **fpair;   // this step's contact forces (the pair's share of f)
   std::vector<std::pair<int, const double *>> gravities;    // group bit, acceleration of each fix gravity
   int nmax;
-  class NeighList *list;
+  griddem_grid check_grid;    // the contact checks' grid and bins (scratch kept between calls)
+  griddem_bins check_bins;
   double counts[8];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces;
                        // classifications; released by field jumps
 

@@ -3,6 +3,9 @@
 
 #include "griddem_cg.h"
 
+#include <math.h>
+#include <stddef.h>
+
 int griddem_rom_nvoxel(const griddem_rom_grid *g)
 {
   return g->n[0] * g->n[1] * g->n[2];
@@ -72,4 +75,53 @@ void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, con
   v[0] = v[1] = v[2] = 0.0;
   for (int c = 0; c < 8; c++)
     for (int d = 0; d < 3; d++) v[d] += weight[c] * field[3 * voxel[c] + d];
+}
+
+int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const double *v,
+                               const double *radius, const int *kinematic, const double *u,
+                               double threshold, double overlap_max, int *next, int *hits,
+                               int *overlaps, griddem_grid *g, griddem_bins *b)
+{
+  double rmax = 0.0;
+  for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
+  if (nall == 0 || rmax == 0.0) return 0;
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  /* the edge may grow for a dilute set; 27 cells still hold every partner */
+  griddem_grid_cover(g, anchor, nall, x, 2.0 * rmax * (1.0 + 1e-12), 8L * nall + 1024L);
+  if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
+  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  for (int i = 0; i < nlocal; i++) {
+    if (!next[i]) continue;
+    const double *xi = x + 3 * (long) i;
+    const double *vi = kinematic[i] ? v + 3 * (long) i : u + 3 * (long) i;
+    const long c = b->cell[i], cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    for (long z = cz > 0 ? cz - 1 : 0; next[i] && z <= cz + 1 && z < nz; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; next[i] && y <= cy + 1 && y < ny; y++) {
+        const long row = nx * (y + ny * z);
+        const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
+        const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
+        for (int s = s0; next[i] && s < s1; s++) {
+          const int j = b->order[s];
+          if (j == i) continue;
+          const double *xj = x + 3 * (long) j;
+          const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+          const double r = sqrt(dx * dx + dy * dy + dz * dz), touch = radius[i] + radius[j];
+          if (r >= touch) continue;
+          const double rmin = radius[i] < radius[j] ? radius[i] : radius[j];
+          if (touch - r > overlap_max * rmin) {
+            next[i] = 0;
+            *overlaps += kinematic[i];
+            continue;
+          }
+          if (kinematic[j]) continue;
+          const double *vj = v + 3 * (long) j;
+          const double rx = vi[0] - vj[0], ry = vi[1] - vj[1], rz = vi[2] - vj[2];
+          if (sqrt(rx * rx + ry * ry + rz * rz) > threshold) {
+            next[i] = 0;
+            *hits += kinematic[i];
+          }
+        }
+      }
+  }
+  return 0;
 }

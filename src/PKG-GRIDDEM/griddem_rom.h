@@ -7,6 +7,8 @@
 #ifndef GRIDDEM_ROM_H
 #define GRIDDEM_ROM_H
 
+#include "griddem_grid.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -41,6 +43,19 @@ void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feat
 /* The velocity (3 components; field[3 m + d]) interpolated at x with griddem_rom_weights. */
 void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, const double x[3],
                              double v[3]);
+
+/* The contact checks of a classification, on a grid of the particles (edge: the longest contact
+ * distance) instead of a neighbor list. Particles 0..nall-1 (owned first, then ghosts), kinematic
+ * marks their states before the classification. For each owned i with next[i] = 1, every other
+ * particle j touching it (distance below ri + rj): next[i] becomes 0 if their overlap exceeds
+ * overlap_max min(ri, rj), or if j is not kinematic and its velocity differs from i's (v of i if
+ * i is kinematic, else u[3 i..]) by more than threshold; the first such partner found is counted
+ * in *overlaps or *hits when i was kinematic. g and b are the caller's scratch, kept between
+ * calls (griddem_bins_free b at the end). Returns 0, or -1 without memory. */
+int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const double *v,
+                               const double *radius, const int *kinematic, const double *u,
+                               double threshold, double overlap_max, int *next, int *hits,
+                               int *overlaps, griddem_grid *g, griddem_bins *b);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,7 @@
 /* Reduced-order model core: the voxel weights sum to 1, the deposit keeps the mass of the points
  * inside the box (and skips the others), interpolation reproduces a linear velocity field away
  * from the boundary voxels and a uniform one everywhere, and the prediction is the plain
- * matrix-vector product. */
+ * matrix-vector product; the classification's contact checks equal a brute-force check. */
 #include "check.h"
 #include "griddem_rom.h"
 
@@ -72,10 +72,58 @@ static void check_predict(void)
   CHECK_CLOSE(out[1], -1.0 - 1.0 + 2.0, 1e-15, 1e-15);
 }
 
+/* The classification's contact checks on the grid equal a brute-force check of every pair: the
+ * same atoms stay candidates, and each kinematic atom dropped is counted once as a hit or an
+ * overlap; also on a dilute set whose grid edge grows (two far outliers). */
+static void check_contacts(double spread)
+{
+  enum { NALL = 400, NLOCAL = 300 };
+  static double x[3 * NALL], v[3 * NALL], u[3 * NALL], r[NALL];
+  static int kin[NALL], next[NALL], ref[NALL];
+  const double threshold = 0.3, overlap_max = 0.2;
+  for (int i = 0; i < NALL; i++) {
+    for (int d = 0; d < 3; d++) {
+      x[3 * i + d] = 4.0 * check_uniform();
+      v[3 * i + d] = 0.4 * (check_uniform() - 0.5);
+      u[3 * i + d] = 0.4 * (check_uniform() - 0.5);
+    }
+    r[i] = 0.1 + 0.15 * check_uniform();
+    kin[i] = check_uniform() < 0.6;
+    next[i] = ref[i] = check_uniform() < 0.8;
+  }
+  x[3 * (NALL - 1)] = x[3 * (NALL - 2) + 2] = spread; /* ghosts far away */
+  int dropped = 0;
+  for (int i = 0; i < NLOCAL; i++) {
+    if (!ref[i]) continue;
+    const double *vi = kin[i] ? &v[3 * i] : &u[3 * i];
+    for (int j = 0; j < NALL && ref[i]; j++) {
+      if (j == i) continue;
+      const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+      const double dist = sqrt(dx * dx + dy * dy + dz * dz), touch = r[i] + r[j];
+      if (dist >= touch) continue;
+      const double dv[3] = {vi[0] - v[3 * j], vi[1] - v[3 * j + 1], vi[2] - v[3 * j + 2]};
+      if (touch - dist > overlap_max * fmin(r[i], r[j]) || (!kin[j] && sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]) > threshold))
+        ref[i] = 0, dropped += kin[i];
+    }
+  }
+  griddem_grid g;
+  griddem_bins b = {0};
+  int hits = 0, overlaps = 0, same = 1, kept = 0;
+  CHECK(griddem_rom_check_contacts(NLOCAL, NALL, x, v, r, kin, u, threshold, overlap_max, next, &hits, &overlaps, &g, &b) == 0,
+        "contact check runs");
+  for (int i = 0; i < NALL; i++) same &= next[i] == ref[i], kept += ref[i] && i < NLOCAL;
+  CHECK(same, "spread %g: candidates kept equal the brute-force check (%d kept)", spread, kept);
+  CHECK(hits + overlaps == dropped && hits > 0 && overlaps > 0 && kept > 20,
+        "spread %g: %d hits + %d overlaps, brute force drops %d kinematic atoms", spread, hits, overlaps, dropped);
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
   check_weights_and_deposit();
   check_interpolation();
   check_predict();
+  check_contacts(4.0);
+  check_contacts(1e5);
   return check_summary();
 }
