@@ -8,8 +8,10 @@ Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs an
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
 (examples/rom-pile/train_rom.py), then the test width resolved and reduced back to back, and
 appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, loop times,
-speed-up, the mean fraction of kinematic atoms (the reduction), surface-height accuracy and
-velocity-field error (examples/rom-pile/compare.py defines them)."""
+speed-up, the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
+velocity-field and granular-temperature errors (examples/rom-pile/compare.py defines them), and
+with --noise-seed the same accuracies of a resolved run with another seed (the noise floor);
+--plot draws examples/rom-pile/plot_rom.py's figure."""
 import argparse
 import json
 import os
@@ -47,6 +49,8 @@ def main():
     ap.add_argument("--eps", type=float, default=0.1)
     ap.add_argument("--every", type=int, default=10)
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
+    ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
+    ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     scene = dict(W=a.W, H=a.H, fill=a.fill)
@@ -68,9 +72,21 @@ def main():
     run_pile(lmp, wd, scene, a.steps, a.test, res)
     run_pile(lmp, wd, scene, a.steps, a.test, rom,
              ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every)])
+    noise = None
+    if a.noise_seed is not None:
+        noise = "test.w%g.resolved.seed%d" % (a.test, a.noise_seed)
+        run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
+    if noise:
+        n = compare(res, noise)
+        c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"])
+        if "temperature_error" in n:
+            c["noise_temperature_error"] = n["temperature_error"]
+    if a.plot:
+        subprocess.run([sys.executable, os.path.join(EXAMPLE, "plot_rom.py"), res, rom] + ([noise] if noise else []) +
+                       [os.path.abspath(os.path.join(here, a.plot))], check=True)
     os.chdir(here)
     _, steps, atoms = benchlib.loop_time(open(os.path.join(wd, "log." + res)).read(), res)
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),

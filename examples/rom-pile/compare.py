@@ -8,6 +8,8 @@
   run) and columns of |h_rom - h_res| / mean h_res;
 - velocity field: time-averaged (second half) voxel velocities (vx, vz) where the resolved mean
   density exceeds 0.05; error = ||<v>_rom - <v>_res|| / ||<v>_res|| (L2 over those voxels);
+- granular temperature: the same with the voxels' time-averaged granular temperature (compute
+  griddem/cg temperature: velocity variance about the voxel mean), when the dumps have it;
 - reduction: the mean fraction of kinematic atoms (thermo's v_nkin over atoms)."""
 import re
 import sys
@@ -47,6 +49,16 @@ def kinematic_fraction(tag):
     return float(np.mean(rows)) if rows else 0.0
 
 
+def height_accuracy_series(res, rom):
+    """(steps, accuracy of each frame): 1 - mean |h_rom - h_res| / mean h_res."""
+    nf = min(len(res), len(rom))
+    acc = []
+    for k in range(nf):
+        hr, hm = heights(res[k]), heights(rom[k])
+        acc.append(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr))
+    return np.array([res[k][0] for k in range(nf)]), np.array(acc)
+
+
 def compare(res_tag, rom_tag):
     """Speed-up, accuracies and the last frames' fill heights of a reduced against a resolved run."""
     res, rom = read_grid_dump("cg.%s.txt" % res_tag), read_grid_dump("cg.%s.txt" % rom_tag)
@@ -59,7 +71,12 @@ def compare(res_tag, rom_tag):
     vr = np.array([np.mean([res[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     vm = np.array([np.mean([rom[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     tr, tm = loop_time(res_tag), loop_time(rom_tag)
-    return dict(loop_resolved_s=tr, loop_reduced_s=tm, speedup=tr / tm,
+    extra = {}
+    if "temperature" in res[0][3] and "temperature" in rom[0][3]:
+        Tr = np.mean([res[k][3]["temperature"] for k in half], axis=0)[mask]
+        Tm = np.mean([rom[k][3]["temperature"] for k in half], axis=0)[mask]
+        extra["temperature_error"] = float(np.linalg.norm(Tm - Tr) / np.linalg.norm(Tr))
+    return dict(**extra,loop_resolved_s=tr, loop_reduced_s=tm, speedup=tr / tm,
                 height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),
                 final_height_accuracy=float(1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])),
                 velocity_error=float(np.linalg.norm(vm - vr) / np.linalg.norm(vr)), voxels=int(mask.sum()),
@@ -76,6 +93,8 @@ def main():
     print("final fill heights resolved %s" % np.round(c["heights_resolved"], 2))
     print("final fill heights reduced  %s" % np.round(c["heights_reduced"], 2))
     print("time-averaged velocity field error %.3f (relative L2 over %d voxels)" % (c["velocity_error"], c["voxels"]))
+    if "temperature_error" in c:
+        print("time-averaged granular temperature error %.3f" % c["temperature_error"])
 
 
 if __name__ == "__main__":

@@ -44,6 +44,12 @@ pair_coeff * *
 timestep 0.001
 """
 
+def resting_spheres(*centres):
+    """The walled box with unit spheres (density 1) at rest at the given centres."""
+    return HEAD.format(bnd="f f f") + "".join("create_atoms 1 single %s %s %s\n" % c for c in centres) + \
+        "set type 1 diameter 1.0\nset type 1 density 1.0\nvelocity all set 0 0 0\n"
+
+
 # integration, the fix griddem/rom line ({rom}) and the pair virial printed every step
 VIRIAL_EACH_STEP = """
 fix integrate all nve/sphere
@@ -127,12 +133,7 @@ def uniform_field():
     model = os.path.join(WD, "uniform.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
     g = 2.0
-    text = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 1.5 1.5 3.0
-create_atoms 1 single 4.5 4.5 3.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    text = resting_spheres((1.5, 1.5, 3.0), (4.5, 4.5, 3.0)) + """
 set atom 2 vx 0.9
 """ + PAIR + """
 fix integrate all nve/sphere
@@ -163,15 +164,8 @@ def contacts():
     t.write_rom_model(model, (3, 3, 3), BOX)
     # atoms 1, 2 overlap by 0.005 (bound 0.1 * 0.5 = 0.05); atom 3 (not in the fix group) overlaps
     # atom 1 by 0.005 from the other side; atoms 4, 5 overlap by 0.1 > 0.05 (never kinematic)
-    base = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 3.0 3.0 3.0
-create_atoms 1 single 3.995 3.0 3.0
-create_atoms 1 single 3.0 3.995 3.0
-create_atoms 1 single 1.0 1.0 1.0
-create_atoms 1 single 1.9 1.0 1.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    base = resting_spheres((3.0, 3.0, 3.0), (3.995, 3.0, 3.0), (3.0, 3.995, 3.0), (1.0, 1.0, 1.0),
+                           (1.9, 1.0, 1.0)) + """
 group romable id 1 2 4 5
 """ + PAIR + VIRIAL_EACH_STEP + """dump d all custom 10 {dump} id x y z vx vy vz {extra}
 dump_modify d format float %.17g sort id
@@ -226,11 +220,7 @@ def release():
     model = os.path.join(WD, "left.model")
     U = -0.3
     t.write_rom_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
-    text = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 0.52 3.0 3.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    text = resting_spheres((0.52, 3.0, 3.0)) + """
 """ + PAIR + """
 fix integrate all nve/sphere
 fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
@@ -251,12 +241,7 @@ run 500
 
     model0 = os.path.join(WD, "rest3.model")
     t.write_rom_model(model0, (3, 3, 3), BOX)
-    text = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 3.0 3.0 3.0
-create_atoms 1 single 1.5 3.0 3.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    text = resting_spheres((3.0, 3.0, 3.0), (1.5, 3.0, 3.0)) + """
 set atom 2 vx 1.0
 group target id 1
 """ + PAIR + """
@@ -279,12 +264,7 @@ def loaded():
     v0 = 0.08 lies between g N dt = 0.05 and 2 g N dt = 0.1); it stays put and carries the other."""
     model = os.path.join(WD, "rest.model")
     t.write_rom_model(model, (3, 3, 3), BOX)
-    text = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 3.0 3.0 2.0
-create_atoms 1 single 3.0 3.0 3.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    text = resting_spheres((3.0, 3.0, 2.0), (3.0, 3.0, 3.0)) + """
 group bottom id 1
 """ + PAIR + """
 fix integrate all nve/sphere
@@ -314,11 +294,7 @@ def field_jump():
     is released with its velocity, not kicked: it stays at rest and is counted (f_rom[8])."""
     model = os.path.join(WD, "switch.model")
     t.write_rom_model(model, (3, 3, 3), BOX, controls=1, control_weight=1.0)
-    text = HEAD.format(bnd="f f f") + """
-create_atoms 1 single 3.0 3.0 3.0
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
+    text = resting_spheres((3.0, 3.0, 3.0)) + """
 """ + PAIR + """
 variable on equal step>100
 fix integrate all nve/sphere

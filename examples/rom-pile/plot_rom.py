@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Figures of a reduced against a resolved run (run where their files are):
+
+    plot_rom.py RESOLVED_TAG ROM_TAG [NOISE_TAG] OUT.png
+
+Top: the last snapshots (atoms.TAG.txt), resolved and reduced, the reduced one coloured kinematic
+(blue) / dynamic (red). Bottom left: surface-height accuracy of each frame against the resolved
+run (and of a resolved run with another seed, NOISE_TAG: the chaotic noise floor). Bottom right:
+the kinematic fraction after each classification (thermo of log.ROM_TAG)."""
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from compare import height_accuracy_series  # noqa: E402
+from romtools import read_grid_dump  # noqa: E402
+
+
+def last_snapshot(path):
+    """(step, array of id x z kin) of the last frame of a dump custom file."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: TIMESTEP"))
+    n = int(lines[k + 3])
+    return int(lines[k + 1]), np.array([[float(v) for v in line.split()] for line in lines[k + 9:k + 9 + n]])
+
+
+def kinematic_series(tag):
+    steps, frac = [], []
+    with open("log." + tag) as f:
+        for line in f:
+            w = line.split()
+            if len(w) == 5 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
+                steps.append(int(w[0]))
+                frac.append(float(w[4]) / float(w[2]))
+    return np.array(steps), np.array(frac)
+
+
+def main():
+    args = sys.argv[1:]
+    if len(args) not in (3, 4):
+        raise SystemExit(__doc__)
+    res_tag, rom_tag, out = args[0], args[1], args[-1]
+    noise_tag = args[2] if len(args) == 4 else None
+    fig = plt.figure(figsize=(10, 8))
+    for col, (tag, title) in enumerate(((res_tag, "resolved"), (rom_tag, "reduced"))):
+        ax = fig.add_subplot(2, 2, 1 + col)
+        step, a = last_snapshot("atoms.%s.txt" % tag)
+        colour = np.where(a[:, 3] > 0.5, "tab:blue", "tab:red")
+        ax.scatter(a[:, 1], a[:, 2], s=6, c=colour, linewidths=0)
+        nkin = int((a[:, 3] > 0.5).sum())
+        ax.set_title("%s, step %d: %d atoms%s" % (title, step, len(a),
+                                                   ", %d kinematic (blue)" % nkin if col else ""))
+        ax.set_aspect("equal")
+        ax.set_xlabel("x / d")
+        ax.set_ylabel("z / d")
+    res = read_grid_dump("cg.%s.txt" % res_tag)
+    ax = fig.add_subplot(2, 2, 3)
+    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
+    ax.plot(steps, acc, label="reduced vs resolved")
+    if noise_tag:
+        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
+        ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
+    ax.axhline(0.9, color="grey", lw=0.5)
+    ax.set_xlabel("step")
+    ax.set_ylabel("surface-height accuracy")
+    ax.set_ylim(0.5, 1.0)
+    ax.legend(loc="lower right")
+    ax = fig.add_subplot(2, 2, 4)
+    steps, frac = kinematic_series(rom_tag)
+    ax.plot(steps, frac)
+    ax.set_xlabel("step")
+    ax.set_ylabel("kinematic fraction (after a classification)")
+    ax.set_ylim(0, 1)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    print("wrote", out)
+
+
+if __name__ == "__main__":
+    main()
