@@ -9,6 +9,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "grid3d.h"
 #include "group.h"
 #include "input.h"
 #include "memory.h"
@@ -28,7 +29,7 @@ using namespace FixConst;
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0), v0(-1.0),
     overlap_max(0.1), period(1), state(nullptr), fpair(nullptr), nmax(0), counts(),
-    check_grid(), check_bins()
+    grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins()
 {
   std::string model_file;
   int every = 0;
@@ -75,6 +76,8 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
+  pergrid_flag = 1;
+  pergrid_freq = every;
 
   FixGriddemRom::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -87,6 +90,7 @@ FixGriddemRom::~FixGriddemRom()
   memory->destroy(state);
   memory->destroy(fpair);
   griddem_bins_free(&check_bins);
+  deallocate_grid();
 }
 
 int FixGriddemRom::setmask()
@@ -226,6 +230,7 @@ void FixGriddemRom::init()
   }
   if (!comm->ghost_velocity)
     error->all(FLERR, "Fix griddem/rom needs comm_modify vel yes (its hit test reads ghost velocities)");
+  if (!grid3d) allocate_grid();
   control_vars.clear();
   for (const auto &name : control_names) {
     const int ivar = input->variable->find(name.c_str());
@@ -334,6 +339,7 @@ void FixGriddemRom::classify()
   for (int m = 0; m < nvox; m++) feature[1 + m] = density[m];
   for (int c = 0; c < ncontrol; c++) feature[1 + nvox + c] = input->variable->compute_equal(control_vars[c]);
   griddem_rom_predict(3 * nvox, 1 + nvox + ncontrol, weights.data(), feature.data(), field.data());
+  fill_grid();
 
   const double threshold = eps * v0;
   std::vector<int> next(nlocal, 0);
@@ -434,6 +440,74 @@ void *FixGriddemRom::extract(const char *name, int &dim)
   dim = 0;
   if (strcmp(name, "kinematic_bit") == 0) return &kinematic_bit;
   return nullptr;
+}
+
+/* The voxels as a distributed LAMMPS grid, the model's grid over the box (voxel centres as grid
+   points), so that dump grid and dump grid/vtk write the field. Every process holds all of it;
+   each copies its own brick. */
+void FixGriddemRom::allocate_grid()
+{
+  grid3d = new Grid3d(lmp, world, grid.n[0], grid.n[1], grid.n[2]);
+  grid3d->setup_grid(lo_in[0], hi_in[0], lo_in[1], hi_in[1], lo_in[2], hi_in[2], lo_out[0], hi_out[0],
+                     lo_out[1], hi_out[1], lo_out[2], hi_out[2]);
+  for (auto &values : grid_values)
+    memory->create3d_offset(values, lo_out[2], hi_out[2], lo_out[1], hi_out[1], lo_out[0], hi_out[0],
+                            "griddem/rom:grid");
+  fill_grid();
+}
+
+void FixGriddemRom::deallocate_grid()
+{
+  for (auto &values : grid_values) memory->destroy3d_offset(values, lo_out[2], lo_out[1], lo_out[0]);
+  delete grid3d;
+  grid3d = nullptr;
+}
+
+void FixGriddemRom::reset_grid()
+{
+  deallocate_grid();
+  allocate_grid();
+}
+
+void FixGriddemRom::fill_grid()
+{
+  if (!grid3d) return;
+  for (int iz = lo_in[2]; iz <= hi_in[2]; iz++)
+    for (int iy = lo_in[1]; iy <= hi_in[1]; iy++)
+      for (int ix = lo_in[0]; ix <= hi_in[0]; ix++) {
+        const int m = ix + grid.n[0] * (iy + grid.n[1] * iz);
+        for (int d = 0; d < 3; d++) grid_values[d][iz][iy][ix] = field[3 * m + d];
+        grid_values[3][iz][iy][ix] = density[m];
+      }
+}
+
+int FixGriddemRom::get_grid_by_name(const std::string &name, int &dim)
+{
+  if (name != "field") return -1;
+  dim = 3;
+  return 0;
+}
+
+void *FixGriddemRom::get_grid_by_index(int index)
+{
+  return index == 0 ? grid3d : nullptr;
+}
+
+int FixGriddemRom::get_griddata_by_name(int igrid, const std::string &name, int &ncol)
+{
+  static const char *const names[4] = {"vx", "vy", "vz", "density"};
+  if (igrid != 0) return -1;
+  for (int k = 0; k < 4; k++)
+    if (name == names[k]) {
+      ncol = 0;
+      return k;
+    }
+  return -1;
+}
+
+void *FixGriddemRom::get_griddata_by_index(int index)
+{
+  return index >= 0 && index < 4 ? grid_values[index] : nullptr;
 }
 
 double FixGriddemRom::memory_usage()

@@ -37,6 +37,11 @@ class FixGriddemRom : public Fix {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double compute_vector(int) override;
+  int get_grid_by_name(const std::string &, int &) override;
+  void *get_grid_by_index(int) override;
+  int get_griddata_by_name(int, const std::string &, int &) override;
+  void *get_griddata_by_index(int) override;
+  void reset_grid() override;
   void *extract(const char *, int &) override;
   double memory_usage() override;
 
@@ -56,6 +61,10 @@ class FixGriddemRom : public Fix {
   double **fpair;   // this step's contact forces (the pair's share of f)
   std::vector<std::pair<int, const double *>> gravities;    // group bit, acceleration of each fix gravity
   int nmax;
+  // the voxel fields as LAMMPS grid data (dump grid, grid/vtk): this process's brick of them
+  class Grid3d *grid3d;
+  int lo_in[3], hi_in[3], lo_out[3], hi_out[3];
+  double ***grid_values[4];    // vx vy vz density of the last classification
   griddem_grid check_grid;    // the contact checks' grid and bins (scratch kept between calls)
   griddem_bins check_bins;
   double counts[8];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces;
@@ -65,6 +74,9 @@ class FixGriddemRom : public Fix {
   void classify();
   void zero_kinematic_forces();
   void fill_state();
+  void allocate_grid();
+  void deallocate_grid();
+  void fill_grid();
 };
 
 }    // namespace LAMMPS_NS

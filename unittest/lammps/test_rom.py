@@ -17,6 +17,7 @@
   dynamic one is released and takes up momentum; a kinematic atom carrying a resting dynamic one
   under gravity is not released (contacts and gravity do not count in the force rule); a
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
+- the field and density as grid data (dump grid) on 1 and 2 processes;
 - train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
 import math
 import os
@@ -43,6 +44,7 @@ pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
 pair_coeff * *
 timestep 0.001
 """
+
 
 def resting_spheres(*centres):
     """The walled box with unit spheres (density 1) at rest at the given centres."""
@@ -312,6 +314,42 @@ run 300
     t.check(all(x == 3.0 for x in xs), "the released atom stays at rest (x %s)" % xs[-1])
 
 
+def field_output():
+    """The predicted field and the density as grid data (dump grid): a uniform field U in every
+    voxel, the density summing to the mass of the 64 atoms (lattice spacing 1.5; CIC keeps mass),
+    1 and 2 processes equal (to the order of the sum over processes)."""
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "grid.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    frames = []
+    for nprocs in (1, 2):
+        text = HEAD.format(bnd="f f f").replace("region box", "processors %d 1 1\nregion box" % nprocs) + """
+lattice sc 0.2962962962962963 origin 0.5 0.5 0.5
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+dump g all grid 5 field{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
+dump_modify g sort id format float %.17g
+run 10
+""".format(m=model, n=nprocs)
+        t.run_ok(text, WD, nprocs=nprocs, name="in.field%d" % nprocs)
+        with open(os.path.join(WD, "field%d.txt" % nprocs)) as f:
+            lines = f.read().splitlines()
+        k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS"))
+        frames.append([[float(v) for v in line.split()] for line in lines[k + 1:k + 28]])
+    rows = frames[0]
+    t.check(len(rows) == 27 and all(r[:3] == list(U) for r in rows), "dump grid: the field is U in all 27 voxels")
+    mass = sum(r[3] for r in rows) * 2.0 ** 3
+    t.check(abs(mass - 64 * math.pi / 6.0) <= 1e-12 * mass, "dump grid: density sums to the mass (%.15g)" % mass)
+    diff = max(abs(a - b) for r1, r2 in zip(frames[0], frames[1]) for a, b in zip(r1, r2))
+    t.check(len(frames[1]) == 27 and diff <= 1e-14, "dump grid: 2 processes write the field of 1 "
+            "(densities summed in another order: %.2g)" % diff)
+
+
 def training():
     """Synthetic dumps whose velocities are an exact linear function of density and control."""
     import random
@@ -360,6 +398,7 @@ processes()
 release()
 loaded()
 field_jump()
+field_output()
 training()
 eps_zero()
 uniform_field()
