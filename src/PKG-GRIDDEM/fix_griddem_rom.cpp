@@ -14,6 +14,7 @@
 #include "input.h"
 #include "memory.h"
 #include "modify.h"
+#include "region.h"
 #include "pair.h"
 #include "update.h"
 #include "variable.h"
@@ -28,7 +29,7 @@ using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0), v0(-1.0),
-    overlap_max(0.1), period(1), state(nullptr), fpair(nullptr), nmax(0), counts(),
+    overlap_max(0.1), resolved(nullptr), period(1), state(nullptr), fpair(nullptr), nmax(0), counts(),
     grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins()
 {
   std::string model_file;
@@ -48,6 +49,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     else if (word == "v0") v0 = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "every") every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "overlap") overlap_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    else if (word == "resolved") resolved_id = arg[iarg + 1];
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
   }
@@ -228,6 +230,11 @@ void FixGriddemRom::init()
       error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}",
                  grid.lo[d], grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d]);
   }
+  resolved = nullptr;
+  if (!resolved_id.empty()) {
+    resolved = domain->get_region_by_id(resolved_id);
+    if (!resolved) error->all(FLERR, "Fix griddem/rom: region {} (keyword resolved) does not exist", resolved_id);
+  }
   if (!comm->ghost_velocity)
     error->all(FLERR, "Fix griddem/rom needs comm_modify vel yes (its hit test reads ghost velocities)");
   if (!grid3d) allocate_grid();
@@ -342,13 +349,14 @@ void FixGriddemRom::classify()
   fill_grid();
 
   const double threshold = eps * v0;
+  if (resolved) resolved->prematch();
   std::vector<int> next(nlocal, 0);
   std::vector<double> u(3 * (size_t) nlocal, 0.0);
   double made = 0, left = 0, hits = 0, overlaps = 0, jumps = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!use[i]) continue;
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
-    if (!griddem_rom_inside(&grid, x[i])) {
+    if (!griddem_rom_inside(&grid, x[i]) || (resolved && resolved->match(x[i][0], x[i][1], x[i][2]))) {
       left += was;
       continue;
     }
@@ -428,7 +436,8 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
 }
 
 /* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5, 6: made dynamic again by a hit (a
-   touching partner's relative speed), by an overlap, by leaving the model box, by a force; 7:
+   touching partner's relative speed), by an overlap, by leaving the model box or entering the
+   resolved region, by a force; 7:
    classifications; 8: made dynamic by a jump of the field (2-6 and 8 summed over the run) */
 double FixGriddemRom::compute_vector(int n)
 {

@@ -55,6 +55,8 @@ class FixGriddemRom : public Fix {
   std::vector<std::string> control_names;
   std::vector<int> control_vars;
   double eps, v0, overlap_max;
+  std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
+  class Region *resolved;
   int period;    // classification every period steps
   std::vector<double> density, feature, field;
   double *state;    // per-atom output: 1 kinematic, 0 dynamic

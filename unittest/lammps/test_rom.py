@@ -18,6 +18,7 @@
   under gravity is not released (contacts and gravity do not count in the force rule); a
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
 - the field and density as grid data (dump grid) on 1 and 2 processes;
+- a resolved region keeps its atoms dynamic, also as its bound moves; a missing one is refused;
 - train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
 import math
 import os
@@ -314,6 +315,33 @@ run 300
     t.check(all(x == 3.0 for x in xs), "the released atom stays at rest (x %s)" % xs[-1])
 
 
+def resolved_region():
+    """Keyword resolved: atoms in the region are never kinematic; a region whose bound moves (an
+    equal-style variable) releases the kinematic atom it comes to hold (counted in f_rom[5])."""
+    model = os.path.join(WD, "rest4.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    text = resting_spheres((3.0, 3.0, 1.5), (3.0, 3.0, 4.5)) + PAIR + """
+variable zlo equal 4.0-3.0*(step>100)
+region top block INF INF INF INF v_zlo INF
+fix integrate all nve/sphere
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 resolved top
+thermo_style custom step f_rom[1] f_rom[5]
+thermo 50
+dump d all custom 50 region.dump id f_rom
+dump_modify d sort id
+run 200
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.region")
+    kin, left = t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[5]")
+    snaps = t.read_dumps(os.path.join(WD, "region.dump"))
+    t.check(snaps[1][1][1][0] == 1.0 and snaps[1][1][2][0] == 0.0 and kin[1] == 1,
+            "atom 1 kinematic, atom 2 in the resolved region dynamic (step 50: %s)" % snaps[1][1])
+    t.check(kin[-1] == 0 and left[-1] == 1 and snaps[-1][1][1][0] == 0.0,
+            "the region grown over atom 1 releases it (kinematic %s, released %s)" % (kin, left))
+    rc, out = t.run_lmp(text.replace("resolved top", "resolved nowhere"), WD, name="in.noregion")
+    t.check(rc != 0 and "region nowhere (keyword resolved) does not exist" in out, "a missing region is refused by name")
+
+
 def field_output():
     """The predicted field and the density as grid data (dump grid): a uniform field U in every
     voxel, the density summing to the mass of the 64 atoms (lattice spacing 1.5; CIC keeps mass),
@@ -399,6 +427,7 @@ release()
 loaded()
 field_jump()
 field_output()
+resolved_region()
 training()
 eps_zero()
 uniform_field()
