@@ -286,10 +286,9 @@ void FixGriddemRom::post_force(int)
 }
 
 /* A kinematic atom is released (made dynamic, keeping its force) when the force on it other than
-   its contacts with atoms and gravity, f_o = f - f_pair - m g, would change its velocity by more
-   than eps v0 within a classification period, |f_o| N dt / m > eps v0, and opposes its motion,
-   v . f_o < 0: a wall it is driven into (or that resists its sliding), or another fix's force.
-   One resting against a wall (v . f_o = 0) keeps its overlap and stays kinematic. Its contacts with dynamic atoms do not count: in a resting pile a
+   its contacts with atoms and gravity would change its velocity by more than eps v0 within a
+   classification period: |f - f_pair - m g| N dt / m > eps v0: a wall it is driven into, or
+   another fix's force. Its contacts with dynamic atoms do not count: in a resting pile a
    kinematic atom carries the weight of dynamic ones above it, which is no reason to release it
    (counting it released most of a loaded pile every step); a dynamic atom that hits it is judged
    by the hit test at the next classification. Gravity is the field's business. The others lose
@@ -297,7 +296,7 @@ void FixGriddemRom::post_force(int)
 void FixGriddemRom::zero_kinematic_forces()
 {
   int *mask = atom->mask;
-  double **f = atom->f, **torque = atom->torque, **v = atom->v;
+  double **f = atom->f, **torque = atom->torque;
   const double *rmass = atom->rmass;
   const double scale = period * update->dt, threshold = eps * v0;
   int released = 0;
@@ -308,8 +307,7 @@ void FixGriddemRom::zero_kinematic_forces()
       if (mask[i] & g.first)
         for (int d = 0; d < 3; d++) fo[d] -= rmass[i] * g.second[d];
     const double fm2 = fo[0] * fo[0] + fo[1] * fo[1] + fo[2] * fo[2];
-    const double into = v[i][0] * fo[0] + v[i][1] * fo[1] + v[i][2] * fo[2];
-    if (into < 0.0 && sqrt(fm2) * scale > threshold * rmass[i]) {
+    if (sqrt(fm2) * scale > threshold * rmass[i]) {
       mask[i] &= ~kinematic_bit;
       released++;
       continue;

@@ -17,7 +17,6 @@
   dynamic one is released and takes up momentum; a kinematic atom carrying a resting dynamic one
   under gravity is not released (contacts and gravity do not count in the force rule); a
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
-- a kinematic atom resting on a wall under gravity is not released (the wall's force does no work);
 - the field and density as grid data (dump grid) on 1 and 2 processes;
 - a resolved region keeps its atoms dynamic, also as its bound moves; a missing one is refused;
 - train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
@@ -293,30 +292,6 @@ run 3000
             "the dynamic atom rests on it: overlap %.3g, about m g / kn = %.3g" % (overlap, math.pi / 6.0 / 2000.0))
 
 
-def resting_on_wall():
-    """A kinematic atom resting on a granular wall under gravity (field 0) is not released: the
-    wall's force, m g, exceeds eps v0 m / (N dt) (eps v0 = 0.03 < g N dt = 0.05) but does no work
-    on its motion; it stays where it was made kinematic."""
-    model = os.path.join(WD, "rest5.model")
-    t.write_rom_model(model, (3, 3, 3), BOX)
-    text = resting_spheres((3.0, 3.0, 0.5)) + PAIR + """
-fix integrate all nve/sphere
-fix gravity all gravity 1.0 vector 0 0 -1
-fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 zplane 0 NULL
-fix rom all griddem/rom model {m} eps 0.03 v0 1 every 50
-variable z equal z[1]
-thermo_style custom step v_z f_rom[1] f_rom[6]
-thermo_modify format float %.17g
-thermo 100
-run 2000
-""".format(m=model)
-    out = t.run_ok(text, WD, name="in.onwall")
-    z, kin, released = t.thermo_values(out, "v_z"), t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[6]")
-    t.check(kin[-1] == 1 and released[-1] == 0, "atom on the wall stays kinematic (kinematic %s, released %s)"
-            % (kin[-1], released[-1]))
-    t.check(max(z[1:]) == min(z[1:]) and abs(z[-1] - 0.5) < 1e-3, "and stays put (z %.15g)" % z[-1])
-
-
 def field_jump():
     """A resting kinematic atom where a control switches the field from 0 to 1 (> eps v0 = 0.5)
     is released with its velocity, not kicked: it stays at rest and is counted (f_rom[8])."""
@@ -450,7 +425,6 @@ model_checks()
 processes()
 release()
 loaded()
-resting_on_wall()
 field_jump()
 field_output()
 resolved_region()
