@@ -33,10 +33,14 @@ namespace LAMMPS_NS {
 template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public KokkosBase {
  public:
   typedef DeviceType device_type;
-  // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there
-  typedef Kokkos::DualView<double **, Kokkos::LayoutRight, LMPDeviceType> tdual_rows;
+  // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there. Laid
+  // out as that device lays out 2D arrays: on a GPU (LayoutLeft) the threads of neighbouring
+  // atoms, each reading its own row, read one column together (coalesced); on a CPU
+  // (LayoutRight) each row is contiguous for its thread's cache
+  typedef typename LMPDeviceType::execution_space::array_layout rows_layout;
+  typedef Kokkos::DualView<double **, rows_layout, LMPDeviceType> tdual_rows;
   typedef DAT::tdual_int_1d tdual_count;
-  typedef Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> t_rows;
+  typedef Kokkos::View<double **, rows_layout, DeviceType> t_rows;
   typedef Kokkos::View<int *, DeviceType> t_count;
 
   FixGriddemKokkos(class LAMMPS *, int, char **);

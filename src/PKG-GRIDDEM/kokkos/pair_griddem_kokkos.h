@@ -233,7 +233,7 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
   Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
   int excl_both;    // pairs whose two masks both have this bit (fix griddem/rom's kinematic atoms)
-  Kokkos::View<double **, Kokkos::LayoutRight, DeviceType> rows;    // fix griddem/kk's rows
+  typename FixGriddemKokkos<DeviceType>::t_rows rows;    // fix griddem/kk's rows
   Kokkos::View<int *, DeviceType> count;
   typename AT::t_f_array f, torque;
   typename AT::t_virial_array vatom;
