@@ -168,7 +168,8 @@ def main():
     with open(os.path.join(HERE, "results.json")) as f:
         res = json.load(f)
     P = res["points"]
-    Ilo, Ihi = res["adaptive"]["Ilo"], res["adaptive"]["Ihi"]
+    rng = res.get("ensemble", res["adaptive"])          # the final ensemble's span (learn_mu.py)
+    Ilo, Ihi = rng["Ilo"], rng["Ihi"]
     ens = L.Ensemble(Ilo, Ihi).fit(P)
     Ig = np.logspace(math.log10(Ilo), math.log10(Ihi), 60)
     mean, std = ens.predict(Ig)

@@ -5,9 +5,15 @@ GDR MiDi / Jop form, regularises the learned curve at low I, and checks it again
 layers (in.incline) through the Bagnold profile. Writes results.json, mu_I.png and incline.png.
 
     /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.005] [--max-runs 6] [--uniform-levels 2]
+                                 [--extra-I 0.003,0.001] [--recorded rve_points.json]
 
+The adaptive loop and the uniform comparison sample [--Ilo, --Ihi] (0.01..0.3); --extra-I adds RVEs
+at the given (lower) I. All points enter the final ensemble (on [lowest I, Ihi]), the Jop fit and
+the regularisation, whose cutoff I_c is then the lowest requested I.
 (/usr/bin/python3: Debian's interpreter, which has NumPy, SciPy and matplotlib.) DEM results are
-cached in work/ (one folder per run), so a second call only refits and redraws."""
+cached in work/ (one folder per run), so a second call only refits and redraws. --recorded FILE:
+an RVE whose requested I is in FILE (a list of result dicts, e.g. rve_points.json, written by every
+call) is taken from there instead of being rerun when work/ has no cache of it."""
 import argparse
 import json
 import math
@@ -15,6 +21,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 
 import numpy as np
 
@@ -38,14 +45,43 @@ def parse_rve(text):
     return dict(I=v[0], dI=v[1], mu=v[2], dmu=v[3], phi=v[4], dphi=v[5])
 
 
-def run_rve(lmp, I, extra=(), workdir=None):
-    """One RVE at requested inertial number I (cached in work/rve_<I>/result.json)."""
+STEADY = re.compile(r"GRIDDEM rheology: production blocks start after (\S+) strain")
+LOOP = re.compile(r"Loop time of (\S+) on")
+
+
+def rve_log_info(text):
+    """From in.rve's output or log: strain sheared before the production blocks (the steady-state
+    test's exit), total strain sheared, window means of mu, and the summed LAMMPS loop times (s)."""
+    wins = re.findall(r"GRIDDEM rheology: window \S+: strain (\S+) mu (\S+)", text)
+    blocks = re.findall(r"GRIDDEM rheology: block \S+: mu", text)
+    info = dict(loop_s=round(sum(float(x) for x in LOOP.findall(text)), 1),
+                window_mu=[round(float(m), 4) for _, m in wins])
+    m = STEADY.search(text)
+    if m and wins:
+        info["steady_strain"] = float(m.group(1))
+        info["total_strain"] = round(float(m.group(1)) + float(wins[0][0]) * len(blocks), 3)
+    return info
+
+
+def run_rve(lmp, I, extra=(), workdir=None, recorded=()):
+    """One RVE at requested inertial number I (cached in work/rve_<I>/result.json; else taken from
+    recorded, a list of earlier results, when one has the same requested I)."""
     workdir = workdir or os.path.join(WORK, "rve_%.5g" % I)
     cache = os.path.join(workdir, "result.json")
     if os.path.exists(cache):
         with open(cache) as f:
-            return json.load(f)
+            res = json.load(f)
+        log = os.path.join(workdir, "log.lammps")
+        if "steady_strain" not in res and os.path.exists(log):
+            with open(log) as f:
+                res.update(rve_log_info(f.read()))
+        res.setdefault("source", "work/ cache")
+        return res
+    for r in recorded:
+        if abs(math.log(r["Irequested"] / I)) < 1e-6:
+            return dict(r, source="recorded")
     os.makedirs(workdir, exist_ok=True)
+    t0 = time.time()
     cmd = [lmp, "-in", os.path.join(HERE, "in.rve"), "-var", "I", "%.6g" % I, "-log", "log.lammps",
            "-echo", "none"] + list(extra)
     env = dict(os.environ, OMP_NUM_THREADS="1")
@@ -58,6 +94,11 @@ def run_rve(lmp, I, extra=(), workdir=None):
         raise RuntimeError("RVE at I=%g failed (exit %d):\n%s" % (I, proc.returncode, proc.stdout[-2000:]))
     res["Irequested"] = I
     res["steady"] = "no steady state" not in proc.stdout
+    with open(os.path.join(workdir, "log.lammps")) as f:
+        res.update(rve_log_info(f.read()))
+    res["wall_s"] = round(time.time() - t0, 1)
+    res["date"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t0))
+    res["lmp"] = lmp
     with open(cache, "w") as f:
         json.dump(res, f)
     return res
@@ -307,13 +348,22 @@ def main():
     ap.add_argument("--incline-steps", type=int, default=300000)
     ap.add_argument("--no-uniform", action="store_true", help="skip the uniform-sampling comparison")
     ap.add_argument("--uniform-levels", type=int, default=2, help="nested uniform grids of 3, 5, 9.. points: how many")
+    ap.add_argument("--extra-I", default="", help="comma list of further RVEs (e.g. 0.003,0.001 below Ilo)")
+    ap.add_argument("--recorded", default="", help="JSON list of earlier RVE results to reuse (rve_points.json)")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
+    recorded = []
+    if a.recorded:
+        with open(a.recorded) as f:
+            recorded = json.load(f)
+    measured = {}                                          # requested I -> result, all distinct RVEs
 
     def run(I):
-        r = run_rve(lmp, I)
-        print("RVE I=%.4g: I %.4g +- %.2g  mu %.4f +- %.4f  phi %.4f +- %.4f" %
-              (I, r["I"], r["dI"], r["mu"], r["dmu"], r["phi"], r["dphi"]), flush=True)
+        r = run_rve(lmp, I, recorded=recorded)
+        measured.setdefault("%.6g" % r["Irequested"], r)
+        print("RVE I=%.4g: I %.4g +- %.2g  mu %.4f +- %.4f  phi %.4f +- %.4f  steady after %s strain (%s)" %
+              (I, r["I"], r["dI"], r["mu"], r["dmu"], r["phi"], r["dphi"], r.get("steady_strain", "?"),
+               r.get("source", "run")), flush=True)
         return r
 
     pts, hist, ens = adaptive(run, a.Ilo, a.Ihi, a.tol, a.max_runs)
@@ -323,27 +373,41 @@ def main():
         upts, uhist, _ = uniform(run, a.Ilo, a.Ihi, a.tol, max_level=a.uniform_levels)
         print("uniform: runs and max std of mu:", uhist)
         out["uniform"] = dict(runs=len(upts), history=uhist)
-    # all distinct measured points for the fits
-    allpts = {}
-    for d in sorted(os.listdir(WORK)):
-        c = os.path.join(WORK, d, "result.json")
-        if d.startswith("rve_") and os.path.exists(c):
-            with open(c) as f:
-                allpts[d] = json.load(f)
-    P = sorted(allpts.values(), key=lambda p: p["I"])
+    extra = [float(x) for x in a.extra_I.split(",") if x.strip()]
+    for x in extra:
+        run(x)
+    P = sorted(measured.values(), key=lambda p: p["I"])
+    with open(os.path.join(HERE, "rve_points.json"), "w") as f:
+        json.dump([{k: v for k, v in p.items() if k != "source"} for p in P], f, indent=1)
     I = np.array([p["I"] for p in P]); mu = np.array([p["mu"] for p in P]); dmu = np.array([p["dmu"] for p in P])
     pj, pe = fit_jop(I, mu, np.maximum(dmu, 1e-3))
     out["points"] = P
     out["jop_fit"] = dict(mu_s=pj[0], mu_2=pj[1], I_0=pj[2], err=pe.tolist())
     print("fit mu_s %.4f +- %.4f  mu_2 %.4f +- %.4f  I_0 %.4f +- %.4f" % (pj[0], pe[0], pj[1], pe[1], pj[2], pe[2]))
-    final = Ensemble(a.Ilo, a.Ihi).fit(P)
-    Ig = np.logspace(math.log10(a.Ilo), math.log10(a.Ihi), 60)
+    # the final ensemble spans every measured point; the regularisation cutoff is the lowest one
+    Ilo = min([a.Ilo] + extra)
+    out["ensemble"] = dict(Ilo=Ilo, Ihi=a.Ihi)
+    final = Ensemble(Ilo, a.Ihi).fit(P)
+    Ig = np.logspace(math.log10(Ilo), math.log10(a.Ihi), 60)
     mean, std = final.predict(Ig)
-    mu_reg = regularise(Ig, mean[:, 0], I_c=a.Ilo)
+    mu_reg = regularise(Ig, mean[:, 0], I_c=Ilo)
     out["regularised"] = mu_reg.params
+    old = None
+    if Ilo < a.Ilo:
+        # the extrapolation the low-I points replace: the same procedure on the points >= a.Ilo only
+        hi = [p for p in P if p["Irequested"] >= a.Ilo * (1 - 1e-6)]
+        Ih = np.logspace(math.log10(a.Ilo), math.log10(a.Ihi), 60)
+        old = regularise(Ih, Ensemble(a.Ilo, a.Ihi).fit(hi).predict(Ih)[0][:, 0], I_c=a.Ilo)
+        out["extrapolation_check"] = dict(params=old.params, points=[
+            dict(I=p["I"], mu=p["mu"], dmu=p["dmu"], mu_barker_gray=float(old(p["I"])),
+                 diff_in_errors=(p["mu"] - float(old(p["I"]))) / p["dmu"])
+            for p in P if p["Irequested"] < a.Ilo * (1 - 1e-6)])
+        for c in out["extrapolation_check"]["points"]:
+            print("I %.4g: measured mu %.4f +- %.4f, Barker-Gray extrapolation from I_c = %g: %.4f (%+.1f errors)"
+                  % (c["I"], c["mu"], c["dmu"], a.Ilo, c["mu_barker_gray"], c["diff_in_errors"]))
 
     def phi_of_I(x):
-        return final.predict([min(max(x, a.Ilo), a.Ihi)])[0][0, 1]
+        return final.predict([min(max(x, Ilo), a.Ihi)])[0][0, 1]
     inc = []
     for t in [float(s) for s in a.thetas.split(",")]:
         z, rho, vx = run_incline(lmp, t, a.incline_steps)
@@ -357,10 +421,10 @@ def main():
     out["incline"] = inc
     with open(os.path.join(HERE, "results.json"), "w") as f:
         json.dump(out, f, indent=1)
-    plot(out, Ig, mean, std, mu_reg, pj)
+    plot(out, Ig, mean, std, mu_reg, pj, old)
 
 
-def plot(out, Ig, mean, std, mu_reg, pj):
+def plot(out, Ig, mean, std, mu_reg, pj, old=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -370,8 +434,12 @@ def plot(out, Ig, mean, std, mu_reg, pj):
                 yerr=[p["dmu"] for p in P], fmt="ko", ms=4, label="DEM RVE (block averages)")
     a1.plot(Ig, mean[:, 0], "b-", label="MLP ensemble mean")
     a1.fill_between(Ig, mean[:, 0] - 2 * std[:, 0], mean[:, 0] + 2 * std[:, 0], color="b", alpha=0.2, label="±2 std")
-    Il = np.logspace(-3, math.log10(0.3), 100)
-    a1.plot(Il, mu_reg(Il), "g--", label="regularised (Barker-Gray below I_c)")
+    Il = np.logspace(math.log10(min(1e-3, Ig[0] / 3)), math.log10(Ig[-1]), 100)
+    a1.plot(Il, mu_reg(Il), "g--", label="regularised (Barker-Gray below I_c = %.3g)" % mu_reg.params["I_c"])
+    if old is not None:
+        Io = Il[Il <= old.params["I_c"]]
+        a1.plot(Io, old(Io), color="0.5", ls="--", lw=1,
+                label="earlier extrapolation from I_c = %.3g" % old.params["I_c"])
     a1.plot(Il, mu_jop(Il, *pj), "r:", label="fit mu_s=%.3f mu_2=%.3f I_0=%.3f" % tuple(pj))
     a1.plot(Il, mu_jop(Il, math.tan(math.radians(20.9)), math.tan(math.radians(32.76)), 0.279), "m-.",
             lw=1, label="Jop et al. 2006 (glass beads)")

@@ -10,6 +10,9 @@ learn_mu.py. Each number has its own reason:
   published frictional DEM and experiments stay below mu_2 ~ tan 33 deg = 0.65), and a frictionless
   RVE (xmu 0) resists shear less than the frictional one;
 - a control that cannot hold (a negative gain) stops with the documented message and exit 2;
+- the strain to steady state that learn_mu.py records (rve_log_info) is a whole number of windows
+  between minwin and maxwin, and the total adds the blocks; run_rve reuses a recorded point of the
+  same requested I (--recorded) without running the binary;
 - fit_jop recovers known (mu_s, mu_2, I_0); the MLP ensemble reproduces a known smooth mu(I) from
   exact samples; regularise gives a non-decreasing, C1 curve even from a non-monotone input,
   tending to 0 as I -> 0; the Bagnold closed form equals a numerical integral of the shear rate
@@ -92,6 +95,11 @@ def lammps_checks():
     t.check(res is not None and 0.0 < res["mu"] < 1.0, "0 < mu < 1 at I = 0.2: %s" % res)
     t.check(res is not None and abs(res["I"] / 0.2 - 1) < 0.1, "measured I within 10%% of the requested 0.2: %s" % res)
     t.check(res is not None and 0.45 < res["phi"] < 0.70, "solid fraction of a sheared dense packing: %s" % res)
+    info = L.rve_log_info(out)
+    st = info.get("steady_strain")
+    t.check(st is not None and any(abs(st - 0.25 * k) < 1e-9 for k in (1, 2, 3))
+            and abs(info.get("total_strain", 0) - (st + 0.75)) < 1e-9 and 1 <= len(info["window_mu"]) <= 3,
+            "strain to steady state a whole number of 0.25 windows (1-3), total = it + 3 blocks: %s" % info)
     # per-atom stress summed = compute pressure (stress/atom is -P_ab V per atom)
     lines = [l.split() for l in out.splitlines() if re.match(r"^\s*\d+\s+[-0-9.e]+\s+[-0-9.e]+", l)]
     row = [float(v) for v in lines[-1][1:]]
@@ -110,6 +118,10 @@ def lammps_checks():
 
 
 def python_checks():
+    # a recorded RVE is reused without running anything (the binary here cannot run)
+    rec = [dict(I=0.0301, dI=1e-5, mu=0.4, dmu=0.01, phi=0.59, dphi=0.001, Irequested=0.03)]
+    r = L.run_rve("/bin/false", 0.03 * (1 + 1e-9), workdir=os.path.join(t.workdir(), "none"), recorded=rec)
+    t.check(r["mu"] == 0.4 and r["source"] == "recorded", "run_rve takes a recorded point of the same I: %s" % r)
     # Jop form recovered from exact samples
     Is = np.logspace(-2, math.log10(0.3), 7)
     p, _ = L.fit_jop(Is, L.mu_jop(Is, 0.38, 0.64, 0.28))
