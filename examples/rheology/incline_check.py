@@ -90,14 +90,15 @@ def steady_layer(workdir, theta_deg, mu_reg, mu_std, rve_points, last=5):
     vx_mean = B[:, :, 3].mean(0)
     I_z, P_z = local_inertial(z, phi_mean, vx_mean, theta)
     tan = math.tan(theta)
-    mu_of = lambda x: float(mu_reg(x))
-    I_pred = L.invert(mu_of, tan)
+    # I_DEM may lie above the RVE range (flagged above_data and printed): extrapolated knowingly
+    mu_of = lambda x: float(mu_reg(x, extrapolate=True))
+    I_pred = L.invert(mu_reg, tan)
     offset = mu_of(I_mean) - tan
     # sensitivity: the Bagnold velocity is proportional to I, and a curve lower by s (the ensemble
     # std at I_pred) needs I = mu_reg^-1(tan theta + s); slope = local d mu_reg / dI at I_pred
     s = float(mu_std(I_pred))
     slope = (mu_of(1.1 * I_pred) - mu_of(I_pred / 1.1)) / (I_pred * (1.1 - 1 / 1.1))
-    factors = [L.invert(mu_of, tan + k * s) for k in (1, 2)]
+    factors = [L.invert(mu_reg, tan + k * s) for k in (1, 2)]
     factors = [f / I_pred if f else None for f in factors]          # None: above the curve's range
     slip = float(vx_mean[np.argmin(abs(z - (L.Z_BASE + 0.25)))])
     return dict(theta=theta_deg, H=H, I_dem=I_mean, I_dem_err=I_err, I_dem_blocks=per_block.tolist(),
@@ -135,15 +136,22 @@ def decelerating(workdir, theta1, theta2, mu_reg, phi, shift, grids=((20, 0.2), 
     out = dict(theta1=theta1, theta2=theta2, H=H, phi=phi, t_dem=t_dem.tolist(), v_dem=v.tolist(),
                t_stop_dem=S.stop_time(t_dem, v), runs=[])
     T = float(t_dem[-1])
-    I1 = L.invert(lambda x: float(mu_reg(x)), math.tan(th1))
+    I1 = L.invert(mu_reg, math.tan(th1))
+    # near the free surface P -> 0, so the continuum's I leaves the sampled range there whatever
+    # the flow: the solver holds mu at its top value, knowingly, and the largest I met is reported
+    seen = [0.0]
+
+    def mu_held(x):
+        seen[0] = max(seen[0], float(np.max(x)))
+        return mu_reg(x, extrapolate=True)
     for n, dt in grids:
-        lay = S.Layer(mu_reg, H, phi, n)
+        lay = S.Layer(mu_held, H, phi, n)
         keep = (z > L.Z_BASE)
         u_dem = np.interp(lay.z, z[keep] - L.Z_BASE, vx[keep] - vx[keep][0])
         u_dem[0] = 0.0
         cases = [("dem", u_dem, lay), ("bagnold", lay.steady(th1, I1), lay)]
         if (n, dt) == grids[-1]:
-            cases.append(("dem, mu_reg - %.3f" % shift, u_dem, S.Layer(lambda x: np.maximum(mu_reg(x) - shift, 0.0), H, phi, n)))
+            cases.append(("dem, mu_reg - %.3f" % shift, u_dem, S.Layer(lambda x: np.maximum(mu_held(x) - shift, 0.0), H, phi, n)))
         for start, u0, solver in cases:
             r = solver.run(u0, th2, T, dt)
             vd = np.interp(r["t"], t_dem, v)
@@ -152,6 +160,10 @@ def decelerating(workdir, theta1, theta2, mu_reg, phi, shift, grids=((20, 0.2), 
                                     mean=r["mean"][::max(1, int(0.2 / dt))].tolist(),
                                     t_stop=S.stop_time(r["t"], r["mean"]), mean0=float(r["mean"][0]),
                                     rms_vs_dem=rms, final=float(r["mean"][-1]), iters=r["iters"]))
+    out["I_max_met"] = seen[0]
+    out["I_max_sampled"] = mu_reg.params["I_max"]
+    print("decelerating layer: the continuum met I up to %.3g (the top cells), mu held at its value at I = %.3g above"
+          % (seen[0], mu_reg.params["I_max"]))
     return out
 
 
@@ -178,7 +190,7 @@ def main():
     for t in [float(s) for s in a.thetas.split(",")]:
         first = t == a.theta1
         wd = run_incline(lmp, t, a.steps, a.theta2 if first else None, a.steps2 if first else 0)
-        c = steady_layer(wd, t, mu_reg, lambda x: ens.predict([x])[1][0, 0], P)
+        c = steady_layer(wd, t, mu_reg, lambda x: ens.predict([x], extrapolate=True)[1][0, 0], P)
         s = steadiness(wd, t)
         c["vcm_thirds"] = s["thirds"]
         print("theta %g: I_DEM %.4f +- %.4f (blocks %s), I from mu_reg = tan theta %.4f, ratio %.2f; mu_reg(I_DEM) - tan theta "

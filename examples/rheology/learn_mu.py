@@ -167,8 +167,15 @@ class Ensemble:
             self.nets.append(net)
         return self
 
-    def predict(self, I):
-        """(mean, std) over members, each of shape (len(I), 2): columns mu, phi."""
+    def predict(self, I, extrapolate=False):
+        """(mean, std) over members, each of shape (len(I), 2): columns mu, phi. An I outside the
+        sampled range [Ilo, Ihi] is an error unless extrapolate is asked for."""
+        if not extrapolate:
+            outside = [v for v in np.atleast_1d(np.asarray(I, float))
+                       if not 10 ** self.a * (1 - 1e-9) <= v <= 10 ** self.b * (1 + 1e-9)]
+            if outside:
+                raise ValueError("I = %.4g is outside the sampled range [%.4g, %.4g]: the learned rheology is not "
+                                 "extrapolated" % (outside[0], 10 ** self.a, 10 ** self.b))
         outs = np.array([n.forward(self.x(I))[1] * self.scale + self.mean for n in self.nets])
         return outs.mean(0), outs.std(0)
 
@@ -257,23 +264,31 @@ def regularise(I_grid, mu_grid, I_c):
     alpha = mu_c ** 3 / (2 * I_c * dmu_c)
     A = I_c * math.exp(alpha / mu_c ** 2)
 
-    def mu(I):
+    I_max = float(np.exp(lg[-1]))
+
+    def mu(I, extrapolate=False):
         I = np.asarray(I, float)
+        if not extrapolate and np.any(I > I_max * (1 + 1e-9)):
+            raise ValueError("I = %.4g is above the sampled range (up to %.4g): the regularised mu(I) is not "
+                             "extrapolated there" % (float(np.max(I)), I_max))
         low = np.sqrt(alpha / np.log(A / np.minimum(I, I_c)))
         high = np.interp(np.log(np.maximum(I, I_c)), lg, mono)
         return np.where(I < I_c, low, high)
-    mu.params = dict(I_c=I_c, mu_c=mu_c, dmu_c=dmu_c, alpha=alpha, A=A)
+    mu.params = dict(I_c=I_c, mu_c=mu_c, dmu_c=dmu_c, alpha=alpha, A=A, I_max=I_max)
     return mu
 
 
-def invert(mu, target, Ilo=1e-8, Ihi=10.0):
-    """I with mu(I) = target for a non-decreasing mu (bisection in log I); None outside its range."""
+def invert(mu, target, Ilo=1e-8, Ihi=None):
+    """I with mu(I) = target for a non-decreasing mu (bisection in log I); None outside its range
+    (up to a regularised curve's I_max, else Ihi or 10)."""
+    if Ihi is None:
+        Ihi = getattr(mu, "params", {}).get("I_max", 10.0)
     a, b = math.log(Ilo), math.log(Ihi)
-    if not (mu(math.exp(a)) <= target <= mu(math.exp(b))):
+    if not (float(mu(math.exp(a))) <= target <= float(mu(math.exp(b)))):
         return None
     for _ in range(100):
         c = 0.5 * (a + b)
-        if mu(math.exp(c)) < target:
+        if float(mu(math.exp(c))) < target:
             a = c
         else:
             b = c
@@ -323,7 +338,11 @@ def compare_incline(z, rho, vx, theta_deg, mu_reg, phi_of_I, dz=0.5):
     I = invert(mu_reg, math.tan(theta))
     if I is None:
         return None
-    phi = float(phi_of_I(I))
+    try:
+        phi = float(phi_of_I(I))
+    except ValueError as e:    # I below the sampled range (the regularised tail): no phi there
+        print("theta %g: %s" % (theta_deg, e))
+        return None
     H = float(rho[z > Z_BASE].sum() * dz / phi)
     inside = (z > Z_BASE + 0.5) & (z < Z_BASE + H - 1.0)
     u = bagnold(z - Z_BASE, H, I, phi, theta)
@@ -407,11 +426,11 @@ def main():
                   % (c["I"], c["mu"], c["dmu"], a.Ilo, c["mu_barker_gray"], c["diff_in_errors"]))
 
     def phi_of_I(x):
-        return final.predict([min(max(x, Ilo), a.Ihi)])[0][0, 1]
+        return final.predict([x])[0][0, 1]
     inc = []
     for t in [float(s) for s in a.thetas.split(",")]:
         z, rho, vx = run_incline(lmp, t, a.incline_steps)
-        c = compare_incline(z, rho, vx, t, lambda x: float(mu_reg(x)), phi_of_I)
+        c = compare_incline(z, rho, vx, t, mu_reg, phi_of_I)
         if c is None:
             print("theta %g: tan theta outside the learned mu range: no steady Bagnold layer" % t)
             continue

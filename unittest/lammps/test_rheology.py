@@ -153,8 +153,19 @@ def python_checks():
     t.check(abs(slope_low / c["dmu_c"] - 1) < 1e-3, "slope below I_c %.6g equals dmu_c %.6g" % (slope_low, c["dmu_c"]))
     t.check(float(mu(1e-300)) < 0.5 * c["mu_c"], "Barker-Gray tail tends to 0")
     # invert and Bagnold
-    I45 = L.invert(lambda x: float(mu(x)), 0.45)
+    I45 = L.invert(mu, 0.45)
     t.check(abs(float(mu(I45)) - 0.45) < 1e-9, "invert: mu(I) = 0.45 at I = %s" % I45)
+    # no silent extrapolation above the sampled range, of the curve or of the ensemble
+    top = float(mu(Ig[-1]))
+    t.check(L.invert(mu, top + 0.01) is None, "invert: a friction above the curve's top has no I")
+    for what, call in (("regularised mu(I)", lambda: mu(2.0 * Ig[-1])), ("ensemble", lambda: ens.predict([0.5 * Ig[0]]))):
+        try:
+            call()
+            t.check(False, "%s outside the sampled range is refused" % what)
+        except ValueError as e:
+            t.check("outside the sampled range" in str(e) or "above the sampled range" in str(e),
+                    "%s outside the sampled range is refused: %s" % (what, e))
+    t.check(abs(float(mu(2.0 * Ig[-1], extrapolate=True)) - top) < 1e-12, "asked for, the curve is held at its top")
     H, I, phi, th = 10.0, 0.1, 0.58, math.radians(25)
     z = np.linspace(0, H, 20001)
     gdot = I * np.sqrt(phi * math.cos(th) * (H - z))
