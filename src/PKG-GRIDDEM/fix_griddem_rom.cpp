@@ -352,7 +352,7 @@ void FixGriddemRom::classify()
   if (resolved) resolved->prematch();
   std::vector<int> next(nlocal, 0);
   std::vector<double> u(3 * (size_t) nlocal, 0.0);
-  double made = 0, left = 0, hits = 0, overlaps = 0, jumps = 0;
+  double made = 0, left = 0, jumps = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!use[i]) continue;
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
@@ -375,12 +375,10 @@ void FixGriddemRom::classify()
   const int nall = nlocal + atom->nghost;
   std::vector<int> kinematic(nall);
   for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
-  int nhits = 0, noverlaps = 0;
+  int hits = 0, overlaps = 0;
   if (nall && griddem_rom_check_contacts(nlocal, nall, x[0], v[0], radius, kinematic.data(), u.data(), threshold,
-                                         overlap_max, next.data(), &nhits, &noverlaps, &check_grid, &check_bins) != 0)
+                                         overlap_max, next.data(), &hits, &overlaps, &check_grid, &check_bins) != 0)
     error->one(FLERR, "Fix griddem/rom: out of memory for the contact check of {} atoms", nall);
-  hits = nhits;
-  overlaps = noverlaps;
 
   double nkin = 0;
   for (int i = 0; i < nlocal; i++) {
@@ -398,7 +396,7 @@ void FixGriddemRom::classify()
   }
   comm->forward_comm(this);
 
-  double mine[6] = {nkin, made, hits, overlaps, left, jumps}, all[6];
+  double mine[6] = {nkin, made, (double) hits, (double) overlaps, left, jumps}, all[6];
   MPI_Allreduce(mine, all, 6, MPI_DOUBLE, MPI_SUM, world);
   counts[0] = all[0];
   for (int k = 1; k < 5; k++) counts[k] += all[k];

@@ -130,8 +130,6 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
     }
   /* class of each particle to be binned (-1: left out), counted per class */
   int base[GRIDDEM_MAX_CLASSES + 1] = {0};
-  e->idle_vmax2 = 0.0;
-  e->idle_nonfinite = 0;
   for (int i = 0; i < n; i++) {
     int c = -1;
     const int idle = idle_bit && (p->mask[i] & idle_bit) && !e->active[e->reach_cell[i]];

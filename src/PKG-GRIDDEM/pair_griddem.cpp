@@ -287,17 +287,43 @@ std::vector<double> PairGriddem::max_radius_by_type()
 
 void PairGriddem::find_radius_range()
 {
-  double local[2] = {INFINITY, 0.0}, global[2];
+  double local[2] = {INFINITY, 0.0};
   for (int i = 0; i < atom->nlocal; i++) {
     local[0] = MIN(local[0], atom->radius[i]);
     local[1] = MAX(local[1], atom->radius[i]);
   }
-  local[1] = -local[1];
+  set_radius_range(local[0], local[1]);
+}
+
+/* rmin, rmax over all processes from this process's (INFINITY, 0 without atoms) */
+
+void PairGriddem::set_radius_range(double local_min, double local_max)
+{
+  double local[2] = {local_min, -local_max}, global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, world);
   rmin = global[0];
   rmax = -global[1];
   if (rmax > 0.0 && !(rmin > 0.0))
     error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", force->pair_style, rmin);
+}
+
+void PairGriddem::error_nonfinite(const char *what, int i, const double *value)
+{
+  error->one(FLERR, "Pair style {}: atom {} has a non-finite {} ({} {} {})", force->pair_style, atom->tag[i], what,
+             value[0], value[1], value[2]);
+}
+
+void PairGriddem::error_coincident(int i, int j)
+{
+  double **x = atom->x;
+  error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
+             force->pair_style, atom->tag[i], atom->tag[j], x[i][0], x[i][1], x[i][2]);
+}
+
+void PairGriddem::error_too_fast(int i, double speed, double h_nn4dem)
+{
+  error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
+             force->pair_style, atom->tag[i], speed * update->dt, speed, h_nn4dem);
 }
 
 /* NN4DEM rule: no atom may cross more than one exact-mode cell (d_min/sqrt(3)) per step */
@@ -313,23 +339,15 @@ void PairGriddem::check_motion(double h_nn4dem)
   double vmax2 = -1.0;
   for (int i = 0; i < atom->nlocal; i++) {
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
-    if (!std::isfinite(v2))
-      error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", force->pair_style,
-                 atom->tag[i], v[i][0], v[i][1], v[i][2]);
+    if (!std::isfinite(v2)) error_nonfinite("velocity", i, v[i]);
     if (v2 > vmax2) vmax2 = v2, worst = i;
   }
-  error->one(FLERR, "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid cell allows (dt <= dx/v_max); reduce the timestep",
-             force->pair_style, atom->tag[worst], moved, st.max_speed, h_nn4dem);
+  error_too_fast(worst, st.max_speed, h_nn4dem);
 }
 
 void PairGriddem::report_fault(const griddem_sweep_result &r)
 {
-  tagint *tag = atom->tag;
-  double **x = atom->x;
-  const int i = r.fault_i, j = r.fault_j;
-  if (r.fault == GRIDDEM_FAULT_COINCIDENT)
-    error->one(FLERR, "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the contact normal is undefined",
-               force->pair_style, tag[i], tag[j], x[i][0], x[i][1], x[i][2]);
+  if (r.fault == GRIDDEM_FAULT_COINCIDENT) error_coincident(r.fault_i, r.fault_j);
   if (r.fault == GRIDDEM_FAULT_STENCIL)
     error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
                force->pair_style, 2.0 * rmax + model.reach_extra, GRIDDEM_MAX_REACH, fix->stats().cell_edge, rmax / rmin);
@@ -347,9 +365,7 @@ void PairGriddem::compute(int eflag, int vflag)
   const int nall = nlocal + atom->nghost;
 
   const int bad = griddem_first_nonfinite(nall, x[0]);
-  if (bad >= 0)
-    error->one(FLERR, "Pair style {}: atom {} has a non-finite position ({} {} {})", force->pair_style,
-               atom->tag[bad], x[bad][0], x[bad][1], x[bad][2]);
+  if (bad >= 0) error_nonfinite("position", bad, x[bad]);
 
   if (neighbor->ago == 0) find_radius_range();
   if (rmax == 0.0) return;    // no atoms yet

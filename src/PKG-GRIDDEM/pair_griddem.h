@@ -56,6 +56,12 @@ class PairGriddem : public Pair {
   // once per init_style() for init_one()
   std::vector<double> type_radius;
 
+  // shared by the CPU and Kokkos styles, so both name the same faults in the same words
+  void set_radius_range(double local_min, double local_max);
+  void error_nonfinite(const char *what, int i, const double *value);
+  void error_too_fast(int i, double speed, double h_nn4dem);
+  void error_coincident(int i, int j);
+
  private:
   griddem_pair_params make_params(const griddem_pair_spec &s, int i, int j);
   double linear_normal_stiffness();

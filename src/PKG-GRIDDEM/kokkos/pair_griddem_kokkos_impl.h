@@ -96,12 +96,7 @@ template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::report_coincident(int i, int j)
 {
   this->atomKK->sync(Host, X_MASK | TAG_MASK);
-  double **x = this->atom->x;
-  this->error->one(FLERR,
-                   "Pair style {}: atoms {} and {} are at the same position ({} {} {}): the "
-                   "contact normal is undefined",
-                   this->force->pair_style, this->atom->tag[i], this->atom->tag[j], x[i][0],
-                   x[i][1], x[i][2]);
+  this->error_coincident(i, j);
 }
 
 template <class DeviceType, class Base>
@@ -141,27 +136,14 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   Kokkos::parallel_reduce("griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan, sc);
   if (sc.badx != INT_MAX) {
     atomKK->sync(Host, X_MASK | TAG_MASK);
-    const int b = sc.badx;
-    double **xh = this->atom->x;
-    error->one(FLERR, "Pair style {}: atom {} has a non-finite position ({} {} {})", style,
-               this->atom->tag[b], xh[b][0], xh[b][1], xh[b][2]);
+    this->error_nonfinite("position", sc.badx, this->atom->x[sc.badx]);
   }
   if (sc.badv != INT_MAX) {
     atomKK->sync(Host, V_MASK | TAG_MASK);
-    const int b = sc.badv;
-    double **vh = this->atom->v;
-    error->one(FLERR, "Pair style {}: atom {} has a non-finite velocity ({} {} {})", style,
-               this->atom->tag[b], vh[b][0], vh[b][1], vh[b][2]);
+    this->error_nonfinite("velocity", sc.badv, this->atom->v[sc.badv]);
   }
-  if (this->neighbor->ago == 0) {    // radius range, refreshed as the CPU style does
-    double local[2] = {nlocal ? sc.rmin : INFINITY, -sc.rmax}, global[2];
-    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, this->world);
-    this->rmin = global[0];
-    this->rmax = -global[1];
-    if (this->rmax > 0.0 && !(this->rmin > 0.0))
-      error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", style,
-                 this->rmin);
-  }
+  if (this->neighbor->ago == 0)    // radius range, refreshed as the CPU style does
+    this->set_radius_range(nlocal ? sc.rmin : INFINITY, sc.rmax);
   const double rmax = this->rmax;
   if (rmax == 0.0) return;    // no atoms yet
 
@@ -169,11 +151,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, rmax, 0.0);
   if (sc.ivmax >= 0 && sqrt(sc.vmax2) * this->update->dt > h_nn4dem) {
     atomKK->sync(Host, TAG_MASK);
-    error->one(FLERR,
-               "Pair style {}: atom {} moves {} per step (speed {}), more than the {} one grid "
-               "cell allows (dt <= dx/v_max); reduce the timestep",
-               style, this->atom->tag[sc.ivmax], sqrt(sc.vmax2) * this->update->dt, sqrt(sc.vmax2),
-               h_nn4dem);
+    this->error_too_fast(sc.ivmax, sqrt(sc.vmax2), h_nn4dem);
   }
 
   // 2. grids: one per size class (fix griddem's classes; multi: one), anchored at boxlo, a class
