@@ -37,16 +37,23 @@ def heights(frame):
     return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
 
 
-def kinematic_fraction(tag):
-    """Mean over the thermo lines of the kinematic share of the atoms (columns: step time atoms ke
-    nkin), 0 for a resolved run."""
-    rows = []
+def kinematic_series(tag):
+    """(steps, kinematic share of the atoms) at the thermo lines of log.TAG (columns: step time
+    atoms ke nkin); empty for a run without them."""
+    steps, frac = [], []
     with open("log." + tag) as f:
         for line in f:
             w = line.split()
             if len(w) == 5 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
-                rows.append(float(w[4]) / float(w[2]))
-    return float(np.mean(rows)) if rows else 0.0
+                steps.append(int(w[0]))
+                frac.append(float(w[4]) / float(w[2]))
+    return np.array(steps), np.array(frac)
+
+
+def kinematic_fraction(tag):
+    """Mean over the thermo lines of the kinematic share of the atoms, 0 for a resolved run."""
+    frac = kinematic_series(tag)[1]
+    return float(np.mean(frac)) if frac.size else 0.0
 
 
 def height_accuracy_series(res, rom):

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from compare import height_accuracy_series  # noqa: E402
+from compare import height_accuracy_series, kinematic_series  # noqa: E402
 from romtools import read_grid_dump  # noqa: E402
 
 
@@ -26,17 +26,6 @@ def last_snapshot(path):
     k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: TIMESTEP"))
     n = int(lines[k + 3])
     return int(lines[k + 1]), np.array([[float(v) for v in line.split()] for line in lines[k + 9:k + 9 + n]])
-
-
-def kinematic_series(tag):
-    steps, frac = [], []
-    with open("log." + tag) as f:
-        for line in f:
-            w = line.split()
-            if len(w) == 5 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
-                steps.append(int(w[0]))
-                frac.append(float(w[4]) / float(w[2]))
-    return np.array(steps), np.array(frac)
 
 
 def main():
