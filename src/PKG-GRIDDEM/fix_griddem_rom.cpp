@@ -272,12 +272,14 @@ void FixGriddemRom::setup_pre_reverse(int eflag, int vflag)
 }
 
 /* The pair has run and no fix has added forces yet (griddem styles give ghosts nothing, so the
-   owned atoms' forces are final): f is the contact forces. */
+   owned atoms' forces are final): f is the contact forces, kept for the kinematic atoms. */
 void FixGriddemRom::pre_reverse(int, int)
 {
   double **f = atom->f;
+  const int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
-    for (int d = 0; d < 3; d++) fpair[i][d] = f[i][d];
+    if (mask[i] & kinematic_bit)
+      for (int d = 0; d < 3; d++) fpair[i][d] = f[i][d];
 }
 
 void FixGriddemRom::post_force(int)

@@ -60,7 +60,7 @@ class FixGriddemRom : public Fix {
   int period;    // classification every period steps
   std::vector<double> density, feature, field;
   double *state;    // per-atom output: 1 kinematic, 0 dynamic
-  double **fpair;   // this step's contact forces (the pair's share of f)
+  double **fpair;   // this step's contact forces on kinematic atoms (the pair's share of f)
   std::vector<std::pair<int, const double *>> gravities;    // group bit, acceleration of each fix gravity
   int nmax;
   // the voxel fields as LAMMPS grid data (dump grid, grid/vtk): this process's brick of them
