@@ -69,6 +69,16 @@ GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rs
   return griddem_normal_touch(&p->normal, rsq, radsum, radi * radj / radsum, touched);
 }
 
+/* griddem_contact_eval of a pair whose law is classic (p->classic): called directly by a sweep
+ * that knows every pair is, so that the composed sub-models are not compiled into it */
+GRIDDEM_INLINE double griddem_classic_eval(const griddem_pair_params *p, griddem_contact *c,
+                                           double *hist, double *f, double *ti, double *tj)
+{
+  c->energy = 0.0;
+  griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, c, hist, f, ti, tj);
+  return c->energy;
+}
+
 /* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
  * set in c; returns the elastic energy stored in its springs (c->fr is set only with a rolling
  * model). hist holds the pair's history
@@ -77,11 +87,8 @@ GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rs
 GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
                                            double *hist, double *f, double *ti, double *tj)
 {
+  if (p->classic) return griddem_classic_eval(p, c, hist, f, ti, tj);
   c->energy = 0.0;
-  if (p->classic) {
-    griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, c, hist, f, ti, tj);
-    return c->energy;
-  }
   griddem_contact_kinematics(c);
   if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&p->normal, c);
   griddem_normal_force(&p->normal, c);

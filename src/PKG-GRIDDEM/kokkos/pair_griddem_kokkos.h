@@ -209,8 +209,10 @@ struct GriddemKKSweepValue {
    is appended; at the end unmarked entries (contacts that ended) are dropped. A new contact the
    row has no room for is not stored and the atom is counted incomplete: the pass `repair`
    (run after the rows grew, before atoms move) evaluates each owned atom's contacts missing from
-   its row again, with zero history as the sweep did, and appends them, adding no force. */
-template <class DeviceType, typename Real> struct GriddemKKSweep {
+   its row again, with zero history as the sweep did, and appends them, adding no force.
+   Classic: every type pair uses the gran/hooke laws (griddem_classic.h), so the kernel is compiled
+   without the composed sub-models; on a GPU that halves the registers a thread holds. */
+template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   typedef DeviceType device_type;
   typedef GriddemKKSweepValue value_type;
   typedef ArrayTypes<DeviceType> AT;
@@ -275,10 +277,20 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
     return -1;
   }
 
+  // history values per contact the kernel holds: loops over nhist with constant bounds let a
+  // GPU keep them in registers
+  static constexpr int nhist = Classic ? 3 : GRIDDEM_MAX_HISTORY;
+
+  KOKKOS_INLINE_FUNCTION double &value(int i, int e, int k) const
+  {
+    return rows(i, e * (1 + nv) + 1 + k);
+  }
+
   KOKKOS_INLINE_FUNCTION void store(int i, int e, double p, const double *hist) const
   {
     rows(i, e * (1 + nv)) = p;
-    for (int k = 0; k < nv; k++) rows(i, e * (1 + nv) + 1 + k) = hist[k];
+    for (int k = 0; k < nhist; k++)
+      if (k < nv) value(i, e, k) = hist[k];
   }
 
   // drop the entries below `old` that were not marked; unmark the others. Returns the count.
@@ -299,29 +311,102 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
     return kept;
   }
 
+  // what one thread accumulates over its atom's contacts
+  struct Atom {
+    int s, i, itype, imask;
+    double pi[3], radi, mi;
+    int old, n, lost, ncontact;    // row entries found / in use, new ones without room; contacts
+    double fsum[3], tsum[3], w[6], energy;
+  };
+
+  // the contact law for the gathered candidates t[0..nb) at separations del[k] (x, y, z, rsq)
+  KOKKOS_INLINE_FUNCTION void evaluate(Atom &a, const int *t, const double (*del)[4], int nb) const
+  {
+    const int i = a.i;
+    for (int k = 0; k < nb; k++) {
+      const int tk = t[k];
+      const double dx = del[k][0], dy = del[k][1], dz = del[k][2], rsq = del[k][3];
+      const double radj = pos(tk, 3);
+      const int jtype = tm(tk, 0), jmask = tm(tk, 1);
+      if (excluded(a.itype, a.imask, jtype, jmask)) continue;
+      const griddem_pair_params *law = &params(a.itype * (ntypes + 1) + jtype);
+      const double partner = track ? (double) tag(order(tk)) : 0.0;
+      const int e = track ? find(i, a.old, partner) : -1;
+      if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, a.radi, radj, e >= 0)) continue;
+      if (repair && e >= 0) continue;
+
+      griddem_contact c;
+      c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
+      c.rsq = rsq;
+      c.radi = a.radi, c.radj = radj;
+      for (int d = 0; d < 3; d++) {
+        c.vr[d] = state(a.s, d) - state(tk, d);
+        c.wi[d] = state(a.s, 3 + d), c.wj[d] = state(tk, 3 + d);
+      }
+      c.meff = griddem_effective_mass(a.mi, state(tk, 6), (a.imask & frozen_bit) != 0,
+                                      (jmask & frozen_bit) != 0);
+      c.dt = dt;
+      c.history_update = history_update;
+      c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
+      double hist[nhist];
+      for (int h = 0; h < nhist; h++) hist[h] = (e >= 0 && h < nv) ? value(i, e, h) : 0.0;
+      double fc[3], ti[3], tj[3];
+      const double u = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj)
+                               : griddem_contact_eval(law, &c, hist, fc, ti, tj);
+      if (track) {
+        if (e >= 0)
+          store(i, e, partner + 0.5, hist);
+        else if (a.n < capacity)
+          store(i, a.n++, partner, hist);
+        else
+          a.lost++;
+      }
+      if (repair) continue;
+      for (int d = 0; d < 3; d++) a.fsum[d] += fc[d], a.tsum[d] += ti[d];
+      a.energy += 0.5 * u;
+      a.ncontact++;
+      if (vflag_global || vflag_atom) {
+        a.w[0] += 0.5 * dx * fc[0], a.w[1] += 0.5 * dy * fc[1], a.w[2] += 0.5 * dz * fc[2];
+        a.w[3] += 0.5 * dx * fc[1], a.w[4] += 0.5 * dx * fc[2], a.w[5] += 0.5 * dy * fc[2];
+      }
+    }
+  }
+
+  // Candidates within reach are gathered first and the law is evaluated for them in batches:
+  // on a GPU the threads of a warp then run the law together over their few contacts instead of
+  // each branching into it at a different one of the ~30 candidates of a stencil. The order of
+  // evaluation (cells z, y, x; slots ascending) is that of a single pass.
+  static constexpr int batch = 8;
+
   KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
   {
-    const int i = order(s);
+    Atom a;
+    a.s = s;
+    a.i = order(s);
+    const int i = a.i;
     if (i >= nlocal) return;
-    const double pi[3] = {pos(s, 0), pos(s, 1), pos(s, 2)}, radi = pos(s, 3);
-    const int itype = tm(s, 0), imask = tm(s, 1);
-    const double mi = state(s, 6);
+    for (int d = 0; d < 3; d++) a.pi[d] = pos(s, d);
+    a.radi = pos(s, 3);
+    a.itype = tm(s, 0), a.imask = tm(s, 1);
+    a.mi = state(s, 6);
     // own cell, its lower corner, and the absolute centre
     const GriddemKKGrid &gi = grids.g[cls(i)];
     const int ci = cell(i) - grids.offset[cls(i)];
     const int ic[3] = {ci % gi.n[0], (ci / gi.n[0]) % gi.n[1], ci / (gi.n[0] * gi.n[1])};
     double corner[3], xi[3];
-    for (int d = 0; d < 3; d++) corner[d] = gi.corner(d, ic[d]), xi[d] = corner[d] + pi[d];
-    double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0},
-           w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double energy = 0.0;
-    const int old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
-    int n = old, lost = 0, ncontact = 0;
+    for (int d = 0; d < 3; d++) corner[d] = gi.corner(d, ic[d]), xi[d] = corner[d] + a.pi[d];
+    for (int d = 0; d < 3; d++) a.fsum[d] = a.tsum[d] = 0.0;
+    for (int k = 0; k < 6; k++) a.w[k] = 0.0;
+    a.energy = 0.0;
+    a.old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
+    a.n = a.old, a.lost = a.ncontact = 0;
+    int t[batch], nb = 0;
+    double del[batch][4];
 
     // every class's cells within reach of a partner as large as the class allows
     for (int cj = 0; cj < grids.ncls; cj++) {
       const GriddemKKGrid &g = grids.g[cj];
-      const double d = radi + grids.upper[cj] + reach_extra + slack;
+      const double d = a.radi + grids.upper[cj] + reach_extra + slack;
       int lo[3], hi[3];
       for (int k = 0; k < 3; k++)
         lo[k] = g.axis_cell(k, xi[k] - d), hi[k] = g.axis_cell(k, xi[k] + d);
@@ -332,80 +417,41 @@ template <class DeviceType, typename Real> struct GriddemKKSweep {
             // x_i - x_j from the positions in their cells and the cells' corners
             const double shift[3] = {corner[0] - g.corner(0, x), corner[1] - g.corner(1, y),
                                      corner[2] - g.corner(2, z)};
-            for (int t = start(slot_cell); t < start(slot_cell + 1); t++) {
-              if (t == s) continue;
-              const double dx = (pi[0] - (double) pos(t, 0)) + shift[0];
-              const double dy = (pi[1] - (double) pos(t, 1)) + shift[1];
-              const double dz = (pi[2] - (double) pos(t, 2)) + shift[2];
-              const double radj = pos(t, 3);
+            for (int u = start(slot_cell); u < start(slot_cell + 1); u++) {
+              if (u == s) continue;
+              const double dx = (a.pi[0] - (double) pos(u, 0)) + shift[0];
+              const double dy = (a.pi[1] - (double) pos(u, 1)) + shift[1];
+              const double dz = (a.pi[2] - (double) pos(u, 2)) + shift[2];
               const double rsq = dx * dx + dy * dy + dz * dz;
-              const double rs = radi + reach_extra + radj;
+              const double rs = a.radi + reach_extra + (double) pos(u, 3);
               if (!(rsq < rs * rs)) continue;
               if (rsq == 0.0) {
-                if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(t);
+                if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(u);
                 continue;
               }
-              const int jtype = tm(t, 0), jmask = tm(t, 1);
-              if (excluded(itype, imask, jtype, jmask)) continue;
-              const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
-              const double partner = track ? (double) tag(order(t)) : 0.0;
-              const int e = track ? find(i, old, partner) : -1;
-              if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, e >= 0))
-                continue;
-              if (repair && e >= 0) continue;
-
-              griddem_contact c;
-              c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
-              c.rsq = rsq;
-              c.radi = radi, c.radj = radj;
-              for (int d = 0; d < 3; d++) {
-                c.vr[d] = state(s, d) - state(t, d);
-                c.wi[d] = state(s, 3 + d), c.wj[d] = state(t, 3 + d);
-              }
-              c.meff = griddem_effective_mass(mi, state(t, 6), (imask & frozen_bit) != 0,
-                                              (jmask & frozen_bit) != 0);
-              c.dt = dt;
-              c.history_update = history_update;
-              c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
-              double hist[GRIDDEM_MAX_HISTORY];
-              for (int k = 0; k < GRIDDEM_MAX_HISTORY; k++) hist[k] = 0.0;
-              for (int k = 0; k < nv && e >= 0; k++) hist[k] = rows(i, e * (1 + nv) + 1 + k);
-              double fc[3], ti[3], tj[3];
-              const double u = griddem_contact_eval(law, &c, hist, fc, ti, tj);
-              if (track) {
-                if (e >= 0)
-                  store(i, e, partner + 0.5, hist);
-                else if (n < capacity)
-                  store(i, n++, partner, hist);
-                else
-                  lost++;
-              }
-              if (repair) continue;
-              for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
-              energy += 0.5 * u;
-              ncontact++;
-              if (vflag_global || vflag_atom) {
-                w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];
-                w[3] += 0.5 * dx * fc[1], w[4] += 0.5 * dx * fc[2], w[5] += 0.5 * dy * fc[2];
-              }
+              t[nb] = u;
+              del[nb][0] = dx, del[nb][1] = dy, del[nb][2] = dz, del[nb][3] = rsq;
+              if (++nb == batch) evaluate(a, t, del, nb), nb = 0;
             }
           }
     }
+    evaluate(a, t, del, nb);
+
     if (track) {
-      const int kept = repair ? n : compact(i, old, n);
+      const int kept = repair ? a.n : compact(i, a.old, a.n);
       count(i) = kept;
-      if (lost) sum.incomplete++;
+      if (a.lost) sum.incomplete++;
       if (repair && kept > sum.most) sum.most = kept;
     }
     if (repair) return;
-    sum.contacts += ncontact;
-    if (ncontact > sum.most) sum.most = ncontact;
-    for (int d = 0; d < 3; d++) f(i, d) += fsum[d], torque(i, d) += tsum[d];
-    sum.energy += energy;
+    sum.contacts += a.ncontact;
+    if (a.ncontact > sum.most) sum.most = a.ncontact;
+    for (int d = 0; d < 3; d++) f(i, d) += a.fsum[d], torque(i, d) += a.tsum[d];
+    sum.energy += a.energy;
     if (vflag_global)
-      for (int k = 0; k < 6; k++) sum.v[k] += w[k];
+      for (int k = 0; k < 6; k++) sum.v[k] += a.w[k];
     if (vflag_atom)
-      for (int k = 0; k < 6; k++) vatom(i, k) += w[k];
+      for (int k = 0; k < 6; k++) vatom(i, k) += a.w[k];
   }
 };
 
@@ -421,6 +467,9 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   // public only because CUDA's extended lambdas may not live in a protected member function
   template <typename Real>
   void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
+  template <typename Real> void bin(const GriddemKKGrids &grids);
+  template <typename Real, bool Classic>
+  void sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
 
  protected:
   // sizes the Views below were allocated for
@@ -440,6 +489,7 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;
   int params_stale;
+  int all_classic;    // every type pair's law is classic: the sweep without the composed law
   int coarsened_warned_kk;
   FixGriddemKokkos<DeviceType> *history;    // fix griddem/kk, when the law keeps history
 

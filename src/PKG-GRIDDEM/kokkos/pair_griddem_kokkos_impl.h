@@ -75,7 +75,12 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   const int n = this->atom->ntypes + 1;
   d_params = Kokkos::View<griddem_pair_params *, DeviceType>("griddem/kk:params", n * n);
   auto h_params = Kokkos::create_mirror_view(d_params);
-  for (int k = 0; k < n * n; k++) h_params(k) = this->params[k];
+  all_classic = 1;
+  for (int k = 0; k < n * n; k++) {
+    h_params(k) = this->params[k];
+    // type 0 and unset pairs have no law; only pairs of real types choose the sweep
+    if (k / n && k % n && !this->params[k].classic) all_classic = 0;
+  }
   Kokkos::deep_copy(d_params, h_params);
 
   const int ntype_pairs = this->excluded_types.empty() ? 0 : n * n;
@@ -217,13 +222,24 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     bin_and_sweep<double>(grids, slack, sc);
 }
 
-/* counting sort into the channels (of Real: positions relative to their cell, velocities,
-   angular velocities, mass, radius), the sweep, and fix griddem's statistics */
-
 template <class DeviceType, class Base>
 template <typename Real>
 void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &grids, double slack,
                                                         const GriddemKKScanValue &sc)
+{
+  bin<Real>(grids);
+  if (all_classic)
+    sweep<Real, true>(grids, slack, sc);
+  else
+    sweep<Real, false>(grids, slack, sc);
+}
+
+/* counting sort into the channels (of Real: positions relative to their cell, velocities,
+   angular velocities, mass, radius) */
+
+template <class DeviceType, class Base>
+template <typename Real>
+void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
 {
   AtomKokkos *atomKK = this->atomKK;
   auto x = atomKK->k_x.template view<DeviceType>();
@@ -321,9 +337,26 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
         tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
       });
 
-  // 4. sweep, and the history rows of atoms whose new contacts did not fit
+}
+
+/* the sweep, the history rows of atoms whose new contacts did not fit, and fix griddem's
+   statistics */
+
+template <class DeviceType, class Base>
+template <typename Real, bool Classic>
+void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, double slack,
+                                                const GriddemKKScanValue &sc)
+{
+  AtomKokkos *atomKK = this->atomKK;
+  const int nlocal = this->atom->nlocal;
+  const int nall = nlocal + this->atom->nghost;
+  const int ncell = grids.offset[grids.ncls];
+  auto &chan = channels(Real());
+  auto start = d_start;
+
+  // 4. sweep
   const int track = this->model.track_contacts;
-  GriddemKKSweep<DeviceType, Real> sweep;
+  GriddemKKSweep<DeviceType, Real, Classic> sweep;
   sweep.grids = grids;
   sweep.slack = slack;
   sweep.reach_extra = this->model.reach_extra;
@@ -343,7 +376,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
   sweep.pos = chan.pos;
   sweep.state = chan.state;
   sweep.tm = d_tm;
-  sweep.tag = tag;
+  sweep.tag = atomKK->k_tag.template view<DeviceType>();
   sweep.params = d_params;
   sweep.excl_type = d_excl_type;
   sweep.excl_group = d_excl_group;
