@@ -27,7 +27,7 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
 
   capacity = MAX(contacts, 1);
   grow_arrays(atom->nmax);    // rows start empty (Views are zero-filled)
-  maxexchange = 2 + width();
+  maxexchange = 2 + capacity * (1 + nv);
 }
 
 template <class DeviceType> FixGriddemKokkos<DeviceType>::~FixGriddemKokkos()
@@ -49,12 +49,14 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::post_constructor(
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_host()
 {
   k_rows.sync_host();
+  k_partner.sync_host();
   k_count.sync_host();
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_host()
 {
   k_rows.modify_host();
+  k_partner.modify_host();
   k_count.modify_host();
 }
 
@@ -63,12 +65,14 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_host()
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::grow_arrays(int nmax)
 {
   if (!k_count.d_view.data()) {
-    k_rows = tdual_rows("griddem/kk:rows", nmax, width());
+    k_rows = tdual_rows("griddem/kk:rows", nmax, capacity * nv);
+    k_partner = tdual_partners("griddem/kk:partner", nmax, capacity);
     k_count = tdual_count("griddem/kk:count", nmax);
     return;
   }
   if (nmax <= (int) k_count.extent(0)) return;
-  k_rows.resize(nmax, width());
+  k_rows.resize(nmax, capacity * nv);
+  k_partner.resize(nmax, capacity);
   k_count.resize(nmax);
 }
 
@@ -76,8 +80,9 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_entries(i
 {
   if (entries <= capacity) return;
   capacity = entries;
-  k_rows.resize(k_rows.extent(0), width());
-  maxexchange = 2 + width();
+  k_rows.resize(k_rows.extent(0), capacity * nv);
+  k_partner.resize(k_partner.extent(0), capacity);
+  maxexchange = 2 + capacity * (1 + nv);
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_longest_row(int entries)
@@ -93,6 +98,13 @@ typename FixGriddemKokkos<DeviceType>::t_rows FixGriddemKokkos<DeviceType>::rows
 }
 
 template <class DeviceType>
+typename FixGriddemKokkos<DeviceType>::t_partners FixGriddemKokkos<DeviceType>::partners_on_device()
+{
+  k_partner.template sync<DeviceType>();
+  return k_partner.template view<DeviceType>();
+}
+
+template <class DeviceType>
 typename FixGriddemKokkos<DeviceType>::t_count FixGriddemKokkos<DeviceType>::counts_on_device()
 {
   k_count.template sync<DeviceType>();
@@ -102,6 +114,7 @@ typename FixGriddemKokkos<DeviceType>::t_count FixGriddemKokkos<DeviceType>::cou
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::rows_modified_on_device()
 {
   k_rows.template modify<DeviceType>();
+  k_partner.template modify<DeviceType>();
   k_count.template modify<DeviceType>();
 }
 
@@ -111,19 +124,16 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
 {
   if (values == nv) return;
   sync_host();
-  const int nlocal = atom->nlocal, old_entry = 1 + nv, new_entry = 1 + values;
-  tdual_rows converted("griddem/kk:rows", k_rows.extent(0), capacity * new_entry);
+  const int nlocal = atom->nlocal;
+  tdual_rows converted("griddem/kk:rows", k_rows.extent(0), capacity * values);
   for (int i = 0; i < nlocal; i++)
-    for (int e = 0; e < k_count.h_view(i); e++) {
-      converted.h_view(i, e * new_entry) = k_rows.h_view(i, e * old_entry);
-      for (int k = 1; k < new_entry; k++)
-        converted.h_view(i, e * new_entry + k) = k < old_entry ? k_rows.h_view(i, e * old_entry + k)
-                                                               : 0.0;
-    }
+    for (int e = 0; e < k_count.h_view(i); e++)
+      for (int k = 0; k < values; k++)
+        converted.h_view(i, e * values + k) = k < nv ? k_rows.h_view(i, e * nv + k) : 0.0;
   k_rows = converted;
   nv = values;
   modify_host();
-  maxexchange = 2 + width();
+  maxexchange = 2 + capacity * (1 + nv);
 }
 
 template <class DeviceType>
@@ -132,7 +142,10 @@ const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) 
   auto self = const_cast<FixGriddemKokkos<DeviceType> *>(this);
   self->sync_host();
   for (int e = 0; e < k_count.h_view(i); e++)
-    if (k_rows.h_view(i, e * (1 + nv)) == partner) return &k_rows.h_view(i, e * (1 + nv) + 1);
+    if ((double) k_partner.h_view(i, e) == partner) {
+      for (int k = 0; k < nv; k++) found[k] = k_rows.h_view(i, e * nv + k);
+      return found;
+    }
   return nullptr;
 }
 
@@ -148,17 +161,21 @@ void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
 {
   sync_host();
   k_count.h_view(j) = k_count.h_view(i);
-  for (int k = 0; k < k_count.h_view(i) * (1 + nv); k++) k_rows.h_view(j, k) = k_rows.h_view(i, k);
+  for (int e = 0; e < k_count.h_view(i); e++) k_partner.h_view(j, e) = k_partner.h_view(i, e);
+  for (int k = 0; k < k_count.h_view(i) * nv; k++) k_rows.h_view(j, k) = k_rows.h_view(i, k);
   modify_host();
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int i, double *buf)
 {
   sync_host();
-  const int n = k_count.h_view(i) * (1 + nv);
-  buf[0] = k_count.h_view(i);
-  for (int k = 0; k < n; k++) buf[1 + k] = k_rows.h_view(i, k);
-  return 1 + n;
+  const int n = k_count.h_view(i);
+  buf[0] = n;
+  for (int e = 0, m = 1; e < n; e++) {
+    buf[m++] = (double) k_partner.h_view(i, e);
+    for (int k = 0; k < nv; k++) buf[m++] = k_rows.h_view(i, e * nv + k);
+  }
+  return 1 + n * (1 + nv);
 }
 
 /* a message's entries beyond the capacity make room for themselves (restart files and other
@@ -173,7 +190,10 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, con
     sync_host();
   }
   k_count.h_view(i) = count;
-  for (int k = 0; k < count * (1 + nv); k++) k_rows.h_view(i, k) = message[1 + k];
+  for (int e = 0, m = 1; e < count; e++) {
+    k_partner.h_view(i, e) = (tagint) message[m++];
+    for (int k = 0; k < nv; k++) k_rows.h_view(i, e * nv + k) = message[m++];
+  }
   modify_host();
   longest = MAX(longest, count);
   return 1 + count * (1 + nv);
@@ -217,7 +237,8 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::maxsize_restart()
 
 template <class DeviceType> double FixGriddemKokkos<DeviceType>::memory_usage()
 {
-  return (double) k_rows.extent(0) * ((double) width() * sizeof(double) + sizeof(int));
+  return (double) k_count.extent(0) *
+      ((double) capacity * (nv * sizeof(double) + sizeof(tagint)) + sizeof(int));
 }
 
 /* ---------------------------------------------------------------------- */
@@ -227,10 +248,13 @@ void FixGriddemKokkos<DeviceType>::sort_kokkos(Kokkos::BinSort<KeyViewType, BinO
 {
   // LAMMPS sorts atoms on its device
   k_rows.sync_device();
+  k_partner.sync_device();
   k_count.sync_device();
   Sorter.sort(LMPDeviceType(), k_rows.d_view);
+  Sorter.sort(LMPDeviceType(), k_partner.d_view);
   Sorter.sort(LMPDeviceType(), k_count.d_view);
   k_rows.modify_device();
+  k_partner.modify_device();
   k_count.modify_device();
 }
 
@@ -245,17 +269,19 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
                                                        ExecutionSpace /*space*/)
 {
   k_rows.template sync<DeviceType>();
+  k_partner.template sync<DeviceType>();
   k_count.template sync<DeviceType>();
   k_buf.template sync<DeviceType>();
   k_sendlist.template sync<DeviceType>();
   k_copylist.template sync<DeviceType>();
   auto rows = k_rows.template view<DeviceType>();
+  auto partner = k_partner.template view<DeviceType>();
   auto count = k_count.template view<DeviceType>();
   auto sendlist = k_sendlist.template view<DeviceType>();
   auto copylist = k_copylist.template view<DeviceType>();
   typename ArrayTypes<DeviceType>::t_xfloat_1d_um buf(k_buf.template view<DeviceType>().data(),
                                                       k_buf.extent(0) * k_buf.extent(1));
-  const int entry = 1 + nv;
+  const int nvalues = nv;
 
   int total = 0;
   Kokkos::parallel_scan(
@@ -267,9 +293,12 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
           int m = nsend + offset;
           buf(s) = d_ubuf(m).d;
           buf(m++) = n;
-          for (int k = 0; k < n * entry; k++) buf(m++) = rows(i, k);
+          for (int e = 0; e < n; e++) {
+            buf(m++) = (double) partner(i, e);
+            for (int k = 0; k < nvalues; k++) buf(m++) = rows(i, e * nvalues + k);
+          }
         }
-        offset += 1 + n * entry;
+        offset += 1 + n * (1 + nvalues);
       },
       total);
   // refill the sent slots only after every message is packed: a copy source may be sent too
@@ -280,9 +309,11 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
         if (j < 0) return;
         const int n = count(j);
         count(i) = n;
-        for (int k = 0; k < n * entry; k++) rows(i, k) = rows(j, k);
+        for (int e = 0; e < n; e++) partner(i, e) = partner(j, e);
+        for (int k = 0; k < n * nvalues; k++) rows(i, k) = rows(j, k);
       });
   k_rows.template modify<DeviceType>();
+  k_partner.template modify<DeviceType>();
   k_count.template modify<DeviceType>();
   return nsend + total;
 }
@@ -298,7 +329,7 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
   typename ArrayTypes<DeviceType>::t_xfloat_1d_um buf(k_buf.template view<DeviceType>().data(),
                                                       k_buf.extent(0) * k_buf.extent(1));
   auto indices = k_indices.template view<DeviceType>();
-  const int entry = 1 + nv;
+  const int nvalues = nv;
 
   // rows longer than the capacity (from a process whose rows grew further) make room first
   int most = 0;
@@ -312,10 +343,12 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
       },
       Kokkos::Max<int>(most));
   k_rows.template sync<DeviceType>();
+  k_partner.template sync<DeviceType>();
   k_count.template sync<DeviceType>();
   if (most > capacity) reserve_entries(most);
   longest = MAX(longest, most);
   auto rows = k_rows.template view<DeviceType>();
+  auto partner = k_partner.template view<DeviceType>();
   auto count = k_count.template view<DeviceType>();
 
   Kokkos::parallel_for(
@@ -327,9 +360,13 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
         if (r >= nrecv1) m = nextrarecv1 + (int) d_ubuf(buf(nextrarecv1 + r - nrecv1)).i;
         const int n = (int) buf(m++);
         count(i) = n;
-        for (int k = 0; k < n * entry; k++) rows(i, k) = buf(m++);
+        for (int e = 0; e < n; e++) {
+          partner(i, e) = (tagint) buf(m++);
+          for (int k = 0; k < nvalues; k++) rows(i, e * nvalues + k) = buf(m++);
+        }
       });
   k_rows.template modify<DeviceType>();
+  k_partner.template modify<DeviceType>();
   k_count.template modify<DeviceType>();
 }
 

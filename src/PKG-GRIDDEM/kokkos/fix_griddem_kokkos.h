@@ -1,8 +1,9 @@
 /* -*- c++ -*- ----------------------------------------------------------
    GRIDDEM package, Kokkos: fix griddem/kk, the contact history of the griddem kk pair styles.
 
-   Each owned atom owns one row of `capacity` entries, (partner tag, history values) each, in the
-   layout of fix griddem's row messages, plus its entry count. The pair's sweep reads and rewrites
+   Each owned atom owns one row of `capacity` entries: the partners' tags in one array, their
+   history values in another (tags are integers: half the bytes of the doubles the row messages
+   of fix griddem carry them in), plus its entry count. The pair's sweep reads and rewrites
    an atom's row in place from that atom's own thread (no atomics). Rows travel with their atoms
    on the device (sort_kokkos, pack/unpack_exchange_kokkos) and on the host (copy_arrays,
    exchange, restart) through DualViews. The capacity grows with the most contacts of one atom;
@@ -26,6 +27,7 @@ FixStyle(griddem/kk/host,FixGriddemKokkos<LMPHostType>);
 
 #include "fix_griddem.h"
 #include "kokkos_base.h"
+#include "griddem_contact.h"
 #include "kokkos_type.h"
 
 namespace LAMMPS_NS {
@@ -39,8 +41,10 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   // (LayoutRight) each row is contiguous for its thread's cache
   typedef typename LMPDeviceType::execution_space::array_layout rows_layout;
   typedef Kokkos::DualView<double **, rows_layout, LMPDeviceType> tdual_rows;
+  typedef Kokkos::DualView<tagint **, rows_layout, LMPDeviceType> tdual_partners;
   typedef DAT::tdual_int_1d tdual_count;
   typedef Kokkos::View<double **, rows_layout, DeviceType> t_rows;
+  typedef Kokkos::View<tagint **, rows_layout, DeviceType> t_partners;
   typedef Kokkos::View<int *, DeviceType> t_count;
 
   FixGriddemKokkos(class LAMMPS *, int, char **);
@@ -72,6 +76,7 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   // for the pair style: the rows on its device, made current there, and room for `entries`
   // contacts in every row (rows keep their entries)
   t_rows rows_on_device();
+  t_partners partners_on_device();
   t_count counts_on_device();
   void rows_modified_on_device();
   void reserve_entries(int entries);
@@ -81,12 +86,13 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void set_longest_row(int entries);
 
  private:
-  tdual_rows k_rows;      // [nmax][capacity * (1 + nv)]
-  tdual_count k_count;    // [nmax] entries in use
+  tdual_rows k_rows;            // [nmax][capacity * nv] history values, entry after entry
+  tdual_partners k_partner;    // [nmax][capacity] partner tags
+  tdual_count k_count;         // [nmax] entries in use
+  mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy: a row's values need not be contiguous
   int capacity;           // entries per row
   int nv;                 // history values per contact
   int longest;            // most entries of one row after the last step
-  int width() const { return capacity * (1 + nv); }
   void sync_host();
   void modify_host();
   // store a row message as atom i's row; returns its length

@@ -205,7 +205,7 @@ struct GriddemKKSweepValue {
 
 /* One thread per sorted owned particle sums the force and torque of its contacts (griddem_contact_eval)
    and, for laws with history, rewrites its own row of fix griddem/kk in place: an entry found
-   for a partner is advanced and marked (partner + 0.5, exact for tags below 2^52); a new contact
+   for a partner is advanced and marked (its tag negated; tags are positive); a new contact
    is appended; at the end unmarked entries (contacts that ended) are dropped. A new contact the
    row has no room for is not stored and the atom is counted incomplete: the pass `repair`
    (run after the rows grew, before atoms move) evaluates each owned atom's contacts missing from
@@ -235,7 +235,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
   Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
   int excl_both;    // pairs whose two masks both have this bit (fix griddem/rom's kinematic atoms)
-  typename FixGriddemKokkos<DeviceType>::t_rows rows;    // fix griddem/kk's rows
+  typename FixGriddemKokkos<DeviceType>::t_rows rows;            // fix griddem/kk's rows:
+  typename FixGriddemKokkos<DeviceType>::t_partners partners;    // values and partner tags
   Kokkos::View<int *, DeviceType> count;
   typename AT::t_f_array f, torque;
   typename AT::t_virial_array vatom;
@@ -270,10 +271,10 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   }
 
   // the entry of partner p among the first n of atom i's row, or -1
-  KOKKOS_INLINE_FUNCTION int find(int i, int n, double p) const
+  KOKKOS_INLINE_FUNCTION int find(int i, int n, tagint p) const
   {
     for (int e = 0; e < n; e++)
-      if (rows(i, e * (1 + nv)) == p) return e;
+      if (partners(i, e) == p) return e;
     return -1;
   }
 
@@ -281,14 +282,11 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   // GPU keep them in registers
   static constexpr int nhist = Classic ? 3 : GRIDDEM_MAX_HISTORY;
 
-  KOKKOS_INLINE_FUNCTION double &value(int i, int e, int k) const
-  {
-    return rows(i, e * (1 + nv) + 1 + k);
-  }
+  KOKKOS_INLINE_FUNCTION double &value(int i, int e, int k) const { return rows(i, e * nv + k); }
 
-  KOKKOS_INLINE_FUNCTION void store(int i, int e, double p, const double *hist) const
+  KOKKOS_INLINE_FUNCTION void store(int i, int e, tagint p, const double *hist) const
   {
-    rows(i, e * (1 + nv)) = p;
+    partners(i, e) = p;
     for (int k = 0; k < nhist; k++)
       if (k < nv) value(i, e, k) = hist[k];
   }
@@ -298,14 +296,14 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   {
     int kept = 0;
     for (int e = 0; e < n; e++) {
-      double p = rows(i, e * (1 + nv));
+      tagint p = partners(i, e);
       if (e < old) {
-        if (p == (double) (int64_t) p) continue;    // not seen this step: the contact ended
-        p -= 0.5;
+        if (p > 0) continue;    // not seen this step: the contact ended
+        p = -p;
       }
-      rows(i, kept * (1 + nv)) = p;
+      partners(i, kept) = p;
       if (kept != e)
-        for (int k = 1; k <= nv; k++) rows(i, kept * (1 + nv) + k) = rows(i, e * (1 + nv) + k);
+        for (int k = 0; k < nv; k++) value(i, kept, k) = value(i, e, k);
       kept++;
     }
     return kept;
@@ -330,7 +328,7 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
       const int jtype = tm(tk, 0), jmask = tm(tk, 1);
       if (excluded(a.itype, a.imask, jtype, jmask)) continue;
       const griddem_pair_params *law = &params(a.itype * (ntypes + 1) + jtype);
-      const double partner = track ? (double) tag(order(tk)) : 0.0;
+      const tagint partner = track ? tag(order(tk)) : 0;
       const int e = track ? find(i, a.old, partner) : -1;
       if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, a.radi, radj, e >= 0)) continue;
       if (repair && e >= 0) continue;
@@ -355,7 +353,7 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
                                : griddem_contact_eval(law, &c, hist, fc, ti, tj);
       if (track) {
         if (e >= 0)
-          store(i, e, partner + 0.5, hist);
+          store(i, e, -partner, hist);
         else if (a.n < capacity)
           store(i, a.n++, partner, hist);
         else

@@ -386,6 +386,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
   auto bind_rows = [&]() {
     sweep.rows = history->rows_on_device();
+    sweep.partners = history->partners_on_device();
     sweep.count = history->counts_on_device();
     sweep.nv = history->values_per_contact();
     sweep.capacity = history->entry_capacity();
