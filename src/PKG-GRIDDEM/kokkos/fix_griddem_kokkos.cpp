@@ -10,13 +10,14 @@
 #include "error.h"
 #include "memory_kokkos.h"
 
+#include <climits>
 #include <cstring>
 
 using namespace LAMMPS_NS;
 
 template <class DeviceType>
 FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixGriddem(lmp, narg, arg), capacity(0), nv(0), longest(0)
+    FixGriddem(lmp, narg, arg), cur(0), used(0), laid_out(0), nv(0), longest(0)
 {
   kokkosable = 1;
   exchange_comm_device = sort_device = 1;
@@ -25,9 +26,12 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
   datamask_read = datamask_modify = EMPTY_MASK;
   kokkos_history = 1;
 
-  capacity = MAX(contacts, 1);
+  for (int p = 0; p < 2; p++) {
+    k_partner[p] = tdual_partners("griddem/kk:partner", 0);
+    k_value[p] = tdual_values("griddem/kk:value", 0);
+  }
   grow_arrays(atom->nmax);    // rows start empty (Views are zero-filled)
-  maxexchange = 2 + capacity * (1 + nv);
+  update_maxexchange();
 }
 
 template <class DeviceType> FixGriddemKokkos<DeviceType>::~FixGriddemKokkos()
@@ -48,74 +52,133 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::post_constructor(
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_host()
 {
-  k_rows.sync_host();
-  k_partner.sync_host();
-  k_count.sync_host();
+  k_partner[cur].sync_host();
+  k_value[cur].sync_host();
+  k_first[cur].sync_host();
+  k_count[cur].sync_host();
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_host()
 {
-  k_rows.modify_host();
-  k_partner.modify_host();
-  k_count.modify_host();
+  k_partner[cur].modify_host();
+  k_value[cur].modify_host();
+  k_first[cur].modify_host();
+  k_count[cur].modify_host();
 }
 
-/* DualView::resize keeps each element's contents on the side modified last */
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_device()
+{
+  k_partner[cur].modify_device();
+  k_value[cur].modify_device();
+  k_first[cur].modify_device();
+  k_count[cur].modify_device();
+}
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::update_maxexchange()
+{
+  maxexchange = 2 + longest * (1 + nv);
+}
+
+/* DualView::resize keeps the contents of the side modified last and reallocates the other, to
+   be synced from it: callers that write on the other side sync again */
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::grow_arrays(int nmax)
 {
-  if (!k_count.d_view.data()) {
-    k_rows = tdual_rows("griddem/kk:rows", nmax, capacity * nv);
-    k_partner = tdual_partners("griddem/kk:partner", nmax, capacity);
-    k_count = tdual_count("griddem/kk:count", nmax);
-    return;
+  for (int p = 0; p < 2; p++) {
+    if (!k_count[p].d_view.data()) {
+      k_first[p] = tdual_index("griddem/kk:first", nmax);
+      k_count[p] = tdual_index("griddem/kk:count", nmax);
+    } else if (nmax > (int) k_count[p].extent(0)) {
+      k_first[p].resize(nmax);
+      k_count[p].resize(nmax);
+    }
   }
-  if (nmax <= (int) k_count.extent(0)) return;
-  k_rows.resize(nmax, capacity * nv);
-  k_partner.resize(nmax, capacity);
-  k_count.resize(nmax);
-}
-
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_entries(int entries)
-{
-  if (entries <= capacity) return;
-  capacity = entries;
-  k_rows.resize(k_rows.extent(0), capacity * nv);
-  k_partner.resize(k_partner.extent(0), capacity);
-  maxexchange = 2 + capacity * (1 + nv);
-}
-
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_longest_row(int entries)
-{
-  longest = entries;
 }
 
 template <class DeviceType>
-typename FixGriddemKokkos<DeviceType>::t_rows FixGriddemKokkos<DeviceType>::rows_on_device()
+void FixGriddemKokkos<DeviceType>::reserve_pool(int p, long entries, long keep)
 {
-  k_rows.template sync<DeviceType>();
-  return k_rows.template view<DeviceType>();
+  if ((long) k_partner[p].extent(0) >= entries && (long) k_value[p].extent(0) >= entries * nv)
+    return;
+  if (entries > INT_MAX)
+    error->one(FLERR, "Fix {}: {} contact history entries on one process, more than an int counts",
+               style, entries);
+  const long room = MAX(entries, (long) (1.25 * k_partner[p].extent(0)));
+  if (keep) {
+    k_partner[p].resize(room);
+    k_value[p].resize(room * nv);
+  } else {    // the old pool freed first: the peak is the new one
+    k_partner[p] = tdual_partners();
+    k_value[p] = tdual_values();
+    k_partner[p] = tdual_partners("griddem/kk:partner", room);
+    k_value[p] = tdual_values("griddem/kk:value", room * nv);
+  }
 }
 
 template <class DeviceType>
-typename FixGriddemKokkos<DeviceType>::t_partners FixGriddemKokkos<DeviceType>::partners_on_device()
+typename FixGriddemKokkos<DeviceType>::Rows FixGriddemKokkos<DeviceType>::rows_on_device()
 {
-  k_partner.template sync<DeviceType>();
-  return k_partner.template view<DeviceType>();
+  const int out = 1 - cur;
+  k_partner[cur].template sync<DeviceType>();
+  k_value[cur].template sync<DeviceType>();
+  k_first[cur].template sync<DeviceType>();
+  k_count[cur].template sync<DeviceType>();
+  Rows rows;
+  rows.partner = k_partner[cur].template view<DeviceType>();
+  rows.value = k_value[cur].template view<DeviceType>();
+  rows.first = k_first[cur].template view<DeviceType>();
+  rows.count = k_count[cur].template view<DeviceType>();
+  rows.partner_out = k_partner[out].template view<DeviceType>();
+  rows.value_out = k_value[out].template view<DeviceType>();
+  rows.first_out = k_first[out].template view<DeviceType>();
+  rows.count_out = k_count[out].template view<DeviceType>();
+  return rows;
 }
 
-template <class DeviceType>
-typename FixGriddemKokkos<DeviceType>::t_count FixGriddemKokkos<DeviceType>::counts_on_device()
+/* the places of the rows the sweep writes: each owned atom's row of the last step plus the
+   margin */
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::layout(int nlocal)
 {
-  k_count.template sync<DeviceType>();
-  return k_count.template view<DeviceType>();
+  const int out = 1 - cur;
+  k_count[cur].template sync<DeviceType>();
+  auto sizes = k_count[cur].template view<DeviceType>();
+  auto first = k_first[out].template view<DeviceType>();
+  long total = 0;
+  Kokkos::parallel_scan(
+      "griddem/kk:layout", Kokkos::RangePolicy<DeviceType>(0, nlocal),
+      KOKKOS_LAMBDA(const int i, long &offset, const bool final) {
+        if (final) first(i) = (int) offset;
+        offset += sizes(i) + margin;
+      },
+      total);
+  reserve_pool(out, total, 0);
+  // written on DeviceType from here on, whatever either side held before
+  for (auto *k : {&k_first[out], &k_count[out]}) {
+    k->clear_sync_state();
+    k->template modify<DeviceType>();
+  }
+  k_partner[out].clear_sync_state();
+  k_partner[out].template modify<DeviceType>();
+  k_value[out].clear_sync_state();
+  k_value[out].template modify<DeviceType>();
+  laid_out = total;
 }
 
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::rows_modified_on_device()
+template <class DeviceType> long FixGriddemKokkos<DeviceType>::reserve_repair(long entries)
 {
-  k_rows.template modify<DeviceType>();
-  k_partner.template modify<DeviceType>();
-  k_count.template modify<DeviceType>();
+  const long first = laid_out;
+  reserve_pool(1 - cur, laid_out + entries, laid_out);    // the sweep's side is kept
+  laid_out += entries;
+  return first;
+}
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::commit(int longest_row)
+{
+  cur = 1 - cur;
+  used = laid_out;
+  longest = longest_row;
+  update_maxexchange();
 }
 
 /* a new layout of values per contact: each row keeps its values up to the shorter length */
@@ -125,15 +188,16 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
   if (values == nv) return;
   sync_host();
   const int nlocal = atom->nlocal;
-  tdual_rows converted("griddem/kk:rows", k_rows.extent(0), capacity * values);
+  tdual_values converted("griddem/kk:value", k_partner[cur].extent(0) * values);
   for (int i = 0; i < nlocal; i++)
-    for (int e = 0; e < k_count.h_view(i); e++)
+    for (int e = k_first[cur].h_view(i); e < k_first[cur].h_view(i) + k_count[cur].h_view(i); e++)
       for (int k = 0; k < values; k++)
-        converted.h_view(i, e * values + k) = k < nv ? k_rows.h_view(i, e * nv + k) : 0.0;
-  k_rows = converted;
+        converted.h_view((long) e * values + k) = k < nv ? k_value[cur].h_view((long) e * nv + k) : 0.0;
+  k_value[cur] = converted;
+  k_value[1 - cur] = tdual_values("griddem/kk:value", k_partner[1 - cur].extent(0) * values);
   nv = values;
   modify_host();
-  maxexchange = 2 + capacity * (1 + nv);
+  update_maxexchange();
 }
 
 template <class DeviceType>
@@ -141,9 +205,10 @@ const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) 
 {
   auto self = const_cast<FixGriddemKokkos<DeviceType> *>(this);
   self->sync_host();
-  for (int e = 0; e < k_count.h_view(i); e++)
-    if ((double) k_partner.h_view(i, e) == partner) {
-      for (int k = 0; k < nv; k++) found[k] = k_rows.h_view(i, e * nv + k);
+  const int first = k_first[cur].h_view(i);
+  for (int e = first; e < first + k_count[cur].h_view(i); e++)
+    if ((double) k_partner[cur].h_view(e) == partner) {
+      for (int k = 0; k < nv; k++) found[k] = k_value[cur].h_view((long) e * nv + k);
       return found;
     }
   return nullptr;
@@ -152,50 +217,49 @@ const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_arrays(int i)
 {
   sync_host();
-  k_count.h_view(i) = 0;
+  k_first[cur].h_view(i) = k_count[cur].h_view(i) = 0;
   modify_host();
 }
+
+/* atom j takes atom i's row (i leaves: its entries become a hole until the next sweep) */
 
 template <class DeviceType>
 void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
 {
   sync_host();
-  k_count.h_view(j) = k_count.h_view(i);
-  for (int e = 0; e < k_count.h_view(i); e++) k_partner.h_view(j, e) = k_partner.h_view(i, e);
-  for (int k = 0; k < k_count.h_view(i) * nv; k++) k_rows.h_view(j, k) = k_rows.h_view(i, k);
+  k_first[cur].h_view(j) = k_first[cur].h_view(i);
+  k_count[cur].h_view(j) = k_count[cur].h_view(i);
   modify_host();
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int i, double *buf)
 {
   sync_host();
-  const int n = k_count.h_view(i);
+  const int n = k_count[cur].h_view(i), first = k_first[cur].h_view(i);
   buf[0] = n;
-  for (int e = 0, m = 1; e < n; e++) {
-    buf[m++] = (double) k_partner.h_view(i, e);
-    for (int k = 0; k < nv; k++) buf[m++] = k_rows.h_view(i, e * nv + k);
+  for (int e = first, m = 1; e < first + n; e++) {
+    buf[m++] = (double) k_partner[cur].h_view(e);
+    for (int k = 0; k < nv; k++) buf[m++] = k_value[cur].h_view((long) e * nv + k);
   }
   return 1 + n * (1 + nv);
 }
-
-/* a message's entries beyond the capacity make room for themselves (restart files and other
-   processes may hold longer rows); values are converted from `values` per contact */
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, const double *message)
 {
   const int count = static_cast<int>(message[0]);
   sync_host();
-  if (count > capacity) {
-    reserve_entries(count);
-    sync_host();
-  }
-  k_count.h_view(i) = count;
+  reserve_pool(cur, used + count, used);
+  sync_host();    // the side a resize did not keep
+  k_first[cur].h_view(i) = (int) used;
+  k_count[cur].h_view(i) = count;
   for (int e = 0, m = 1; e < count; e++) {
-    k_partner.h_view(i, e) = (tagint) message[m++];
-    for (int k = 0; k < nv; k++) k_rows.h_view(i, e * nv + k) = message[m++];
+    k_partner[cur].h_view(used + e) = (tagint) message[m++];
+    for (int k = 0; k < nv; k++) k_value[cur].h_view((used + e) * nv + k) = message[m++];
   }
+  used += count;
   modify_host();
   longest = MAX(longest, count);
+  update_maxexchange();
   return 1 + count * (1 + nv);
 }
 
@@ -225,7 +289,7 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::unpack_restart(in
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::size_restart(int nlocal)
 {
   sync_host();
-  return 3 + k_count.h_view(nlocal) * (1 + nv);
+  return 3 + k_count[cur].h_view(nlocal) * (1 + nv);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::maxsize_restart()
@@ -237,29 +301,31 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::maxsize_restart()
 
 template <class DeviceType> double FixGriddemKokkos<DeviceType>::memory_usage()
 {
-  return (double) k_count.extent(0) *
-      ((double) capacity * (nv * sizeof(double) + sizeof(tagint)) + sizeof(int));
+  double bytes = 0.0;
+  for (int p = 0; p < 2; p++)
+    bytes += (double) k_partner[p].extent(0) * sizeof(tagint) +
+        (double) k_value[p].extent(0) * sizeof(double) +
+        (double) (k_first[p].extent(0) + k_count[p].extent(0)) * sizeof(int);
+  return bytes;
 }
 
 /* ---------------------------------------------------------------------- */
 
+/* LAMMPS sorts atoms on its device: the row heads move with them, the pool stays */
+
 template <class DeviceType>
 void FixGriddemKokkos<DeviceType>::sort_kokkos(Kokkos::BinSort<KeyViewType, BinOp> &Sorter)
 {
-  // LAMMPS sorts atoms on its device
-  k_rows.sync_device();
-  k_partner.sync_device();
-  k_count.sync_device();
-  Sorter.sort(LMPDeviceType(), k_rows.d_view);
-  Sorter.sort(LMPDeviceType(), k_partner.d_view);
-  Sorter.sort(LMPDeviceType(), k_count.d_view);
-  k_rows.modify_device();
-  k_partner.modify_device();
-  k_count.modify_device();
+  k_first[cur].sync_device();
+  k_count[cur].sync_device();
+  Sorter.sort(LMPDeviceType(), k_first[cur].d_view);
+  Sorter.sort(LMPDeviceType(), k_count[cur].d_view);
+  k_first[cur].modify_device();
+  k_count[cur].modify_device();
 }
 
 /* Exchange on the device, in CommKokkos's layout: nsend offsets (as integer bits), then the
-   messages; the slot of each sent atom is refilled from copylist */
+   messages; the slot of each sent atom takes the row of its copylist atom */
 
 template <class DeviceType>
 int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
@@ -268,15 +334,17 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
                                                        DAT::tdual_int_1d k_copylist,
                                                        ExecutionSpace /*space*/)
 {
-  k_rows.template sync<DeviceType>();
-  k_partner.template sync<DeviceType>();
-  k_count.template sync<DeviceType>();
+  k_partner[cur].template sync<DeviceType>();
+  k_value[cur].template sync<DeviceType>();
+  k_first[cur].template sync<DeviceType>();
+  k_count[cur].template sync<DeviceType>();
   k_buf.template sync<DeviceType>();
   k_sendlist.template sync<DeviceType>();
   k_copylist.template sync<DeviceType>();
-  auto rows = k_rows.template view<DeviceType>();
-  auto partner = k_partner.template view<DeviceType>();
-  auto count = k_count.template view<DeviceType>();
+  auto partner = k_partner[cur].template view<DeviceType>();
+  auto value = k_value[cur].template view<DeviceType>();
+  auto first = k_first[cur].template view<DeviceType>();
+  auto count = k_count[cur].template view<DeviceType>();
   auto sendlist = k_sendlist.template view<DeviceType>();
   auto copylist = k_copylist.template view<DeviceType>();
   typename ArrayTypes<DeviceType>::t_xfloat_1d_um buf(k_buf.template view<DeviceType>().data(),
@@ -293,9 +361,9 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
           int m = nsend + offset;
           buf(s) = d_ubuf(m).d;
           buf(m++) = n;
-          for (int e = 0; e < n; e++) {
-            buf(m++) = (double) partner(i, e);
-            for (int k = 0; k < nvalues; k++) buf(m++) = rows(i, e * nvalues + k);
+          for (int e = first(i); e < first(i) + n; e++) {
+            buf(m++) = (double) partner(e);
+            for (int k = 0; k < nvalues; k++) buf(m++) = value((long) e * nvalues + k);
           }
         }
         offset += 1 + n * (1 + nvalues);
@@ -307,15 +375,22 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
       KOKKOS_LAMBDA(const int s) {
         const int i = sendlist(s), j = copylist(s);
         if (j < 0) return;
-        const int n = count(j);
-        count(i) = n;
-        for (int e = 0; e < n; e++) partner(i, e) = partner(j, e);
-        for (int k = 0; k < n * nvalues; k++) rows(i, k) = rows(j, k);
+        first(i) = first(j);
+        count(i) = count(j);
       });
-  k_rows.template modify<DeviceType>();
-  k_partner.template modify<DeviceType>();
-  k_count.template modify<DeviceType>();
+  k_first[cur].template modify<DeviceType>();
+  k_count[cur].template modify<DeviceType>();
   return nsend + total;
+}
+
+/* received rows are appended to the pool; message r starts at exchange_message(buf, r, ...) */
+
+template <class Buffer>
+KOKKOS_INLINE_FUNCTION static int exchange_message(const Buffer &buf, int r, int nrecv1,
+                                                   int nextrarecv1)
+{
+  if (r >= nrecv1) return nextrarecv1 + (int) d_ubuf(buf(nextrarecv1 + r - nrecv1)).i;
+  return (int) d_ubuf(buf(r)).i;
 }
 
 template <class DeviceType>
@@ -331,43 +406,55 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
   auto indices = k_indices.template view<DeviceType>();
   const int nvalues = nv;
 
-  // rows longer than the capacity (from a process whose rows grew further) make room first
+  long entries = 0;
   int most = 0;
   Kokkos::parallel_reduce(
-      "griddem/kk:exchange_longest", Kokkos::RangePolicy<DeviceType>(0, nrecv),
-      KOKKOS_LAMBDA(const int r, int &longest_row) {
-        int m = (int) d_ubuf(buf(r)).i;
-        if (r >= nrecv1) m = nextrarecv1 + (int) d_ubuf(buf(nextrarecv1 + r - nrecv1)).i;
-        const int n = (int) buf(m);
+      "griddem/kk:exchange_entries", Kokkos::RangePolicy<DeviceType>(0, nrecv),
+      KOKKOS_LAMBDA(const int r, long &sum, int &longest_row) {
+        if (indices(r) < 0) return;
+        const int n = (int) buf(exchange_message(buf, r, nrecv1, nextrarecv1));
+        sum += n;
         if (n > longest_row) longest_row = n;
       },
-      Kokkos::Max<int>(most));
-  k_rows.template sync<DeviceType>();
-  k_partner.template sync<DeviceType>();
-  k_count.template sync<DeviceType>();
-  if (most > capacity) reserve_entries(most);
-  longest = MAX(longest, most);
-  auto rows = k_rows.template view<DeviceType>();
-  auto partner = k_partner.template view<DeviceType>();
-  auto count = k_count.template view<DeviceType>();
+      entries, Kokkos::Max<int>(most));
+  k_partner[cur].template sync<DeviceType>();
+  k_value[cur].template sync<DeviceType>();
+  k_first[cur].template sync<DeviceType>();
+  k_count[cur].template sync<DeviceType>();
+  reserve_pool(cur, used + entries, used);
+  k_partner[cur].template sync<DeviceType>();    // the side a resize did not keep
+  k_value[cur].template sync<DeviceType>();
+  auto partner = k_partner[cur].template view<DeviceType>();
+  auto value = k_value[cur].template view<DeviceType>();
+  auto first = k_first[cur].template view<DeviceType>();
+  auto count = k_count[cur].template view<DeviceType>();
+  const long base = used;
 
-  Kokkos::parallel_for(
+  Kokkos::parallel_scan(
       "griddem/kk:unpack_exchange", Kokkos::RangePolicy<DeviceType>(0, nrecv),
-      KOKKOS_LAMBDA(const int r) {
+      KOKKOS_LAMBDA(const int r, long &offset, const bool final) {
         const int i = indices(r);
         if (i < 0) return;
-        int m = (int) d_ubuf(buf(r)).i;
-        if (r >= nrecv1) m = nextrarecv1 + (int) d_ubuf(buf(nextrarecv1 + r - nrecv1)).i;
+        int m = exchange_message(buf, r, nrecv1, nextrarecv1);
         const int n = (int) buf(m++);
-        count(i) = n;
-        for (int e = 0; e < n; e++) {
-          partner(i, e) = (tagint) buf(m++);
-          for (int k = 0; k < nvalues; k++) rows(i, e * nvalues + k) = buf(m++);
+        if (final) {
+          const long e0 = base + offset;
+          first(i) = (int) e0;
+          count(i) = n;
+          for (long e = e0; e < e0 + n; e++) {
+            partner(e) = (tagint) buf(m++);
+            for (int k = 0; k < nvalues; k++) value(e * nvalues + k) = buf(m++);
+          }
         }
+        offset += n;
       });
-  k_rows.template modify<DeviceType>();
-  k_partner.template modify<DeviceType>();
-  k_count.template modify<DeviceType>();
+  used += entries;
+  longest = MAX(longest, most);
+  update_maxexchange();
+  k_partner[cur].template modify<DeviceType>();
+  k_value[cur].template modify<DeviceType>();
+  k_first[cur].template modify<DeviceType>();
+  k_count[cur].template modify<DeviceType>();
 }
 
 namespace LAMMPS_NS {

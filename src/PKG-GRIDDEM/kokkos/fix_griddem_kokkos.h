@@ -1,14 +1,17 @@
 /* -*- c++ -*- ----------------------------------------------------------
    GRIDDEM package, Kokkos: fix griddem/kk, the contact history of the griddem kk pair styles.
 
-   Each owned atom owns one row of `capacity` entries: the partners' tags in one array, their
-   history values in another (tags are integers: half the bytes of the doubles the row messages
-   of fix griddem carry them in), plus its entry count. The pair's sweep reads and rewrites
-   an atom's row in place from that atom's own thread (no atomics). Rows travel with their atoms
-   on the device (sort_kokkos, pack/unpack_exchange_kokkos) and on the host (copy_arrays,
-   exchange, restart) through DualViews. The capacity grows with the most contacts of one atom;
-   contacts a row cannot take in a step wait in a spill buffer that is appended once the rows
-   have grown (GriddemKKSpill), so no atom has a fixed limit.
+   Compressed rows, as the CPU fix's: a pool of entries (partner tags in one array, their history
+   values in another) and, per atom, the first entry of its row and the row's length. So memory
+   follows the contacts present, not the most contacts of one atom times the atoms (a chute has
+   ~0.5 contacts per atom and up to ~10 for one; a large sphere among small ones, hundreds).
+   There are two pools: the pair's sweep reads the rows of the last step from one and writes each
+   atom's new row into the other, from that atom's own thread (no atomics), at places laid out
+   before the sweep from each atom's last count plus a margin of one; an atom that gained more
+   contacts than that records its count, and a repair pass evaluates only such atoms again, adding
+   no force, into rows appended after the laid-out ones. Rows travel with their atoms on the device (sort_kokkos moves
+   the row heads; pack/unpack_exchange_kokkos) and on the host (copy_arrays, exchange, restart)
+   through DualViews; a received row is appended to the pool, and the next sweep compacts it.
 
    The style is renamed "griddem" once made, so that restart files written on a CPU or a GPU
    are read by either, and the pair styles find it as fix griddem.
@@ -35,17 +38,13 @@ namespace LAMMPS_NS {
 template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public KokkosBase {
  public:
   typedef DeviceType device_type;
-  // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there. Laid
-  // out as that device lays out 2D arrays: on a GPU (LayoutLeft) the threads of neighbouring
-  // atoms, each reading its own row, read one column together (coalesced); on a CPU
-  // (LayoutRight) each row is contiguous for its thread's cache
-  typedef typename LMPDeviceType::execution_space::array_layout rows_layout;
-  typedef Kokkos::DualView<double **, rows_layout, LMPDeviceType> tdual_rows;
-  typedef Kokkos::DualView<tagint **, rows_layout, LMPDeviceType> tdual_partners;
-  typedef DAT::tdual_int_1d tdual_count;
-  typedef Kokkos::View<double **, rows_layout, DeviceType> t_rows;
-  typedef Kokkos::View<tagint **, rows_layout, DeviceType> t_partners;
-  typedef Kokkos::View<int *, DeviceType> t_count;
+  // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there
+  typedef Kokkos::DualView<tagint *, LMPDeviceType> tdual_partners;
+  typedef Kokkos::DualView<double *, LMPDeviceType> tdual_values;
+  typedef DAT::tdual_int_1d tdual_index;
+  typedef Kokkos::View<tagint *, DeviceType> t_partners;
+  typedef Kokkos::View<double *, DeviceType> t_values;
+  typedef Kokkos::View<int *, DeviceType> t_index;
 
   FixGriddemKokkos(class LAMMPS *, int, char **);
   ~FixGriddemKokkos() override;
@@ -73,30 +72,43 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void set_values(int values) override;
   const double *find_history(int i, double partner) const override;
 
-  // for the pair style: the rows on its device, made current there, and room for `entries`
-  // contacts in every row (rows keep their entries)
-  t_rows rows_on_device();
-  t_partners partners_on_device();
-  t_count counts_on_device();
-  void rows_modified_on_device();
-  void reserve_entries(int entries);
-  int entry_capacity() const { return capacity; }
+  // For the pair's sweep, on its device. The rows of the last step (read), and the rows the
+  // sweep writes: `layout` places atom i's new row (first_out(i)) with room for count(i) + margin
+  // entries; `reserve_repair` makes room for `entries` more after them and returns the first;
+  // `commit` makes the written rows current.
+  struct Rows {
+    t_partners partner, partner_out;
+    t_values value, value_out;
+    t_index first, count, first_out, count_out;
+  };
+  // new contacts an atom may gain in a step without a repair: in LAMMPS's chute (32,000 atoms)
+  // more than one came to some atom in 967 of 1,000 steps, more than two in 13
+  static constexpr int margin = 1;
+  Rows rows_on_device();
+  void layout(int nlocal);
+  long reserve_repair(long entries);
+  void commit(int longest_row);
   int values_per_contact() const { return nv; }
-  // after a step: the most entries in one row, which sizes exchange messages
-  void set_longest_row(int entries);
 
  private:
-  tdual_rows k_rows;            // [nmax][capacity * nv] history values, entry after entry
-  tdual_partners k_partner;    // [nmax][capacity] partner tags
-  tdual_count k_count;         // [nmax] entries in use
-  mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy: a row's values need not be contiguous
-  int capacity;           // entries per row
-  int nv;                 // history values per contact
-  int longest;            // most entries of one row after the last step
+  tdual_partners k_partner[2];    // the pools; [cur]: the current rows
+  tdual_values k_value[2];        // values of entry e: [e * nv, (e + 1) * nv)
+  tdual_index k_first[2];         // [nmax] first entry of each atom's row
+  tdual_index k_count[2];         // [nmax] entries in it
+  int cur;           // the pool and row heads of the current rows
+  long used;         // entries of pool cur in use (rows, and holes left by atoms that left)
+  long laid_out;     // entries of the other pool that layout placed
+  int nv;          // history values per contact
+  int longest;     // most entries of one row
+  mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
   void sync_host();
   void modify_host();
-  // store a row message as atom i's row; returns its length
+  void modify_device();
+  // room for `entries` in pool p, its first `keep` entries kept
+  void reserve_pool(int p, long entries, long keep);
+  // append a row message (count, then partner and values per entry) as atom i's row
   int put_row(int i, const double *message);
+  void update_maxexchange();
 };
 
 }    // namespace LAMMPS_NS

@@ -200,16 +200,17 @@ struct GriddemKKSweepValue {
   long contacts;           // contacts of owned atoms (an owned pair counts twice)
   int most;                // most contacts of one owned atom
   int incomplete;          // owned atoms with new contacts their row had no room for
+  long overflow;           // the contacts of those atoms
   int fault_i, fault_j;    // local indices; fault_i == INT_MAX: none
 };
 
 /* One thread per sorted owned particle sums the force and torque of its contacts (griddem_contact_eval)
-   and, for laws with history, rewrites its own row of fix griddem/kk in place: an entry found
-   for a partner is advanced and marked (its tag negated; tags are positive); a new contact
-   is appended; at the end unmarked entries (contacts that ended) are dropped. A new contact the
-   row has no room for is not stored and the atom is counted incomplete: the pass `repair`
-   (run after the rows grew, before atoms move) evaluates each owned atom's contacts missing from
-   its row again, with zero history as the sweep did, and appends them, adding no force.
+   and, for laws with history, writes its atom's new row into fix griddem/kk's other pool (the
+   contacts of this step, with their values found in the last step's row and advanced) at the
+   place the fix laid out. A contact beyond that room is not stored and the atom's count of
+   contacts is recorded (negated): the pass `repair` then evaluates only those atoms' contacts
+   again, from the same last rows, into rows of that length appended to the pool (`top`), adding
+   no force.
    Classic: every type pair uses the gran/hooke laws (griddem_classic.h), so the kernel is compiled
    without the composed sub-models; on a GPU that halves the registers a thread holds. */
 template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
@@ -224,8 +225,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   double dt;
   int history_update;    // 0 in setup: stored values are read, not advanced
   int track;             // model.track_contacts: rows are kept
-  int nv, capacity;      // values per contact, entries per row
-  int repair;            // 1: only append the contacts missing from the rows
+  int nv;                // values per contact
+  int repair;            // 1: rewrite the rows of incomplete atoms only, adding no force
   Kokkos::View<const int *, DeviceType> start, order, cell, cls;    // cell, class: of each atom
   Kokkos::View<const Real *[4], DeviceType> pos;                    // GriddemKKChannels, sorted
   Kokkos::View<const Real *[7], DeviceType> state;
@@ -235,9 +236,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
   Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
   int excl_both;    // pairs whose two masks both have this bit (fix griddem/rom's kinematic atoms)
-  typename FixGriddemKokkos<DeviceType>::t_rows rows;            // fix griddem/kk's rows:
-  typename FixGriddemKokkos<DeviceType>::t_partners partners;    // values and partner tags
-  Kokkos::View<int *, DeviceType> count;
+  typename FixGriddemKokkos<DeviceType>::Rows rows;    // fix griddem/kk's rows
+  Kokkos::View<long, DeviceType> top;                   // repair: the next free entry
   typename AT::t_f_array f, torque;
   typename AT::t_virial_array vatom;
 
@@ -247,6 +247,7 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
     s.energy = 0.0;
     s.contacts = 0;
     s.most = s.incomplete = 0;
+    s.overflow = 0;
     s.fault_i = s.fault_j = INT_MAX;
   }
   KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
@@ -256,6 +257,7 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
     s.contacts += o.contacts;
     if (o.most > s.most) s.most = o.most;
     s.incomplete += o.incomplete;
+    s.overflow += o.overflow;
     if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
   }
 
@@ -270,11 +272,12 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
     return 0;
   }
 
-  // the entry of partner p among the first n of atom i's row, or -1
-  KOKKOS_INLINE_FUNCTION int find(int i, int n, tagint p) const
+  // the entry of partner p in atom i's last row, or -1
+  KOKKOS_INLINE_FUNCTION int find(int i, tagint p) const
   {
-    for (int e = 0; e < n; e++)
-      if (partners(i, e) == p) return e;
+    const int first = rows.first(i), last = first + rows.count(i);
+    for (int e = first; e < last; e++)
+      if (rows.partner(e) == p) return e;
     return -1;
   }
 
@@ -282,38 +285,11 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   // GPU keep them in registers
   static constexpr int nhist = Classic ? 3 : GRIDDEM_MAX_HISTORY;
 
-  KOKKOS_INLINE_FUNCTION double &value(int i, int e, int k) const { return rows(i, e * nv + k); }
-
-  KOKKOS_INLINE_FUNCTION void store(int i, int e, tagint p, const double *hist) const
-  {
-    partners(i, e) = p;
-    for (int k = 0; k < nhist; k++)
-      if (k < nv) value(i, e, k) = hist[k];
-  }
-
-  // drop the entries below `old` that were not marked; unmark the others. Returns the count.
-  KOKKOS_INLINE_FUNCTION int compact(int i, int old, int n) const
-  {
-    int kept = 0;
-    for (int e = 0; e < n; e++) {
-      tagint p = partners(i, e);
-      if (e < old) {
-        if (p > 0) continue;    // not seen this step: the contact ended
-        p = -p;
-      }
-      partners(i, kept) = p;
-      if (kept != e)
-        for (int k = 0; k < nv; k++) value(i, kept, k) = value(i, e, k);
-      kept++;
-    }
-    return kept;
-  }
-
   // what one thread accumulates over its atom's contacts
   struct Atom {
     int s, i, itype, imask;
     double pi[3], radi, mi;
-    int old, n, lost, ncontact;    // row entries found / in use, new ones without room; contacts
+    int out, room, n, lost, ncontact;    // new row: first entry, room, entries, not stored; contacts
     double fsum[3], tsum[3], w[6], energy;
   };
 
@@ -329,9 +305,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
       if (excluded(a.itype, a.imask, jtype, jmask)) continue;
       const griddem_pair_params *law = &params(a.itype * (ntypes + 1) + jtype);
       const tagint partner = track ? tag(order(tk)) : 0;
-      const int e = track ? find(i, a.old, partner) : -1;
+      const int e = track ? find(i, partner) : -1;
       if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, a.radi, radj, e >= 0)) continue;
-      if (repair && e >= 0) continue;
 
       griddem_contact c;
       c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
@@ -347,17 +322,19 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
       c.history_update = history_update;
       c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
       double hist[nhist];
-      for (int h = 0; h < nhist; h++) hist[h] = (e >= 0 && h < nv) ? value(i, e, h) : 0.0;
+      for (int h = 0; h < nhist; h++) hist[h] = (e >= 0 && h < nv) ? rows.value((long) e * nv + h) : 0.0;
       double fc[3], ti[3], tj[3];
       const double u = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj)
                                : griddem_contact_eval(law, &c, hist, fc, ti, tj);
       if (track) {
-        if (e >= 0)
-          store(i, e, -partner, hist);
-        else if (a.n < capacity)
-          store(i, a.n++, partner, hist);
-        else
+        if (a.n < a.room) {
+          const int o = a.out + a.n++;
+          rows.partner_out(o) = partner;
+          for (int h = 0; h < nhist; h++)
+            if (h < nv) rows.value_out((long) o * nv + h) = hist[h];
+        } else {
           a.lost++;
+        }
       }
       if (repair) continue;
       for (int d = 0; d < 3; d++) a.fsum[d] += fc[d], a.tsum[d] += ti[d];
@@ -396,8 +373,16 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
     for (int d = 0; d < 3; d++) a.fsum[d] = a.tsum[d] = 0.0;
     for (int k = 0; k < 6; k++) a.w[k] = 0.0;
     a.energy = 0.0;
-    a.old = track ? count(i) : 0;    // in repair: the compacted row, searched whole
-    a.n = a.old, a.lost = a.ncontact = 0;
+    if (repair) {
+      a.room = -rows.count_out(i);
+      if (a.room <= 0) return;    // its row was complete
+      a.out = (int) Kokkos::atomic_fetch_add(&top(), (long) a.room);
+      rows.first_out(i) = a.out;
+    } else {
+      a.out = track ? rows.first_out(i) : 0;
+      a.room = track ? rows.count(i) + FixGriddemKokkos<DeviceType>::margin : 0;
+    }
+    a.n = a.lost = a.ncontact = 0;
     int t[batch], nb = 0;
     double del[batch][4];
 
@@ -436,10 +421,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
     evaluate(a, t, del, nb);
 
     if (track) {
-      const int kept = repair ? a.n : compact(i, a.old, a.n);
-      count(i) = kept;
-      if (a.lost) sum.incomplete++;
-      if (repair && kept > sum.most) sum.most = kept;
+      rows.count_out(i) = a.lost ? -(a.n + a.lost) : a.n;
+      if (a.lost) sum.incomplete++, sum.overflow += a.n + a.lost;
     }
     if (repair) return;
     sum.contacts += a.ncontact;
@@ -483,6 +466,7 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
   GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
   Kokkos::View<int *[2], DeviceType> d_tm;
+  Kokkos::View<long, DeviceType> d_top;    // the repair pass's next free history entry
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;

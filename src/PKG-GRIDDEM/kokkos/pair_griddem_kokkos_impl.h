@@ -384,31 +384,30 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
-  auto bind_rows = [&]() {
+  sweep.nv = track ? history->values_per_contact() : 0;
+  if (track) {
+    history->layout(nlocal);
     sweep.rows = history->rows_on_device();
-    sweep.partners = history->partners_on_device();
-    sweep.count = history->counts_on_device();
-    sweep.nv = history->values_per_contact();
-    sweep.capacity = history->entry_capacity();
-  };
-  sweep.nv = sweep.capacity = 0;
-  if (track) bind_rows();
+  }
   GriddemKKSweepValue sums;
   Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
                           sums);
   if (track) {
-    history->rows_modified_on_device();
-    for (int incomplete = sums.incomplete; incomplete;) {
-      history->reserve_entries(sums.most + 2 + sums.most / 4);    // geometric: few regrowths
-      bind_rows();
+    if (sums.incomplete) {    // the atoms' rows again, appended with the room they need
+      const long first = history->reserve_repair(sums.overflow);
+      sweep.rows = history->rows_on_device();
+      if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
+      Kokkos::deep_copy(d_top, first);
+      sweep.top = d_top;
       sweep.repair = 1;
       GriddemKKSweepValue repaired;
       Kokkos::parallel_reduce("griddem/kk:repair", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
                               repaired);
-      history->rows_modified_on_device();
-      incomplete = repaired.incomplete;
+      if (repaired.incomplete)
+        this->error->one(FLERR, "Pair style {}: contact history rows laid out too short",
+                         this->force->pair_style);
     }
-    history->set_longest_row(sums.most);
+    history->commit(sums.most);
   }
 
   if (sums.fault_i != INT_MAX) report_coincident(sums.fault_i, sums.fault_j);
