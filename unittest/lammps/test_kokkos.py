@@ -279,6 +279,7 @@ def main():
     check_stock_kk_fixes(wd)
     check_rom_kk(wd)
     check_pair_local_kk(wd, data)
+    check_atoms_added_and_deleted_kk(wd, data)
 
     # restart: 10 steps, write, read, 10 more, against 20 straight (kk, and across CPU and kk)
     check_restarts(wd, data)
@@ -314,6 +315,43 @@ def check_pair_local_kk(wd, data):
     print("pair/local (single) of %s/kk vs CPU: %.2g over %d pairs, largest shear force %.3g"
           % (law[1].split()[0], worst, len(touching), shear))
     t.check(worst <= 1e-10 and shear > 0.0, "single() under kk equals the CPU style (%.3g)" % worst)
+
+
+ADD_DELETE = t.PERIODIC_SPHERES + """
+timestep 1e-5
+fix integrate all nve/sphere
+run 10
+region hole sphere 2.25 2.25 2.25 0.8
+delete_atoms region hole compress no
+region box2 block 0 4.5 0 4.5 0 4.5
+create_atoms 1 random 40 4321 box2
+group new id > 1500
+set group new diameter 0.05 density 1.0
+velocity new create 0.5 99 loop geom
+dump snap all custom 10 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 10
+"""
+
+
+def check_atoms_added_and_deleted_kk(wd, data):
+    """Atoms deleted between runs (their rows move with the atoms that take their places) and new
+    atoms (empty rows, fix griddem's set_arrays) under griddem/hooke/history/kk: the state after
+    the second run equals the CPU style's."""
+    got = []
+    for name, extra in (("cpu", ()), ("kk", kk_args(THREADS[-1]))):
+        text = ADD_DELETE.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3], name="adddel_" + name)
+        rc, out = t.run_lmp(text, wd, name="in.adddel_" + name, extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "delete_atoms and create_atoms with %s (%s) run (exit %d): %s"
+                % (HISTORY[1].split()[0], name, rc, t.errors(out)[:1]))
+        got.append(t.read_dumps(os.path.join(wd, "dump.adddel_" + name))[-1] if rc == 0 else None)
+    if None in got:
+        return
+    ids = sorted(got[0][1])
+    err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
+    print("%s/kk after deleting and adding atoms vs CPU: %.2g (%d atoms)" % (HISTORY[1].split()[0], err, len(ids)))
+    t.check(1500 < ids[-1] and len(ids) < 1540 and err <= 1e-10,
+            "atoms deleted and added under kk as on the CPU (%.3g, %d atoms)" % (err, len(ids)))
 
 
 FIXES = """
