@@ -397,18 +397,22 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
       int lo[3], hi[3];
       for (int k = 0; k < 3; k++)
         lo[k] = g.axis_cell(k, xi[k] - d), hi[k] = g.axis_cell(k, xi[k] + d);
-      for (int z = lo[2]; z <= hi[2]; z++)
-        for (int y = lo[1]; y <= hi[1]; y++)
+      // x_i - x_j from the positions in their cells and the cells' corners; each shift is set
+      // in the loop over its own axis, and a cell's first slot is its predecessor's end (the
+      // cells of a row along x are consecutive)
+      for (int z = lo[2]; z <= hi[2]; z++) {
+        const double sz = corner[2] - g.corner(2, z);
+        for (int y = lo[1]; y <= hi[1]; y++) {
+          const double sy = corner[1] - g.corner(1, y);
+          const int row = grids.offset[cj] + g.n[0] * (y + g.n[1] * z);
+          int u = start(row + lo[0]);
           for (int x = lo[0]; x <= hi[0]; x++) {
-            const int slot_cell = grids.offset[cj] + x + g.n[0] * (y + g.n[1] * z);
-            // x_i - x_j from the positions in their cells and the cells' corners
-            const double shift[3] = {corner[0] - g.corner(0, x), corner[1] - g.corner(1, y),
-                                     corner[2] - g.corner(2, z)};
-            for (int u = start(slot_cell); u < start(slot_cell + 1); u++) {
+            const double sx = corner[0] - g.corner(0, x);
+            for (const int end = start(row + x + 1); u < end; u++) {
               if (u == s) continue;
-              const double dx = (a.pi[0] - (double) pos(u, 0)) + shift[0];
-              const double dy = (a.pi[1] - (double) pos(u, 1)) + shift[1];
-              const double dz = (a.pi[2] - (double) pos(u, 2)) + shift[2];
+              const double dx = (a.pi[0] - (double) pos(u, 0)) + sx;
+              const double dy = (a.pi[1] - (double) pos(u, 1)) + sy;
+              const double dz = (a.pi[2] - (double) pos(u, 2)) + sz;
               const double rsq = dx * dx + dy * dy + dz * dz;
               const double rs = a.radi + reach_extra + (double) pos(u, 3);
               if (!(rsq < rs * rs)) continue;
@@ -421,6 +425,8 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
               if (++nb == batch) evaluate(a, t, del, nb), nb = 0;
             }
           }
+        }
+      }
     }
     evaluate(a, t, del, nb);
 
