@@ -185,10 +185,12 @@ template <class DeviceType> struct GriddemKKClassScan {
 
 /* The sorted particles' data the sweep reads, in the precision of fix griddem's `precision`:
    positions relative to their cell's lower corner (so single precision keeps ~1e-7 of a cell,
-   not of the box), radius, velocity, angular velocity, mass. */
+   not of the box), radius, velocity, angular velocity, mass. Rows (LayoutRight) on every device:
+   the sweep gathers a candidate's four values together (one 32-byte sector on a GPU, where the
+   default layout would spread them over four arrays). */
 template <class DeviceType, typename Real> struct GriddemKKChannels {
-  typedef Kokkos::View<Real *[4], DeviceType> t_pos;      // x y z in the cell, radius
-  typedef Kokkos::View<Real *[7], DeviceType> t_state;    // v, omega, mass
+  typedef Kokkos::View<Real *[4], Kokkos::LayoutRight, DeviceType> t_pos;      // x y z in the cell, radius
+  typedef Kokkos::View<Real *[7], Kokkos::LayoutRight, DeviceType> t_state;    // v, omega, mass
   t_pos pos;
   t_state state;
 };
@@ -229,9 +231,9 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
   int nv;                // values per contact
   int repair;            // 1: rewrite the rows of incomplete atoms only, adding no force
   Kokkos::View<const int *, DeviceType> start, order, cell, cls;    // cell, class: of each atom
-  Kokkos::View<const Real *[4], DeviceType> pos;                    // GriddemKKChannels, sorted
-  Kokkos::View<const Real *[7], DeviceType> state;
-  Kokkos::View<const int *[2], DeviceType> tm;    // type, mask, sorted
+  Kokkos::View<const Real *[4], Kokkos::LayoutRight, DeviceType> pos;    // GriddemKKChannels, sorted
+  Kokkos::View<const Real *[7], Kokkos::LayoutRight, DeviceType> state;
+  Kokkos::View<const int *[2], Kokkos::LayoutRight, DeviceType> tm;    // type, mask, sorted
   typename AT::t_tagint_1d_randomread tag;        // by atom index
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
@@ -410,11 +412,12 @@ template <class DeviceType, typename Real, bool Classic> struct GriddemKKSweep {
             const double sx = corner[0] - g.corner(0, x);
             for (const int end = start(row + x + 1); u < end; u++) {
               if (u == s) continue;
-              const double dx = (a.pi[0] - (double) pos(u, 0)) + sx;
-              const double dy = (a.pi[1] - (double) pos(u, 1)) + sy;
-              const double dz = (a.pi[2] - (double) pos(u, 2)) + sz;
+              const Real *pu = &pos(u, 0);    // x, y, z, radius: one row (LayoutRight)
+              const double dx = (a.pi[0] - (double) pu[0]) + sx;
+              const double dy = (a.pi[1] - (double) pu[1]) + sy;
+              const double dz = (a.pi[2] - (double) pu[2]) + sz;
               const double rsq = dx * dx + dy * dy + dz * dz;
-              const double rs = a.radi + reach_extra + (double) pos(u, 3);
+              const double rs = a.radi + reach_extra + (double) pu[3];
               if (!(rsq < rs * rs)) continue;
               if (rsq == 0.0) {
                 if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = order(u);
@@ -475,7 +478,7 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   GriddemKKChannels<DeviceType, float> channels_single;
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
   GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
-  Kokkos::View<int *[2], DeviceType> d_tm;
+  Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType> d_tm;
   Kokkos::View<long, DeviceType> d_top;    // the repair pass's next free history entry
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;

@@ -261,7 +261,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
     d_cls = Kokkos::View<int *, DeviceType>("griddem/kk:class", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
-    d_tm = Kokkos::View<int *[2], DeviceType>("griddem/kk:tm", nmax_atoms);
+    d_tm = Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType>("griddem/kk:tm", nmax_atoms);
   }
   if (nall > (int) chan.pos.extent(0)) {
     chan.pos = typename GriddemKKChannels<DeviceType, Real>::t_pos("griddem/kk:pos", nmax_atoms);
