@@ -52,26 +52,22 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::post_constructor(
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_host()
 {
-  k_partner[cur].sync_host();
-  k_value[cur].sync_host();
-  k_first[cur].sync_host();
-  k_count[cur].sync_host();
+  each_array(cur, [](auto &k) { k.sync_host(); });
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_host()
 {
-  k_partner[cur].modify_host();
-  k_value[cur].modify_host();
-  k_first[cur].modify_host();
-  k_count[cur].modify_host();
+  each_array(cur, [](auto &k) { k.modify_host(); });
 }
 
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_device()
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_here(int p)
 {
-  k_partner[cur].modify_device();
-  k_value[cur].modify_device();
-  k_first[cur].modify_device();
-  k_count[cur].modify_device();
+  each_array(p, [](auto &k) { k.template sync<DeviceType>(); });
+}
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_here(int p)
+{
+  each_array(p, [](auto &k) { k.template modify<DeviceType>(); });
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::update_maxexchange()
@@ -119,10 +115,7 @@ template <class DeviceType>
 typename FixGriddemKokkos<DeviceType>::Rows FixGriddemKokkos<DeviceType>::rows_on_device()
 {
   const int out = 1 - cur;
-  k_partner[cur].template sync<DeviceType>();
-  k_value[cur].template sync<DeviceType>();
-  k_first[cur].template sync<DeviceType>();
-  k_count[cur].template sync<DeviceType>();
+  sync_here(cur);
   Rows rows;
   rows.partner = k_partner[cur].template view<DeviceType>();
   rows.value = k_value[cur].template view<DeviceType>();
@@ -154,14 +147,8 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::layout(int nlocal
       total);
   reserve_pool(out, total, 0);
   // written on DeviceType from here on, whatever either side held before
-  for (auto *k : {&k_first[out], &k_count[out]}) {
-    k->clear_sync_state();
-    k->template modify<DeviceType>();
-  }
-  k_partner[out].clear_sync_state();
-  k_partner[out].template modify<DeviceType>();
-  k_value[out].clear_sync_state();
-  k_value[out].template modify<DeviceType>();
+  each_array(out, [](auto &k) { k.clear_sync_state(); });
+  modify_here(out);
   laid_out = total;
 }
 
@@ -334,10 +321,7 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
                                                        DAT::tdual_int_1d k_copylist,
                                                        ExecutionSpace /*space*/)
 {
-  k_partner[cur].template sync<DeviceType>();
-  k_value[cur].template sync<DeviceType>();
-  k_first[cur].template sync<DeviceType>();
-  k_count[cur].template sync<DeviceType>();
+  sync_here(cur);
   k_buf.template sync<DeviceType>();
   k_sendlist.template sync<DeviceType>();
   k_copylist.template sync<DeviceType>();
@@ -417,13 +401,9 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
         if (n > longest_row) longest_row = n;
       },
       entries, Kokkos::Max<int>(most));
-  k_partner[cur].template sync<DeviceType>();
-  k_value[cur].template sync<DeviceType>();
-  k_first[cur].template sync<DeviceType>();
-  k_count[cur].template sync<DeviceType>();
+  sync_here(cur);
   reserve_pool(cur, used + entries, used);
-  k_partner[cur].template sync<DeviceType>();    // the side a resize did not keep
-  k_value[cur].template sync<DeviceType>();
+  sync_here(cur);    // the side a resize did not keep
   auto partner = k_partner[cur].template view<DeviceType>();
   auto value = k_value[cur].template view<DeviceType>();
   auto first = k_first[cur].template view<DeviceType>();
@@ -451,10 +431,7 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
   used += entries;
   longest = MAX(longest, most);
   update_maxexchange();
-  k_partner[cur].template modify<DeviceType>();
-  k_value[cur].template modify<DeviceType>();
-  k_first[cur].template modify<DeviceType>();
-  k_count[cur].template modify<DeviceType>();
+  modify_here(cur);
 }
 
 namespace LAMMPS_NS {

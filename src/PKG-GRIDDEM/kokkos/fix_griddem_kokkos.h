@@ -103,7 +103,16 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
   void sync_host();
   void modify_host();
-  void modify_device();
+  // make pool p's arrays current on DeviceType / mark them written there
+  void sync_here(int p);
+  void modify_here(int p);
+  template <class F> void each_array(int p, F f)
+  {
+    f(k_partner[p]);
+    f(k_value[p]);
+    f(k_first[p]);
+    f(k_count[p]);
+  }
   // room for `entries` in pool p, its first `keep` entries kept
   void reserve_pool(int p, long entries, long keep);
   // append a row message (count, then partner and values per entry) as atom i's row
