@@ -5,9 +5,10 @@ torques at step 0, positions and velocities after 20 steps, and the virial (ther
 pair part of compute pressure) agree to 1e-10 relative on a dense random polydisperse (1:3)
 configuration of two atom types with random linear and angular velocities, run with
 `-k on t N -sf kk -pk kokkos newton off neigh half` on 1 and 2 Kokkos (OpenMP) threads and on
-1 and 2 MPI ranks. History rows that start too short (fix griddem contacts 1) grow without
-changing a number; a restart written by a kk run continues bit for bit under kk and the CPU
-style, and a CPU restart under kk.
+1 and 2 MPI ranks. History rows get room for one contact more than an atom had, so the first
+step of these dense runs re-evaluates the atoms with more (the repair pass) without changing a
+number, also with fix griddem contacts 1 (the CPU fix's rows then grow); a restart written by a
+kk run continues bit for bit under kk and the CPU style, and a CPU restart under kk.
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
@@ -237,7 +238,8 @@ def main():
     t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
             stats["cpu"][1][0] > 0, "kk diagnostics equal the CPU engine's: %s vs %s" % (stats["kk"], stats["cpu"]))
 
-    # history rows that start with room for one contact grow, the numbers unchanged
+    # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
+    # out from each atom's contacts whatever N is. The numbers are unchanged either way
     few = "fix rows all griddem contacts 1"
     for law in (HISTORY, LAWS[-1]):
         compare("%s/kk [%s] with contacts 1 vs CPU" % (law[1].split()[0], law[0]),
