@@ -147,38 +147,43 @@ struct GriddemKKClassBoxes {
   double lo[GRIDDEM_MAX_CLASSES][3], hi[GRIDDEM_MAX_CLASSES][3];
 };
 
+/* The boxes as an array reduction of 7 values a class present (count, lo[3], hi[3]): Kokkos keeps
+   such a value in memory, where a struct for GRIDDEM_MAX_CLASSES classes filled the registers of
+   a GPU thread and spilled (255 registers, 368 bytes of spill stores on sm_90). */
 template <class DeviceType> struct GriddemKKClassScan {
   typedef DeviceType device_type;
-  typedef GriddemKKClassBoxes value_type;
+  typedef double value_type[];
   typedef ArrayTypes<DeviceType> AT;
+  static constexpr int per_class = 7;
+  size_t value_count;    // per_class * grids.ncls
   typename AT::t_x_array_randomread x;
   typename AT::t_float_1d_randomread radius;
   GriddemKKGrids grids;
 
-  KOKKOS_INLINE_FUNCTION void init(value_type &s) const
+  KOKKOS_INLINE_FUNCTION void init(value_type s) const
   {
-    for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) {
-      s.count[c] = 0;
-      for (int d = 0; d < 3; d++) s.lo[c][d] = 1e308, s.hi[c][d] = -1e308;
+    for (size_t c = 0; c < value_count; c += per_class) {
+      s[c] = 0.0;
+      for (int d = 0; d < 3; d++) s[c + 1 + d] = 1e308, s[c + 4 + d] = -1e308;
     }
   }
-  KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
+  KOKKOS_INLINE_FUNCTION void join(value_type s, const value_type o) const
   {
-    for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) {
-      s.count[c] += o.count[c];
+    for (size_t c = 0; c < value_count; c += per_class) {
+      s[c] += o[c];
       for (int d = 0; d < 3; d++) {
-        if (o.lo[c][d] < s.lo[c][d]) s.lo[c][d] = o.lo[c][d];
-        if (o.hi[c][d] > s.hi[c][d]) s.hi[c][d] = o.hi[c][d];
+        if (o[c + 1 + d] < s[c + 1 + d]) s[c + 1 + d] = o[c + 1 + d];
+        if (o[c + 4 + d] > s[c + 4 + d]) s[c + 4 + d] = o[c + 4 + d];
       }
     }
   }
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &s) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type s) const
   {
-    const int c = grids.class_of(radius(i));
-    s.count[c]++;
+    double *box = s + per_class * grids.class_of(radius(i));
+    box[0] += 1.0;
     for (int d = 0; d < 3; d++) {
-      if (x(i, d) < s.lo[c][d]) s.lo[c][d] = x(i, d);
-      if (x(i, d) > s.hi[c][d]) s.hi[c][d] = x(i, d);
+      if (x(i, d) < box[1 + d]) box[1 + d] = x(i, d);
+      if (x(i, d) > box[4 + d]) box[4 + d] = x(i, d);
     }
   }
 };

@@ -172,11 +172,18 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     for (int d = 0; d < 3; d++) boxes.lo[0][d] = sc.lo[d], boxes.hi[0][d] = sc.hi[d];
   } else {
     GriddemKKClassScan<DeviceType> class_scan;
+    class_scan.value_count = GriddemKKClassScan<DeviceType>::per_class * grids.ncls;
     class_scan.x = x;
     class_scan.radius = radius;
     class_scan.grids = grids;
+    double found[GriddemKKClassScan<DeviceType>::per_class * GRIDDEM_MAX_CLASSES];
     Kokkos::parallel_reduce("griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall),
-                            class_scan, boxes);
+                            class_scan, found);
+    for (int c = 0; c < grids.ncls; c++) {
+      const double *box = found + GriddemKKClassScan<DeviceType>::per_class * c;
+      boxes.count[c] = (int) box[0];
+      for (int d = 0; d < 3; d++) boxes.lo[c][d] = box[1 + d], boxes.hi[c][d] = box[4 + d];
+    }
   }
   double extent = 0.0;
   long total = 0;
