@@ -463,6 +463,7 @@ template <class DeviceType, class Base> class PairGriddemKokkos : public Base {
   ~PairGriddemKokkos() override;
   void init_style() override;
   void compute(int, int) override;
+  double memory_usage() override;
   // public only because CUDA's extended lambdas may not live in a protected member function
   template <typename Real>
   void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);

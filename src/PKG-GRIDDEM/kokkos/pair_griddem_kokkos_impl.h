@@ -68,6 +68,21 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
     ((NeighborKokkos *) this->neighbor)->device_flag = 1;
 }
 
+/* the grid's arrays on the device (LAMMPS's memory summary); the history is fix griddem/kk's */
+
+template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Base>::memory_usage()
+{
+  double bytes = Base::memory_usage();
+  auto add = [&bytes](const auto &view) {
+    bytes += (double) view.span() * sizeof(typename std::decay_t<decltype(view)>::value_type);
+  };
+  add(d_cell), add(d_cls), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
+  add(channels_double.pos), add(channels_double.state);
+  add(channels_single.pos), add(channels_single.state);
+  add(d_params), add(d_excl_type), add(d_excl_group);
+  return bytes;
+}
+
 /* the law table and the exclusions, copied to the device after each init */
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_tables()
