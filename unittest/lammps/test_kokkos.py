@@ -80,6 +80,19 @@ def compare(label, ref, test):
     parity_compare(label, ref, test)
 
 
+def run_cpu_and_kk(wd, label, text_for, kk_ranks=1):
+    """The script text_for(name) run with the CPU styles on one rank as label_cpu, then with -sf kk
+    on THREADS[-1] threads and kk_ranks ranks as label_kk, each checked to finish:
+    [(name, output)] in that order."""
+    runs = []
+    for name, nprocs, extra in ((label + "_cpu", 1, ()), (label + "_kk", kk_ranks, kk_args(THREADS[-1]))):
+        rc, out = t.run_lmp(text_for(name), wd, nprocs=nprocs, name="in." + name, extra=extra,
+                            threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        runs.append((name, out))
+    return runs
+
+
 # (label, CPU griddem style and stock style with their coefficients); the 1-2 pair is mixed
 LAWS = [
     ("hooke", "griddem/hooke 1e4 NULL 50 NULL 0.5 1", "gran/hooke 1e4 NULL 50 NULL 0.5 1", "pair_coeff * *"),
@@ -228,12 +241,11 @@ def main():
     # fix griddem's diagnostics from the kk sweep, as the CPU engine reports them: cell edge,
     # contacts, most contacts of one atom, elastic energy (the same grid: cell multi)
     stats = {}
-    for name, extra in (("cpu", ()), ("kk", kk_args(THREADS[-1]))):
-        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
-                            "fix grid all griddem cell multi\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
-                            "thermo_modify format float %.17g\nrun 0\n", wd, name="in.stats", extra=extra,
-                            threads=THREADS[-1] if extra else None)
-        stats[name] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
+    stats_in = (t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
+                "fix grid all griddem cell multi\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
+                "thermo_modify format float %.17g\nrun 0\n")
+    for name, out in run_cpu_and_kk(wd, "stats", lambda name: stats_in):
+        stats[name.split("_")[1]] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
     print("fix griddem diagnostics (edge, contacts, most, energy): CPU %s, kk %s" % (stats["cpu"], stats["kk"]))
     t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
             stats["cpu"][1][0] > 0, "kk diagnostics equal the CPU engine's: %s vs %s" % (stats["kk"], stats["cpu"]))
@@ -266,13 +278,9 @@ def main():
               "dump snap all custom 1 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz\n"
               "dump_modify snap format float %.17g sort id\nrun 0\n")
     for law in (HISTORY, LAWS[-1]):
-        got = []
-        for name, nprocs, extra in (("mv_cpu", 1, ()), ("mv_kk", RANKS[-1], kk_args(THREADS[-1]))):
-            rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
-                                moving.format(name=name), wd, nprocs=nprocs, name="in." + name, extra=extra,
-                                threads=THREADS[-1] if extra else None)
-            t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
-            got.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
+        runs = run_cpu_and_kk(wd, "mv", lambda name: t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                              moving.format(name=name), kk_ranks=RANKS[-1])
+        got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
         err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
         print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
         t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
@@ -296,15 +304,10 @@ def check_pair_local_kk(wd, data):
     integration, so the two sides differ, in stock as here)."""
     from test_pair_local import TEMPLATE as LOCAL, read_local
     law = HISTORY
-    got = []
-    for name, extra in (("cpu", ()), ("kk", kk_args(THREADS[-1]))):
-        text = LOCAL.format(data=data, pair=law[1], coeffs=law[3] + "\nfix grid all griddem contacts 64",
-                            extras=" ".join("p%d" % k for k in range(1, 11)), name="local_" + name)
-        rc, out = t.run_lmp("newton off\n" + text, wd, name="in.local_" + name, extra=extra,
-                            threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "pair/local with %s (%s) runs (exit %d): %s" % (law[1].split()[0], name, rc, t.errors(out)[:1]))
-        got.append(read_local(os.path.join(wd, "dump.local_" + name)) if rc == 0 else {})
-    cpu, kk = got
+    runs = run_cpu_and_kk(wd, "local", lambda name: "newton off\n" + LOCAL.format(
+        data=data, pair=law[1], coeffs=law[3] + "\nfix grid all griddem contacts 64",
+        extras=" ".join("p%d" % k for k in range(1, 11)), name=name))
+    cpu, kk = [read_local(os.path.join(wd, "dump." + name)) for name, _ in runs]
     touching = sorted(k for k, v in cpu.items() if v[1] != 0.0)
     t.check(len(touching) > 500 and touching == sorted(k for k, v in kk.items() if v[1] != 0.0),
             "pair/local under kk: the same %d pairs in contact as the CPU style" % len(touching))
@@ -340,15 +343,9 @@ def check_atoms_added_and_deleted_kk(wd, data):
     """Atoms deleted between runs (their rows move with the atoms that take their places) and new
     atoms (empty rows, fix griddem's set_arrays) under griddem/hooke/history/kk: the state after
     the second run equals the CPU style's."""
-    got = []
-    for name, extra in (("cpu", ()), ("kk", kk_args(THREADS[-1]))):
-        text = ADD_DELETE.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3], name="adddel_" + name)
-        rc, out = t.run_lmp(text, wd, name="in.adddel_" + name, extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "delete_atoms and create_atoms with %s (%s) run (exit %d): %s"
-                % (HISTORY[1].split()[0], name, rc, t.errors(out)[:1]))
-        got.append(t.read_dumps(os.path.join(wd, "dump.adddel_" + name))[-1] if rc == 0 else None)
-    if None in got:
-        return
+    runs = run_cpu_and_kk(wd, "adddel", lambda name: ADD_DELETE.format(data=data, pair=HISTORY[1],
+                                                                     coeffs=HISTORY[3], name=name))
+    got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
     ids = sorted(got[0][1])
     err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
     print("%s/kk after deleting and adding atoms vs CPU: %.2g (%d atoms)" % (HISTORY[1].split()[0], err, len(ids)))
@@ -389,15 +386,10 @@ def check_stock_kk_fixes(wd):
     scene (0.07 after 50 steps), so the CPU griddem style is."""
     data = os.path.join(wd, "data.tri")
     t.write_random_spheres(data, 800, (4.5, 4.5, 4.5), 0.1, 0.3, seed=13, triclinic=(0.0, 0.0, 0.0))
-    snaps = []
-    for name, nprocs, extra in (("fx_cpu", 1, ()), ("fx_kk", RANKS[-1], kk_args(THREADS[-1]))):
-        rc, out = t.run_lmp(FIXES.format(data=data, name=name), wd, nprocs=nprocs, name="in." + name,
-                            extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
-        snaps.append(t.read_dumps(os.path.join(wd, "dump." + name))[-1])
-        if extra:
-            for fix in ("gravity/kk", "wall/gran/kk", "deform/kk", "freeze/kk", "nve/sphere/kk"):
-                t.check(fix in out, "the kk run uses fix %s" % fix)
+    runs = run_cpu_and_kk(wd, "fx", lambda name: FIXES.format(data=data, name=name), kk_ranks=RANKS[-1])
+    snaps = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
+    for fix in ("gravity/kk", "wall/gran/kk", "deform/kk", "freeze/kk", "nve/sphere/kk"):
+        t.check(fix in runs[1][1], "the kk run uses fix %s" % fix)
     err = t.max_rel_diff(snaps[1], snaps[0], STATE + FORCES)
     print("griddem/hooke/history/kk beside the stock kk fixes, 300 steps, vs CPU: %.2g" % err)
     t.check(err <= 1e-8, "griddem/hooke/history/kk beside the stock kk fixes vs CPU (%.3g)" % err)
@@ -426,13 +418,10 @@ def check_rom_kk(wd):
     t.write_random_spheres(data, 729, (4.05, 4.05, 4.05), 0.15, 0.25, seed=31, lattice=0.45)
     model = os.path.join(wd, "zero.model")
     t.write_rom_model(model, (3, 3, 3), (0.0, 4.05, 0.0, 4.05, 0.0, 4.05))
-    runs = []
-    for name, extra in (("rom_cpu", ()), ("rom_kk", kk_args(THREADS[-1]))):
-        text = ROM.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3], model=model, name=name)
-        rc, out = t.run_lmp(text, wd, name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
-        runs.append((t.read_dumps(os.path.join(wd, "dump." + name))[-1], out))
-    (cpu, cpu_out), (kk, kk_out) = runs
+    runs = run_cpu_and_kk(wd, "rom", lambda name: ROM.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3],
+                                                           model=model, name=name))
+    (cpu_name, cpu_out), (kk_name, kk_out) = runs
+    cpu, kk = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name in (cpu_name, kk_name)]
     kinematic = [t.thermo_values(o, "f_rom[1]") for o in (cpu_out, kk_out)]
     t.check(kinematic[0] == kinematic[1] and min(kinematic[1][1:]) > 50,
             "rom kk vs CPU: kinematic counts %s vs %s" % (kinematic[1], kinematic[0]))
