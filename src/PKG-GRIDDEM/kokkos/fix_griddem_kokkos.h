@@ -9,9 +9,10 @@
    atom's new row into the other, from that atom's own thread (no atomics), at places laid out
    before the sweep from each atom's last count plus a margin of one; an atom that gained more
    contacts than that records its count, and a repair pass evaluates only such atoms again, adding
-   no force, into rows appended after the laid-out ones. Rows travel with their atoms on the device (sort_kokkos moves
-   the row heads; pack/unpack_exchange_kokkos) and on the host (copy_arrays, exchange, restart)
-   through DualViews; a received row is appended to the pool, and the next sweep compacts it.
+   no force, into rows appended after the laid-out ones. Rows travel with their atoms on the
+   device (sort_kokkos moves the row heads; pack/unpack_exchange_kokkos) and on the host
+   (copy_arrays, exchange, restart) through DualViews; a received row is appended to the pool,
+   and the next sweep compacts it.
 
    The style is renamed "griddem" once made, so that restart files written on a CPU or a GPU
    are read by either, and the pair styles find it as fix griddem.
@@ -95,11 +96,11 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   tdual_values k_value[2];        // values of entry e: [e * nv, (e + 1) * nv)
   tdual_index k_first[2];         // [nmax] first entry of each atom's row
   tdual_index k_count[2];         // [nmax] entries in it
-  int cur;           // the pool and row heads of the current rows
-  long used;         // entries of pool cur in use (rows, and holes left by atoms that left)
-  long laid_out;     // entries of the other pool that layout placed
-  int nv;          // history values per contact
-  int longest;     // most entries of one row
+  int cur;          // the pool and row heads of the current rows
+  long used;        // entries of pool cur in use (rows, and holes left by atoms that left)
+  long laid_out;    // entries of the other pool that layout placed
+  int nv;           // history values per contact
+  int longest;      // most entries of one row
   mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
   void sync_host();
   void modify_host();

@@ -358,7 +358,6 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         state(slot, 6) = rmass(i);
         tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
       });
-
 }
 
 /* the sweep, the history rows of atoms whose new contacts did not fit, and fix griddem's
