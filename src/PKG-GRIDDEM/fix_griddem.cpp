@@ -9,7 +9,9 @@
 
 #include "atom.h"
 #include "error.h"
+#include "force.h"
 #include "memory.h"
+#include "pair.h"
 
 #include <cstring>
 #include <mpi.h>
@@ -200,6 +202,11 @@ double FixGriddem::memory_usage()
 
 double FixGriddem::compute_vector(int n)
 {
+  if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0) {
+    auto source = dynamic_cast<GriddemOccupancySource *>(force->pair);
+    if (!source) error->all(FLERR, "Fix {}: no griddem pair style has counted its cells", id);
+    source->count_occupancy(engine.stats);
+  }
   const griddem_engine_stats &s = engine.stats;
   double value = 0.0, mine = 0.0;
   MPI_Op op = MPI_MAX;

@@ -19,6 +19,16 @@ namespace LAMMPS_NS {
 
 enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
 
+/* A pair style whose grid counts its occupied cells only when they are asked for (the Kokkos
+   styles: a pass over every cell that most steps do not need); it reports them as -1. */
+class GriddemOccupancySource {
+ public:
+  virtual void count_occupancy(griddem_engine_stats &stats) = 0;
+
+ protected:
+  ~GriddemOccupancySource() = default;    // not deleted through this interface
+};
+
 class FixGriddem : public Fix {
  public:
   FixGriddem(class LAMMPS *, int, char **);
@@ -43,7 +53,8 @@ class FixGriddem : public Fix {
   // one engine step; the step's row_of is this fix's
   int run_step(griddem_step &step, griddem_sweep_result &result, int &coarsened);
   const griddem_engine_stats &stats() const { return engine.stats; }
-  // a step that ran outside the engine (the Kokkos styles) reports its statistics here
+  // a step that ran outside the engine (the Kokkos styles) reports its statistics here, the
+  // occupancy as -1 where force->pair is a GriddemOccupancySource that counts it when asked
   void set_stats(const griddem_engine_stats &s) { engine.stats = s; }
   // stored history values of atom i's contact with the atom tagged partner, or nullptr
   virtual const double *find_history(int i, double partner) const;

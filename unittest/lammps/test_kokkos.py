@@ -250,6 +250,21 @@ def main():
     t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
             stats["cpu"][1][0] > 0, "kk diagnostics equal the CPU engine's: %s vs %s" % (stats["kk"], stats["cpu"]))
 
+    # the occupancy (fix griddem values 1 and 2), which the kk styles count only when asked: 64
+    # spheres of diameter 1 in a closed box, each centred in its own cell of the `multi` grid
+    # (edge 1 + 1e-9 from boxlo) and two cells apart, and a 65th in the first one's cell
+    lattice = [((2 * a + 0.5), (2 * b + 0.5), (2 * c + 0.5)) for a in range(4) for b in range(4) for c in range(4)]
+    lattice.append((0.8, 0.5, 0.5))
+    occupancy_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+                    "region box block 0 8 0 8 0 8\ncreate_box 1 box\n" +
+                    "".join("create_atoms 1 single %g %g %g\n" % p for p in lattice) +
+                    "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+                    "fix grid all griddem cell multi\nthermo_style custom step f_grid[1] f_grid[2]\nrun 0\n"
+                    % (HISTORY[1], HISTORY[3]))
+    for name, out in run_cpu_and_kk(wd, "occupancy", lambda name: occupancy_in):
+        found = (t.thermo_values(out, "f_grid[1]"), t.thermo_values(out, "f_grid[2]"))
+        t.check(found == ([64.0], [2.0]), "%s: 64 occupied cells, at most 2 centres in one: %s" % (name, found))
+
     # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
     # out from each atom's contacts whatever N is. The numbers are unchanged either way
     few = "fix rows all griddem contacts 1"

@@ -128,36 +128,16 @@ typename FixGriddemKokkos<DeviceType>::Rows FixGriddemKokkos<DeviceType>::rows_o
   return rows;
 }
 
-/* the places of the rows the sweep writes: each owned atom's row of the last step plus the
-   margin */
+/* room in the other pool for the rows the sweep writes (its entries match the contact lists') */
 
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::layout(int nlocal)
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_out(long entries)
 {
   const int out = 1 - cur;
-  k_count[cur].template sync<DeviceType>();
-  auto sizes = k_count[cur].template view<DeviceType>();
-  auto first = k_first[out].template view<DeviceType>();
-  long total = 0;
-  Kokkos::parallel_scan(
-      "griddem/kk:layout", Kokkos::RangePolicy<DeviceType>(0, nlocal),
-      KOKKOS_LAMBDA(const int i, long &offset, const bool final) {
-        if (final) first(i) = (int) offset;
-        offset += sizes(i) + margin;
-      },
-      total);
-  reserve_pool(out, total, 0);
+  reserve_pool(out, entries, 0);
   // written on DeviceType from here on, whatever either side held before
   each_array(out, [](auto &k) { k.clear_sync_state(); });
   modify_here(out);
-  laid_out = total;
-}
-
-template <class DeviceType> long FixGriddemKokkos<DeviceType>::reserve_repair(long entries)
-{
-  const long first = laid_out;
-  reserve_pool(1 - cur, laid_out + entries, laid_out);    // the sweep's side is kept
-  laid_out += entries;
-  return first;
+  laid_out = entries;
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::commit(int longest_row)

@@ -6,13 +6,11 @@
    follows the contacts present, not the most contacts of one atom times the atoms (a chute has
    ~0.5 contacts per atom and up to ~10 for one; a large sphere among small ones, hundreds).
    There are two pools: the pair's sweep reads the rows of the last step from one and writes each
-   atom's new row into the other, from that atom's own thread (no atomics), at places laid out
-   before the sweep from each atom's last count plus a margin of one; an atom that gained more
-   contacts than that records its count, and a repair pass evaluates only such atoms again, adding
-   no force, into rows appended after the laid-out ones. Rows travel with their atoms on the
-   device (sort_kokkos moves the row heads; pack/unpack_exchange_kokkos) and on the host
-   (copy_arrays, exchange, restart) through DualViews; a received row is appended to the pool,
-   and the next sweep compacts it.
+   atom's new row into the other, from that atom's own thread (no atomics), where the atom's
+   contact list of the step lies (pair_griddem_kokkos.h: the lists are laid out from each atom's
+   last row length). Rows travel with their atoms on the device (sort_kokkos moves the row
+   heads; pack/unpack_exchange_kokkos) and on the host (copy_arrays, exchange, restart) through
+   DualViews; a received row is appended to the pool, and the next sweep compacts it.
 
    The style is renamed "griddem" once made, so that restart files written on a CPU or a GPU
    are read by either, and the pair styles find it as fix griddem.
@@ -73,21 +71,16 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void set_values(int values) override;
   const double *find_history(int i, double partner) const override;
 
-  // For the pair's sweep, on its device. The rows of the last step (read), and the rows the
-  // sweep writes: `layout` places atom i's new row (first_out(i)) with room for count(i) + margin
-  // entries; `reserve_repair` makes room for `entries` more after them and returns the first;
-  // `commit` makes the written rows current.
+  // For the pair's sweep, on its device: the rows of the last step (read), and the rows the
+  // sweep writes, each atom's where its contact list lies (first_out, count_out), in room for
+  // `entries` that `reserve_out` makes; `commit` makes the written rows current.
   struct Rows {
     t_partners partner, partner_out;
     t_values value, value_out;
     t_index first, count, first_out, count_out;
   };
-  // new contacts an atom may gain in a step without a repair: in LAMMPS's chute (32,000 atoms)
-  // more than one came to some atom in 967 of 1,000 steps, more than two in 13
-  static constexpr int margin = 1;
   Rows rows_on_device();
-  void layout(int nlocal);
-  long reserve_repair(long entries);
+  void reserve_out(long entries);
   void commit(int longest_row);
   int values_per_contact() const { return nv; }
 
@@ -98,7 +91,7 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   tdual_index k_count[2];         // [nmax] entries in it
   int cur;          // the pool and row heads of the current rows
   long used;        // entries of pool cur in use (rows, and holes left by atoms that left)
-  long laid_out;    // entries of the other pool that layout placed
+  long laid_out;    // entries of the other pool reserve_out made room for
   int nv;           // history values per contact
   int longest;      // most entries of one row
   mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy

@@ -27,7 +27,7 @@ namespace LAMMPS_NS {
 
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
-    Base(lmp), nmax_atoms(0), nmax_cells(0), params_stale(1), coarsened_warned_kk(0),
+    Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), params_stale(1), coarsened_warned_kk(0),
     history(nullptr)
 {
   this->kokkosable = 1;
@@ -77,6 +77,7 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
     bytes += (double) view.span() * sizeof(typename std::decay_t<decltype(view)>::value_type);
   };
   add(d_cell), add(d_cls), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
+  add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
   add(channels_double.pos), add(channels_double.state);
   add(channels_single.pos), add(channels_single.state);
   add(d_params), add(d_excl_type), add(d_excl_group);
@@ -283,6 +284,10 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
     d_cls = Kokkos::View<int *, DeviceType>("griddem/kk:class", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
+    d_slot_cell = Kokkos::View<int *, DeviceType>("griddem/kk:slot_cell", nmax_atoms);
+    d_list_first = Kokkos::View<int *, DeviceType>("griddem/kk:list_first", nmax_atoms + 1);
+    d_list_count = Kokkos::View<int *, DeviceType>("griddem/kk:list_count", nmax_atoms);
+    Kokkos::resize(d_last, nmax_atoms);    // kept: the next layout's guide
     d_tm = Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType>("griddem/kk:tm", nmax_atoms);
   }
   if (nall > (int) chan.pos.extent(0)) {
@@ -304,12 +309,11 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto start = d_start;
   auto unsorted = d_unsorted;
   auto order = d_order;
+  auto slot_cell = d_slot_cell;
   auto pos = chan.pos;
   auto state = chan.state;
   auto tm = d_tm;
-  Kokkos::parallel_for(
-      "griddem/kk:clear", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
-      KOKKOS_LAMBDA(const int c) { count(c) = 0; });
+  // count is zero here: zero-filled when made, and each binning zeroes what it counted
   Kokkos::parallel_for(
       "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const int k = grids.class_of(radius(i));
@@ -349,7 +353,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
               (tj == ti && (xj < xi || (xj == xi && (yj < yi || (yj == yi && zj < zi)))));
         }
         const int slot = start(c) + rank;
+        count(c) = 0;    // the fill cursor's work is done: zero again for the next binning
         order(slot) = i;
+        slot_cell(slot) = c;
         const double p[3] = {xi, yi, zi};
         for (int d = 0; d < 3; d++)
           pos(slot, d) = (Real) (p[d] - grids.g[cls(i)].cell_origin(d, p[d]));
@@ -360,8 +366,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
       });
 }
 
-/* the sweep, the history rows of atoms whose new contacts did not fit, and fix griddem's
-   statistics */
+/* the contact lists, the law over them, and fix griddem's statistics */
 
 template <class DeviceType, class Base>
 template <typename Real, bool Classic>
@@ -371,17 +376,84 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   AtomKokkos *atomKK = this->atomKK;
   const int nlocal = this->atom->nlocal;
   const int nall = nlocal + this->atom->nghost;
-  const int ncell = grids.offset[grids.ncls];
   auto &chan = channels(Real());
-  auto start = d_start;
-
-  // 4. sweep
   const int track = this->model.track_contacts;
+
+  // 4. lists laid out slot by slot: each owned atom's last list length (or its history row's,
+  // which moved with it) plus the margin
+  auto first = d_list_first;
+  auto order = d_order;
+  auto last = d_last;
+  auto row_count = track ? history->rows_on_device().count : Kokkos::View<int *, DeviceType>();
+  long laid_out = 0;
+  Kokkos::parallel_scan(
+      "griddem/kk:list_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
+      KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
+        if (final) first(s) = (int) offset;
+        if (s == nall) return;
+        const int i = order(s);
+        if (i < nlocal)
+          offset += list_margin + (track ? Kokkos::max(last(i), row_count(i)) : last(i));
+      },
+      laid_out);
+  auto reserve_list = [&](long entries, bool keep) {
+    if (entries > INT_MAX)
+      this->error->one(FLERR, "Pair style {}: {} contact candidates on one process, more than an "
+                       "int counts", this->force->pair_style, entries);
+    if (entries <= (long) d_list.extent(0)) return;
+    const long room = MAX(entries, (long) (1.25 * d_list.extent(0)));
+    if (keep)
+      Kokkos::resize(d_list, room);
+    else
+      d_list = Kokkos::View<int *, DeviceType>("griddem/kk:list", room);
+  };
+  reserve_list(laid_out, false);
+
+  // 5. the search, and again for the atoms whose room was short
+  GriddemKKFind<DeviceType, Real> find;
+  GriddemKKSorted<DeviceType, Real> &sorted = find;
+  sorted.grids = grids;
+  sorted.nlocal = nlocal;
+  sorted.order = d_order;
+  sorted.slot_cell = d_slot_cell;
+  sorted.pos = chan.pos;
+  sorted.tm = d_tm;
+  sorted.list = d_list;
+  sorted.first = d_list_first;
+  sorted.count = d_list_count;
+  find.slack = slack;
+  find.reach_extra = this->model.reach_extra;
+  find.ntypes = this->atom->ntypes;
+  find.repair = 0;
+  find.start = d_start;
+  find.excl_type = d_excl_type;
+  find.excl_group = d_excl_group;
+  find.excl_both = this->exclusions.both_bit;
+  GriddemKKFindValue found;
+  Kokkos::parallel_reduce("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
+                          found);
+  if (found.fault_i != INT_MAX) report_coincident(found.fault_i, found.fault_j);
+  long listed = laid_out;
+  if (found.incomplete) {
+    reserve_list(laid_out + found.needed, true);
+    if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
+    Kokkos::deep_copy(d_top, laid_out);
+    find.list = sorted.list = d_list;
+    find.top = d_top;
+    find.repair = 1;
+    GriddemKKFindValue repaired;
+    Kokkos::parallel_reduce("griddem/kk:find_repair", Kokkos::RangePolicy<DeviceType>(0, nall),
+                            find, repaired);
+    if (repaired.incomplete)
+      this->error->one(FLERR, "Pair style {}: contact lists laid out too short",
+                       this->force->pair_style);
+    listed += found.needed;
+  }
+
+  // 6. the law over the lists; new history rows where the lists lie
   GriddemKKSweep<DeviceType, Real, Classic> sweep;
-  sweep.grids = grids;
-  sweep.slack = slack;
+  static_cast<GriddemKKSorted<DeviceType, Real> &>(sweep) = sorted;
   sweep.reach_extra = this->model.reach_extra;
-  sweep.nlocal = nlocal;
   sweep.ntypes = this->atom->ntypes;
   sweep.frozen_bit = this->freeze_group_bit;
   sweep.vflag_global = this->vflag_global;
@@ -389,49 +461,23 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.dt = this->update->dt;
   sweep.history_update = this->update->setupflag ? 0 : 1;
   sweep.track = track;
-  sweep.repair = 0;
-  sweep.start = d_start;
-  sweep.order = d_order;
-  sweep.cell = d_cell;
-  sweep.cls = d_cls;
-  sweep.pos = chan.pos;
+  sweep.nv = track ? history->values_per_contact() : 0;
   sweep.state = chan.state;
-  sweep.tm = d_tm;
   sweep.tag = atomKK->k_tag.template view<DeviceType>();
   sweep.params = d_params;
-  sweep.excl_type = d_excl_type;
-  sweep.excl_group = d_excl_group;
-  sweep.excl_both = this->exclusions.both_bit;
+  sweep.last = d_last;
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
-  sweep.nv = track ? history->values_per_contact() : 0;
   if (track) {
-    history->layout(nlocal);
+    history->reserve_out(listed);
     sweep.rows = history->rows_on_device();
   }
   GriddemKKSweepValue sums;
   Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
                           sums);
-  if (track) {
-    if (sums.incomplete) {    // the atoms' rows again, appended with the room they need
-      const long first = history->reserve_repair(sums.overflow);
-      sweep.rows = history->rows_on_device();
-      if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
-      Kokkos::deep_copy(d_top, first);
-      sweep.top = d_top;
-      sweep.repair = 1;
-      GriddemKKSweepValue repaired;
-      Kokkos::parallel_reduce("griddem/kk:repair", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
-                              repaired);
-      if (repaired.incomplete)
-        this->error->one(FLERR, "Pair style {}: contact history rows laid out too short",
-                         this->force->pair_style);
-    }
-    history->commit(sums.most);
-  }
+  if (track) history->commit(sums.most);
 
-  if (sums.fault_i != INT_MAX) report_coincident(sums.fault_i, sums.fault_j);
   if (this->vflag_global)
     for (int k = 0; k < 6; k++) this->virial[k] += sums.v[k];
   if (this->vflag_atom) {
@@ -439,19 +485,10 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
     k_vatom.template sync<LMPHostType>();
   }
 
-  // fix griddem's diagnostics, as the CPU engine reports them
-  int occupied = 0, occupancy = 0;
-  Kokkos::parallel_reduce(
-      "griddem/kk:occupancy", Kokkos::RangePolicy<DeviceType>(0, ncell),
-      KOKKOS_LAMBDA(const int c, int &cells, int &most) {
-        const int k = start(c + 1) - start(c);
-        cells += k > 0;
-        if (k > most) most = k;
-      },
-      occupied, Kokkos::Max<int>(occupancy));
+  // fix griddem's diagnostics, as the CPU engine reports them; the occupancy only when asked
   griddem_engine_stats stats;
-  stats.occupied_cells = occupied;
-  stats.max_occupancy = occupancy;
+  stats.occupied_cells = -1;
+  stats.max_occupancy = -1;
   stats.cell_edge = grids.g[0].h;
   stats.contacts = sums.contacts;
   stats.max_contacts = sums.most;
@@ -460,6 +497,26 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   stats.max_cells_moved = stats.max_speed * this->update->dt / grids.g[grids.ncls - 1].h;
   stats.nonfinite_velocity = 0;
   this->fix->set_stats(stats);
+  ncell_counted = grids.offset[grids.ncls];
+}
+
+/* the occupied cells and the most centres in one, of the last step's grids */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::count_occupancy(griddem_engine_stats &stats)
+{
+  auto start = d_start;
+  int occupied = 0, occupancy = 0;
+  Kokkos::parallel_reduce(
+      "griddem/kk:occupancy", Kokkos::RangePolicy<DeviceType>(0, ncell_counted),
+      KOKKOS_LAMBDA(const int c, int &cells, int &most) {
+        const int k = start(c + 1) - start(c);
+        cells += k > 0;
+        if (k > most) most = k;
+      },
+      occupied, Kokkos::Max<int>(occupancy));
+  stats.occupied_cells = occupied;
+  stats.max_occupancy = occupancy;
 }
 
 }    // namespace LAMMPS_NS
