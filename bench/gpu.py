@@ -9,8 +9,14 @@ failed with its reason and the job goes on; a style the lmp lacks is recorded as
 never replaced by another. On a GPU without --sizes the sizes go on growing 4x past 32M while
 any style still runs.
 
+With --census each run that worked is run again with bench/kokkos_census.c (built here with cc)
+as a Kokkos Tools library, and its line gets "kernels": each kernel's calls and milliseconds per
+step (those of the whole run, setup included, over its steps; the tool makes Kokkos fence around
+every kernel, so on a GPU too they are execution times) and "kernels_per_step".
+
 usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
-                    [--steps N] [--only STYLE,...] [--timeout S] [--lammps-bench DIR]"""
+                    [--steps N] [--only STYLE,...] [--timeout S] [--lammps-bench DIR] [--census]
+                    [--build LABEL]"""
 import argparse
 import datetime
 import json
@@ -74,7 +80,7 @@ def gpu_mem_used():
     return float(out.split()[0])
 
 
-def run(cmd, cwd, timeout, gpu):
+def run(cmd, cwd, timeout, gpu, env_extra=None):
     """(exit code or -signal, output, peak host RSS MiB, peak GPU MiB above idle or None, timed out)"""
     log = open(os.path.join(cwd, "out.txt"), "w+")
     poll = None
@@ -85,6 +91,7 @@ def run(cmd, cwd, timeout, gpu):
     env = dict(os.environ)
     env.setdefault("OMP_PROC_BIND", "spread")  # as Kokkos advises
     env.setdefault("OMP_PLACES", "threads")
+    env.update(env_extra or {})
     p = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=log, stderr=subprocess.STDOUT)
     start, timed_out = time.time(), False
     while True:
@@ -105,6 +112,37 @@ def run(cmd, cwd, timeout, gpu):
     out = log.read()
     log.close()
     return p.returncode, out, usage.ru_maxrss / 1024.0, gpu_peak, timed_out
+
+
+def build_census(wd):
+    """bench/kokkos_census.c as a shared library in wd."""
+    lib = os.path.join(wd, "kokkos_census.so")
+    subprocess.run(["cc", "-O2", "-shared", "-fPIC", os.path.join(HERE, "kokkos_census.c"), "-o", lib],
+                   check=True)
+    return lib
+
+
+def census(cmd, wd, timeout, gpu, lib, steps):
+    """{kernel: [calls per step, ms per step]} of one run under the census library (kernels of at
+    least 0.5% of the kernels' time), and the kernels launched per step; None if the run failed."""
+    table = os.path.join(wd, "census.txt")
+    if os.path.exists(table):
+        os.remove(table)
+    rc, out, _, _, _ = run(cmd, wd, timeout, gpu, {"KOKKOS_TOOLS_LIBS": lib, "GRIDDEM_CENSUS": table})
+    if rc != 0 or not os.path.exists(table):
+        return None, None
+    rows = []
+    with open(table) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            kind, calls, seconds, name = line.rstrip("\n").split(" ", 3)
+            if kind in "FRS":
+                rows.append((name, int(calls), float(seconds)))
+    total = sum(r[2] for r in rows) or 1.0
+    kernels = {name: [round(calls / steps, 3), round(1e3 * seconds / steps, 4)]
+               for name, calls, seconds in sorted(rows, key=lambda r: -r[2]) if seconds >= 0.005 * total}
+    return kernels, round(sum(r[1] for r in rows) / steps, 2)
 
 
 def reason(rc, out, timed_out, timeout):
@@ -131,6 +169,9 @@ def main():
     ap.add_argument("--only", default=None, help="comma-separated pair styles to run")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per run")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    ap.add_argument("--build", default=None, help="a label for the lmp's source, recorded in each line")
+    ap.add_argument("--census", action="store_true",
+                    help="run each again under bench/kokkos_census.c and record time per kernel")
     args = ap.parse_args()
     args.lmp = os.path.abspath(args.lmp)    # runs happen in a scratch folder
 
@@ -156,6 +197,7 @@ def main():
 
     wd = tempfile.mkdtemp(prefix="griddem-gpu-")
     shutil.copy(os.path.join(args.lammps_bench, "data.chute"), wd)
+    census_lib = build_census(wd) if args.census else None
     with open(os.path.join(args.lammps_bench, "in.chute.scaled")) as f:
         scaled = f.read()
     out_path = os.path.join(HERE, "results", "gpu.jsonl")
@@ -170,6 +212,8 @@ def main():
             record = {"date": datetime.date.today().isoformat(), "device": device, "scene": "chute",
                       "natoms": BASE * x * y, "replicate": "%d %d 1" % (x, y), "steps": args.steps,
                       "style": style, "note": note}
+            if args.build:
+                record["build"] = args.build
             if style not in have:
                 record.update(status="not available", reason="%s is not in %s" % (style, args.lmp))
             elif style in failed:
@@ -190,6 +234,9 @@ def main():
                                   atom_steps_per_s=n * steps / loop,
                                   pair_pct=float(pair_pct.group(1)) if pair_pct else None)
                     ran = True
+                    if census_lib:
+                        record["kernels"], record["kernels_per_step"] = census(
+                            cmd, wd, args.timeout, gpu, census_lib, steps)
                 else:
                     record.update(status="failed", reason=reason(rc, out, timed_out, args.timeout))
                     failed.add(style)
