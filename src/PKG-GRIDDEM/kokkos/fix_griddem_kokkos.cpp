@@ -128,7 +128,7 @@ typename FixGriddemKokkos<DeviceType>::Rows FixGriddemKokkos<DeviceType>::rows_o
   return rows;
 }
 
-/* room in the other pool for the rows the sweep writes (its entries match the contact lists') */
+/* room in the other pool for the rows the sweep writes: the entries of the step's contact lists */
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_out(long entries)
 {

@@ -6,9 +6,8 @@
    follows the contacts present, not the most contacts of one atom times the atoms (a chute has
    ~0.5 contacts per atom and up to ~10 for one; a large sphere among small ones, hundreds).
    There are two pools: the pair's sweep reads the rows of the last step from one and writes each
-   atom's new row into the other, from that atom's own thread (no atomics), where the atom's
-   contact list of the step lies (pair_griddem_kokkos.h: the lists are laid out from each atom's
-   last row length). Rows travel with their atoms on the device (sort_kokkos moves the row
+   atom's new row into the other, from that atom's own thread (no atomics), at a place laid out
+   from the length of the atom's contact list of the step (pair_griddem_kokkos.h). Rows travel with their atoms on the device (sort_kokkos moves the row
    heads; pack/unpack_exchange_kokkos) and on the host (copy_arrays, exchange, restart) through
    DualViews; a received row is appended to the pool, and the next sweep compacts it.
 
@@ -72,8 +71,8 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   const double *find_history(int i, double partner) const override;
 
   // For the pair's sweep, on its device: the rows of the last step (read), and the rows the
-  // sweep writes, each atom's where its contact list lies (first_out, count_out), in room for
-  // `entries` that `reserve_out` makes; `commit` makes the written rows current.
+  // sweep writes (first_out, count_out), in room for `entries` that `reserve_out` makes;
+  // `commit` makes the written rows current.
   struct Rows {
     t_partners partner, partner_out;
     t_values value, value_out;

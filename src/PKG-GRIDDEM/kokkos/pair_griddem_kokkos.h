@@ -19,7 +19,7 @@
       parallel_reduce; the occupancy of the cells is counted only when fix griddem is asked.
 
    Laws with contact history keep it in fix griddem/kk (a row per atom, written anew each step by
-   the atom's own thread where its list lies: GriddemKKSweep). Views grow, never shrink, and are
+   the atom's own thread with room for its list: GriddemKKSweep). Views grow, never shrink, and are
    not reallocated in a step unless a size grew.
 ------------------------------------------------------------------------- */
 
@@ -236,6 +236,7 @@ template <class DeviceType, typename Real> struct GriddemKKSorted {
 
 /* what the search finds besides the lists */
 struct GriddemKKFindValue {
+  long listed;             // candidates of all owned atoms (the new history rows' room)
   int incomplete;          // owned atoms with more candidates than room
   long needed;             // the candidates of those atoms
   int fault_i, fault_j;    // coincident centres (local indices); fault_i == INT_MAX: none
@@ -258,12 +259,14 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
 
   KOKKOS_INLINE_FUNCTION void init(value_type &s) const
   {
+    s.listed = 0;
     s.incomplete = 0;
     s.needed = 0;
     s.fault_i = s.fault_j = INT_MAX;
   }
   KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
   {
+    s.listed += o.listed;
     s.incomplete += o.incomplete;
     s.needed += o.needed;
     if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
@@ -344,6 +347,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
       }
     }
     this->count(s) = n <= room ? n : -n;
+    sum.listed += n;
     if (n > room) sum.incomplete++, sum.needed += n;
   }
 };
@@ -358,9 +362,9 @@ struct GriddemKKSweepValue {
 
 /* The contact law over each owned particle's list: the thread sums its particle's force and
    torque (the law is exactly odd under i <-> j, so each side is evaluated on its own: no atomics)
-   and, for laws with history, writes the atom's new row into fix griddem/kk's other pool at the
-   list's place (the contacts of this step, with their values found in the last step's row and
-   advanced).
+   and, for laws with history, writes the atom's new row into fix griddem/kk's other pool, at the
+   place laid out from its list's length (the contacts of this step, with their values found in
+   the last step's row and advanced).
    Classic: every type pair uses the gran/hooke laws (griddem_classic.h), so the kernel is compiled
    without the composed sub-models; on a GPU that halves the registers a thread holds. */
 template <class DeviceType, typename Real, bool Classic>
@@ -425,6 +429,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0};
     double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, energy = 0.0;
     const int head = this->first(s), n = this->count(s);
+    const int out = track ? rows.first_out(i) : 0;
     int stored = 0, ncontact = 0;
 
     for (int e = head; e < head + n; e++) {
@@ -463,8 +468,8 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       double fc[3], ti[3], tj[3];
       const double uel = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj)
                                  : griddem_contact_eval(law, &c, hist, fc, ti, tj);
-      if (track) {    // the new row lies where the list does, compacted
-        const int o = head + stored++;
+      if (track) {
+        const int o = out + stored++;
         rows.partner_out(o) = partner;
         for (int h = 0; h < nhist; h++)
           if (h < nv) rows.value_out((long) o * nv + h) = hist[h];
@@ -479,7 +484,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     }
 
     last(i) = n;
-    if (track) rows.first_out(i) = head, rows.count_out(i) = stored;
+    if (track) rows.count_out(i) = stored;
     sum.contacts += ncontact;
     if (ncontact > sum.most) sum.most = ncontact;
     for (int d = 0; d < 3; d++) f(i, d) += fsum[d], torque(i, d) += tsum[d];
@@ -535,8 +540,10 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;
   // candidates an atom may gain in a step without a repair of its list: in LAMMPS's chute
-  // (32,000 atoms) more than one came to some atom in 967 of 1,000 steps, more than two in 13
-  static constexpr int list_margin = 1;
+  // (32,000 atoms) more than one came to some atom in 967 of 1,000 steps, more than two in 13.
+  // The history rows are laid out from the lists' true lengths, so the margin costs 4 bytes an
+  // atom, not a history entry in each of fix griddem/kk's two pools.
+  static constexpr int list_margin = 2;
   int params_stale;
   int all_classic;    // every type pair's law is classic: the sweep without the composed law
   int coarsened_warned_kk;

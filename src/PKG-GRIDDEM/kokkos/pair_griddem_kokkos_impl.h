@@ -419,7 +419,6 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   Kokkos::parallel_reduce("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
                           found);
   if (found.fault_i != INT_MAX) report_coincident(found.fault_i, found.fault_j);
-  long listed = laid_out;
   if (found.incomplete) {
     reserve_list(laid_out + found.needed, true);
     if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
@@ -433,10 +432,24 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
     if (repaired.incomplete)
       this->error->one(FLERR, "Pair style {}: contact lists laid out too short",
                        this->force->pair_style);
-    listed += found.needed;
   }
 
-  // 6. the law over the lists; new history rows where the lists lie
+  // the new history rows: room for each owned atom's list, slot by slot
+  if (track) {
+    history->reserve_out(found.listed);
+    auto rows = history->rows_on_device();
+    auto count = d_list_count;
+    Kokkos::parallel_scan(
+        "griddem/kk:row_layout", Kokkos::RangePolicy<DeviceType>(0, nall),
+        KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
+          const int i = order(s);
+          if (i >= nlocal) return;
+          if (final) rows.first_out(i) = (int) offset;
+          offset += count(s);
+        });
+  }
+
+  // 6. the law over the lists
   GriddemKKSweep<DeviceType, Real, Classic> sweep;
   static_cast<GriddemKKSorted<DeviceType, Real> &>(sweep) = sorted;
   sweep.reach_extra = this->model.reach_extra;
@@ -457,10 +470,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
-  if (track) {
-    history->reserve_out(listed);
-    sweep.rows = history->rows_on_device();
-  }
+  if (track) sweep.rows = history->rows_on_device();
   GriddemKKSweepValue sums;
   Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
                           sums);
