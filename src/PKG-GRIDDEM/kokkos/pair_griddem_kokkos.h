@@ -9,7 +9,7 @@
    2. binning: a counting sort of the centres into cells of edge 2*rmax*(1+1e-9) anchored at
       domain->boxlo (fix griddem's `cell multi` grid); within a cell the slots are ordered by tag
       (then position, for periodic images of one atom), so sums do not depend on storage order;
-      the sorted positions (relative to their cell) and radii are the "channels";
+      the sorted positions, radii, velocities, masses, types and masks are the "channels";
    3. search: one thread per sorted owned particle visits the cells of every size class within
       reach of it and lists the candidates that touch (GriddemKKFind);
    4. sweep: one thread per sorted owned particle evaluates the law over its list from its own
@@ -200,15 +200,16 @@ template <class DeviceType> struct GriddemKKClassScan {
   }
 };
 
-/* The sorted particles' data the search reads for every candidate, in the precision of fix
-   griddem's `precision`: positions relative to their cell's lower corner (so single precision
-   keeps ~1e-7 of a cell, not of the box) and radius. Rows (LayoutRight) on every device: a
-   candidate's four values are one 32-byte sector on a GPU, where the default layout would spread
-   them over four arrays. What only touching pairs need (velocities, mass, type, mask) is read
-   from LAMMPS's own arrays, not copied each step. */
+/* The sorted particles' data the sweep reads, in the precision of fix griddem's `precision`:
+   positions relative to their cell's lower corner (so single precision keeps ~1e-7 of a cell,
+   not of the box), radius, velocity, angular velocity, mass. Rows (LayoutRight) on every device:
+   the sweep gathers a candidate's four values together (one 32-byte sector on a GPU, where the
+   default layout would spread them over four arrays). */
 template <class DeviceType, typename Real> struct GriddemKKChannels {
-  typedef Kokkos::View<Real *[4], Kokkos::LayoutRight, DeviceType> t_pos;    // x y z in the cell, radius
+  typedef Kokkos::View<Real *[4], Kokkos::LayoutRight, DeviceType> t_pos;      // x y z in the cell, radius
+  typedef Kokkos::View<Real *[7], Kokkos::LayoutRight, DeviceType> t_state;    // v, omega, mass
   t_pos pos;
+  t_state state;
 };
 
 /* The sweep is two kernels, one thread per sorted particle in each. The first (GriddemKKFind)
@@ -222,13 +223,12 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
    ascending, as one pass over the stencil. What both kernels read: */
 template <class DeviceType, typename Real> struct GriddemKKSorted {
-  typedef ArrayTypes<DeviceType> AT;
   GriddemKKGrids grids;
   int nlocal;
   Kokkos::View<const int *, DeviceType> order;        // atom index of each slot
   Kokkos::View<const int *, DeviceType> slot_cell;    // cell of each slot (over all classes)
   Kokkos::View<const Real *[4], Kokkos::LayoutRight, DeviceType> pos;    // GriddemKKChannels
-  typename AT::t_int_1d_randomread type, mask;                           // by atom index
+  Kokkos::View<const int *[2], Kokkos::LayoutRight, DeviceType> tm;     // type, mask
   Kokkos::View<int *, DeviceType> list;     // candidate slots, each slot's from first(s)
   Kokkos::View<int *, DeviceType> first;    // [nall + 1] laid out; a repaired slot's moves
   Kokkos::View<int *, DeviceType> count;    // candidates listed; -needed: the room was short
@@ -300,7 +300,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
     const double pi[3] = {(double) this->pos(s, 0), (double) this->pos(s, 1),
                           (double) this->pos(s, 2)};
     const double radi = this->pos(s, 3);
-    const int itype = this->type(i), imask = this->mask(i);
+    const int itype = this->tm(s, 0), imask = this->tm(s, 1);
     double corner[3], xi[3];
     this->grids.cell_corner(this->slot_cell(s), corner);
     for (int d = 0; d < 3; d++) xi[d] = corner[d] + pi[d];
@@ -337,8 +337,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
                 if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = this->order(u);
                 continue;
               }
-              const int j = this->order(u);
-              if (excluded(itype, imask, this->type(j), this->mask(j))) continue;
+              if (excluded(itype, imask, this->tm(u, 0), this->tm(u, 1))) continue;
               if (n < room) this->list(head + n) = u;
               n++;
             }
@@ -371,7 +370,7 @@ template <class DeviceType, typename Real, bool Classic>
 struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   typedef DeviceType device_type;
   typedef GriddemKKSweepValue value_type;
-  typedef typename GriddemKKSorted<DeviceType, Real>::AT AT;
+  typedef ArrayTypes<DeviceType> AT;
 
   double reach_extra;    // model.reach_extra
   int ntypes, frozen_bit, vflag_global, vflag_atom;
@@ -379,9 +378,8 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   int history_update;    // 0 in setup: stored values are read, not advanced
   int track;             // model.track_contacts: rows are kept
   int nv;                // values per contact
-  typename AT::t_v_array_randomread v, omega;    // by atom index
-  typename AT::t_float_1d_randomread rmass;
-  typename AT::t_tagint_1d_randomread tag;
+  Kokkos::View<const Real *[7], Kokkos::LayoutRight, DeviceType> state;    // v, omega, mass
+  typename AT::t_tagint_1d_randomread tag;                                // by atom index
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
   typename FixGriddemKokkos<DeviceType>::Rows rows;    // fix griddem/kk's rows
   Kokkos::View<int *, DeviceType> last;    // by atom index: its list's length, for the next layout
@@ -422,8 +420,8 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     if (i >= this->nlocal) return;
     const double pi[3] = {(double) this->pos(s, 0), (double) this->pos(s, 1),
                           (double) this->pos(s, 2)};
-    const double radi = this->pos(s, 3), mi = rmass(i);
-    const int itype = this->type(i), imask = this->mask(i);
+    const double radi = this->pos(s, 3), mi = state(s, 6);
+    const int itype = this->tm(s, 0), imask = this->tm(s, 1);
     double corner[3];
     this->grids.cell_corner(this->slot_cell(s), corner);
     double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0};
@@ -442,10 +440,9 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       const double dz = (pi[2] - (double) pu[2]) + (corner[2] - cu[2]);
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double radj = pu[3];
-      const int j = this->order(u);
-      const int jtype = this->type(j), jmask = this->mask(j);
+      const int jtype = this->tm(u, 0), jmask = this->tm(u, 1);
       const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
-      const tagint partner = track ? tag(j) : 0;
+      const tagint partner = track ? tag(this->order(u)) : 0;
       const int found = track ? find(i, partner) : -1;
       if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, found >= 0)) continue;
 
@@ -454,10 +451,10 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       c.rsq = rsq;
       c.radi = radi, c.radj = radj;
       for (int d = 0; d < 3; d++) {
-        c.vr[d] = v(i, d) - v(j, d);
-        c.wi[d] = omega(i, d), c.wj[d] = omega(j, d);
+        c.vr[d] = state(s, d) - state(u, d);
+        c.wi[d] = state(s, 3 + d), c.wj[d] = state(u, 3 + d);
       }
-      c.meff = griddem_effective_mass(mi, rmass(j), (imask & frozen_bit) != 0,
+      c.meff = griddem_effective_mass(mi, state(u, 6), (imask & frozen_bit) != 0,
                                       (jmask & frozen_bit) != 0);
       c.dt = dt;
       c.history_update = history_update;
@@ -535,6 +532,7 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   GriddemKKChannels<DeviceType, float> channels_single;
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
   GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
+  Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType> d_tm;
   Kokkos::View<long, DeviceType> d_top;    // the repair's next free list entry
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;

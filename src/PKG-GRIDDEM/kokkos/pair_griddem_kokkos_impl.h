@@ -76,9 +76,10 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
   auto add = [&bytes](const auto &view) {
     bytes += (double) view.span() * sizeof(typename std::decay_t<decltype(view)>::value_type);
   };
-  add(d_cell), add(d_cls), add(d_count), add(d_start), add(d_unsorted), add(d_order);
+  add(d_cell), add(d_cls), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
   add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
-  add(channels_double.pos), add(channels_single.pos);
+  add(channels_double.pos), add(channels_double.state);
+  add(channels_single.pos), add(channels_single.state);
   add(d_params), add(d_excl_type), add(d_excl_group);
   return bytes;
 }
@@ -256,7 +257,8 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
     sweep<Real, false>(grids, slack, sc);
 }
 
-/* counting sort into the channels (of Real: positions relative to their cell, radius) */
+/* counting sort into the channels (of Real: positions relative to their cell, velocities,
+   angular velocities, mass, radius) */
 
 template <class DeviceType, class Base>
 template <typename Real>
@@ -264,7 +266,12 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
 {
   AtomKokkos *atomKK = this->atomKK;
   auto x = atomKK->k_x.template view<DeviceType>();
+  auto v = atomKK->k_v.template view<DeviceType>();
+  auto omega = atomKK->k_omega.template view<DeviceType>();
   auto radius = atomKK->k_radius.template view<DeviceType>();
+  auto rmass = atomKK->k_rmass.template view<DeviceType>();
+  auto type = atomKK->k_type.template view<DeviceType>();
+  auto mask = atomKK->k_mask.template view<DeviceType>();
   auto tag = atomKK->k_tag.template view<DeviceType>();
   const int nlocal = this->atom->nlocal;
   const int nall = nlocal + this->atom->nghost;
@@ -281,9 +288,12 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
     d_list_first = Kokkos::View<int *, DeviceType>("griddem/kk:list_first", nmax_atoms + 1);
     d_list_count = Kokkos::View<int *, DeviceType>("griddem/kk:list_count", nmax_atoms);
     Kokkos::resize(d_last, nmax_atoms);    // kept: the next layout's guide
+    d_tm = Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType>("griddem/kk:tm", nmax_atoms);
   }
   if (nall > (int) chan.pos.extent(0)) {
     chan.pos = typename GriddemKKChannels<DeviceType, Real>::t_pos("griddem/kk:pos", nmax_atoms);
+    chan.state =
+        typename GriddemKKChannels<DeviceType, Real>::t_state("griddem/kk:state", nmax_atoms);
   }
   const int ncell = grids.offset[grids.ncls];
   if (ncell + 1 > nmax_cells) {
@@ -301,6 +311,8 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto order = d_order;
   auto slot_cell = d_slot_cell;
   auto pos = chan.pos;
+  auto state = chan.state;
+  auto tm = d_tm;
   // count is zero here: zero-filled when made, and each binning zeroes what it counted
   Kokkos::parallel_for(
       "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
@@ -348,6 +360,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         for (int d = 0; d < 3; d++)
           pos(slot, d) = (Real) (p[d] - grids.g[cls(i)].cell_origin(d, p[d]));
         pos(slot, 3) = radius(i);
+        for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
+        state(slot, 6) = rmass(i);
+        tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
       });
 }
 
@@ -402,8 +417,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sorted.order = d_order;
   sorted.slot_cell = d_slot_cell;
   sorted.pos = chan.pos;
-  sorted.type = atomKK->k_type.template view<DeviceType>();
-  sorted.mask = atomKK->k_mask.template view<DeviceType>();
+  sorted.tm = d_tm;
   sorted.list = d_list;
   sorted.first = d_list_first;
   sorted.count = d_list_count;
@@ -461,9 +475,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.history_update = this->update->setupflag ? 0 : 1;
   sweep.track = track;
   sweep.nv = track ? history->values_per_contact() : 0;
-  sweep.v = atomKK->k_v.template view<DeviceType>();
-  sweep.omega = atomKK->k_omega.template view<DeviceType>();
-  sweep.rmass = atomKK->k_rmass.template view<DeviceType>();
+  sweep.state = chan.state;
   sweep.tag = atomKK->k_tag.template view<DeviceType>();
   sweep.params = d_params;
   sweep.last = d_last;
