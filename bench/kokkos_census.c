@@ -8,6 +8,7 @@
  * several MPI ranks each appends its own. With a tool loaded Kokkos fences the device before
  * each callback (the tools' default, global fencing), so on a GPU too a kernel's seconds are its
  * run's; those fences are listed as "Kokkos Profile Tool Fence" and make the whole run slower. */
+#define _POSIX_C_SOURCE 199309L /* clock_gettime */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,30 +85,19 @@ void kokkosp_init_library(const int level, const uint64_t version, const uint32_
   (void) level, (void) version, (void) ndevices, (void) info;
 }
 
-void kokkosp_begin_parallel_for(const char *name, const uint32_t dev, uint64_t *id)
-{
-  (void) dev;
-  begin('F', name, id);
-}
-void kokkosp_end_parallel_for(const uint64_t id) { (void) id, end(); }
-void kokkosp_begin_parallel_reduce(const char *name, const uint32_t dev, uint64_t *id)
-{
-  (void) dev;
-  begin('R', name, id);
-}
-void kokkosp_end_parallel_reduce(const uint64_t id) { (void) id, end(); }
-void kokkosp_begin_parallel_scan(const char *name, const uint32_t dev, uint64_t *id)
-{
-  (void) dev;
-  begin('S', name, id);
-}
-void kokkosp_end_parallel_scan(const uint64_t id) { (void) id, end(); }
-void kokkosp_begin_fence(const char *name, const uint32_t dev, uint64_t *id)
-{
-  (void) dev;
-  begin('f', name, id);
-}
-void kokkosp_end_fence(const uint64_t id) { (void) id, end(); }
+/* the begin and end callbacks of one kind of region (kernels of each pattern, fences) */
+#define CENSUS_REGION(begin_name, end_name, kind)                                            \
+  void begin_name(const char *name, const uint32_t dev, uint64_t *id)                        \
+  {                                                                                          \
+    (void) dev;                                                                              \
+    begin(kind, name, id);                                                                   \
+  }                                                                                          \
+  void end_name(const uint64_t id) { (void) id, end(); }
+
+CENSUS_REGION(kokkosp_begin_parallel_for, kokkosp_end_parallel_for, 'F')
+CENSUS_REGION(kokkosp_begin_parallel_reduce, kokkosp_end_parallel_reduce, 'R')
+CENSUS_REGION(kokkosp_begin_parallel_scan, kokkosp_end_parallel_scan, 'S')
+CENSUS_REGION(kokkosp_begin_fence, kokkosp_end_fence, 'f')
 
 void kokkosp_begin_deep_copy(struct Kokkos_Profiling_SpaceHandle dst, const char *dst_name,
                              const void *dst_ptr, struct Kokkos_Profiling_SpaceHandle src,

@@ -5,9 +5,9 @@ torques at step 0, positions and velocities after 20 steps, and the virial (ther
 pair part of compute pressure) agree to 1e-10 relative on a dense random polydisperse (1:3)
 configuration of two atom types with random linear and angular velocities, run with
 `-k on t N -sf kk -pk kokkos newton off neigh half` on 1 and 2 Kokkos (OpenMP) threads and on
-1 and 2 MPI ranks. History rows get room for one contact more than an atom had, so the first
-step of these dense runs re-evaluates the atoms with more (the repair pass) without changing a
-number, also with fix griddem contacts 1 (the CPU fix's rows then grow); a restart written by a
+1 and 2 MPI ranks. Contact lists get room for two candidates more than an atom had, so the first
+step of these dense runs searches again for the atoms with more (the repair pass) without changing
+a number, also with fix griddem contacts 1 (the CPU fix's rows then grow); a restart written by a
 kk run continues bit for bit under kk and the CPU style, and a CPU restart under kk.
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
