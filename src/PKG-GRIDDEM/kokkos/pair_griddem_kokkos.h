@@ -216,9 +216,9 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    visits the cells within reach and lists the candidates that touch (a list per particle,
    sorted slot by slot); the second (GriddemKKSweep) evaluates the contact law over each list.
    A stencil holds ~30 candidates of which a few touch: searching them wants many threads in
-   flight to hide the gathers, which a kernel holding the law's ~180 registers cannot have
-   (sm_90: ~11 warps an SM), while the law runs once per contact, the threads of a warp
-   together. The lists are laid out before the search from each atom's last count plus a
+   flight to hide the gathers, which a kernel that also holds the law cannot have (one kernel:
+   180 registers on sm_90, ~11 warps an SM; the search alone: 64), while the law runs once per
+   contact, the threads of a warp together. The lists are laid out before the search from each atom's last count plus a
    margin; an atom with more candidates than its room is searched again alone into room appended
    to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
    ascending, as one pass over the stencil. What both kernels read: */

@@ -27,8 +27,8 @@ namespace LAMMPS_NS {
 
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
-    Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), params_stale(1), coarsened_warned_kk(0),
-    history(nullptr)
+    Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), params_stale(1),
+    coarsened_warned_kk(0), history(nullptr)
 {
   this->kokkosable = 1;
   this->atomKK = (AtomKokkos *) this->atom;
@@ -381,10 +381,12 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
 
   // 4. lists laid out slot by slot: each owned atom's last list length (or its history row's,
   // which moved with it) plus the margin
+  typename FixGriddemKokkos<DeviceType>::Rows rows;    // fix griddem/kk's, with history
+  if (track) rows = history->rows_on_device();
   auto first = d_list_first;
   auto order = d_order;
   auto last = d_last;
-  auto row_count = track ? history->rows_on_device().count : Kokkos::View<int *, DeviceType>();
+  auto row_count = rows.count;
   long laid_out = 0;
   Kokkos::parallel_scan(
       "griddem/kk:list_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
@@ -451,7 +453,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   // the new history rows: room for each owned atom's list, slot by slot
   if (track) {
     history->reserve_out(found.listed);
-    auto rows = history->rows_on_device();
+    rows = history->rows_on_device();
     auto count = d_list_count;
     Kokkos::parallel_scan(
         "griddem/kk:row_layout", Kokkos::RangePolicy<DeviceType>(0, nall),
@@ -482,7 +484,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.f = atomKK->k_f.template view<DeviceType>();
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
-  if (track) sweep.rows = history->rows_on_device();
+  sweep.rows = rows;
   GriddemKKSweepValue sums;
   Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
                           sums);
