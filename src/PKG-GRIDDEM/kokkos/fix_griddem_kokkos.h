@@ -7,9 +7,10 @@
    ~0.5 contacts per atom and up to ~10 for one; a large sphere among small ones, hundreds).
    There are two pools: the pair's sweep reads the rows of the last step from one and writes each
    atom's new row into the other, from that atom's own thread (no atomics), at a place laid out
-   from the length of the atom's contact list of the step (pair_griddem_kokkos.h). Rows travel with their atoms on the device (sort_kokkos moves the row
-   heads; pack/unpack_exchange_kokkos) and on the host (copy_arrays, exchange, restart) through
-   DualViews; a received row is appended to the pool, and the next sweep compacts it.
+   from the length of the atom's contact list of the step (pair_griddem_kokkos.h). Rows travel
+   with their atoms on the device (sort_kokkos moves the row heads; pack/unpack_exchange_kokkos)
+   and on the host (copy_arrays, exchange, restart) through DualViews; a received row is appended
+   to the pool, and the next sweep compacts it.
 
    The style is renamed "griddem" once made, so that restart files written on a CPU or a GPU
    are read by either, and the pair styles find it as fix griddem.
