@@ -204,7 +204,10 @@ double FixGriddem::compute_vector(int n)
 {
   if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0) {
     auto source = dynamic_cast<GriddemOccupancySource *>(force->pair);
-    if (!source) error->all(FLERR, "Fix {}: no griddem pair style has counted its cells", id);
+    if (!source)
+      error->all(FLERR, "Fix {}: values 1 and 2 (occupied cells) of the last step's grid are "
+                 "counted by the Kokkos pair style that ran it, and pair style {} is not that "
+                 "style; run a step first", id, force->pair_style ? force->pair_style : "none");
     source->count_occupancy(engine.stats);
   }
   const griddem_engine_stats &s = engine.stats;

@@ -14,6 +14,7 @@ Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS pa
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
 instead of OpenMP threads and 1 and 2 ranks."""
 import os
+import re
 import subprocess
 import sys
 
@@ -264,6 +265,18 @@ def main():
     for name, out in run_cpu_and_kk(wd, "occupancy", lambda name: occupancy_in):
         found = (t.thermo_values(out, "f_grid[1]"), t.thermo_values(out, "f_grid[2]"))
         t.check(found == ([64.0], [2.0]), "%s: 64 occupied cells, at most 2 centres in one: %s" % (name, found))
+
+    # not read during the run and read after the pair style changed, they are refused by name, as
+    # LAMMPS refuses a compute that is not current; read during the run, they keep their value
+    switch = ("pair_style gran/hooke/history 1e4 NULL 50 NULL 0.5 1\npair_coeff * *\n"
+              "print \"OCC $(f_grid[1])\"\n")
+    unread = occupancy_in.replace("thermo_style custom step f_grid[1] f_grid[2]\n", "")
+    rc, out = t.run_lmp(unread + switch, wd, name="in.occ_unread", extra=kk_args(1))
+    t.check(rc != 0 and "run a step first" in out and not re.search(r"^OCC ", out, re.M),
+            "occupancy of a pair style no longer in use refused: %s" % t.errors(out)[:1])
+    rc, out = t.run_lmp(occupancy_in + switch, wd, name="in.occ_read", extra=kk_args(1))
+    t.check(rc == 0 and re.search(r"^OCC 64$", out, re.M),
+            "occupancy read during the run kept after the pair style changed: %s" % t.errors(out)[:1])
 
     # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
     # out from each atom's contacts whatever N is. The numbers are unchanged either way
