@@ -278,6 +278,21 @@ def main():
     t.check(rc == 0 and re.search(r"^OCC 64$", out, re.M),
             "occupancy read during the run kept after the pair style changed: %s" % t.errors(out)[:1])
 
+    # a process without atoms: two overlapping spheres in one half of a closed box on 2 ranks
+    # (all kernels run over no atoms there) give the one-rank CPU style's kinetic energy
+    if RANKS[-1] > 1:
+        lone_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+                   "region box block 0 16 0 8 0 8\ncreate_box 1 box\n"
+                   "create_atoms 1 single 0.5 0.5 0.5\ncreate_atoms 1 single 1.4 0.5 0.5\n"
+                   "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+                   "fix 1 all nve/sphere\ntimestep 0.001\nthermo_style custom step ke\n"
+                   "thermo_modify format float %%.17g\nthermo 10\nrun 20\n" % (HISTORY[1], HISTORY[3]))
+        ke = {name.split("_")[1]: t.thermo_values(out, "KinEng")
+              for name, out in run_cpu_and_kk(wd, "lone", lambda name: lone_in, kk_ranks=2)}
+        t.check(len(ke["kk"]) == 3 and ke["kk"][-1] > 0 and
+                max(abs(a - b) for a, b in zip(ke["kk"], ke["cpu"])) <= 1e-10 * ke["cpu"][-1],
+                "kk on 2 ranks, one without atoms, as the CPU style: KE %s vs %s" % (ke["kk"], ke["cpu"]))
+
     # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
     # out from each atom's contacts whatever N is. The numbers are unchanged either way
     few = "fix rows all griddem contacts 1"

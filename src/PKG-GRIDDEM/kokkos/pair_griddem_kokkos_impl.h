@@ -277,9 +277,10 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   const int nall = nlocal + this->atom->nghost;
   auto &chan = channels(Real());
 
-  // Views grow only
-  if (nall > nmax_atoms) {
-    nmax_atoms = MAX(nall, (int) (1.2 * nmax_atoms));
+  // Views grow only; made once even for a process without atoms (the list layout writes
+  // the end of its last list, entry nall)
+  if (nall > nmax_atoms || !nmax_atoms) {
+    nmax_atoms = MAX(MAX(nall, 1), (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
     d_cls = Kokkos::View<int *, DeviceType>("griddem/kk:class", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
