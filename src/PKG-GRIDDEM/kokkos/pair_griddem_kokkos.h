@@ -33,7 +33,6 @@
 #include "pair_kokkos.h"
 
 #include <climits>
-#include <type_traits>
 
 namespace LAMMPS_NS {
 
@@ -114,14 +113,10 @@ struct GriddemKKGrid {
   {
     return axis_cell(0, x) + n[0] * (axis_cell(1, y) + n[1] * axis_cell(2, z));
   }
-  // lower face along d of cell c, and of the cell holding coordinate x
+  // lower face along d of cell c
   KOKKOS_INLINE_FUNCTION double corner(int d, int c) const
   {
     return anchor[d] + (double) (k0[d] + c) * h;
-  }
-  KOKKOS_INLINE_FUNCTION double cell_origin(int d, double x) const
-  {
-    return corner(d, axis_cell(d, x));
   }
 };
 
@@ -218,9 +213,9 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    A stencil holds ~30 candidates of which a few touch: searching them wants many threads in
    flight to hide the gathers, which a kernel that also holds the law cannot have (one kernel:
    180 registers on sm_90, ~11 warps an SM; the search alone: 64), while the law runs once per
-   contact, the threads of a warp together. The lists are laid out before the search from each atom's last count plus a
-   margin; an atom with more candidates than its room is searched again alone into room appended
-   to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
+   contact, the threads of a warp together. The lists are laid out before the search from each
+   atom's last count plus a margin; an atom with more candidates than its room is searched again
+   alone into room appended to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
    ascending, as one pass over the stencil. What both kernels read: */
 template <class DeviceType, typename Real> struct GriddemKKSorted {
   GriddemKKGrids grids;
@@ -517,7 +512,6 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   int nmax_atoms, nmax_cells;
   int ncell_counted;    // cells of the last step's grids
   Kokkos::View<int *, DeviceType> d_cell;        // [nall] cell of each atom
-  Kokkos::View<int *, DeviceType> d_cls;         // [nall] size class of each atom
   Kokkos::View<int *, DeviceType> d_count;       // [ncell+1] atoms per cell, then fill cursor;
                                                  // zero between steps
   Kokkos::View<int *, DeviceType> d_start;       // [ncell+1] first slot of each cell

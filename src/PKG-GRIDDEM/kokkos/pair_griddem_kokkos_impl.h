@@ -76,7 +76,7 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
   auto add = [&bytes](const auto &view) {
     bytes += (double) view.span() * sizeof(typename std::decay_t<decltype(view)>::value_type);
   };
-  add(d_cell), add(d_cls), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
+  add(d_cell), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
   add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
   add(channels_double.pos), add(channels_double.state);
   add(channels_single.pos), add(channels_single.state);
@@ -282,7 +282,6 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   if (nall > nmax_atoms || !nmax_atoms) {
     nmax_atoms = MAX(MAX(nall, 1), (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
-    d_cls = Kokkos::View<int *, DeviceType>("griddem/kk:class", nmax_atoms);
     d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
     d_slot_cell = Kokkos::View<int *, DeviceType>("griddem/kk:slot_cell", nmax_atoms);
@@ -305,7 +304,6 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
 
   // 3. counting sort by cell
   auto cell = d_cell;
-  auto cls = d_cls;
   auto count = d_count;
   auto start = d_start;
   auto unsorted = d_unsorted;
@@ -318,7 +316,6 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   Kokkos::parallel_for(
       "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const int k = grids.class_of(radius(i));
-        cls(i) = k;
         const int c = grids.offset[k] + grids.g[k].cell_of(x(i, 0), x(i, 1), x(i, 2));
         cell(i) = c;
         Kokkos::atomic_inc(&count(c));
@@ -358,8 +355,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         order(slot) = i;
         slot_cell(slot) = c;
         const double p[3] = {xi, yi, zi};
-        for (int d = 0; d < 3; d++)
-          pos(slot, d) = (Real) (p[d] - grids.g[cls(i)].cell_origin(d, p[d]));
+        double corner[3];
+        grids.cell_corner(c, corner);
+        for (int d = 0; d < 3; d++) pos(slot, d) = (Real) (p[d] - corner[d]);
         pos(slot, 3) = radius(i);
         for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
         state(slot, 6) = rmass(i);
@@ -440,7 +438,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
     reserve_list(laid_out + found.needed, true);
     if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
     Kokkos::deep_copy(d_top, laid_out);
-    find.list = sorted.list = d_list;
+    sorted.list = d_list;
     find.top = d_top;
     find.repair = 1;
     GriddemKKFindValue repaired;
