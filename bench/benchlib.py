@@ -25,15 +25,16 @@ def loop_time(out, what):
     return float(loop), int(steps), int(atoms)
 
 
-def run_lmp(lmp, wd, text, ranks, threads=1):
-    """Run an input text with lmp on `ranks` MPI ranks and `threads` OpenMP threads each; returns
-    (loop seconds, steps, atoms, screen output) of its last run."""
+def run_lmp(lmp, wd, text, ranks, threads=1, extra=(), env=None):
+    """Run an input text with lmp on `ranks` MPI ranks and `threads` OpenMP threads each, with the
+    command-line switches `extra` (Kokkos's, say) and the variables `env` added to the
+    environment; returns (loop seconds, steps, atoms, screen output) of its last run."""
     import subprocess
     with open(os.path.join(wd, "in.run"), "w") as f:
         f.write(text)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMP_NUM_THREADS=str(threads))
-    cmd = [lmp, "-in", "in.run", "-log", "none"]
+               OMP_NUM_THREADS=str(threads), **(env or {}))
+    cmd = [lmp] + list(extra) + ["-in", "in.run", "-log", "none"]
     if ranks > 1:
         cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core", "-x", "OMP_NUM_THREADS"] + cmd
     out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,

@@ -17,7 +17,6 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import tempfile
 
 import matplotlib
@@ -86,16 +85,11 @@ def main():
         run_dir = os.path.join(wd, label)
         os.mkdir(run_dir)
         os.symlink(os.path.join(wd, "data.chute"), os.path.join(run_dir, "data.chute"))
-        env = dict(os.environ, OMP_NUM_THREADS=str(args.threads), OMP_PROC_BIND="spread",
-                   OMP_PLACES="threads")
         for every in (0, args.every):  # timed without dumps, then dumped
-            with open(os.path.join(run_dir, "in.run"), "w") as f:
-                f.write(script(base, pair, extra, args.steps, every))
-            out = subprocess.run([os.path.abspath(args.lmp)] + kk + ["-in", "in.run", "-log", "none"],
-                                 cwd=run_dir, env=env, stdout=subprocess.PIPE,
-                                 stderr=subprocess.STDOUT, universal_newlines=True).stdout
+            loop, steps, natoms, _ = benchlib.run_lmp(
+                os.path.abspath(args.lmp), run_dir, script(base, pair, extra, args.steps, every), 1,
+                args.threads, kk, {"OMP_PROC_BIND": "spread", "OMP_PLACES": "threads"})
             if not every:
-                loop, steps, natoms = benchlib.loop_time(out, label)
                 speed[label] = natoms * steps / loop
         dumps[label] = {s: read_dump(os.path.join(run_dir, "dump.%d" % s))
                         for s in range(0, args.steps + 1, args.every)}
