@@ -217,13 +217,14 @@ def main():
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
     # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
-    # classes searched from both sides; and the same on one grid (fix griddem cell multi)
+    # classes searched from both sides; and the same on one grid (fix griddem cell multi), and on
+    # one grid of a given edge smaller than the largest spheres' contact distance (0.8)
     poly = os.path.join(wd, "data.poly")
     t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.025, 0.4, seed=5, density=100.0, vscale=1.0, wscale=5.0, ntypes=2)
     for law in (HISTORY, LAWS[-1]):
         ref = run(wd, "poly_stock", poly, law[2], law[3], extra=FROZEN_LIST)
         cpu = run(wd, "poly_cpu", poly, law[1], law[3])
-        for cell in ("classes", "multi"):
+        for cell in ("classes", "multi", "0.3"):
             kk = run(wd, "poly_kk", poly, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem cell " + cell)
             what = "%s/kk [%s] radii 1:16, cell %s" % (law[1].split()[0], law[0], cell)
             compare(what + " vs stock", ref, kk)
@@ -240,16 +241,19 @@ def main():
             "size classes on kk: %s occupied cells, against %s on one grid" % (occupancy["classes"], occupancy["multi"]))
 
     # fix griddem's diagnostics from the kk sweep, as the CPU engine reports them: cell edge,
-    # contacts, most contacts of one atom, elastic energy (the same grid: cell multi)
-    stats = {}
-    stats_in = (t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
-                "fix grid all griddem cell multi\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
-                "thermo_modify format float %.17g\nrun 0\n")
-    for name, out in run_cpu_and_kk(wd, "stats", lambda name: stats_in):
-        stats[name.split("_")[1]] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
-    print("fix griddem diagnostics (edge, contacts, most, energy): CPU %s, kk %s" % (stats["cpu"], stats["kk"]))
-    t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
-            stats["cpu"][1][0] > 0, "kk diagnostics equal the CPU engine's: %s vs %s" % (stats["kk"], stats["cpu"]))
+    # contacts, most contacts of one atom, elastic energy (the same grid: cell multi, exact, or a
+    # given edge, which the kk styles take as asked)
+    for cell, edge in (("multi", None), ("exact", None), ("0.17", 0.17)):
+        stats = {}
+        stats_in = (t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
+                    "fix grid all griddem cell %s\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
+                    "thermo_modify format float %%.17g\nrun 0\n" % cell)
+        for name, out in run_cpu_and_kk(wd, "stats", lambda name: stats_in):
+            stats[name.split("_")[1]] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
+        print("fix griddem diagnostics (edge, contacts, most, energy), cell %s: CPU %s, kk %s" % (cell, stats["cpu"], stats["kk"]))
+        t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
+                stats["cpu"][1][0] > 0 and (edge is None or abs(stats["kk"][0][0] - edge) <= 1e-12 * edge),
+                "kk diagnostics, cell %s, equal the CPU engine's: %s vs %s" % (cell, stats["kk"], stats["cpu"]))
 
     # the occupancy (fix griddem values 1 and 2), which the kk styles count only when asked: 64
     # spheres of diameter 1 in a closed box, each centred in its own cell of the `multi` grid

@@ -175,10 +175,12 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     this->error_too_fast(sc.ivmax, sqrt(sc.vmax2), h_nn4dem);
   }
 
-  // 2. grids: one per size class (fix griddem's classes; multi: one), anchored at boxlo, a class
-  // given larger cells where it would need too many
+  // 2. grids: one per size class (fix griddem's auto and classes), else one grid of the mode's
+  // edge (multi, exact, a number: as the CPU style), anchored at boxlo, a grid given larger cells
+  // where it would need too many
   GriddemKKGrids grids;
-  const int classes = this->fix->cell_mode != GRIDDEM_CELL_MULTI;
+  const int mode = this->fix->cell_mode;
+  const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
   grids.ncls = classes ? griddem_class_count(this->rmin, rmax) : 1;
   for (int c = 0; c < grids.ncls; c++) grids.upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
   grids.upper[grids.ncls] = 0.0;
@@ -214,9 +216,9 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     const long max_cells = grids.ncls == 1 ? 32L * nall + 65536L
                                            : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
     griddem_grid fitted;
-    const int coarsened = griddem_grid_fit(
-        &fitted, this->domain->boxlo, lo, hi,
-        griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0), max_cells);
+    const double edge = classes ? griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0)
+                                : griddem_cell_edge(mode, this->rmin, rmax, this->fix->cell_edge);
+    const int coarsened = griddem_grid_fit(&fitted, this->domain->boxlo, lo, hi, edge, max_cells);
     if (coarsened && !coarsened_warned_kk) {
       coarsened_warned_kk = 1;
       error->warning(FLERR,
