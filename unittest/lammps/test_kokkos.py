@@ -255,6 +255,22 @@ def main():
                 stats["cpu"][1][0] > 0 and (edge is None or abs(stats["kk"][0][0] - edge) <= 1e-12 * edge),
                 "kk diagnostics, cell %s, equal the CPU engine's: %s vs %s" % (cell, stats["kk"], stats["cpu"]))
 
+    # a dilute scene coarsens the grid asked for, with the CPU style's warning and edge
+    dilute_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\natom_modify sort 0 0\n"
+                 "region box block 0 1000 0 1000 0 1000\ncreate_box 1 box\ncreate_atoms 1 single 1 1 1\n"
+                 "create_atoms 1 single 1.9 1 1\ncreate_atoms 1 single 900 900 900\n"
+                 "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+                 "fix grid all griddem cell 0.01\nthermo_style custom step f_grid[4]\n"
+                 "thermo_modify format float %%.17g\nrun 0\n" % (HISTORY[1], HISTORY[3]))
+    coarse = {}
+    for name, out in run_cpu_and_kk(wd, "dilute", lambda name: dilute_in):
+        warned = [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in out.splitlines() if "enlarged" in l]
+        coarse[name.split("_")[1]] = (warned, t.thermo_values(out, "f_grid[4]"))
+    print("dilute, cell 0.01: CPU %s, kk %s" % (coarse["cpu"], coarse["kk"]))
+    t.check(coarse["kk"] == coarse["cpu"] and len(coarse["kk"][0]) == 1 and "from 0.01 to" in coarse["kk"][0][0]
+            and coarse["kk"][1] and coarse["kk"][1][0] > 1.0,
+            "kk coarsens a dilute grid as the CPU style, with its warning: %s vs %s" % (coarse["kk"], coarse["cpu"]))
+
     # the occupancy (fix griddem values 1 and 2), which the kk styles count only when asked: 64
     # spheres of diameter 1 in a closed box, each centred in its own cell of the `multi` grid
     # (edge 1 + 1e-9 from boxlo) and two cells apart, and a 65th in the first one's cell

@@ -221,10 +221,12 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     const int coarsened = griddem_grid_fit(&fitted, this->domain->boxlo, lo, hi, edge, max_cells);
     if (coarsened && !coarsened_warned_kk) {
       coarsened_warned_kk = 1;
+      // worded as the CPU style's, naming the class when there are several
       error->warning(FLERR,
-                     "Pair style {}: cell edge of size class {} enlarged to {} so that its grid "
-                     "over this process's atoms stays within {} cells",
-                     style, c, fitted.h, max_cells);
+                     "Pair style {}: cell edge {}enlarged from {} to {} so that the grid over "
+                     "this process's atoms stays within {} cells",
+                     style, grids.ncls > 1 ? fmt::format("of size class {} ", c) : "", edge,
+                     fitted.h, max_cells);
     }
     GriddemKKGrid &g = grids.g[c];
     for (int d = 0; d < 3; d++)
