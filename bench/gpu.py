@@ -14,9 +14,13 @@ as a Kokkos Tools library, and its line gets "kernels": each kernel's calls and 
 step (those of the whole run, setup included, over its steps; the tool makes Kokkos fence around
 every kernel, so on a GPU too they are execution times) and "kernels_per_step".
 
+With --cell the griddem styles run once per fix griddem cell mode given (auto, multi, exact or
+an edge, as `fix grid all griddem cell X`), each line recording its "cell"; the cell edge trades
+candidates searched against cells visited, and a GPU may weigh the two otherwise than a CPU.
+
 usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
-                    [--steps N] [--only STYLE,...] [--timeout S] [--lammps-bench DIR] [--census]
-                    [--build LABEL]"""
+                    [--steps N] [--only STYLE,...] [--cell MODE,...] [--timeout S]
+                    [--lammps-bench DIR] [--census] [--build LABEL]"""
 import argparse
 import datetime
 import json
@@ -169,6 +173,8 @@ def main():
     ap.add_argument("--only", default=None, help="comma-separated pair styles to run")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per run")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    ap.add_argument("--cell", default=None,
+                    help="fix griddem cell modes for the griddem styles, e.g. auto,0.5 (default: none given)")
     ap.add_argument("--build", default=None, help="a label for the lmp's source, recorded in each line")
     ap.add_argument("--census", action="store_true",
                     help="run each again under bench/kokkos_census.c and record time per kernel")
@@ -202,24 +208,33 @@ def main():
         scaled = f.read()
     out_path = os.path.join(HERE, "results", "gpu.jsonl")
     only = args.only.split(",") if args.only else None
-    styles = [(s, note) for s, note in STYLES if not only or s in only]
+    cells = args.cell.split(",") if args.cell else [None]
+    styles = [(s, note, cell) for s, note in STYLES if not only or s in only
+              for cell in (cells if s.startswith("griddem/") else [None])]
     failed = set()
     i = 0
     while i < len(sizes):
         x, y = replicas(sizes[i])
         ran = False
-        for style, note in styles:
+        for style, note, cell in styles:
             record = {"date": datetime.date.today().isoformat(), "device": device, "scene": "chute",
                       "natoms": BASE * x * y, "replicate": "%d %d 1" % (x, y), "steps": args.steps,
                       "style": style, "note": note}
+            if cell:
+                record["cell"] = cell
             if args.build:
                 record["build"] = args.build
             if style not in have:
                 record.update(status="not available", reason="%s is not in %s" % (style, args.lmp))
-            elif style in failed:
+            elif (style, cell) in failed:
                 continue  # failed at a smaller size
             else:
                 text = scaled.replace("gran/hooke/history ", style + " ")
+                if cell:
+                    text, n = re.subn(r"^(pair_coeff.*)$", r"\1\nfix grid all griddem cell " + cell, text,
+                                      flags=re.M)
+                    if n != 1:
+                        raise SystemExit("in.chute.scaled: no single pair_coeff line to put fix griddem after")
                 text = re.sub(r"run\s+100", "run %d" % args.steps, text)
                 with open(os.path.join(wd, "in.run"), "w") as f:
                     f.write(text)
@@ -239,7 +254,7 @@ def main():
                             cmd, wd, args.timeout, gpu, census_lib, steps)
                 else:
                     record.update(status="failed", reason=reason(rc, out, timed_out, args.timeout))
-                    failed.add(style)
+                    failed.add((style, cell))
                 record["host_peak_rss_mib"] = round(rss, 1)
                 if gpu:
                     record["gpu_peak_mem_mib"] = gpu_mem
