@@ -345,12 +345,16 @@ void PairGriddem::check_motion(double h_nn4dem)
   error_too_fast(worst, st.max_speed, h_nn4dem);
 }
 
+void PairGriddem::error_stencil_reach(double edge)
+{
+  error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
+             force->pair_style, 2.0 * rmax + model.reach_extra, GRIDDEM_MAX_REACH, edge, rmax / rmin);
+}
+
 void PairGriddem::report_fault(const griddem_sweep_result &r)
 {
   if (r.fault == GRIDDEM_FAULT_COINCIDENT) error_coincident(r.fault_i, r.fault_j);
-  if (r.fault == GRIDDEM_FAULT_STENCIL)
-    error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
-               force->pair_style, 2.0 * rmax + model.reach_extra, GRIDDEM_MAX_REACH, fix->stats().cell_edge, rmax / rmin);
+  if (r.fault == GRIDDEM_FAULT_STENCIL) error_stencil_reach(fix->stats().cell_edge);
   if (r.fault == GRIDDEM_FAULT_MEMORY)
     error->one(FLERR, "Pair style {}: out of memory for the grid or the contact history of {} atoms", force->pair_style,
                atom->nlocal + atom->nghost);

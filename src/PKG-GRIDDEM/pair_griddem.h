@@ -61,6 +61,7 @@ class PairGriddem : public Pair {
   void error_nonfinite(const char *what, int i, const double *value);
   void error_too_fast(int i, double speed, double h_nn4dem);
   void error_coincident(int i, int j);
+  void error_stencil_reach(double edge);
 
  private:
   griddem_pair_params make_params(const griddem_pair_spec &s, int i, int j);

@@ -216,6 +216,24 @@ def main():
     errors = t.errors(out)
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
+    # one grid of a given edge: a contact distance (1 here) over more than 32 edges is refused in
+    # the CPU style's words (edge 1/32 = 0.03125: 33 cells, with the search's margin), and a
+    # hair above that edge runs, on both
+    reach_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+                "region box block 0 2.2 0 1.2 0 1.2\ncreate_box 1 box\ncreate_atoms 1 single 0.55 0.6 0.6\n"
+                "create_atoms 1 single 1.7 0.6 0.6\nset type 1 diameter 1.0\nset atom 2 diameter 0.01\n"
+                "pair_style %s\n%s\nfix grid all griddem cell {edge}\nfix integrate all nve/sphere\nrun 5\n"
+                % (HISTORY[1], HISTORY[3]))
+    for edge, refused in (("0.03125", True), ("0.0313", False)):
+        said = {}
+        for name, extra in (("cpu", ()), ("kk", kk_args(1))):
+            rc, out = t.run_lmp(reach_in.format(edge=edge), wd, name="in.reach_" + name, extra=extra)
+            said[name] = (rc != 0, [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in t.errors(out)])
+        t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
+                (not refused or "spans more than 32 cells of edge 0.03125" in said["kk"][1][0]),
+                "cell %s: kk %s as the CPU style: %s vs %s" % (edge, "refuses" if refused else "runs",
+                                                               said["kk"], said["cpu"]))
+
     # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
     # classes searched from both sides; and the same on one grid (fix griddem cell multi), and on
     # one grid of a given edge smaller than the largest spheres' contact distance (0.8)

@@ -228,6 +228,11 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
                      style, grids.ncls > 1 ? fmt::format("of size class {} ", c) : "", edge,
                      fitted.h, max_cells);
     }
+    // one grid of a given edge: refused where the CPU style's stencil would be, rather than
+    // searched over (2 x reach + 1)^3 cells per atom
+    if (!classes && griddem_stencil_reach(fitted.h, (2.0 * rmax + this->model.reach_extra) *
+                                                        (1.0 + 1e-10)) > GRIDDEM_MAX_REACH)
+      this->error_stencil_reach(fitted.h);
     GriddemKKGrid &g = grids.g[c];
     for (int d = 0; d < 3; d++)
       g.anchor[d] = fitted.anchor[d], g.k0[d] = fitted.k0[d], g.n[d] = fitted.n[d];
