@@ -216,6 +216,18 @@ def main():
     errors = t.errors(out)
     t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
 
+    # a non-finite velocity (inf, and nan = inf - inf), found by the kk scan: stopped naming the
+    # atom, in the CPU style's words
+    for kind, value in (("inf", "1e308*1e308"), ("nan", "(1e308*1e308-1e308*1e308)")):
+        bad_in = t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") + (
+            'variable bad atom "(id==42)*%s"\nset atom 42 vx v_bad\nfix integrate all nve/sphere\nrun 2\n' % value)
+        said = {}
+        for name, extra in (("cpu", ()), ("kk", kk_args(1))):
+            rc, out = t.run_lmp(bad_in, wd, name="in.bad_" + name, extra=extra)
+            said[name] = (rc != 0, [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in t.errors(out)])
+        t.check(said["kk"] == said["cpu"] and said["kk"][0] and "atom 42 has a non-finite velocity" in said["kk"][1][0],
+                "%s velocity: kk stops naming the atom as the CPU style: %s vs %s" % (kind, said["kk"], said["cpu"]))
+
     # one grid of a given edge: a contact distance (1 here) over more than 32 edges is refused in
     # the CPU style's words (edge 1/32 = 0.03125: 33 cells, with the search's margin), and a
     # hair above that edge runs, on both
