@@ -6,8 +6,8 @@ Appends one JSON line per run to bench/results/gpu.jsonl: atom-steps/s and peak 
 nvidia-smi's memory.used polled every 200 ms, less its value before the run; always the lmp
 process's peak host RSS). A run that fails (out of memory, a crash, a timeout) is recorded as
 failed with its reason and the job goes on; a style the lmp lacks is recorded as not available,
-never replaced by another. On a GPU without --sizes the sizes go on growing 4x past 32M while
-any style still runs.
+never replaced by another. On a GPU without --sizes the sizes are 0.5M, 2M, 8M, 32M and the
+issue's 100M, then 2x more (200M, 400M, ...) while any style still runs.
 
 With --census each run that worked is run again with bench/kokkos_census.c (built here with cc)
 as a Kokkos Tools library, and its line gets "kernels": each kernel's calls and milliseconds per
@@ -45,7 +45,7 @@ STYLES = [
     ("griddem/hooke/kk", "GRIDDEM, twin of gran/hooke (no tangential history)"),
     ("gran/hooke/kk", "stock, like for like with griddem/hooke/kk"),
 ]
-GPU_SIZES = ["0.5M", "2M", "8M", "32M"]
+GPU_SIZES = ["0.5M", "2M", "8M", "32M", "100M"]
 CPU_SIZES = ["32k", "128k"]
 
 
@@ -264,7 +264,7 @@ def main():
                 f.write(json.dumps(record) + "\n")
         i += 1
         if grow and i == len(sizes) and ran:
-            sizes.append(sizes[-1] * 4)
+            sizes.append(sizes[-1] * 2)
     shutil.rmtree(wd, ignore_errors=True)
 
 
