@@ -14,13 +14,20 @@ as a Kokkos Tools library, and its line gets "kernels": each kernel's calls and 
 step (those of the whole run, setup included, over its steps; the tool makes Kokkos fence around
 every kernel, so on a GPU too they are execution times) and "kernels_per_step".
 
+Each line records LAMMPS's timing breakdown ("sections_pct": Pair, Neigh, Comm, Output, Modify,
+Other, percent of the loop). On a GPU kernels run asynchronously and LAMMPS charges a kernel to
+whichever section waits for it next, so stock's Pair share counts little more than its launch;
+--launch-blocking runs with CUDA_LAUNCH_BLOCKING=1, each kernel finishing inside its own section
+(slower as a whole: the line says "launch_blocking": true and is for the breakdown, not the
+speed).
+
 With --cell the griddem styles run once per fix griddem cell mode given (auto, multi, exact or
 an edge, as `fix grid all griddem cell X`), each line recording its "cell"; the cell edge trades
 candidates searched against cells visited, and a GPU may weigh the two otherwise than a CPU.
 
 usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
                     [--steps N] [--only STYLE,...] [--cell MODE,...] [--timeout S]
-                    [--lammps-bench DIR] [--census] [--build LABEL]"""
+                    [--lammps-bench DIR] [--census] [--launch-blocking] [--build LABEL]"""
 import argparse
 import datetime
 import json
@@ -175,6 +182,8 @@ def main():
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     ap.add_argument("--cell", default=None,
                     help="fix griddem cell modes for the griddem styles, e.g. auto,0.5 (default: none given)")
+    ap.add_argument("--launch-blocking", action="store_true",
+                    help="GPU: CUDA_LAUNCH_BLOCKING=1, so that LAMMPS's timing breakdown charges each kernel to its section")
     ap.add_argument("--build", default=None, help="a label for the lmp's source, recorded in each line")
     ap.add_argument("--census", action="store_true",
                     help="run each again under bench/kokkos_census.c and record time per kernel")
@@ -198,6 +207,9 @@ def main():
         kk = ["-k", "on", "t", str(threads)]
         device = "%s, Kokkos %s, %d threads" % (benchlib.device(), api.split()[0], threads)
     kk += ["-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
+    if args.launch_blocking and not gpu:
+        raise SystemExit("--launch-blocking is for a GPU run")
+    blocking = {"CUDA_LAUNCH_BLOCKING": "1"} if args.launch_blocking else None
     sizes = [atoms(s) for s in (args.sizes.split(",") if args.sizes else GPU_SIZES if gpu else CPU_SIZES)]
     grow = gpu and not args.sizes
 
@@ -222,6 +234,8 @@ def main():
                       "style": style, "note": note}
             if cell:
                 record["cell"] = cell
+            if blocking:
+                record["launch_blocking"] = True
             if args.build:
                 record["build"] = args.build
             if style not in have:
@@ -240,14 +254,16 @@ def main():
                     f.write(text)
                 cmd = [args.lmp] + kk + ["-var", "x", str(x), "-var", "y", str(y), "-in", "in.run",
                                          "-log", "none"]
-                rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu)
+                rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu, blocking)
                 found = re.findall(r"Loop time of ([0-9.e+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", out)
                 if rc == 0 and found:
                     loop, steps, n = float(found[-1][0]), int(found[-1][1]), int(found[-1][2])
-                    pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
+                    table = out.rpartition("MPI task timing breakdown:")[2].split("\n\n")[0]
+                    sections = {k: float(v) for k, v in
+                                re.findall(r"^(\w+)\s*\|.*\|\s*([0-9.]+)\s*$", table, re.M)}
                     record.update(status="ok", natoms=n, steps=steps, loop_s=loop,
-                                  atom_steps_per_s=n * steps / loop,
-                                  pair_pct=float(pair_pct.group(1)) if pair_pct else None)
+                                  atom_steps_per_s=n * steps / loop, pair_pct=sections.get("Pair"),
+                                  sections_pct=sections)
                     ran = True
                     if census_lib:
                         record["kernels"], record["kernels_per_step"] = census(
