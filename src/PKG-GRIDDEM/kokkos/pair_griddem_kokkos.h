@@ -6,9 +6,10 @@
 
    1. scan: bounding box of owned + ghost centres, non-finite positions and velocities, fastest
       owned atom, radius range (one parallel_reduce);
-   2. binning: a counting sort of the centres into cells of edge 2*rmax*(1+1e-9) anchored at
-      domain->boxlo (fix griddem's `cell multi` grid); within a cell the slots are ordered by tag
-      (then position, for periodic images of one atom), so sums do not depend on storage order;
+   2. binning: a counting sort of the centres into the grids of fix griddem's cell mode (a grid
+      per size class, or one grid of `multi`'s, `exact`'s or a given edge), anchored at
+      domain->boxlo; within a cell the slots are ordered by tag (then position, for periodic
+      images of one atom), so sums do not depend on storage order;
       the sorted positions, radii, velocities, masses, types and masks are the "channels";
    3. search: one thread per sorted owned particle visits the cells of every size class within
       reach of it and lists the candidates that touch (GriddemKKFind);

@@ -228,11 +228,6 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
                      style, grids.ncls > 1 ? fmt::format("of size class {} ", c) : "", edge,
                      fitted.h, max_cells);
     }
-    // one grid of a given edge: refused where the CPU style's stencil would be, rather than
-    // searched over (2 x reach + 1)^3 cells per atom
-    if (!classes && griddem_stencil_reach(fitted.h, (2.0 * rmax + this->model.reach_extra) *
-                                                        (1.0 + 1e-10)) > GRIDDEM_MAX_REACH)
-      this->error_stencil_reach(fitted.h);
     GriddemKKGrid &g = grids.g[c];
     for (int d = 0; d < 3; d++)
       g.anchor[d] = fitted.anchor[d], g.k0[d] = fitted.k0[d], g.n[d] = fitted.n[d];
@@ -247,6 +242,13 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   grids.offset[grids.ncls] = (int) total;
   // the search distance's margin for round-off of positions relative to their cells
   const double slack = 1e-10 * (2.0 * rmax + this->model.reach_extra) + 1e-14 * extent;
+  // one grid of a given edge: refused where the CPU style's stencil would be (the largest pair's
+  // search distance over more than GRIDDEM_MAX_REACH edges), rather than searched over
+  // (2 x reach + 1)^3 cells per atom
+  if (!classes &&
+      griddem_stencil_reach(grids.g[0].h, 2.0 * rmax + this->model.reach_extra + slack) >
+          GRIDDEM_MAX_REACH)
+    this->error_stencil_reach(grids.g[0].h);
 
   if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
     bin_and_sweep<float>(grids, slack, sc);
