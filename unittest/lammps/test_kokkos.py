@@ -94,6 +94,22 @@ def run_cpu_and_kk(wd, label, text_for, kk_ranks=1):
     return runs
 
 
+
+def as_cpu_says(line):
+    """A message without its ERROR/WARNING prefix, its source location and the "/kk" of the
+    style's name: the words the CPU and kk styles share."""
+    return re.sub(r"^.*?: | \(src/.*$|/kk", "", line)
+
+
+def errors_of_cpu_and_kk(wd, label, text):
+    """The script run with the CPU styles and with -sf kk on one thread, either allowed to stop:
+    {"cpu" | "kk": (stopped, [its ERROR lines, as_cpu_says])}."""
+    said = {}
+    for name, extra in (("cpu", ()), ("kk", kk_args(1))):
+        rc, out = t.run_lmp(text, wd, name="in.%s_%s" % (label, name), extra=extra)
+        said[name] = (rc != 0, [as_cpu_says(l) for l in t.errors(out)])
+    return said
+
 # (label, CPU griddem style and stock style with their coefficients); the 1-2 pair is mixed
 LAWS = [
     ("hooke", "griddem/hooke 1e4 NULL 50 NULL 0.5 1", "gran/hooke 1e4 NULL 50 NULL 0.5 1", "pair_coeff * *"),
@@ -221,10 +237,7 @@ def main():
     for kind, value in (("inf", "1e308*1e308"), ("nan", "(1e308*1e308-1e308*1e308)")):
         bad_in = t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") + (
             'variable bad atom "(id==42)*%s"\nset atom 42 vx v_bad\nfix integrate all nve/sphere\nrun 2\n' % value)
-        said = {}
-        for name, extra in (("cpu", ()), ("kk", kk_args(1))):
-            rc, out = t.run_lmp(bad_in, wd, name="in.bad_" + name, extra=extra)
-            said[name] = (rc != 0, [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in t.errors(out)])
+        said = errors_of_cpu_and_kk(wd, "bad", bad_in)
         t.check(said["kk"] == said["cpu"] and said["kk"][0] and "atom 42 has a non-finite velocity" in said["kk"][1][0],
                 "%s velocity: kk stops naming the atom as the CPU style: %s vs %s" % (kind, said["kk"], said["cpu"]))
 
@@ -237,10 +250,7 @@ def main():
                 "pair_style %s\n%s\nfix grid all griddem cell {edge}\nfix integrate all nve/sphere\nrun 5\n"
                 % (HISTORY[1], HISTORY[3]))
     for edge, refused in (("0.03125", True), ("0.0313", False)):
-        said = {}
-        for name, extra in (("cpu", ()), ("kk", kk_args(1))):
-            rc, out = t.run_lmp(reach_in.format(edge=edge), wd, name="in.reach_" + name, extra=extra)
-            said[name] = (rc != 0, [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in t.errors(out)])
+        said = errors_of_cpu_and_kk(wd, "reach", reach_in.format(edge=edge))
         t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
                 (not refused or "spans more than 32 cells of edge 0.03125" in said["kk"][1][0]),
                 "cell %s: kk %s as the CPU style: %s vs %s" % (edge, "refuses" if refused else "runs",
@@ -294,7 +304,7 @@ def main():
                  "thermo_modify format float %%.17g\nrun 0\n" % (HISTORY[1], HISTORY[3]))
     coarse = {}
     for name, out in run_cpu_and_kk(wd, "dilute", lambda name: dilute_in):
-        warned = [re.sub(r"^.*?: | \(src/.*$|/kk", "", l) for l in out.splitlines() if "enlarged" in l]
+        warned = [as_cpu_says(l) for l in out.splitlines() if "enlarged" in l]
         coarse[name.split("_")[1]] = (warned, t.thermo_values(out, "f_grid[4]"))
     print("dilute, cell 0.01: CPU %s, kk %s" % (coarse["cpu"], coarse["kk"]))
     t.check(coarse["kk"] == coarse["cpu"] and len(coarse["kk"][0]) == 1 and "from 0.01 to" in coarse["kk"][0][0]
