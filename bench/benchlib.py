@@ -1,4 +1,4 @@
-"""Shared by the benchmark harnesses: the machine's name and LAMMPS's loop time."""
+"""Shared by the benchmark harnesses: the machine's name, LAMMPS's loop time and timing breakdown."""
 import os
 import platform
 import re
@@ -23,6 +23,13 @@ def loop_time(out, what):
         raise SystemExit("no loop time for " + what)
     loop, _, steps, atoms = found[-1]
     return float(loop), int(steps), int(atoms)
+
+
+def timing_sections(out):
+    """{section: percent of the loop} from the last run's "MPI task timing breakdown" (Pair, Neigh,
+    Comm, Output, Modify, Other); {} if there is none."""
+    table = out.rpartition("MPI task timing breakdown:")[2].split("\n\n")[0]
+    return {k: float(v) for k, v in re.findall(r"^(\w+)\s*\|.*\|\s*([0-9.]+)\s*$", table, re.M)}
 
 
 def run_lmp(lmp, wd, text, ranks, threads=1, extra=(), env=None):

@@ -54,10 +54,8 @@ def main():
             text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
             loop, steps, atoms, out = benchlib.run_lmp(args.lmp, wd, text, ranks, threads)
-            pair_pct = re.search(r"^Pair\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
-            neigh_pct = re.search(r"^Neigh\s*\|.*\|\s*([0-9.]+)\s*$", out, re.M)
+            sections = benchlib.timing_sections(out)
             benchlib.record(out_path, "chute", label, ranks, threads, loop, steps, atoms, build=build,
-                            pair_pct=float(pair_pct.group(1)) if pair_pct else None,
-                            neigh_pct=float(neigh_pct.group(1)) if neigh_pct else None)
+                            pair_pct=sections.get("Pair"), neigh_pct=sections.get("Neigh"))
 
 main()

@@ -258,9 +258,7 @@ def main():
                 found = re.findall(r"Loop time of ([0-9.e+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", out)
                 if rc == 0 and found:
                     loop, steps, n = float(found[-1][0]), int(found[-1][1]), int(found[-1][2])
-                    table = out.rpartition("MPI task timing breakdown:")[2].split("\n\n")[0]
-                    sections = {k: float(v) for k, v in
-                                re.findall(r"^(\w+)\s*\|.*\|\s*([0-9.]+)\s*$", table, re.M)}
+                    sections = benchlib.timing_sections(out)
                     record.update(status="ok", natoms=n, steps=steps, loop_s=loop,
                                   atom_steps_per_s=n * steps / loop, pair_pct=sections.get("Pair"),
                                   sections_pct=sections)
