@@ -220,7 +220,8 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    ascending, as one pass over the stencil. What both kernels read: */
 template <class DeviceType, typename Real> struct GriddemKKSorted {
   GriddemKKGrids grids;
-  int nlocal;
+  int nlocal, ntypes;
+  double reach_extra;    // model.reach_extra
   Kokkos::View<const int *, DeviceType> order;        // atom index of each slot
   Kokkos::View<const int *, DeviceType> slot_cell;    // cell of each slot (over all classes)
   Kokkos::View<const Real *[4], Kokkos::LayoutRight, DeviceType> pos;    // GriddemKKChannels
@@ -244,8 +245,6 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   typedef GriddemKKFindValue value_type;
 
   double slack;          // added to every search distance: round-off of the positions
-  double reach_extra;    // model.reach_extra
-  int ntypes;
   int repair;            // 1: list again the atoms whose room was short, into room from `top`
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
   Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
@@ -271,7 +270,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   KOKKOS_INLINE_FUNCTION int excluded(int ta, int ma, int tb, int mb) const
   {
     if (ma & mb & excl_both) return 1;
-    if (excl_type.extent(0) && excl_type(ta * (ntypes + 1) + tb)) return 1;
+    if (excl_type.extent(0) && excl_type(ta * (this->ntypes + 1) + tb)) return 1;
     for (int k = 0; k + 1 < (int) excl_group.extent(0); k += 2) {
       const int b1 = excl_group(k), b2 = excl_group(k + 1);
       if (((ma & b1) && (mb & b2)) || ((ma & b2) && (mb & b1))) return 1;
@@ -305,7 +304,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
     // every class's cells within reach of a partner as large as the class allows
     for (int cj = 0; cj < this->grids.ncls; cj++) {
       const GriddemKKGrid &g = this->grids.g[cj];
-      const double d = radi + this->grids.upper[cj] + reach_extra + slack;
+      const double d = radi + this->grids.upper[cj] + this->reach_extra + slack;
       int lo[3], hi[3];
       for (int k = 0; k < 3; k++)
         lo[k] = g.axis_cell(k, xi[k] - d), hi[k] = g.axis_cell(k, xi[k] + d);
@@ -327,7 +326,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
               const double dy = (pi[1] - (double) pu[1]) + sy;
               const double dz = (pi[2] - (double) pu[2]) + sz;
               const double rsq = dx * dx + dy * dy + dz * dz;
-              const double rs = radi + reach_extra + (double) pu[3];
+              const double rs = radi + this->reach_extra + (double) pu[3];
               if (!(rsq < rs * rs)) continue;
               if (rsq == 0.0) {
                 if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = this->order(u);
@@ -368,8 +367,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   typedef GriddemKKSweepValue value_type;
   typedef ArrayTypes<DeviceType> AT;
 
-  double reach_extra;    // model.reach_extra
-  int ntypes, frozen_bit, vflag_global, vflag_atom;
+  int frozen_bit, vflag_global, vflag_atom;
   double dt;
   int history_update;    // 0 in setup: stored values are read, not advanced
   int track;             // model.track_contacts: rows are kept
@@ -437,10 +435,10 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double radj = pu[3];
       const int jtype = this->tm(u, 0), jmask = this->tm(u, 1);
-      const griddem_pair_params *law = &params(itype * (ntypes + 1) + jtype);
+      const griddem_pair_params *law = &params(itype * (this->ntypes + 1) + jtype);
       const tagint partner = track ? tag(this->order(u)) : 0;
       const int found = track ? find(i, partner) : -1;
-      if (reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, found >= 0)) continue;
+      if (this->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, found >= 0)) continue;
 
       griddem_contact c;
       c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;

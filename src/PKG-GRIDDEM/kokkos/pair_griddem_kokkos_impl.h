@@ -426,6 +426,8 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   GriddemKKSorted<DeviceType, Real> &sorted = find;
   sorted.grids = grids;
   sorted.nlocal = nlocal;
+  sorted.ntypes = this->atom->ntypes;
+  sorted.reach_extra = this->model.reach_extra;
   sorted.order = d_order;
   sorted.slot_cell = d_slot_cell;
   sorted.pos = chan.pos;
@@ -434,8 +436,6 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sorted.first = d_list_first;
   sorted.count = d_list_count;
   find.slack = slack;
-  find.reach_extra = this->model.reach_extra;
-  find.ntypes = this->atom->ntypes;
   find.repair = 0;
   find.start = d_start;
   find.excl_type = d_excl_type;
@@ -478,8 +478,6 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   // 6. the law over the lists
   GriddemKKSweep<DeviceType, Real, Classic> sweep;
   static_cast<GriddemKKSorted<DeviceType, Real> &>(sweep) = sorted;
-  sweep.reach_extra = this->model.reach_extra;
-  sweep.ntypes = this->atom->ntypes;
   sweep.frozen_bit = this->freeze_group_bit;
   sweep.vflag_global = this->vflag_global;
   sweep.vflag_atom = this->vflag_atom;
