@@ -33,6 +33,7 @@
 #endif
 #endif
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -270,7 +271,10 @@ void ComputeGriddemCg::destroy_fft()
 void ComputeGriddemCg::transform_kernel(const double h[3])
 {
 #ifdef GRIDDEM_CG_HAVE_FFT
-  griddem_cg_kernel_brick(fftsize, fft_lo, fft_hi, h, width, fft_real.data());
+  int reach[3];
+  for (int d = 0; d < 3; d++)
+    reach[d] = domain->periodicity[d] ? GRIDDEM_CG_PERIODIC : fftsize[d] - ngrid[d];
+  griddem_cg_kernel_brick(fftsize, reach, fft_lo, fft_hi, h, width, fft_real.data());
   for (size_t n = 0; n < fft_real.size(); n++) kernel_hat[2 * n] = fft_real[n], kernel_hat[2 * n + 1] = 0.0;
   fft->compute(kernel_hat.data(), kernel_hat.data(), FFT3d::FORWARD);
 #else
@@ -379,7 +383,7 @@ void ComputeGriddemCg::compute_pergrid()
   int size[3];
   for (int d = 0; d < 3; d++) {
     h[d] = prd[d] / ngrid[d];
-    size[d] = griddem_cg_fft_size(ngrid[d], periodic[d], griddem_cg_reach(width, h[d]));
+    size[d] = griddem_cg_fft_size(ngrid[d], periodic[d], width, h[d]);
   }
   if (size[0] != fftsize[0] || size[1] != fftsize[1] || size[2] != fftsize[2]) make_fft(size);
   transform_kernel(h);
@@ -391,7 +395,7 @@ void ComputeGriddemCg::compute_pergrid()
   std::fill(first, first + nbrick, 0.0);
   double **x = atom->x, **v = atom->v;
   std::vector<double> carried(NCHANNELS, 0.0);
-  double local_totals[2] = {0.0, 0.0};    // mass and atoms of the group on this process
+  double local_totals[3] = {0.0, 0.0, 0.0};    // mass, atoms, solid volume of the group here
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
@@ -404,7 +408,7 @@ void ComputeGriddemCg::compute_pergrid()
       for (int k = 0; k < 6; k++) carried[VIRIAL + k] = virial[i][k];
     carried[ONE] = 1.0;
     if (slot[CONTACTS] >= 0) carried[CONTACTS] = contacts[i];
-    local_totals[0] += m, local_totals[1] += 1.0;
+    local_totals[0] += m, local_totals[1] += 1.0, local_totals[2] += carried[VOLUME];
 
     int index[3][2];
     double weight[3][2];
@@ -425,12 +429,14 @@ void ComputeGriddemCg::compute_pergrid()
   grid3d->reverse_comm(Grid3d::FIX, ghost_sum, 0, nslot, sizeof(double), gc_buf1, gc_buf2, MPI_DOUBLE);
   for (int s = 0; s < nslot; s++) convolve(s);
 
-  // fields; a ratio is taken only where its denominator is above 1e-9 of its mean per grid point
-  // (elsewhere it is 0), since FFT rounding leaves ~1e-16 of the peak where the kernel never reached
-  double totals[2];
-  MPI_Allreduce(local_totals, totals, 2, MPI_DOUBLE, MPI_SUM, world);
+  // fields. FFT rounding leaves about 1e-16 of the peak, of either sign, where the kernel never
+  // reached: a smoothed mass, solid volume or atom count below 1e-9 of its mean per grid point is
+  // taken as none, so densities there are 0 and ratios over it are not taken (0 too)
+  double totals[3];
+  MPI_Allreduce(local_totals, totals, 3, MPI_DOUBLE, MPI_SUM, world);
   const double npoints = (double) ngrid[0] * ngrid[1] * ngrid[2];
-  const double mass_floor = 1e-9 * totals[0] / npoints, count_floor = 1e-9 * totals[1] / npoints;
+  const double mass_floor = 1e-9 * totals[0] / npoints, count_floor = 1e-9 * totals[1] / npoints,
+               volume_floor = 1e-9 * totals[2] / npoints;
   const double cellvol = prd[0] * prd[1] * prd[2] / npoints;
   long c = 0;
   for (int iz = lo_in[2]; iz <= hi_in[2]; iz++)
@@ -442,8 +448,8 @@ void ComputeGriddemCg::compute_pergrid()
         for (size_t n = 0; n < values.size(); n++) {
           const int value = values[n];
           double out = 0.0;
-          if (value == SOLID) out = channel(VOLUME) / cellvol;
-          else if (value == DENSITY) out = mass / cellvol;
+          if (value == SOLID) out = channel(VOLUME) > volume_floor ? channel(VOLUME) / cellvol : 0.0;
+          else if (value == DENSITY) out = massive ? mass / cellvol : 0.0;
           else if (value >= VX && value <= VZ) out = massive ? channel(PX + value - VX) / mass : 0.0;
           else if (value >= PXX && value <= PYZ) {
             // kinetic: sum m (v - V)(v - V) phi = sum m v v phi - (sum m v phi)(sum m v phi) / (sum m phi)
@@ -454,9 +460,10 @@ void ComputeGriddemCg::compute_pergrid()
             double fluctuation = 0.0;
             for (int d = 0; d < 3; d++)
               fluctuation += channel(MVV + d) - channel(PX + d) * channel(PX + d) / mass;
-            out = fluctuation / (3.0 * mass);
+            // >= 0 exactly for a kernel >= 0 (Cauchy-Schwarz); rounding alone makes it negative
+            out = std::max(fluctuation / (3.0 * mass), 0.0);
           } else if (value == COORDINATION && channel(ONE) > count_floor)
-            out = channel(CONTACTS) / channel(ONE);
+            out = std::max(channel(CONTACTS) / channel(ONE), 0.0);
           fields[n][iz][iy][ix] = out;
         }
       }

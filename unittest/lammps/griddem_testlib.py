@@ -44,8 +44,9 @@ def workdir():
     return tempfile.mkdtemp(prefix="griddem-test-")
 
 
-def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None):
-    """Run an input (with threads OpenMP threads if given); returns (exit code, screen output)."""
+def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None, timeout=900):
+    """Run an input (with threads OpenMP threads if given); returns (exit code, screen output).
+    Raises subprocess.TimeoutExpired after timeout seconds."""
     path = os.path.join(cwd, name)
     with open(path, "w") as f:
         f.write(text)
@@ -55,7 +56,7 @@ def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None):
         cmd = ["mpirun", "-np", str(nprocs), "--oversubscribe"] + env_root + cmd
     env = dict(os.environ, OMP_NUM_THREADS=str(threads)) if threads else None
     proc = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, timeout=900, env=env)
+                          universal_newlines=True, timeout=timeout, env=env)
     return proc.returncode, proc.stdout
 
 

@@ -8,14 +8,17 @@ same fields on 1, 2 and 4 ranks."""
 import math
 import os
 import re
+import subprocess
 import sys
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 
 ALL = ["solid", "density", "vx", "vy", "vz", "pxx", "pyy", "pzz", "pxy", "pxz", "pyz",
        "temperature", "coordination"]
-TRUNCATION = 1e-6    # the Gaussian is cut where it falls below this fraction of its peak
+NEGLIGIBLE = 1e-17    # beyond this fraction of its peak the Gaussian is below rounding of its sum
+NONNEGATIVE = ["solid", "density", "temperature", "coordination"]
 
 RANDOM = """
 units lj
@@ -80,9 +83,25 @@ def cic(x, h, n, periodic):
     return out
 
 
+def kernel_axis(n, h, width, periodic):
+    """The documented kernel along one axis, by brute force: the Gaussian exp(-(d h)^2 / (2 W^2))
+    over its sum over all integer offsets d, summed over the periodic images on a periodic axis
+    (indexed by d mod n), at every offset inside the box (|d| < n) on a non-periodic one."""
+    span = int(40 * width / h) + 2 * n + 10
+    g = {d: math.exp(-(d * h) ** 2 / (2 * width ** 2)) for d in range(-span, span + 1)}
+    norm = sum(g.values())
+    if periodic:
+        out = {r: 0.0 for r in range(n)}
+        for d, v in g.items():
+            out[d % n] += v / norm
+        return out
+    return {d: g[d] / norm for d in range(-(n - 1), n)}
+
+
 def direct_density(atoms, grid, box, width, periodic):
-    """Density by assignment and a real-space convolution with the truncated Gaussian, normalised to
-    sum 1 over its offsets; periodic axes wrap, non-periodic ones drop what leaves the box."""
+    """Density by assignment and a real-space convolution with the kernel of kernel_axis: the 3d
+    Gaussian factorises into one factor per axis; periodic axes wrap, non-periodic ones drop what
+    leaves the box. A smoothed mass below 1e-9 of the mean per point is none (density 0)."""
     h = [box[d] / grid[d] for d in range(3)]
     npts = grid[0] * grid[1] * grid[2]
     field = [0.0] * npts
@@ -92,29 +111,22 @@ def direct_density(atoms, grid, box, width, periodic):
             for iy, wy in parts[1]:
                 for iz, wz in parts[2]:
                     field[ix + grid[0] * (iy + grid[1] * iz)] += m * wx * wy * wz
-    cut2 = -2.0 * width ** 2 * math.log(TRUNCATION)
-    reach = [int(math.floor(math.sqrt(cut2) / h[d])) for d in range(3)]
-    kernel = {}
-    for dz in range(-reach[2], reach[2] + 1):
-        for dy in range(-reach[1], reach[1] + 1):
-            for dx in range(-reach[0], reach[0] + 1):
-                r2 = (dx * h[0]) ** 2 + (dy * h[1]) ** 2 + (dz * h[2]) ** 2
-                if r2 <= cut2:
-                    kernel[(dx, dy, dz)] = math.exp(-r2 / (2 * width ** 2))
-    norm = sum(kernel.values())
+    kernels = [kernel_axis(grid[d], h[d], width, periodic[d]) for d in range(3)]
+
+    def factor(d, i, j):
+        return kernels[d][(i - j) % grid[d] if periodic[d] else i - j]
+
     out = [0.0] * npts
     cellvol = box[0] * box[1] * box[2] / npts
     for j, mass in enumerate(field):
         if mass == 0.0:
             continue
         jx, jy, jz = j % grid[0], j // grid[0] % grid[1], j // (grid[0] * grid[1])
-        for (dx, dy, dz), g in kernel.items():
-            i = [jx + dx, jy + dy, jz + dz]
-            if any(not periodic[d] and not 0 <= i[d] < grid[d] for d in range(3)):
-                continue
-            i = [i[d] % grid[d] for d in range(3)]
-            out[i[0] + grid[0] * (i[1] + grid[1] * i[2])] += mass * g / norm / cellvol
-    return out
+        for i in range(npts):
+            ix, iy, iz = i % grid[0], i // grid[0] % grid[1], i // (grid[0] * grid[1])
+            out[i] += mass * factor(0, ix, jx) * factor(1, iy, jy) * factor(2, iz, jz) / cellvol
+    floor = 1e-9 * sum(a[0] for a in atoms) / npts
+    return [rho if rho * cellvol > floor else 0.0 for rho in out]
 
 
 def max_diff(a, b):
@@ -168,18 +180,24 @@ def check_random(wd, pair, coeffs, tag, ranks_list):
             t.check(worst <= 1e-12, "%s: all fields equal the 1-rank fields (rel. %.3g)" % (what, worst))
 
 
+def low_bed(wd):
+    """60 spheres in the lowest quarter (z < 2) of a 3 x 3 x 8 box: the data file and its atoms."""
+    data = os.path.join(wd, "data.wall")
+    if not os.path.exists(data):
+        t.write_random_spheres(data, 60, (3.0, 3.0, 2.0), 0.1, 0.2, seed=3)
+        with open(data) as f:
+            text = f.read().replace("0 2 zlo zhi", "0 8 zlo zhi")
+        with open(data, "w") as f:
+            f.write(text)
+    return data, read_atoms(data)
+
+
 def check_wall(wd):
     """z non-periodic, atoms in the lowest quarter: the zero-padded FFT equals the open-boundary
     direct convolution (which drops what the kernel puts below the wall) and the top of the box
     stays empty, where the periodic box carries mass across."""
-    data = os.path.join(wd, "data.wall")
     box, grid, width = (3.0, 3.0, 8.0), (6, 6, 16), 0.3
-    t.write_random_spheres(data, 60, (3.0, 3.0, 2.0), 0.1, 0.2, seed=3)
-    with open(data) as f:
-        text = f.read().replace("0 2 zlo zhi", "0 8 zlo zhi")
-    with open(data, "w") as f:
-        f.write(text)
-    atoms = read_atoms(data)
+    data, atoms = low_bed(wd)
     for boundary, periodic in (("p p f", False), ("p p p", True)):
         for ranks in (1, 2):
             sub = os.path.join(wd, "wall.%s.np%d" % (boundary.replace(" ", ""), ranks))
@@ -197,6 +215,67 @@ def check_wall(wd):
                 t.check(top > 1e-3 * max(rho), "%s: the periodic box carries mass across z (top plane %.3g)" % (what, top))
             else:
                 t.check(top <= 1e-13 * max(rho), "%s: nothing folded onto the top wall (%.3g)" % (what, top))
+
+
+def check_nonnegative(wd):
+    """Fields that cannot be negative (solid, density, temperature, coordination) are not, also
+    where the kernel never reached and FFT rounding leaves +-1e-16 of the peak: above the bed of
+    low_bed (top point of the assignment 4, the Gaussian below rounding beyond 8.85 W = 5.3
+    spacings) solid fraction and density are exactly 0, and positive in the bed."""
+    data, _ = low_bed(wd)
+    grid, width = (6, 6, 16), 0.3
+    sub = os.path.join(wd, "nonnegative")
+    os.mkdir(sub)
+    t.run_ok(RANDOM.format(boundary="p p f", data=data, pair="granular",
+                           coeffs="hooke 1000 0 tangential linear_nohistory 0 0.5") +
+             cg_lines(grid, width, NONNEGATIVE), sub, name="in.cg")
+    f = read_fields(sub, NONNEGATIVE)
+    plane = grid[0] * grid[1]
+    for v in NONNEGATIVE:
+        negative = [x for x in f[v] if x < 0.0]
+        t.check(not negative, "%s: no negative value (%d of %d, lowest %.3g)" % (v, len(negative), len(f[v]), min(f[v])))
+    for v in ("solid", "density"):
+        t.check(all(x == 0.0 for x in f[v][10 * plane:]) and min(f[v][:4 * plane]) > 0.0,
+                "%s: exactly 0 beyond the kernel's reach, > 0 in the bed" % v)
+
+
+def check_wide_kernel(wd):
+    """A Gaussian far wider than the box costs what a narrow one does (it once took time growing
+    as (W/h)^3: W = 1e4 never returned) and is flat: along periodic x and y it averages over the
+    box, along the open z it is h / (W sqrt(2 pi)) to 1e-7 over the 8 points, so solid fraction
+    and density are the totals over Lx Ly W sqrt(2 pi) everywhere. The widest finite W underflows
+    to fields of 0, without NaN."""
+    data = os.path.join(wd, "data.wide")
+    box, grid = (2.0, 2.0, 4.0), (4, 4, 8)
+    t.write_random_spheres(data, 40, box, 0.1, 0.2, seed=2)
+    atoms = read_atoms(data)
+    mass, volume = sum(a[0] for a in atoms), sum(a[1] for a in atoms)
+    for width in (0.5, 1e4, 1e300):
+        sub = os.path.join(wd, "wide.%g" % width)
+        os.mkdir(sub)
+        text = RANDOM.format(boundary="p p f", data=data, pair="granular",
+                             coeffs="hooke 1000 0 tangential linear_nohistory 0 0.5") + cg_lines(grid, width, ["solid", "density"])
+        start = time.time()
+        try:
+            rc, out = t.run_lmp(text, sub, name="in.cg", timeout=120)
+        except subprocess.TimeoutExpired:
+            t.check(False, "W = %g: compute griddem/cg did not finish within 120 s" % width)
+            continue
+        seconds = time.time() - start
+        t.check(rc == 0, "W = %g runs (exit %d): %s" % (width, rc, t.errors(out)[:1]))
+        if rc:
+            continue
+        print("W = %g: %.2f s for the run" % (width, seconds))
+        f = read_fields(sub, ["solid", "density"])
+        if width == 0.5:
+            continue
+        for v, total in (("solid", volume), ("density", mass)):
+            flat = total / (box[0] * box[1] * width * math.sqrt(2.0 * math.pi))
+            worst = max(abs(x - flat) for x in f[v])
+            if width > 1e100:
+                t.check(all(x == 0.0 for x in f[v]), "W = %g: %s underflows to 0 everywhere" % (width, v))
+            else:
+                t.check(worst <= 1e-6 * flat, "W = %g: %s flat at %.6g (off by %.3g)" % (width, v, flat, worst))
 
 
 LATTICE = """
@@ -241,7 +320,7 @@ def check_lattice(wd):
         t.run_ok(LATTICE.format(zboundary="f", n=n, nz=nz, diameter=d, gamma=gamma) +
                  cg_lines((n, n, nz), width, ["vx"]), sub, nprocs=ranks, name="in.cg")
         vx = read_fields(sub, ["vx"])["vx"]
-        reach = int(math.floor(width * math.sqrt(-2.0 * math.log(TRUNCATION))))
+        reach = int(math.floor(width * math.sqrt(-2.0 * math.log(NEGLIGIBLE))))
         # interior points: the kernel reaches neither wall nor the wall point the clamp loads
         worst = 0.0
         for k in range(reach + 1, nz - reach - 1):
@@ -343,6 +422,8 @@ def main():
     check_random(wd, "griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", "", "griddem", (1, 2, 4))
     check_random(wd, "granular", "hooke 1000 0.5 tangential linear_history 500 0.5 0.5", "stock", (1, 2))
     check_wall(wd)
+    check_nonnegative(wd)
+    check_wide_kernel(wd)
     check_lattice(wd)
     check_static_bed(wd)
     check_time_average(wd)
