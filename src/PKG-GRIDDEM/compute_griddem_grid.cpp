@@ -1,9 +1,9 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: compute griddem/grid.
    Bins the group's atoms by centre into an Nx x Ny x Nz grid over the box and gives per cell the
-   number of centres, the solid volume fraction (sphere volumes of the centres in the cell over
-   the cell volume) and the mass-averaged velocity, as LAMMPS grid data: dump grid and dump
-   grid/vtk write it. Contributions are summed over processes with one reduction of the whole
+   number of centres, the binned solid (sphere volumes of the centres in the cell over the cell
+   volume: not bounded by 1) and the mass-averaged velocity, as LAMMPS grid data: dump grid and
+   dump grid/vtk write it. Contributions are summed over processes with one reduction of the whole
    grid, so the grid should stay moderate (each process holds 5 values per cell while summing).
 ------------------------------------------------------------------------- */
 
@@ -23,11 +23,11 @@
 
 using namespace LAMMPS_NS;
 
-static const char *const FIELD_NAMES[] = {"count", "solid", "vx", "vy", "vz"};
+static const char *const FIELD_NAMES[] = {"count", "binned_solid", "vx", "vy", "vz"};
 enum { SUM_COUNT, SUM_VOLUME, SUM_PX, SUM_PY, SUM_PZ, SUM_MASS, NSUM };
 
 ComputeGriddemGrid::ComputeGriddemGrid(LAMMPS *lmp, int narg, char **arg) :
-    Compute(lmp, narg, arg), grid3d(nullptr), vec3d(nullptr), array3d(nullptr)
+    Compute(lmp, narg, arg), grid3d(nullptr), array3d(nullptr)
 {
   if (narg < 7) utils::missing_cmd_args(FLERR, "compute griddem/grid", error);
   if (domain->dimension != 3) error->all(FLERR, "Compute griddem/grid requires a 3d simulation");
@@ -43,8 +43,13 @@ ComputeGriddemGrid::ComputeGriddemGrid(LAMMPS *lmp, int narg, char **arg) :
   for (int iarg = 6; iarg < narg; iarg++) {
     int k = 0;
     while (k < NFIELDS && strcmp(arg[iarg], FIELD_NAMES[k]) != 0) k++;
+    if (strcmp(arg[iarg], "solid") == 0)
+      error->all(FLERR, "Compute griddem/grid: no value solid: binned_solid is the sphere volume "
+                 "binned by centre over the cell volume (above 1 in cells under a few diameters "
+                 "wide); compute griddem/cg solid is a solid fraction");
     if (k == NFIELDS)
-      error->all(FLERR, "Compute griddem/grid: unknown value {} (count, solid, vx, vy, vz)", arg[iarg]);
+      error->all(FLERR, "Compute griddem/grid: unknown value {} (count, binned_solid, vx, vy, vz)",
+                 arg[iarg]);
     fields.push_back(k);
   }
   pergrid_flag = 1;
@@ -61,10 +66,11 @@ void ComputeGriddemGrid::allocate_grid()
   grid3d = new Grid3d(lmp, world, ncell[0], ncell[1], ncell[2]);
   grid3d->setup_grid(lo_in[0], hi_in[0], lo_in[1], hi_in[1], lo_in[2], hi_in[2], lo_out[0],
                      hi_out[0], lo_out[1], hi_out[1], lo_out[2], hi_out[2]);
-  if (fields.size() == 1)
-    memory->create3d_offset(vec3d, lo_out[2], hi_out[2], lo_out[1], hi_out[1], lo_out[0], hi_out[0],
-                            "griddem/grid:vec3d");
-  else
+  columns.assign(fields.size(), nullptr);
+  for (auto &column : columns)
+    memory->create3d_offset(column, lo_out[2], hi_out[2], lo_out[1], hi_out[1], lo_out[0],
+                            hi_out[0], "griddem/grid:column");
+  if (fields.size() > 1)
     memory->create4d_offset_last(array3d, lo_out[2], hi_out[2], lo_out[1], hi_out[1], lo_out[0],
                                  hi_out[0], (int) fields.size(), "griddem/grid:array3d");
 }
@@ -73,7 +79,8 @@ void ComputeGriddemGrid::deallocate_grid()
 {
   delete grid3d;
   grid3d = nullptr;
-  memory->destroy3d_offset(vec3d, lo_out[2], lo_out[1], lo_out[0]);
+  for (auto &column : columns) memory->destroy3d_offset(column, lo_out[2], lo_out[1], lo_out[0]);
+  columns.clear();
   memory->destroy4d_offset_last(array3d, lo_out[2], lo_out[1], lo_out[0]);
 }
 
@@ -115,13 +122,13 @@ void ComputeGriddemGrid::compute_pergrid()
           double value = 0.0;
           switch (fields[n]) {
             case COUNT: value = cell[SUM_COUNT]; break;
-            case SOLID: value = cell[SUM_VOLUME] / cellvol; break;
+            case BINNED_SOLID: value = cell[SUM_VOLUME] / cellvol; break;
             case VX: value = cell[SUM_PX] * minv; break;
             case VY: value = cell[SUM_PY] * minv; break;
             case VZ: value = cell[SUM_PZ] * minv; break;
           }
-          if (fields.size() == 1) vec3d[iz][iy][ix] = value;
-          else array3d[iz][iy][ix][n] = value;
+          columns[n][iz][iy][ix] = value;
+          if (array3d) array3d[iz][iy][ix][n] = value;
         }
       }
 }
@@ -138,22 +145,32 @@ void *ComputeGriddemGrid::get_grid_by_index(int index)
   return index == 0 ? grid3d : nullptr;
 }
 
+// data index 0: "data", all values (a per-grid array, or a vector with one value); 1 + n: value n
 int ComputeGriddemGrid::get_griddata_by_name(int igrid, const std::string &name, int &ncol)
 {
-  if (igrid != 0 || name != "data") return -1;
-  ncol = fields.size() == 1 ? 0 : (int) fields.size();
-  return 0;
+  if (igrid != 0) return -1;
+  if (name == "data") {
+    ncol = fields.size() == 1 ? 0 : (int) fields.size();
+    return 0;
+  }
+  for (size_t n = 0; n < fields.size(); n++)
+    if (name == FIELD_NAMES[fields[n]]) {
+      ncol = 0;
+      return 1 + (int) n;
+    }
+  return -1;
 }
 
 void *ComputeGriddemGrid::get_griddata_by_index(int index)
 {
-  if (index != 0) return nullptr;
-  return fields.size() == 1 ? (void *) vec3d : (void *) array3d;
+  if (index == 0) return fields.size() == 1 ? (void *) columns[0] : (void *) array3d;
+  return index >= 1 && index <= (int) columns.size() ? (void *) columns[index - 1] : nullptr;
 }
 
 double ComputeGriddemGrid::memory_usage()
 {
   const double owned = (double) (hi_out[0] - lo_out[0] + 1) * (hi_out[1] - lo_out[1] + 1) *
       (hi_out[2] - lo_out[2] + 1);
-  return owned * fields.size() * sizeof(double) + (double) global.capacity() * 2 * sizeof(double);
+  return owned * fields.size() * (array3d ? 2 : 1) * sizeof(double) +
+      (double) global.capacity() * 2 * sizeof(double);
 }

@@ -31,15 +31,15 @@ class ComputeGriddemGrid : public Compute {
   void *get_griddata_by_index(int) override;
   double memory_usage() override;
 
-  enum Field { COUNT, SOLID, VX, VY, VZ, NFIELDS };
+  enum Field { COUNT, BINNED_SOLID, VX, VY, VZ, NFIELDS };
 
  private:
   int ncell[3];
   std::vector<int> fields;
   class Grid3d *grid3d;
   int lo_in[3], hi_in[3], lo_out[3], hi_out[3];
-  double ***vec3d;
-  double ****array3d;
+  std::vector<double ***> columns;    // each value alone, grid data named by the value
+  double ****array3d;                 // all values, grid data "data" (with two or more values)
   std::vector<double> global;    // per cell: count, solid volume, momentum xyz, mass
 
   void allocate_grid();

@@ -1,13 +1,31 @@
 """compute griddem/grid: the channels as LAMMPS grid data. On 1 and 4 ranks the cell counts sum to
-the number of atoms, the solid fractions times the cell volume sum to the spheres' volume, the
-mass-averaged velocity is the velocity all atoms share, and dump grid/vtk writes a rectilinear
-grid with one value (solid fraction) or three (velocity) per cell for ParaView."""
+the number of atoms, the binned solid times the cell volume sums to the spheres' volume, the
+mass-averaged velocity is the velocity all atoms share. Each output read back by VTK's own XML
+readers (those ParaView uses, by the file's extension): dump grid/vtk's .vtr (a rectilinear grid,
+one array Scalar or Vector), and tools/dump2vtk's conversions of dump grid (.vtr, one cell array
+per value, named) and dump custom (.vtp, points with named arrays), each with its time (the step,
+or the time with dump_modify time yes) as VTK reports it."""
 import math
 import os
+import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+try:
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPolyDataReader, vtkXMLRectilinearGridReader
+except ImportError:
+    if os.path.exists("/usr/bin/python3") and os.environ.get("GRIDDEM_REEXEC") != "1":
+        os.environ["GRIDDEM_REEXEC"] = "1"
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    raise SystemExit("test_grid_output: needs VTK's Python module (Debian python3-vtk9: tools/install-deps)")
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DUMP2VTK = os.path.join(HERE, "..", "..", "tools", "dump2vtk")
+sys.path.insert(0, HERE)
 import griddem_testlib as t
+
+# the reader ParaView picks for each extension of VTK's XML formats
+READER = {".vtr": vtkXMLRectilinearGridReader, ".vtp": vtkXMLPolyDataReader}
 
 TEXT = """
 units lj
@@ -19,16 +37,21 @@ velocity all set 0.3 -0.2 0.1
 pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
 pair_coeff * *
 fix integrate all nve/sphere
-compute channels all griddem/grid 5 4 3 count solid vx vy vz
+timestep 1e-4
+compute channels all griddem/grid 5 4 3 count binned_solid vx vy vz
 compute contacts all contact/atom
 compute contact_sum all reduce sum c_contacts
 thermo_style custom step c_contact_sum f_GRIDDEM[5]
 thermo_modify norm no
 dump cells all grid 5 grid.*.txt c_channels:grid:data[*]
-dump_modify cells format float %.17g
-dump solid all grid/vtk 5 solid.*.vti c_channels:grid:data[2]
-dump vel all grid/vtk 5 vel.*.vti c_channels:grid:data[3] c_channels:grid:data[4] c_channels:grid:data[5]
-run 0
+dump_modify cells format float %.17g sort id
+dump named all grid 5 named.*.txt c_channels:grid:count c_channels:grid:binned_solid c_channels:grid:vx c_channels:grid:vy c_channels:grid:vz
+dump_modify named format float %.17g sort id time yes
+dump atoms all custom 5 atoms.dump id type x y z radius vx vy vz
+dump_modify atoms format float %.17g
+dump solid all grid/vtk 5 solid.*.vtr c_channels:grid:binned_solid
+dump vel all grid/vtk 5 vel.*.vtr c_channels:grid:vx c_channels:grid:vy c_channels:grid:vz
+run 10
 """
 
 
@@ -37,6 +60,88 @@ def read_grid_dump(path):
         lines = f.read().splitlines()
     start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS")) + 1
     return [[float(v) for v in line.split()] for line in lines[start:] if line.strip()]
+
+
+def read_vtk(path):
+    """The dataset and its time (TIME_STEPS, or None) read by the reader of the path's extension,
+    which must recognise the file."""
+    reader = READER[os.path.splitext(path)[1]]()
+    t.check(reader.CanReadFile(path), "%s: %s recognises the file" % (os.path.basename(path), reader.GetClassName()))
+    reader.SetFileName(path)
+    reader.UpdateInformation()
+    info = reader.GetOutputInformation(0)
+    key = vtkStreamingDemandDrivenPipeline.TIME_STEPS()
+    times = info.Get(key) if info.Has(key) else None
+    reader.Update()
+    return reader.GetOutput(), times
+
+
+def values(array):
+    return [array.GetValue(i) for i in range(array.GetNumberOfValues())]
+
+
+def array_names(data):
+    return [data.GetArrayName(i) for i in range(data.GetNumberOfArrays())]
+
+
+def convert(sub, prefix, pattern):
+    """tools/dump2vtk on the files matching pattern in sub; the files it wrote."""
+    files = sorted(f for f in os.listdir(sub) if f.startswith(pattern))
+    proc = subprocess.run([sys.executable, DUMP2VTK, "-o", prefix] + files, cwd=sub, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True)
+    t.check(proc.returncode == 0, "dump2vtk %s: exit %d %s" % (pattern, proc.returncode, proc.stdout[-500:]))
+    return proc.stdout.split()
+
+
+def check_vtk(sub, ranks, cells, n, volume, cellvol):
+    """Every output kind through VTK's readers; cells = the text dump's rows at step 0."""
+    what = "%d ranks" % ranks
+    solid, _ = read_vtk(os.path.join(sub, "solid.0.vtr"))
+    t.check(not vtkXMLImageDataReader().CanReadFile(os.path.join(sub, "solid.0.vtr")),
+            "%s: dump grid/vtk's file is no image data (the .vti reader refuses it)" % what)
+    t.check(solid.GetNumberOfCells() == 60 and array_names(solid.GetCellData()) == ["Scalar"],
+            "%s: dump grid/vtk: 60 cells, LAMMPS's one array Scalar (%s)" % (what, array_names(solid.GetCellData())))
+    scalar = values(solid.GetCellData().GetArray("Scalar"))
+    t.check(abs(sum(scalar) * cellvol - volume) <= 1e-6 * volume, "%s: .vtr binned solid sums to the sphere volume (float32)" % what)
+    vel, _ = read_vtk(os.path.join(sub, "vel.0.vtr"))
+    vector = vel.GetCellData().GetArray("Vector")
+    t.check(vector is not None and vector.GetNumberOfComponents() == 3 and vector.GetNumberOfTuples() == 60,
+            "%s: dump grid/vtk: a 3-component array Vector on 60 cells" % what)
+
+    # dump grid (sorted by ID) converted: named cell arrays, real times (dump_modify time yes)
+    written = convert(sub, "named", "named.")
+    t.check(sorted(written) == ["named.0.vtr", "named.10.vtr", "named.5.vtr"], "%s: one .vtr per step (%s)" % (what, written))
+    for name in written:
+        step = int(name.split(".")[1])
+        grid, times = read_vtk(os.path.join(sub, name))
+        cell_data = grid.GetCellData()
+        t.check(array_names(cell_data) == ["count", "binned_solid", "vx", "vy", "vz"],
+                "%s: %s: arrays named by value (%s)" % (what, name, array_names(cell_data)))
+        t.check(times is not None and len(times) == 1 and abs(times[0] - 1e-4 * step) <= 1e-15,
+                "%s: %s: VTK's time %s = step %d x dt 1e-4" % (what, name, times, step))
+        count = values(cell_data.GetArray("count"))
+        t.check(grid.GetNumberOfCells() == 60 and sum(count) == n, "%s: %s: 60 cells, counts sum to %d atoms (%g)" % (what, name, n, sum(count)))
+        bounds = grid.GetBounds()
+        t.check(max(abs(b - e) for b, e in zip(bounds, (0, 4, 0, 4, 0, 4))) <= 1e-12, "%s: %s spans the box %s" % (what, name, bounds))
+        if step == 0:
+            binned = values(cell_data.GetArray("binned_solid"))
+            t.check(count == [c[0] for c in cells] and max(abs(a - b) for a, b in zip(binned, scalar)) <= 1e-6 * max(scalar),
+                    "%s: cell by cell, the counts of the text dump and the binned solid of dump grid/vtk" % what)
+
+    # dump custom converted: points with named arrays, the step as time
+    written = convert(sub, "atoms", "atoms.dump")
+    t.check(written == ["atoms.0.vtp", "atoms.5.vtp", "atoms.10.vtp"], "%s: one .vtp per step (%s)" % (what, written))
+    cloud, times = read_vtk(os.path.join(sub, "atoms.0.vtp"))
+    point_data = cloud.GetPointData()
+    t.check(array_names(point_data) == ["id", "type", "radius", "v"] and point_data.GetArray("v").GetNumberOfComponents() == 3,
+            "%s: .vtp arrays id, type, radius, v (%s)" % (what, array_names(point_data)))
+    t.check(cloud.GetNumberOfPoints() == n and cloud.GetNumberOfVerts() == n, "%s: %d points, each a vertex" % (what, n))
+    radii = values(point_data.GetArray("radius"))
+    t.check(abs(sum(4.0 / 3.0 * math.pi * r ** 3 for r in radii) - volume) <= 1e-12 * volume, "%s: .vtp radii give the sphere volume" % what)
+    v = point_data.GetArray("v")
+    t.check(all(v.GetTuple3(i) == (0.3, -0.2, 0.1) for i in range(n)), "%s: .vtp v is the common velocity" % what)
+    _, times = read_vtk(os.path.join(sub, "atoms.10.vtp"))
+    t.check(times == (10.0,), "%s: atoms.10.vtp: VTK's time %s = step 10" % (what, times))
 
 
 def main():
@@ -66,15 +171,15 @@ def main():
         worst = max(abs(c[2] - 0.3) + abs(c[3] + 0.2) + abs(c[4] - 0.1) for c in occupied)
         t.check(worst <= 1e-12, "%d ranks: cell velocities equal the common velocity (%.3g)" % (ranks, worst))
         t.check(all(c[2] == 0.0 for c in cells if c[0] == 0), "%d ranks: empty cells have zero velocity" % ranks)
-        with open(os.path.join(sub, "vel.0.vti")) as f:
-            vti = f.read()
-        t.check('WholeExtent="0 5 0 4 0 3"' in vti and 'NumberOfComponents="3"' in vti,
-                "%d ranks: velocity .vti is a 5x4x3 rectilinear grid of vectors" % ranks)
-        t.check(os.path.exists(os.path.join(sub, "solid.0.vti")), "%d ranks: solid fraction .vti written" % ranks)
+        check_vtk(sub, ranks, cells, n, volume, cellvol)
 
     rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
                         "compute c all griddem/grid 2 2 2 count pressure\n", wd, name="in.bad")
     t.check(rc != 0 and "unknown value pressure" in out, "unknown field refused by name")
+    rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
+                        "compute c all griddem/grid 2 2 2 count solid\n", wd, name="in.bad")
+    t.check(rc != 0 and "no value solid: binned_solid is the sphere volume binned by centre" in out,
+            "the value solid is refused, naming binned_solid")
     for setup, args, expect in [("atom_style sphere\nregion b block 0 1 0 1 0 1", "0 2 2 count", "grid count x must be between 1 and 100000, not 0"),
                                 ("atom_style sphere\nregion b prism 0 1 0 1 0 1 0.1 0 0", "2 2 2 count", "does not support triclinic"),
                                 ("atom_style atomic\nregion b block 0 1 0 1 0 1", "2 2 2 count", "requires atom attributes radius and rmass")]:
