@@ -302,6 +302,7 @@ void PairGriddem::init_style()
       error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
 
   fix = choose_fix();
+  fix->set_stats(griddem_engine_stats());    // the values of a step without atoms, which runs no sweep
   if (model.track_contacts && fix->contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
   if (fix->precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
