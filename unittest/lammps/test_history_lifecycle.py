@@ -3,11 +3,13 @@ fix griddem redefined after a run, on a dense random polydisperse gas with frict
 - A griddem run, a stock gran/hooke run, then griddem again equals the same three runs with stock
   gran/hooke/history in place of griddem (stock drops its history when another pair style is
   set) to 1e-10 relative, with the pair style's own fix GRIDDEM and with a fix griddem of the
-  script's, which keeps its options (cell edge); during the stock run the griddem grid values are
+  script's, which keeps its options (cell edge 0.37); during the stock run the griddem grid values are
   refused with a message.
-- After a run, `fix grid all griddem cell exact` (a new ID, or the ID of the fix that ran) keeps
+- After a run, `fix grid all griddem cell exact` (a new ID, or the ID of the fix that ran; 1 or 2 ranks) keeps
   the history: the elastic energy of the same state (`run 0`) is the uninterrupted run's to
-  1e-12, and 30 more steps equal it to 1e-10 (the cell mode changes only the speed).
+  1e-12, and 30 more steps equal it to 1e-10 (the cell mode changes only the speed). Atoms deleted
+  in between lose their rows with a warning that counts them; two fixes of the script's before a
+  run are refused, naming both.
 - thermo_style names f_GRIDDEM after read_restart, and the history comes back from the file: the
   elastic energy of the restart's state (`run 0`) is the one before writing it."""
 import os
@@ -54,15 +56,15 @@ def stale_history(wd, data):
     ref = switch_styles(wd, data, "stock", ("gran/hooke/history", "gran/hooke/history"))
     ke, press = last(ref, "KinEng"), last(ref, "Press")
     t.check(len(t.thermo_values(ref, "KinEng")) == 11, "stock: three runs printed")
-    for label, fix in (("auto", ""), ("own", "fix grid all griddem cell multi")):
+    for label, fix in (("auto", ""), ("own", "fix grid all griddem cell 0.37")):
         out = switch_styles(wd, data, "griddem_" + label, ("griddem/hooke/history", "griddem/hooke/history"), fix)
         err = max(rel(last(out, "KinEng"), ke), rel(last(out, "Press"), press))
         t.check(err <= 1e-10, "griddem, stock, griddem (%s fix): KE and pressure as stock's three runs, "
                 "relative error %.3g" % (label, err))
         if fix:
             edges = t.thermo_values(out, "f_grid[4]")
-            t.check(len(edges) == 8 and edges[0] > 0.0 and edges[-1] == edges[0],
-                    "fix grid keeps cell multi after the stock run: edges %s" % edges[:1] + str(edges[-1:]))
+            t.check(len(edges) == 8 and all(e == 0.37 for e in edges),
+                    "fix grid keeps its cell edge 0.37 after the stock run: edges %s" % edges)
     # asking for the grid values while stock runs: a message, not the last griddem step's values
     for label, fix, name in (("auto", "", "GRIDDEM"), ("own", "fix grid all griddem", "grid")):
         text = START.format(data=data, pair="griddem/hooke/history " + HOOKE, coeffs="pair_coeff * *\n" + fix) + \
@@ -102,6 +104,22 @@ def redefinition(wd, data):
         t.check(len(edges) == 5 and edges[0] > 0.0, "%s: the new fix reports its grid" % label)
 
 
+def deleted_in_between(wd, data):
+    """atoms deleted between a fix's redefinition (same ID) and the run: their rows are dropped
+    with a warning that counts them, as many as compute contact/atom finds touching others"""
+    text = START.format(data=data, pair="griddem/hooke/history " + HOOKE, coeffs="pair_coeff * *") + \
+        "run 30\ngroup few id <= 10\ncompute touches all contact/atom\n" + \
+        "variable touching atom c_touches>0\ncompute touching few reduce sum v_touching\n" + \
+        thermo("c_touching") + "thermo_modify norm no\nrun 0\n" + \
+        "fix GRIDDEM all griddem cell exact\ndelete_atoms group few compress no\nrun 0\n"
+    rc, out = t.run_lmp(text, wd, name="in.deleted")
+    said = [line for line in out.splitlines() if "lose theirs" in line]
+    count = int(said[0].split(" atoms with contacts")[0].split()[-1]) if said else -1
+    touching = t.thermo_values(out, "c_touching")
+    t.check(rc == 0 and touching and count == touching[0] > 0,
+            "atoms deleted after the redefinition: warning counts %d, touching %s (%s)" % (count, touching, said[:1]))
+
+
 def two_fixes(wd, data):
     """two fix griddem of the script's before any run: refused, naming both"""
     text = START.format(data=data, pair="griddem/hooke/history " + HOOKE, coeffs="pair_coeff * *") + \
@@ -137,6 +155,7 @@ def main():
     t.write_random_spheres(data, 600, (3.6, 3.6, 3.6), 0.1, 0.3, seed=5, vscale=1.0, wscale=5.0)
     stale_history(wd, data)
     redefinition(wd, data)
+    deleted_in_between(wd, data)
     two_fixes(wd, data)
     restart(wd, data)
     t.finish()
