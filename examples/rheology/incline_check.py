@@ -31,6 +31,7 @@ def run_incline(lmp, theta, steps, theta2=None, steps2=0):
     """in.incline in work/incline_<theta> (cached: rerun only when its vcm file is absent)."""
     workdir = os.path.join(L.WORK, "incline_%g" % theta)
     if not os.path.exists(os.path.join(workdir, "vcm.%g.txt" % theta)):
+        L.need_lmp(lmp, "the inclined layer at %g degrees (not in work/)" % theta)
         os.makedirs(workdir, exist_ok=True)
         cmd = [lmp, "-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta,
                "-var", "steps", str(steps), "-var", "tag", "%g" % theta, "-log", "log.lammps", "-echo", "none"]

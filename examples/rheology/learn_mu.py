@@ -5,7 +5,7 @@ GDR MiDi / Jop form, regularises the learned curve at low I, and checks it again
 layers (in.incline) through the Bagnold profile. Writes results.json, mu_I.png and incline.png.
 
     /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.005] [--max-runs 6] [--uniform-levels 2]
-                                 [--extra-I 0.003,0.001] [--recorded rve_points.json]
+                                 [--extra-I 0.003,0.001] [--recorded rve_points.json] [--thetas 22,24,26]
 
 The adaptive loop and the uniform comparison sample [--Ilo, --Ihi] (0.01..0.3); --extra-I adds RVEs
 at the given (lower) I. All points enter the final ensemble (on [lowest I, Ihi]), the Jop fit and
@@ -13,7 +13,9 @@ the regularisation, whose cutoff I_c is then the lowest requested I.
 (/usr/bin/python3: Debian's interpreter, which has NumPy, SciPy and matplotlib.) DEM results are
 cached in work/ (one folder per run), so a second call only refits and redraws. --recorded FILE:
 an RVE whose requested I is in FILE (a list of result dicts, e.g. rve_points.json, written by every
-call) is taken from there instead of being rerun when work/ has no cache of it."""
+call) is taken from there instead of being rerun when work/ has no cache of it. The inclined layers
+are DEM runs (cached in work/ too); --thetas '' skips them, so that with --recorded nothing runs
+DEM. A DEM run with no lmp at --lmp stops the script with a message that says so."""
 import argparse
 import json
 import math
@@ -34,6 +36,13 @@ FAILED = "GRIDDEM rheology: pressure control failed"
 # ---------------------------------------------------------------- DEM runs
 def default_lmp():
     return os.environ.get("GRIDDEM_LMP", os.path.join(HERE, "..", "..", "build", "lmp"))
+
+
+def need_lmp(lmp, what):
+    """stop, naming --lmp, when a DEM run is due and lmp is not an executable"""
+    if not os.access(lmp, os.X_OK):
+        raise SystemExit("%s: %s needs a DEM run and there is no lmp at %s: pass --lmp PATH (or set "
+                         "GRIDDEM_LMP)" % (os.path.basename(sys.argv[0]), what, lmp))
 
 
 def parse_rve(text):
@@ -80,6 +89,7 @@ def run_rve(lmp, I, extra=(), workdir=None, recorded=()):
     for r in recorded:
         if abs(math.log(r["Irequested"] / I)) < 1e-6:
             return dict(r, source="recorded")
+    need_lmp(lmp, "the RVE at I=%g (neither in work/ nor recorded)" % I)
     os.makedirs(workdir, exist_ok=True)
     t0 = time.time()
     cmd = [lmp, "-in", os.path.join(HERE, "in.rve"), "-var", "I", "%.6g" % I, "-log", "log.lammps",
@@ -307,6 +317,7 @@ def run_incline(lmp, theta, steps, N=700):
     workdir = os.path.join(WORK, "incline_%g" % theta)
     prof = os.path.join(workdir, "profile.%g.txt" % theta)
     if not os.path.exists(prof):
+        need_lmp(lmp, "the inclined layer at %g degrees (not in work/; --thetas '' skips the layers)" % theta)
         os.makedirs(workdir, exist_ok=True)
         subprocess.run([lmp, "-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta,
                         "-var", "steps", str(steps), "-var", "N", str(N), "-var", "tag", "%g" % theta,
@@ -428,7 +439,7 @@ def main():
     def phi_of_I(x):
         return final.predict([x])[0][0, 1]
     inc = []
-    for t in [float(s) for s in a.thetas.split(",")]:
+    for t in [float(s) for s in a.thetas.split(",") if s.strip()]:
         z, rho, vx = run_incline(lmp, t, a.incline_steps)
         c = compare_incline(z, rho, vx, t, mu_reg, phi_of_I)
         if c is None:

@@ -11,7 +11,8 @@
 #include "error.h"
 #include "force.h"
 #include "memory.h"
-#include "pair.h"
+#include "modify.h"
+#include "pair_griddem.h"
 
 #include <cstring>
 #include <mpi.h>
@@ -20,8 +21,8 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), engine(),
-    row_of(nullptr), reserved(0)
+    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), made_by_pair(0),
+    stats_current(0), engine(), row_of(nullptr), reserved(0)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -76,10 +77,17 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
   for (int i = 0; i < atom->nmax; i++) row_of[i] = -1;
+
+  // Modify replaces a fix of the same ID in place: it deletes the old one and leaves its slot
+  // empty while it makes the new one
+  int in_place = 0;
+  for (int k = 0; k < modify->nfix; k++) in_place |= modify->fix[k] == nullptr;
+  if (auto pair = dynamic_cast<PairGriddem *>(force->pair)) pair->fix_made(this, in_place);
 }
 
 FixGriddem::~FixGriddem()
 {
+  leave();
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(row_of);
@@ -110,6 +118,7 @@ int FixGriddem::run_step(griddem_step &step, griddem_sweep_result &result, int &
 {
   step.row_of = row_of;
   const int fault = griddem_engine_step(&engine, &step, &result, &coarsened);
+  stats_current = 1;
   maxexchange = griddem_engine_max_row_length(&engine);
   return fault;
 }
@@ -117,6 +126,24 @@ int FixGriddem::run_step(griddem_step &step, griddem_sweep_result &result, int &
 const double *FixGriddem::find_history(int i, double partner) const
 {
   return griddem_engine_find(&engine, row_of[i], partner);
+}
+
+void FixGriddem::leave()
+{
+  auto pair = force ? dynamic_cast<PairGriddem *>(force->pair) : nullptr;
+  if (pair) pair->fix_leaving(this);
+}
+
+void FixGriddem::put_history(int i, const double *record)
+{
+  set_values(static_cast<int>(record[1]));
+  unpack_exchange(i, const_cast<double *>(record + 2));
+}
+
+void FixGriddem::drop_history()
+{
+  for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
+  stats_current = 0;
 }
 
 void FixGriddem::add_row(int i, const double *message, int values)
@@ -202,6 +229,14 @@ double FixGriddem::memory_usage()
 
 double FixGriddem::compute_vector(int n)
 {
+  if (!stats_current) {
+    const char *pair_style = force->pair_style ? force->pair_style : "none";
+    if (!dynamic_cast<PairGriddem *>(force->pair))
+      error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} is not a griddem pair style",
+                 id, pair_style);
+    error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} has run none with it yet",
+               id, pair_style);
+  }
   if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0) {
     auto source = dynamic_cast<GriddemOccupancySource *>(force->pair);
     if (!source)

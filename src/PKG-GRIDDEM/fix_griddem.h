@@ -55,7 +55,15 @@ class FixGriddem : public Fix {
   const griddem_engine_stats &stats() const { return engine.stats; }
   // a step that ran outside the engine (the Kokkos styles) reports its statistics here, the
   // occupancy as -1 where force->pair is a GriddemOccupancySource that counts it when asked
-  void set_stats(const griddem_engine_stats &s) { engine.stats = s; }
+  void set_stats(const griddem_engine_stats &s)
+  {
+    engine.stats = s;
+    stats_current = 1;
+  }
+  // atom i takes the row of a record laid out as pack_restart writes it
+  void put_history(int i, const double *record);
+  // every atom's row emptied; the grid values are refused until a griddem pair style's next step
+  void drop_history();
   // stored history values of atom i's contact with the atom tagged partner, or nullptr
   virtual const double *find_history(int i, double partner) const;
   // 1: the rows live in fix griddem/kk's Kokkos arrays, not in the engine
@@ -67,7 +75,15 @@ class FixGriddem : public Fix {
   int contacts;         // expected contacts per atom (initial history storage); 0: no history
   int precision;        // of the sorted particle data (the Kokkos styles); GRIDDEM_PRECISION_*
 
+  int made_by_pair;     // 1: the pair style's own fix, deleted with the pair style
+
+ protected:
+  // tells the pair style this fix goes, while its rows can still be read: called by the
+  // destructor of the most derived class
+  void leave();
+
  private:
+  int stats_current;    // engine.stats are of a griddem pair style's step with this fix
   griddem_engine engine;
   int *row_of;          // per atom: its history row, or -1
   int reserved;         // history storage reserved for `contacts` per atom

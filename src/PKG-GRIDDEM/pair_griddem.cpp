@@ -1,6 +1,13 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: the part every griddem pair style shares (see pair_griddem.h).
    Ghosts receive no force (newton off across processes), so no reverse communication is needed.
+
+   The contact history lives as long as the pair style, as stock's does: the style makes fix
+   GRIDDEM when it is defined (or read from a restart file) unless the script has a fix griddem,
+   and deletes it with itself; a fix griddem of the script's then keeps its options and loses its
+   rows. A fix griddem defined after a run takes the history of the one that ran: one of another
+   ID at the next init_style, one of the same ID (which Modify deletes before making the new one)
+   from the rows the old one left here, by atom ID.
 ------------------------------------------------------------------------- */
 
 #include "pair_griddem.h"
@@ -20,6 +27,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 using namespace LAMMPS_NS;
 
@@ -27,7 +35,7 @@ static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions()
+    coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -40,6 +48,16 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
 
 PairGriddem::~PairGriddem()
 {
+  if (copymode) return;
+  fix = heir = nullptr;    // nothing to keep for a successor
+  parked_id.clear();
+  for (auto f : modify->get_fix_by_style("^griddem$")) {
+    auto history = dynamic_cast<FixGriddem *>(f);
+    if (history->made_by_pair)
+      modify->delete_fix(history->id);
+    else
+      history->drop_history();
+  }
   delete[] svector;
   if (allocated) {
     memory->destroy(setflag);
@@ -57,6 +75,7 @@ void PairGriddem::allocate()
   memory->create(cutsq, n, n, "pair:cutsq");
   specs.assign(n * n, griddem_pair_spec());
   params.assign(n * n, griddem_pair_params());
+  create_default_fix();
 }
 
 /* the history layout of a spec: every type pair must keep the same history values per contact,
@@ -139,18 +158,128 @@ double PairGriddem::init_one(int i, int j)
 }
 
 /* fix GRIDDEM with default options, unless the script already defined a fix griddem; made when
-   the pair style is defined so that thermo_style can name f_GRIDDEM before the first run */
+   the pair style is defined so that thermo_style can name f_GRIDDEM before the first run.
+   remake: made again even if it exists and suits (the one made before a restart file's atoms
+   were read takes their history so) */
 
-void PairGriddem::create_default_fix()
+void PairGriddem::create_default_fix(int remake)
 {
   const std::string wanted = history_fix_style();
   auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
-  if (existing && model.track_contacts &&
-      (existing->contacts == 0 || existing->kokkos_history != (wanted != "griddem")))
+  if (existing && ((remake && existing->made_by_pair) ||
+                   (model.track_contacts &&
+                    (existing->contacts == 0 || existing->kokkos_history != (wanted != "griddem")))))
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
-  modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0"));
+  auto made = dynamic_cast<FixGriddem *>(
+      modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0")));
+  made->made_by_pair = 1;
+}
+
+void PairGriddem::fix_made(FixGriddem *made, int in_place)
+{
+  if (in_place && !parked_id.empty() && parked_id == made->id)
+    heir = made;
+  else {    // a fix griddem made afresh: the history of one deleted before is dropped
+    heir = nullptr;
+    parked_id.clear();
+    parked.clear();
+  }
+}
+
+void PairGriddem::fix_leaving(FixGriddem *leaving)
+{
+  if (leaving == heir) {
+    heir = nullptr;
+    parked_id.clear();
+    parked.clear();
+  }
+  if (leaving != fix) return;
+  park_history(*leaving);
+  fix = nullptr;
+}
+
+void PairGriddem::park_history(FixGriddem &from)
+{
+  parked.clear();
+  parked_id = from.id;
+  std::vector<double> record;
+  for (int i = 0; i < atom->nlocal; i++) {
+    record.resize(from.size_restart(i));
+    from.pack_restart(i, record.data());
+    if (record[2] == 0.0) continue;    // no contacts
+    parked.push_back((double) atom->tag[i]);
+    parked.insert(parked.end(), record.begin(), record.end());
+  }
+}
+
+/* each atom takes its parked row; atoms no longer on this process lose theirs, with a warning */
+
+void PairGriddem::unpark_history(FixGriddem &to)
+{
+  std::unordered_map<tagint, size_t> record_of;
+  for (size_t m = 0; m < parked.size(); m += 1 + (size_t) parked[m + 1])
+    record_of[(tagint) parked[m]] = m + 1;
+  for (int i = 0; i < atom->nlocal; i++) {
+    auto found = record_of.find(atom->tag[i]);
+    if (found == record_of.end()) continue;
+    to.put_history(i, &parked[found->second]);
+    record_of.erase(found);
+  }
+  bigint lost = record_of.size(), lost_all = 0;
+  MPI_Allreduce(&lost, &lost_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (lost_all && comm->me == 0)
+    error->warning(FLERR, "Pair style {}: fix {} takes the contact history of the fix it replaced, but {} atoms with contacts moved to another process or were deleted in between and lose theirs",
+                   force->pair_style, to.id, lost_all);
+  parked.clear();
+  parked_id.clear();
+  heir = nullptr;
+}
+
+/* the fix griddem of this init: the script's, else the pair style's own; one defined beside the
+   one that ran (or the pair style's own) replaces it and takes its history */
+
+FixGriddem *PairGriddem::choose_fix()
+{
+  auto fixes = modify->get_fix_by_style("^griddem$");
+  if (fixes.size() > 1) {
+    Fix *old = nullptr;
+    for (auto f : fixes)
+      if (f == fix) old = f;
+    for (auto f : fixes)
+      if (!old && dynamic_cast<FixGriddem *>(f)->made_by_pair) old = f;
+    std::vector<Fix *> others;
+    for (auto f : fixes)
+      if (f != old) others.push_back(f);
+    if (old && old == fix && others.size() == 1) {
+      park_history(*fix);
+      heir = dynamic_cast<FixGriddem *>(others.front());
+      fix = nullptr;
+      if (comm->me == 0)
+        utils::logmesg(lmp, "Fix {} replaces fix {} and takes its contact history\n", heir->id, old->id);
+    }
+    if (old && old != fix) {
+      modify->delete_fix(old->id);
+      fixes = others;
+    }
+  }
+  if (fixes.size() > 1)
+    error->all(FLERR, "Only one fix griddem may be defined (fixes {} and {}); one defined after a run replaces the one that ran",
+               fixes[0]->id, fixes[1]->id);
+  auto chosen = fixes.empty() ? nullptr : dynamic_cast<FixGriddem *>(fixes.front());
+  if (!chosen || chosen->made_by_pair) {
+    // until the first run after read_restart its per-atom data waits in atom->extra: the fix
+    // made before the atoms were read is made again to take its history from there
+    create_default_fix(chosen && chosen != fix && atom->nextra_store > 0 && !chosen->restart_reset);
+    chosen = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
+  }
+  if (heir == chosen) unpark_history(*chosen);
+  // Modify gives a fix the restart file's per-atom data only under the ID that wrote it
+  if (atom->nextra_store > 0 && !chosen->restart_reset && comm->me == 0)
+    error->warning(FLERR, "Pair style {}: the restart file holds no contact history of fix {}, so its contacts start without one; if a fix griddem of another ID wrote it, define that fix again after read_restart",
+                   force->pair_style, chosen->id);
+  return chosen;
 }
 
 void PairGriddem::init_style()
@@ -172,18 +301,8 @@ void PairGriddem::init_style()
     if (ifix->rigid_flag)
       error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
 
-  // grid options and history: the user's fix griddem, else the default one settings() made
-  auto fixes = modify->get_fix_by_style("^griddem$");
-  if (fixes.size() > 1 && modify->get_fix_by_id(AUTO_FIX_ID)) {
-    modify->delete_fix(AUTO_FIX_ID);
-    fixes = modify->get_fix_by_style("^griddem$");
-  }
-  if (fixes.size() > 1) error->all(FLERR, "Only one fix griddem may be defined");
-  if (fixes.empty()) {
-    create_default_fix();
-    fixes = modify->get_fix_by_style("^griddem$");
-  }
-  fix = dynamic_cast<FixGriddem *>(fixes.front());
+  fix = choose_fix();
+  fix->set_stats(griddem_engine_stats());    // the values of a step without atoms, which runs no sweep
   if (model.track_contacts && fix->contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
   if (fix->precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)

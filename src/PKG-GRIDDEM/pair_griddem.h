@@ -26,6 +26,12 @@ class PairGriddem : public Pair {
   double init_one(int, int) override;
   double single(int, int, int, int, double, double, double, double &) override;
 
+  // The contact history lives as long as this pair style (see pair_griddem.cpp). A fix griddem
+  // tells it when it is made (in_place: in the slot of the fix of its ID, which Modify has just
+  // deleted) and when it goes.
+  void fix_made(class FixGriddem *made, int in_place);
+  void fix_leaving(class FixGriddem *leaving);
+
  protected:
   griddem_model model;                         // what the engine evaluates
   std::vector<griddem_pair_spec> specs;        // [i*(ntypes+1)+j], as given or mixed
@@ -33,7 +39,7 @@ class PairGriddem : public Pair {
   double cutoff_global;                        // < 0: cutoffs from the radii
   int layout_set;                              // history layout fixed by a first spec
   int single_hooke_layout;                     // single() reports as gran/hooke/history
-  class FixGriddem *fix;
+  class FixGriddem *fix;    // the fix of the last init_style: it holds the history
   int coarsened_warned;
   double rmin, rmax;            // smallest and largest radius of all atoms, refreshed on reneighbor
 
@@ -42,15 +48,16 @@ class PairGriddem : public Pair {
   std::vector<int> excluded_groups;
   griddem_exclusions exclusions;
 
+  // makes fix GRIDDEM (when no fix griddem exists), so that it exists from the pair style's
+  // settings, pair_coeff or restart on
   void allocate();
-  void create_default_fix();
+  void create_default_fix(int remake = 0);
   // the fix style that holds this style's contact history: "griddem", or a Kokkos variant
   virtual std::string history_fix_style() const { return "griddem"; }
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // take the history layout of s (the first spec sets it, later ones must match; types: for
-  // the message). A restart read makes no fix: the one init_style() makes then takes the atoms'
-  // history from the file, which arrives after the pair style's settings
+  // the message)
   void adopt_layout(const griddem_pair_spec &s, const std::string &types);
   // largest radius per type of the atoms present and those fix pour/deposit will add, found
   // once per init_style() for init_one()
@@ -71,6 +78,14 @@ class PairGriddem : public Pair {
   void find_radius_range();
   void check_motion(double h_nn4dem);
   void report_fault(const griddem_sweep_result &);
+
+  // the rows of a fix that went, by atom ID, for the fix that replaced it in place
+  std::vector<double> parked;    // per atom: its ID, then its restart record
+  std::string parked_id;         // the ID of the fix they came from
+  class FixGriddem *heir;        // the fix that takes them at the next init_style
+  void park_history(class FixGriddem &from);
+  void unpark_history(class FixGriddem &to);
+  class FixGriddem *choose_fix();
 };
 
 }    // namespace LAMMPS_NS

@@ -73,7 +73,7 @@ def pour(wd):
     stock_text = stock_text.replace(" f_GRIDDEM[5] f_GRIDDEM[2]", "").replace(", $(f_GRIDDEM[5]) contacts", "")
     out = t.run_ok(stock_text, wd, name="in.pour.stock")
     phi_stock = float(re.findall(pattern, out)[-1])
-    with open(os.path.join(EXAMPLES, "pour", "log.25Nov26.pour.1")) as f:
+    with open(os.path.join(EXAMPLES, "pour", "log.2Dec26.pour.1")) as f:
         phi_ref = float(re.findall(pattern, f.read())[-1])
     t.check(0.58 <= phi <= 0.66, "pour: packing fraction %.3f of a random packing of spheres" % phi)
     t.check(abs(phi - phi_stock) <= 0.01, "pour: %.3f, stock gran/hooke/history %.3f" % (phi, phi_stock))

@@ -37,6 +37,7 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
 template <class DeviceType> FixGriddemKokkos<DeviceType>::~FixGriddemKokkos()
 {
   if (copymode) return;
+  leave();    // while the rows are still here
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::init() {}
