@@ -254,6 +254,11 @@ static const griddem_submodel SUBMODELS[] = {
     {T, "linear_history_classic", GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC, 3, 3, ODD3, {0}, RAD, setup_tangential_k_xt_mu,
      EXAMPLE("hooke 1e4 5 damping velocity tangential linear_history_classic 3e3 0.5 0.5",
              "hooke 2e4 8 damping velocity tangential linear_history_classic 5e3 0.4 0.3")},
+    /* gran/hertz/history's friction in pair granular's syntax (its normal hertz and damping
+     * mass_velocity); kt is a number, as stock's reads it */
+    {T, "mindlin_classic", GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC, 3, 3, ODD3, {0}, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz 1e5 20 damping mass_velocity tangential mindlin_classic 3e4 0.5 0.5 rolling sds 500 5 0.1",
+             "hertz 2e5 10 damping mass_velocity tangential mindlin_classic 2e4 0.6 0.4 rolling sds 300 3 0.2")},
     /* k NULL: 8 G_eff from the (mixed) material properties; the Hertzian coeff_restitution */
     {T, "mindlin", GRIDDEM_TANGENTIAL_MINDLIN, 3, 3, ODD3, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu,
      EXAMPLE("hertz/material 1e6 0.8 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.5",
@@ -286,7 +291,7 @@ static const griddem_submodel SUBMODELS[] = {
 /* pair granular's models that have no row */
 static const griddem_stock_only STOCK_ONLY[] = {
     {"normal", "mdr"}, {"normal", "none"}, {"damping", "none"}, {"tangential", "none"},
-    {"tangential", "mindlin_classic"}, {"heat", "radius"}, {"heat", "area"},
+    {"heat", "radius"}, {"heat", "area"},
 };
 
 const char *griddem_axis_name(int axis)

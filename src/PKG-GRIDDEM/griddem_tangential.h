@@ -20,7 +20,8 @@ enum griddem_tangential_model {
   GRIDDEM_TANGENTIAL_MINDLIN = 5,
   GRIDDEM_TANGENTIAL_MINDLIN_FORCE = 6,
   GRIDDEM_TANGENTIAL_MINDLIN_RESCALE = 7,
-  GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE = 8
+  GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE = 8,
+  GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC = 9 /* gran/hertz/history's; stock gives it linear_history_classic's law */
 };
 
 typedef struct griddem_tangential_params {
@@ -74,7 +75,8 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
       griddem_tangential_cap(c, h, fscrit, damp, -1.0 / p->k, griddem_len3(h) != 0.0);
       c->energy += 0.5 * p->k * griddem_dot3(h, h);
       return;
-    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC: {
+    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC:
+    case GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC: {
       /* advance, then project onto the tangent plane without restoring the length */
       if (c->history_update)
         for (int m = 0; m < 3; m++) h[m] += c->dt * c->vtr[m];
