@@ -107,8 +107,7 @@ struct GriddemKKGrid {
   int n[3];
   KOKKOS_INLINE_FUNCTION int axis_cell(int d, double x) const
   {
-    const long c = (long) floor((x - anchor[d]) * hinv) - k0[d];
-    return c < 0 ? 0 : (c >= n[d] ? n[d] - 1 : (int) c);
+    return griddem_axis_cell(x, anchor[d], hinv, k0[d], n[d]);
   }
   KOKKOS_INLINE_FUNCTION int cell_of(double x, double y, double z) const
   {
