@@ -37,6 +37,19 @@ typedef struct griddem_engine_stats {
 /* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
 int griddem_class_count(double rmin, double rmax);
 
+/* The classes' bounds for a largest radius rmax: upper[c] = rmax / 4^c for c < ncls, and
+ * upper[ncls] = 0 (upper holds ncls + 1 values). */
+void griddem_class_bounds(double rmax, int ncls, double *upper);
+
+/* Size class of radius r: class c holds radii in (upper[c+1], upper[c]], the last class all
+ * smaller ones. How both the CPU engine and the Kokkos styles sort a sphere into its grid. */
+GRIDDEM_INLINE int griddem_class_of(double r, const double *upper, int ncls)
+{
+  int c = 0;
+  while (c < ncls - 1 && r <= upper[c + 1]) c++;
+  return c;
+}
+
 typedef struct griddem_engine {
   int nclass;                             /* size classes of the last step (1: one grid) */
   griddem_grid grid[GRIDDEM_MAX_CLASSES]; /* one per size class, largest spheres first */

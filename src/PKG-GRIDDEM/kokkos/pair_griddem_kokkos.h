@@ -129,12 +129,7 @@ struct GriddemKKGrids {
   GriddemKKGrid g[GRIDDEM_MAX_CLASSES];
   int offset[GRIDDEM_MAX_CLASSES + 1];      // first cell of each class; offset[ncls]: all cells
   double upper[GRIDDEM_MAX_CLASSES + 1];    // upper[ncls] = 0
-  KOKKOS_INLINE_FUNCTION int class_of(double r) const
-  {
-    int c = 0;
-    while (c < ncls - 1 && r <= upper[c + 1]) c++;
-    return c;
-  }
+  KOKKOS_INLINE_FUNCTION int class_of(double r) const { return griddem_class_of(r, upper, ncls); }
   // the lower corner of cell c (numbered over all classes)
   KOKKOS_INLINE_FUNCTION void cell_corner(int c, double corner[3]) const
   {

@@ -182,8 +182,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   const int mode = this->fix->cell_mode;
   const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
   grids.ncls = classes ? griddem_class_count(this->rmin, rmax) : 1;
-  for (int c = 0; c < grids.ncls; c++) grids.upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
-  grids.upper[grids.ncls] = 0.0;
+  griddem_class_bounds(rmax, grids.ncls, grids.upper);
   GriddemKKClassBoxes boxes;
   if (grids.ncls == 1) {
     boxes.count[0] = nall;
