@@ -30,6 +30,10 @@ typedef struct griddem_engine_stats {
  * faster than 2 on the 1:4 squeeze and a 1:10 pour); the last class takes all smaller ones. */
 #define GRIDDEM_CLASS_SHIFT 2
 #define GRIDDEM_MAX_CLASSES 8
+/* Most cells of the one grid (no size classes) over n particles, owned and ghosts: a dilute
+ * scene gets larger cells rather than a grid it does not fill (cleared every step); the edge
+ * grows until the grid fits (griddem_grid_fit). */
+#define GRIDDEM_ONE_GRID_MAX_CELLS(n) (32L * (n) + 65536L)
 /* Most cells of a class's grid holding n centres: a sparse class gets larger cells rather than a
  * grid it does not fill (cleared every step); the stencils follow the edge. */
 #define GRIDDEM_CLASS_MAX_CELLS(n) (8L * (n) + 1024L)

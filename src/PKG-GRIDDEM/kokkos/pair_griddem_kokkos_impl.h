@@ -212,7 +212,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       extent = MAX(extent,
                    MAX(fabs(lo[d] - this->domain->boxlo[d]), fabs(hi[d] - this->domain->boxlo[d])));
     }
-    const long max_cells = grids.ncls == 1 ? 32L * nall + 65536L
+    const long max_cells = grids.ncls == 1 ? GRIDDEM_ONE_GRID_MAX_CELLS(nall)
                                            : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
     griddem_grid fitted;
     const double edge = classes ? griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0)
