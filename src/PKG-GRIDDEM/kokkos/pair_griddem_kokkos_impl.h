@@ -437,9 +437,9 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   find.slack = slack;
   find.repair = 0;
   find.start = d_start;
-  find.excl_type = d_excl_type;
-  find.excl_group = d_excl_group;
-  find.excl_both = this->exclusions.both_bit;
+  find.excl = this->exclusions;
+  find.excl.type_pair = d_excl_type.extent(0) ? d_excl_type.data() : nullptr;
+  find.excl.group_bits = d_excl_group.data();
   GriddemKKFindValue found;
   Kokkos::parallel_reduce("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
                           found);
