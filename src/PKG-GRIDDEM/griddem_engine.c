@@ -259,12 +259,12 @@ int griddem_engine_set_history_values(griddem_engine *e, int values)
 
 int griddem_engine_row_length(const griddem_engine *e, int row)
 {
-  return 1 + griddem_history_count(&e->hist, row) * GRIDDEM_HISTORY_ENTRY(e->hist.values);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(griddem_history_count(&e->hist, row), e->hist.values);
 }
 
 int griddem_engine_max_row_length(const griddem_engine *e)
 {
-  return 1 + e->hist.max_count * GRIDDEM_HISTORY_ENTRY(e->hist.values);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(e->hist.max_count, e->hist.values);
 }
 
 int griddem_engine_get_row(const griddem_engine *e, int row, double *buf)

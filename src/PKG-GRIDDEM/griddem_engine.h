@@ -119,7 +119,42 @@ double griddem_engine_memory(const griddem_engine *e);
 int griddem_engine_history_values(const griddem_engine *e);
 int griddem_engine_set_history_values(griddem_engine *e, int values);
 
-/* A row as a message: count, then (partner tag, values...) per contact. */
+/* A row as a message: count, then (partner tag, values...) per contact; count contacts of
+ * `values` values make a message of this many doubles. */
+#define GRIDDEM_ROW_MESSAGE_LENGTH(count, values) (1 + (count) * GRIDDEM_HISTORY_ENTRY(values))
+
+/* fix griddem's per-atom restart record: its length in doubles (counting itself: LAMMPS's
+ * readers of per-atom restart data step over a record by it), the history values per contact,
+ * then the row message. The CPU and Kokkos fixes write and read this one format. */
+#define GRIDDEM_RESTART_HEADER 2
+
+/* Frame a row message of message_length doubles written at record + GRIDDEM_RESTART_HEADER;
+ * returns the record's length. */
+GRIDDEM_INLINE int griddem_restart_frame(double *record, int values, int message_length)
+{
+  record[0] = GRIDDEM_RESTART_HEADER + message_length;
+  record[1] = values;
+  return GRIDDEM_RESTART_HEADER + message_length;
+}
+
+/* The nth of an atom's per-atom restart records (each led by its length). */
+GRIDDEM_INLINE const double *griddem_restart_record(const double *records, int nth)
+{
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += (int) records[m];
+  return records + m;
+}
+
+/* A record's history values per contact, and its row message. */
+GRIDDEM_INLINE int griddem_restart_values(const double *record)
+{
+  return (int) record[1];
+}
+GRIDDEM_INLINE const double *griddem_restart_message(const double *record)
+{
+  return record + GRIDDEM_RESTART_HEADER;
+}
+
 int griddem_engine_row_length(const griddem_engine *e, int row);   /* doubles of the message */
 int griddem_engine_max_row_length(const griddem_engine *e);        /* longest message of any row */
 int griddem_engine_get_row(const griddem_engine *e, int row, double *buf); /* returns the length */
