@@ -186,35 +186,30 @@ int FixGriddem::unpack_exchange(int nlocal, double *buf)
 
 int FixGriddem::pack_restart(int i, double *buf)
 {
-  // buf[0] counts the record including itself, as other fixes read it to skip this record;
-  // buf[1] is the number of values per contact, so a run with other sub-models can read it
-  buf[1] = griddem_engine_history_values(&engine);
-  buf[0] = 2 + griddem_engine_get_row(&engine, row_of[i], buf + 2);
-  return static_cast<int>(buf[0]);
+  // the values per contact go with the row, so a run with other sub-models can read it
+  return griddem_restart_frame(buf, griddem_engine_history_values(&engine),
+                               griddem_engine_get_row(&engine, row_of[i], buf + GRIDDEM_RESTART_HEADER));
 }
 
 void FixGriddem::unpack_restart(int nlocal, int nth)
 {
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  const double *record = &extra[nlocal][m];
+  const double *record = griddem_restart_record(atom->extra[nlocal], nth);
   // take the file's layout (the pair style, made later, converts it if its sub-models differ)
-  const int record_values = static_cast<int>(record[1]);
+  const int record_values = griddem_restart_values(record);
   if (record_values != griddem_engine_history_values(&engine)) set_values(record_values);
-  add_row(nlocal, record + 2, record_values);
+  add_row(nlocal, griddem_restart_message(record), record_values);
 }
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return 2 + griddem_engine_row_length(&engine, row_of[nlocal]);
+  return GRIDDEM_RESTART_HEADER + griddem_engine_row_length(&engine, row_of[nlocal]);
 }
 
 // the longest record of any atom on any process (the file header states one size for all)
 
 int FixGriddem::maxsize_restart()
 {
-  int mine = 2 + griddem_engine_max_row_length(&engine), most;
+  int mine = GRIDDEM_RESTART_HEADER + griddem_engine_max_row_length(&engine), most;
   MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, world);
   return most;
 }

@@ -20,18 +20,20 @@ enum griddem_damping_model {
 };
 
 typedef struct griddem_damping_params {
-  int model;
+  enum griddem_damping_model model;
   double damp; /* converted coefficient */
 } griddem_damping_params;
 
 /* Sets c->damp_prefactor; returns the damping force along n. */
 GRIDDEM_INLINE double griddem_damping_force(const griddem_damping_params *p, griddem_contact *c)
 {
+  c->damp_prefactor = 0.0; /* for the compiler: every case sets it */
   switch (p->model) {
     case GRIDDEM_DAMPING_VELOCITY: c->damp_prefactor = p->damp; break;
     case GRIDDEM_DAMPING_MASS_VELOCITY: c->damp_prefactor = p->damp * c->meff; break;
     case GRIDDEM_DAMPING_VISCOELASTIC: c->damp_prefactor = p->damp * c->meff * c->contact_radius; break;
-    default: {
+    case GRIDDEM_DAMPING_TSUJI:
+    case GRIDDEM_DAMPING_COEFF_RESTITUTION: {
       /* the argument may round below zero */
       const double arg = c->delta > 0.0 ? fmax(0.0, c->meff * c->fnormal / c->delta) : 0.0;
       c->damp_prefactor = p->damp * sqrt(arg);

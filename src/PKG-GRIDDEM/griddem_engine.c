@@ -27,6 +27,12 @@ int griddem_class_count(double rmin, double rmax)
   return n < 1 ? 1 : (n > GRIDDEM_MAX_CLASSES ? GRIDDEM_MAX_CLASSES : n);
 }
 
+void griddem_class_bounds(double rmax, int ncls, double *upper)
+{
+  for (int c = 0; c < ncls; c++) upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
+  upper[ncls] = 0.0;
+}
+
 static int grow_work(griddem_engine *e, int n)
 {
   if (n <= e->work_cap) return 0;
@@ -116,8 +122,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
   if (grow_work(e, n) != 0) return -1;
   if (idle_bit && mark_active_reach(e, s, idle_bit) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
-  for (int c = 0; c < ncls; c++) upper[c] = ldexp(s->rmax, -GRIDDEM_CLASS_SHIFT * c);
-  upper[ncls] = 0.0;
+  griddem_class_bounds(s->rmax, ncls, upper);
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
      against the box around the owned centres, which bounds the distance from below) */
   const double reach = s->rmax + s->model->reach_extra;
@@ -134,8 +139,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
     int c = -1;
     const int idle = idle_bit && (p->mask[i] & idle_bit) && !e->active[e->reach_cell[i]];
     if (!idle && within_reach(p, i, lo, hi, reach)) {
-      c = 0;
-      while (c < ncls - 1 && p->radius[i] <= upper[c + 1]) c++;
+      c = griddem_class_of(p->radius[i], upper, ncls);
       base[c + 1]++;
     } else if (idle && i < p->nlocal) {
       const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
@@ -255,12 +259,12 @@ int griddem_engine_set_history_values(griddem_engine *e, int values)
 
 int griddem_engine_row_length(const griddem_engine *e, int row)
 {
-  return 1 + griddem_history_count(&e->hist, row) * GRIDDEM_HISTORY_ENTRY(e->hist.values);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(griddem_history_count(&e->hist, row), e->hist.values);
 }
 
 int griddem_engine_max_row_length(const griddem_engine *e)
 {
-  return 1 + e->hist.max_count * GRIDDEM_HISTORY_ENTRY(e->hist.values);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(e->hist.max_count, e->hist.values);
 }
 
 int griddem_engine_get_row(const griddem_engine *e, int row, double *buf)

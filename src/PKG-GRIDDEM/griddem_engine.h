@@ -30,12 +30,29 @@ typedef struct griddem_engine_stats {
  * faster than 2 on the 1:4 squeeze and a 1:10 pour); the last class takes all smaller ones. */
 #define GRIDDEM_CLASS_SHIFT 2
 #define GRIDDEM_MAX_CLASSES 8
+/* Most cells of the one grid (no size classes) over n particles, owned and ghosts: a dilute
+ * scene gets larger cells rather than a grid it does not fill (cleared every step); the edge
+ * grows until the grid fits (griddem_grid_fit). */
+#define GRIDDEM_ONE_GRID_MAX_CELLS(n) (32L * (n) + 65536L)
 /* Most cells of a class's grid holding n centres: a sparse class gets larger cells rather than a
  * grid it does not fill (cleared every step); the stencils follow the edge. */
 #define GRIDDEM_CLASS_MAX_CELLS(n) (8L * (n) + 1024L)
 
 /* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
 int griddem_class_count(double rmin, double rmax);
+
+/* The classes' bounds for a largest radius rmax: upper[c] = rmax / 4^c for c < ncls, and
+ * upper[ncls] = 0 (upper holds ncls + 1 values). */
+void griddem_class_bounds(double rmax, int ncls, double *upper);
+
+/* Size class of radius r: class c holds radii in (upper[c+1], upper[c]], the last class all
+ * smaller ones. How both the CPU engine and the Kokkos styles sort a sphere into its grid. */
+GRIDDEM_INLINE int griddem_class_of(double r, const double *upper, int ncls)
+{
+  int c = 0;
+  while (c < ncls - 1 && r <= upper[c + 1]) c++;
+  return c;
+}
 
 typedef struct griddem_engine {
   int nclass;                             /* size classes of the last step (1: one grid) */
@@ -102,7 +119,42 @@ double griddem_engine_memory(const griddem_engine *e);
 int griddem_engine_history_values(const griddem_engine *e);
 int griddem_engine_set_history_values(griddem_engine *e, int values);
 
-/* A row as a message: count, then (partner tag, values...) per contact. */
+/* A row as a message: count, then (partner tag, values...) per contact; count contacts of
+ * `values` values make a message of this many doubles. */
+#define GRIDDEM_ROW_MESSAGE_LENGTH(count, values) (1 + (count) * GRIDDEM_HISTORY_ENTRY(values))
+
+/* fix griddem's per-atom restart record: its length in doubles (counting itself: LAMMPS's
+ * readers of per-atom restart data step over a record by it), the history values per contact,
+ * then the row message. The CPU and Kokkos fixes write and read this one format. */
+#define GRIDDEM_RESTART_HEADER 2
+
+/* Frame a row message of message_length doubles written at record + GRIDDEM_RESTART_HEADER;
+ * returns the record's length. */
+GRIDDEM_INLINE int griddem_restart_frame(double *record, int values, int message_length)
+{
+  record[0] = GRIDDEM_RESTART_HEADER + message_length;
+  record[1] = values;
+  return GRIDDEM_RESTART_HEADER + message_length;
+}
+
+/* The nth of an atom's per-atom restart records (each led by its length). */
+GRIDDEM_INLINE const double *griddem_restart_record(const double *records, int nth)
+{
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += (int) records[m];
+  return records + m;
+}
+
+/* A record's history values per contact, and its row message. */
+GRIDDEM_INLINE int griddem_restart_values(const double *record)
+{
+  return (int) record[1];
+}
+GRIDDEM_INLINE const double *griddem_restart_message(const double *record)
+{
+  return record + GRIDDEM_RESTART_HEADER;
+}
+
 int griddem_engine_row_length(const griddem_engine *e, int row);   /* doubles of the message */
 int griddem_engine_max_row_length(const griddem_engine *e);        /* longest message of any row */
 int griddem_engine_get_row(const griddem_engine *e, int row, double *buf); /* returns the length */

@@ -89,7 +89,7 @@ static inline long clamp_cell(long c, long n)
 
 static inline long axis_cell(const griddem_grid *g, int d, double x)
 {
-  return clamp_cell(axis_index(x, g->anchor[d], g->hinv) - g->k0[d], g->n[d]);
+  return griddem_axis_cell(x, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
 }
 
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z)

@@ -5,6 +5,8 @@
 #ifndef GRIDDEM_GRID_H
 #define GRIDDEM_GRID_H
 
+#include "griddem_portable.h"
+
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -59,6 +61,15 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
 
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);
+
+/* The cell along one axis of a grid (faces at anchor + k / hinv, n cells from k = k0) that holds
+ * coordinate x, clamped to the grid: points on or past the upper faces go to the last cell. How
+ * both the CPU engine (griddem_cell_of) and the Kokkos styles place a point. */
+GRIDDEM_INLINE int griddem_axis_cell(double x, double anchor, double hinv, long k0, int n)
+{
+  const long c = (long) floor((x - anchor) * hinv) - k0;
+  return c < 0 ? 0 : (c >= n ? n - 1 : (int) c);
+}
 
 /* Cell of a point in a box [lo, lo + prd) split into n[d] cells along each axis (x fastest), as
  * output grids are laid out; points outside go to the nearest cell. */

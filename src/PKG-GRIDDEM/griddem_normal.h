@@ -19,7 +19,7 @@ enum griddem_normal_model {
 };
 
 typedef struct griddem_normal_params {
-  int model;
+  enum griddem_normal_model model;
   double k;         /* stiffness (hertz/material, dmt, jkr: 4/3 E_eff) */
   double emix;      /* E_eff (jkr) */
   double cohesion;  /* surface energy (dmt, jkr) */
@@ -45,12 +45,11 @@ GRIDDEM_INLINE int griddem_normal_touch(const griddem_normal_params *p, double r
   return rsq < radsum * radsum;
 }
 
-GRIDDEM_INLINE double griddem_normal_contact_radius(const griddem_normal_params *p,
-                                                   const griddem_contact *c)
+/* JKR contact radius for the overlap dR (negative beyond touching); the max(0, .) guards
+ * against round-off below zero */
+GRIDDEM_INLINE double griddem_jkr_contact_radius(const griddem_normal_params *p,
+                                                const griddem_contact *c)
 {
-  if (p->model != GRIDDEM_NORMAL_JKR) return sqrt(c->dR);
-  /* JKR contact radius for the overlap dR (negative beyond touching); the max(0, .) guards
-   * against round-off below zero */
   const double pi = 3.14159265358979323846, E = p->emix, coh = p->cohesion;
   const double R2 = c->reff * c->reff, dR2 = c->dR * c->dR;
   const double t0 = coh * coh * R2 * R2 * E;
@@ -65,10 +64,23 @@ GRIDDEM_INLINE double griddem_normal_contact_radius(const griddem_normal_params 
   return 0.40824829046386307274 * (t6 + sqrt(sqrt3)); /* 1/sqrt 6 */
 }
 
+GRIDDEM_INLINE double griddem_normal_contact_radius(const griddem_normal_params *p,
+                                                   const griddem_contact *c)
+{
+  switch (p->model) {
+    case GRIDDEM_NORMAL_HOOKE:
+    case GRIDDEM_NORMAL_HERTZ:
+    case GRIDDEM_NORMAL_DMT: return sqrt(c->dR);
+    case GRIDDEM_NORMAL_JKR: return griddem_jkr_contact_radius(p, c);
+  }
+  return 0.0; /* not reached: the cases name every model */
+}
+
 /* Sets c->fnormal (and c->fpulloff), adds the elastic energy. */
 GRIDDEM_INLINE void griddem_normal_force(const griddem_normal_params *p, griddem_contact *c)
 {
   const double pi = 3.14159265358979323846;
+  c->fnormal = 0.0; /* for the compiler: every case sets it */
   switch (p->model) {
     case GRIDDEM_NORMAL_HOOKE:
       c->fnormal = p->k * c->delta;
@@ -85,7 +97,7 @@ GRIDDEM_INLINE void griddem_normal_force(const griddem_normal_params *p, griddem
       c->energy += 0.4 * fe * c->delta;
       break;
     }
-    default: { /* JKR */
+    case GRIDDEM_NORMAL_JKR: {
       const double a = c->contact_radius, a2 = a * a;
       const double fe = p->k * a * a2 / c->reff;
       c->fnormal = fe - 2.0 * pi * a2 * sqrt(4.0 * p->cohesion * p->emix / (pi * a));
@@ -98,9 +110,13 @@ GRIDDEM_INLINE void griddem_normal_force(const griddem_normal_params *p, griddem
 /* The normal force that caps friction, rolling and twisting. */
 GRIDDEM_INLINE double griddem_normal_fncrit(const griddem_normal_params *p, const griddem_contact *c)
 {
-  if (p->model == GRIDDEM_NORMAL_DMT || p->model == GRIDDEM_NORMAL_JKR)
-    return fabs(c->fnormal + 2.0 * c->fpulloff);
-  return fabs(c->fntot);
+  switch (p->model) {
+    case GRIDDEM_NORMAL_HOOKE:
+    case GRIDDEM_NORMAL_HERTZ: return fabs(c->fntot);
+    case GRIDDEM_NORMAL_DMT:
+    case GRIDDEM_NORMAL_JKR: return fabs(c->fnormal + 2.0 * c->fpulloff);
+  }
+  return 0.0; /* not reached: the cases name every model */
 }
 
 #ifdef __cplusplus

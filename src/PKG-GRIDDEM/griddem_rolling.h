@@ -12,7 +12,7 @@ extern "C" {
 enum griddem_rolling_model { GRIDDEM_ROLLING_NONE = 0, GRIDDEM_ROLLING_SDS = 1 };
 
 typedef struct griddem_rolling_params {
-  int model;
+  enum griddem_rolling_model model;
   double k, gamma, mu;
 } griddem_rolling_params;
 
@@ -20,6 +20,10 @@ typedef struct griddem_rolling_params {
 GRIDDEM_INLINE void griddem_rolling_force(const griddem_rolling_params *p, griddem_contact *c,
                                          const double *vrl, double *h)
 {
+  switch (p->model) {
+    case GRIDDEM_ROLLING_NONE: c->fr[0] = c->fr[1] = c->fr[2] = 0.0; return;
+    case GRIDDEM_ROLLING_SDS: break;
+  }
   const double frcrit = p->mu * c->fncrit;
   double ht[3] = {h[0], h[1], h[2]};
   if (c->history_update) {

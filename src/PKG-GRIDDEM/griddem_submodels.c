@@ -216,33 +216,82 @@ enum { MAT = GRIDDEM_SUBMODEL_MATERIAL, COH = GRIDDEM_SUBMODEL_COHESIVE,
        BEYOND = GRIDDEM_SUBMODEL_BEYOND_CONTACT, RAD = GRIDDEM_SUBMODEL_CONTACT_RADIUS,
        NOCOH = GRIDDEM_SUBMODEL_NO_COHESION, INTERNAL = GRIDDEM_SUBMODEL_INTERNAL };
 
+/* The examples' twisting damping stays below I/dt of the lightest sphere of the tests' scenes
+ * (twisting torques act on the angular velocity directly). */
+#define EXAMPLE(type1, type2) {type1, type2}
 static const griddem_submodel SUBMODELS[] = {
-    /* axis, name, model, coefficients, history, parity, mixing, flags, setup */
-    {N, "hooke", GRIDDEM_NORMAL_HOOKE, 2, 0, {0}, {0}, 0, setup_normal_k},
-    {N, "hertz", GRIDDEM_NORMAL_HERTZ, 2, 0, {0}, {0}, RAD, setup_normal_k},
-    {N, "hertz/material", GRIDDEM_NORMAL_HERTZ, 3, 0, {0}, MATERIAL_MIX, MAT | RAD, setup_material},
-    {N, "dmt", GRIDDEM_NORMAL_DMT, 4, 0, {0}, MATERIAL_MIX, MAT | COH | RAD, setup_material},
-    {N, "jkr", GRIDDEM_NORMAL_JKR, 4, 0, {0}, MATERIAL_MIX, MAT | COH | BEYOND | RAD, setup_material},
-    {D, "velocity", GRIDDEM_DAMPING_VELOCITY, 0, 0, {0}, {0}, 0, setup_damping_plain},
-    {D, "mass_velocity", GRIDDEM_DAMPING_MASS_VELOCITY, 0, 0, {0}, {0}, 0, setup_damping_plain},
-    {D, "viscoelastic", GRIDDEM_DAMPING_VISCOELASTIC, 0, 0, {0}, {0}, RAD, setup_damping_plain},
-    {D, "tsuji", GRIDDEM_DAMPING_TSUJI, 0, 0, {0}, {0}, NOCOH, setup_tsuji},
-    {D, "coeff_restitution", GRIDDEM_DAMPING_COEFF_RESTITUTION, 0, 0, {0}, {0}, NOCOH, setup_coeff_restitution},
-    {T, "linear_nohistory", GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, 2, 0, {0}, {0}, 0, setup_linear_nohistory},
-    {T, "linear_history", GRIDDEM_TANGENTIAL_LINEAR_HISTORY, 3, 3, ODD3, {0}, 0, setup_tangential_k_xt_mu},
-    {T, "linear_history_classic", GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC, 3, 3, ODD3, {0}, RAD, setup_tangential_k_xt_mu},
-    {T, "mindlin", GRIDDEM_TANGENTIAL_MINDLIN, 3, 3, ODD3, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu},
-    {T, "mindlin/force", GRIDDEM_TANGENTIAL_MINDLIN_FORCE, 3, 3, ODD3, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu},
-    {T, "mindlin_rescale", GRIDDEM_TANGENTIAL_MINDLIN_RESCALE, 3, 4, {-1, -1, -1, 1}, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu},
-    {T, "mindlin_rescale/force", GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE, 3, 4, {-1, -1, -1, 1}, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu},
-    {T, "gran/hooke/history", GRIDDEM_TANGENTIAL_HOOKE_HISTORY, 3, 3, ODD3, {0}, INTERNAL, setup_gran_hooke},
-    {T, "gran/hooke", GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, 2, 0, {0}, {0}, INTERNAL, setup_gran_hooke},
-    {T, "none", GRIDDEM_TANGENTIAL_NONE, 0, 0, {0}, {0}, INTERNAL, setup_tangential_none},
-    {R, "none", GRIDDEM_ROLLING_NONE, 0, 0, {0}, {0}, 0, setup_none},
-    {R, "sds", GRIDDEM_ROLLING_SDS, 3, 3, EVEN3, {0}, 0, setup_rolling_sds},
-    {W, "none", GRIDDEM_TWISTING_NONE, 0, 0, {0}, {0}, 0, setup_none},
-    {W, "sds", GRIDDEM_TWISTING_SDS, 3, 1, {1}, {0}, 0, setup_twisting_sds},
-    {W, "marshall", GRIDDEM_TWISTING_MARSHALL, 0, 1, {1}, {0}, RAD, setup_marshall},
+    /* axis, name, model, coefficients, history, parity, mixing, flags, setup, example */
+    {N, "hooke", GRIDDEM_NORMAL_HOOKE, 2, 0, {0}, {0}, 0, setup_normal_k,
+     EXAMPLE("hooke 1e4 50 damping mass_velocity tangential linear_history 3e3 0.5 0.5",
+             "hooke 2e4 30 damping mass_velocity tangential linear_history 5e3 0.4 0.3")},
+    {N, "hertz", GRIDDEM_NORMAL_HERTZ, 2, 0, {0}, {0}, RAD, setup_normal_k,
+     EXAMPLE("hertz 1e5 20 damping viscoelastic tangential linear_history 3e4 0.5 0.5 rolling sds 500 5 0.1",
+             "hertz 2e5 10 tangential linear_history 2e4 0.6 0.4 rolling sds 300 3 0.2")},
+    {N, "hertz/material", GRIDDEM_NORMAL_HERTZ, 3, 0, {0}, MATERIAL_MIX, MAT | RAD, setup_material,
+     EXAMPLE("hertz/material 1e6 0.8 0.3 damping tsuji tangential linear_nohistory 1.0 0.5 limit_damping",
+             "hertz/material 5e5 0.6 0.25 damping tsuji tangential linear_nohistory 0.8 0.3 limit_damping")},
+    /* cohesive normal models take viscoelastic, velocity or mass_velocity damping and no
+     * limit_damping (stock refuses the others) */
+    {N, "dmt", GRIDDEM_NORMAL_DMT, 4, 0, {0}, MATERIAL_MIX, MAT | COH | RAD, setup_material,
+     EXAMPLE("dmt 1e6 20 0.3 500 tangential mindlin NULL 0.5 0.5 rolling sds 500 5 0.1 twisting sds 200 0.01 0.1",
+             "dmt 5e5 10 0.25 300 tangential mindlin 3e5 0.6 0.4 rolling sds 300 3 0.2 twisting sds 100 0.005 0.2")},
+    /* pull-off distances 0.005-0.02 at the tests' radii (0.05-0.15) */
+    {N, "jkr", GRIDDEM_NORMAL_JKR, 4, 0, {0}, MATERIAL_MIX, MAT | COH | BEYOND | RAD, setup_material,
+     EXAMPLE("jkr 1e6 20 0.3 2000 tangential mindlin_rescale NULL 0.5 0.5 twisting marshall",
+             "jkr 5e5 10 0.25 1000 tangential mindlin_rescale 3e5 0.4 0.3 twisting marshall")},
+    {D, "velocity", GRIDDEM_DAMPING_VELOCITY, 0, 0, {0}, {0}, 0, setup_damping_plain,
+     EXAMPLE("hooke 1e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 200 1 0.2",
+             "hooke 3e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 100 2 0.1")},
+    {D, "mass_velocity", GRIDDEM_DAMPING_MASS_VELOCITY, 0, 0, {0}, {0}, 0, setup_damping_plain, EXAMPLE(NULL, NULL)},
+    {D, "viscoelastic", GRIDDEM_DAMPING_VISCOELASTIC, 0, 0, {0}, {0}, RAD, setup_damping_plain, EXAMPLE(NULL, NULL)},
+    {D, "tsuji", GRIDDEM_DAMPING_TSUJI, 0, 0, {0}, {0}, NOCOH, setup_tsuji, EXAMPLE(NULL, NULL)},
+    /* the normal model's damping coefficient is the restitution coefficient */
+    {D, "coeff_restitution", GRIDDEM_DAMPING_COEFF_RESTITUTION, 0, 0, {0}, {0}, NOCOH, setup_coeff_restitution,
+     EXAMPLE("hooke 1e4 0.8 damping coeff_restitution tangential linear_history 3e3 0.5 0.5",
+             "hooke 2e4 0.6 damping coeff_restitution tangential linear_history 5e3 0.4 0.3")},
+    {T, "linear_nohistory", GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, 2, 0, {0}, {0}, 0, setup_linear_nohistory, EXAMPLE(NULL, NULL)},
+    {T, "linear_history", GRIDDEM_TANGENTIAL_LINEAR_HISTORY, 3, 3, ODD3, {0}, 0, setup_tangential_k_xt_mu, EXAMPLE(NULL, NULL)},
+    {T, "linear_history_classic", GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC, 3, 3, ODD3, {0}, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hooke 1e4 5 damping velocity tangential linear_history_classic 3e3 0.5 0.5",
+             "hooke 2e4 8 damping velocity tangential linear_history_classic 5e3 0.4 0.3")},
+    /* gran/hertz/history's friction in pair granular's syntax (its normal hertz and damping
+     * mass_velocity); kt is a number, as stock's reads it */
+    {T, "mindlin_classic", GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC, 3, 3, ODD3, {0}, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz 1e5 20 damping mass_velocity tangential mindlin_classic 3e4 0.5 0.5 rolling sds 500 5 0.1",
+             "hertz 2e5 10 damping mass_velocity tangential mindlin_classic 2e4 0.6 0.4 rolling sds 300 3 0.2")},
+    /* k NULL: 8 G_eff from the (mixed) material properties; the Hertzian coeff_restitution */
+    {T, "mindlin", GRIDDEM_TANGENTIAL_MINDLIN, 3, 3, ODD3, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz/material 1e6 0.8 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.5",
+             "hertz/material 5e5 0.7 0.25 damping coeff_restitution tangential mindlin NULL 0.4 0.3")},
+    /* k NULL for type 1 and given for type 2: the mixed pair falls back to the material's 8 G */
+    {T, "mindlin/force", GRIDDEM_TANGENTIAL_MINDLIN_FORCE, 3, 3, ODD3, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz/material 1e6 20 0.3 tangential mindlin/force NULL 0.5 0.5 twisting marshall",
+             "hertz/material 5e5 10 0.25 tangential mindlin/force 3e5 0.4 0.3 twisting marshall")},
+    {T, "mindlin_rescale", GRIDDEM_TANGENTIAL_MINDLIN_RESCALE, 3, 4, {-1, -1, -1, 1}, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz 1e5 20 tangential mindlin_rescale 3e4 0.5 0.5 twisting sds 200 0.01 0.1",
+             "hertz 2e5 10 tangential mindlin_rescale 2e4 0.6 0.4 twisting sds 100 0.005 0.2")},
+    {T, "mindlin_rescale/force", GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE, 3, 4, {-1, -1, -1, 1}, MINDLIN_MIX, RAD, setup_tangential_k_xt_mu,
+     EXAMPLE("hertz/material 1e6 20 0.3 tangential mindlin_rescale/force NULL 0.5 0.5 rolling sds 500 5 0.1",
+             "hertz/material 5e5 10 0.25 tangential mindlin_rescale/force NULL 0.4 0.3 rolling sds 300 3 0.2")},
+    {T, "gran/hooke/history", GRIDDEM_TANGENTIAL_HOOKE_HISTORY, 3, 3, ODD3, {0}, INTERNAL, setup_gran_hooke,
+     EXAMPLE("hooke 1e3 20 damping mass_velocity tangential gran/hooke/history 300 10 0.4",
+             "hooke 2e3 10 damping mass_velocity tangential gran/hooke/history 500 5 0.3")},
+    {T, "gran/hooke", GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, 2, 0, {0}, {0}, INTERNAL, setup_gran_hooke,
+     EXAMPLE("hooke 1e3 20 damping mass_velocity tangential gran/hooke 10 0.4",
+             "hooke 2e3 10 damping mass_velocity tangential gran/hooke 5 0.3")},
+    {T, "none", GRIDDEM_TANGENTIAL_NONE, 0, 0, {0}, {0}, INTERNAL, setup_tangential_none,
+     EXAMPLE("hooke 1e3 20 damping mass_velocity tangential none", "hooke 2e3 10 damping mass_velocity tangential none")},
+    {R, "none", GRIDDEM_ROLLING_NONE, 0, 0, {0}, {0}, 0, setup_none, EXAMPLE(NULL, NULL)},
+    {R, "sds", GRIDDEM_ROLLING_SDS, 3, 3, EVEN3, {0}, 0, setup_rolling_sds, EXAMPLE(NULL, NULL)},
+    {W, "none", GRIDDEM_TWISTING_NONE, 0, 0, {0}, {0}, 0, setup_none, EXAMPLE(NULL, NULL)},
+    {W, "sds", GRIDDEM_TWISTING_SDS, 3, 1, {1}, {0}, 0, setup_twisting_sds, EXAMPLE(NULL, NULL)},
+    {W, "marshall", GRIDDEM_TWISTING_MARSHALL, 0, 1, {1}, {0}, RAD, setup_marshall, EXAMPLE(NULL, NULL)},
+};
+
+/* pair granular's models that have no row */
+static const griddem_stock_only STOCK_ONLY[] = {
+    {"normal", "mdr"}, {"normal", "none"}, {"damping", "none"}, {"tangential", "none"},
+    {"heat", "radius"}, {"heat", "area"},
 };
 
 const char *griddem_axis_name(int axis)
@@ -256,6 +305,16 @@ const griddem_submodel *griddem_submodel_find(int axis, const char *name)
   for (size_t k = 0; k < sizeof(SUBMODELS) / sizeof(SUBMODELS[0]); k++)
     if (SUBMODELS[k].axis == axis && strcmp(SUBMODELS[k].name, name) == 0) return &SUBMODELS[k];
   return NULL;
+}
+
+const griddem_submodel *griddem_submodel_at(size_t k)
+{
+  return k < sizeof(SUBMODELS) / sizeof(SUBMODELS[0]) ? &SUBMODELS[k] : NULL;
+}
+
+const griddem_stock_only *griddem_stock_only_at(size_t k)
+{
+  return k < sizeof(STOCK_ONLY) / sizeof(STOCK_ONLY[0]) ? &STOCK_ONLY[k] : NULL;
 }
 
 void griddem_spec_init(griddem_pair_spec *s)
@@ -276,7 +335,7 @@ int griddem_spec_mix(const griddem_pair_spec *a, const griddem_pair_spec *b, gri
     const griddem_submodel *m = a->sub[axis];
     const double *ca = a->coeffs[axis], *cb = b->coeffs[axis];
     for (int k = 0; m && k < m->ncoeff; k++) {
-      switch (m->mix[k]) {
+      switch ((enum griddem_mix_rule) m->mix[k]) {
         case GRIDDEM_MIX_YOUNG: out->coeffs[axis][k] = mix_young(ca[k], cb[k], ca[2], cb[2]); break;
         case GRIDDEM_MIX_GEOM_NULL:
           if (ca[k] == GRIDDEM_NULL_COEFF || cb[k] == GRIDDEM_NULL_COEFF) {
@@ -284,7 +343,7 @@ int griddem_spec_mix(const griddem_pair_spec *a, const griddem_pair_spec *b, gri
             break;
           }
           /* fall through */
-        default: out->coeffs[axis][k] = sqrt(ca[k] * cb[k]);
+        case GRIDDEM_MIX_GEOM: out->coeffs[axis][k] = sqrt(ca[k] * cb[k]); break;
       }
     }
   }

@@ -55,7 +55,17 @@ typedef struct griddem_submodel {
   int flags;
   /* fill this axis of p from s (earlier axes already filled); 0, or -1 with a reason in why */
   int (*setup)(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy);
+  /* a law that shows this sub-model: pair_coeff's arguments for two atom types, whose unlike
+   * pair is mixed. The tests evaluate every row's example (against stock pair granular, and
+   * seen from both atoms); NULL where another row's example shows this one. */
+  const char *example[2];
 } griddem_submodel;
+
+/* A model pair granular has that this table does not evaluate: refused naming it. */
+typedef struct griddem_stock_only {
+  const char *keyword; /* an axis's name, or heat */
+  const char *name;
+} griddem_stock_only;
 
 /* One type pair's sub-models as given in pair_coeff (or mixed from two like pairs). */
 struct griddem_pair_spec {
@@ -70,6 +80,12 @@ const char *griddem_axis_name(int axis);
 
 /* The row for a name on an axis, or NULL. */
 const griddem_submodel *griddem_submodel_find(int axis, const char *name);
+
+/* Row k of the table, or NULL past the last (rows of an axis are consecutive). */
+const griddem_submodel *griddem_submodel_at(size_t k);
+
+/* Entry k of the models pair granular has and this table does not, or NULL past the last. */
+const griddem_stock_only *griddem_stock_only_at(size_t k);
 
 /* A spec with pair granular's defaults: damping viscoelastic, rolling and twisting none, no
  * normal or tangential model yet. */

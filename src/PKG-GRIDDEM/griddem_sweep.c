@@ -103,18 +103,6 @@ typedef struct sweep_sums {
   griddem_history_log *log;
 } sweep_sums;
 
-static int excluded_pair(const griddem_exclusions *e, const griddem_channels *ch, int a, int b)
-{
-  const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
-  if (e->both_bit && (A->mask & e->both_bit) && (B->mask & e->both_bit)) return 1;
-  if (e->type_pair && e->type_pair[A->type * (e->ntypes + 1) + B->type]) return 1;
-  for (int k = 0; k < e->ngroup_pairs; k++) {
-    const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];
-    if (((A->mask & b1) && (B->mask & b2)) || ((A->mask & b2) && (B->mask & b1))) return 1;
-  }
-  return 0;
-}
-
 /* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
  * owned; b receives its share if it is owned too. */
 static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq)
@@ -130,9 +118,9 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
     return;
   }
-  if (cx->excl && excluded_pair(cx->excl, ch, a, b)) return;
-
   const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
+  if (cx->excl && griddem_excluded(cx->excl, A->type, A->mask, B->type, B->mask)) return;
+
   const griddem_pair_params *law = griddem_model_pair(m, A->type, B->type);
   const double *stored = m->track_contacts
       ? griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]) : NULL;

@@ -7,6 +7,7 @@
 #define GRIDDEM_SWEEP_H
 
 #include "griddem_contact.h"
+#include "griddem_exclusions.h"
 #include "griddem_grid.h"
 #include "griddem_history.h"
 
@@ -57,16 +58,6 @@ typedef struct griddem_channels {
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);
 void griddem_channels_free(griddem_channels *ch);
 
-
-/* Pairs that must not interact (LAMMPS neigh_modify exclude type / group). */
-typedef struct griddem_exclusions {
-  const unsigned char *type_pair; /* NULL or [(ntypes+1)^2] */
-  int ntypes;
-  int ngroup_pairs;
-  const int *group_bits;          /* [2*ngroup_pairs]: (bit1, bit2) per excluded pair of groups */
-  int both_bit;                   /* pairs whose two masks both have this bit (fix griddem/rom's
-                                   * kinematic particles); 0: none */
-} griddem_exclusions;
 
 enum griddem_fault {
   GRIDDEM_FAULT_NONE = 0,

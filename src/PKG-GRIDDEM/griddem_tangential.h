@@ -20,11 +20,12 @@ enum griddem_tangential_model {
   GRIDDEM_TANGENTIAL_MINDLIN = 5,
   GRIDDEM_TANGENTIAL_MINDLIN_FORCE = 6,
   GRIDDEM_TANGENTIAL_MINDLIN_RESCALE = 7,
-  GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE = 8
+  GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE = 8,
+  GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC = 9 /* gran/hertz/history's; stock gives it linear_history_classic's law */
 };
 
 typedef struct griddem_tangential_params {
-  int model;
+  enum griddem_tangential_model model;
   double k, xt, mu;   /* damping = xt * the normal damping prefactor */
   double gamma_mass;  /* gran/hooke styles: damping = meff * gamma_t, independent of the normal's */
 } griddem_tangential_params;
@@ -55,9 +56,9 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
   const double damp = p->xt * c->damp_prefactor;
   const double fscrit = p->mu * c->fncrit;
   c->damp_tangential = damp;
+  c->fs[0] = c->fs[1] = c->fs[2] = 0.0; /* none's; every other case sets them */
   switch (p->model) {
     case GRIDDEM_TANGENTIAL_NONE:
-      c->fs[0] = c->fs[1] = c->fs[2] = 0.0;
       return;
     case GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY: {
       const double fsmag = damp * c->vrel;
@@ -74,7 +75,8 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
       griddem_tangential_cap(c, h, fscrit, damp, -1.0 / p->k, griddem_len3(h) != 0.0);
       c->energy += 0.5 * p->k * griddem_dot3(h, h);
       return;
-    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC: {
+    case GRIDDEM_TANGENTIAL_LINEAR_HISTORY_CLASSIC:
+    case GRIDDEM_TANGENTIAL_MINDLIN_CLASSIC: {
       /* advance, then project onto the tangent plane without restoring the length */
       if (c->history_update)
         for (int m = 0; m < 3; m++) h[m] += c->dt * c->vtr[m];
@@ -89,7 +91,13 @@ GRIDDEM_INLINE void griddem_tangential_force(const griddem_tangential_params *p,
       c->energy += 0.5 * k * griddem_dot3(h, h);
       return;
     }
-    default: { /* the mindlin family */
+    case GRIDDEM_TANGENTIAL_HOOKE_HISTORY:
+      /* gran/hooke/history's law is griddem_classic_contact, which its setup selects (classic) */
+      return;
+    case GRIDDEM_TANGENTIAL_MINDLIN:
+    case GRIDDEM_TANGENTIAL_MINDLIN_FORCE:
+    case GRIDDEM_TANGENTIAL_MINDLIN_RESCALE:
+    case GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE: {
       const int force_form = p->model == GRIDDEM_TANGENTIAL_MINDLIN_FORCE ||
           p->model == GRIDDEM_TANGENTIAL_MINDLIN_RESCALE_FORCE;
       const int rescale = p->model == GRIDDEM_TANGENTIAL_MINDLIN_RESCALE ||

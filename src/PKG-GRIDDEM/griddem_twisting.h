@@ -14,7 +14,7 @@ extern "C" {
 enum griddem_twisting_model { GRIDDEM_TWISTING_NONE = 0, GRIDDEM_TWISTING_SDS = 1, GRIDDEM_TWISTING_MARSHALL = 2 };
 
 typedef struct griddem_twisting_params {
-  int model;
+  enum griddem_twisting_model model;
   double k, damp, mu; /* marshall: the tangential model's k and mu; damp unused */
 } griddem_twisting_params;
 
@@ -22,10 +22,14 @@ typedef struct griddem_twisting_params {
 GRIDDEM_INLINE void griddem_twisting_force(const griddem_twisting_params *p, griddem_contact *c, double *h)
 {
   double k = p->k, damp = p->damp, mu = p->mu;
-  if (p->model == GRIDDEM_TWISTING_MARSHALL) {
-    k = 0.5 * p->k * c->contact_radius * c->contact_radius;
-    damp = 0.5 * c->damp_tangential * c->contact_radius * c->contact_radius;
-    mu = (2.0 / 3.0) * p->mu * c->contact_radius;
+  switch (p->model) {
+    case GRIDDEM_TWISTING_NONE: c->magtortwist = 0.0; return;
+    case GRIDDEM_TWISTING_SDS: break;
+    case GRIDDEM_TWISTING_MARSHALL:
+      k = 0.5 * p->k * c->contact_radius * c->contact_radius;
+      damp = 0.5 * c->damp_tangential * c->contact_radius * c->contact_radius;
+      mu = (2.0 / 3.0) * p->mu * c->contact_radius;
+      break;
   }
   if (c->history_update) h[0] += c->magtwist * c->dt;
   c->magtortwist = -k * h[0] - damp * c->magtwist;

@@ -511,7 +511,7 @@ void PairGriddem::compute(int eflag, int vflag)
   step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
   step.size_classes = fix->cell_mode == GRIDDEM_CELL_CLASSES || fix->cell_mode == GRIDDEM_CELL_AUTO;
   step.rmin = rmin;
-  step.max_cells = 32L * nall + 65536L;
+  step.max_cells = GRIDDEM_ONE_GRID_MAX_CELLS(nall);
   step.rmax = rmax;
   step.model = &model;
   step.excl = &exclusions;

@@ -1,7 +1,8 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: pair style griddem/granular.
    Takes pair granular's coefficient syntax for the sub-models listed in griddem_submodels.c (the
-   table drives parsing, mixing and restart); other sub-models are refused by name. Restart files
+   table drives parsing, mixing, restart and the refusals): pair granular's other sub-models are
+   refused by name, with the table's list. Restart files
    hold each type pair's sub-model names and coefficients, checked on read as pair granular does.
 ------------------------------------------------------------------------- */
 
@@ -17,16 +18,31 @@
 
 using namespace LAMMPS_NS;
 
-// names pair granular knows that griddem/granular does not evaluate, per keyword
-static const char *const UNSUPPORTED[][2] = {
-    {"normal", "mdr"}, {"normal", "none"}, {"damping", "none"}, {"tangential", "none"},
-    {"tangential", "mindlin_classic"}, {"heat", "radius"}, {"heat", "area"}};
+// the keywords' models as the table lists them: "normal hooke, hertz, ...; damping ..."
+static std::string supported_models()
+{
+  std::string list;
+  int axis = -1;
+  for (size_t k = 0; const griddem_submodel *m = griddem_submodel_at(k); k++) {
+    if (m->flags & GRIDDEM_SUBMODEL_INTERNAL) continue;
+    if (m->axis != axis) {
+      list += (axis < 0 ? "" : "; ") + std::string(griddem_axis_name(m->axis)) + " ";
+      axis = m->axis;
+    } else {
+      list += ", ";
+    }
+    list += m->name;
+  }
+  return list;
+}
 
-static const char SUPPORTED[] =
-    "normal hooke, hertz, hertz/material, dmt, jkr; damping velocity, mass_velocity, viscoelastic, "
-    "tsuji, coeff_restitution; tangential linear_nohistory, linear_history, linear_history_classic, "
-    "mindlin, mindlin/force, mindlin_rescale, mindlin_rescale/force; rolling sds; twisting sds, "
-    "marshall";
+// whether pair granular has a model that griddem/granular does not evaluate
+static bool stock_only(const char *keyword, const char *name)
+{
+  for (size_t k = 0; const griddem_stock_only *u = griddem_stock_only_at(k); k++)
+    if (strcmp(u->keyword, keyword) == 0 && strcmp(u->name, name) == 0) return true;
+  return false;
+}
 
 PairGriddemGranular::PairGriddemGranular(LAMMPS *lmp) : PairGriddem(lmp) {}
 
@@ -48,9 +64,9 @@ const griddem_submodel *PairGriddemGranular::find_submodel(int axis, const char 
   const griddem_submodel *m = griddem_submodel_find(axis, name);
   if (m && !(m->flags & GRIDDEM_SUBMODEL_INTERNAL)) return m;
   const char *keyword = griddem_axis_name(axis);
-  for (const auto &u : UNSUPPORTED)
-    if (strcmp(u[0], keyword) == 0 && strcmp(u[1], name) == 0)
-      error->all(FLERR, "Pair style griddem/granular does not support {} model {} (supported: {})", keyword, name, SUPPORTED);
+  if (stock_only(keyword, name))
+    error->all(FLERR, "Pair style griddem/granular does not support {} model {} (supported: {})", keyword, name,
+               supported_models());
   error->all(FLERR, "Pair coeff for griddem/granular: unknown {} model {}", keyword, name);
   return nullptr;
 }
@@ -101,9 +117,9 @@ void PairGriddemGranular::coeff(int narg, char **arg)
       if (s.cutoff <= 0.0) error->all(FLERR, "Pair coeff for griddem/granular: cutoff must be > 0, not {}", arg[iarg]);
       iarg++;
     } else if (strcmp(keyword, "heat") == 0) {
-      for (const auto &u : UNSUPPORTED)
-        if (strcmp(u[0], "heat") == 0 && strcmp(u[1], arg[iarg]) == 0)
-          error->all(FLERR, "Pair style griddem/granular does not support heat model {} (supported: {})", arg[iarg], SUPPORTED);
+      if (stock_only("heat", arg[iarg]))
+        error->all(FLERR, "Pair style griddem/granular does not support heat model {} (supported: {})", arg[iarg],
+                   supported_models());
       if (strcmp(arg[iarg], "none") != 0)
         error->all(FLERR, "Pair coeff for griddem/granular: unknown heat model {}", arg[iarg]);
       iarg++;

@@ -86,13 +86,64 @@ static void layout(void)
   CHECK(p.hist_rolling == 4 && p.hist_twisting == 7, "offsets %d %d", p.hist_rolling, p.hist_twisting);
   spec_from_text("hooke 1e4 20 tangential linear_nohistory 1 1", &s);
   CHECK(griddem_spec_history(&s, NULL) == 0 && !griddem_spec_beyond_contact(&s), "no history kept");
-  CHECK(griddem_submodel_find(GRIDDEM_AXIS_TANGENTIAL, "mindlin_classic") == NULL, "unknown names are not found");
+  CHECK(griddem_submodel_find(GRIDDEM_AXIS_TANGENTIAL, "mindlin_bogus") == NULL, "unknown names are not found");
   CHECK(griddem_submodel_find(GRIDDEM_AXIS_TWISTING, "sds") != griddem_submodel_find(GRIDDEM_AXIS_ROLLING, "sds"),
         "a name is looked up on its own axis");
 }
 
+/* The rows' examples: each of a row's two lines reads and converts, names the row, and names
+ * the same sub-models as the other (so the unlike pair mixes and converts too); together they
+ * name every row, so the tests that run the examples cover the table. */
+static void examples(void)
+{
+  size_t nrows = 0;
+  while (griddem_submodel_at(nrows)) nrows++;
+  int shown[64] = {0};
+  CHECK(nrows <= sizeof(shown) / sizeof(shown[0]), "%zu rows", nrows);
+  for (size_t k = 0; k < nrows; k++) {
+    const griddem_submodel *row = griddem_submodel_at(k);
+    if (!row->example[0]) {
+      CHECK(!row->example[1], "%s %s: both types' examples or neither", griddem_axis_name(row->axis), row->name);
+      continue;
+    }
+    griddem_pair_spec s[2], mixed;
+    griddem_pair_params p;
+    char why[256] = "";
+    for (int type = 0; type < 2; type++) {
+      const char *text = row->example[type];
+      CHECK(text && spec_from_text(text, &s[type]) == 0, "example '%s' reads", text ? text : "(none)");
+      CHECK(griddem_spec_to_params(&s[type], &p, why, sizeof(why)) == 0, "example '%s' converts: %s", text, why);
+      CHECK(s[type].sub[row->axis] == row, "example '%s' names %s %s", text, griddem_axis_name(row->axis), row->name);
+      for (int axis = 0; axis < GRIDDEM_NAXES; axis++)
+        for (size_t r = 0; r < nrows && r < sizeof(shown) / sizeof(shown[0]); r++)
+          if (s[type].sub[axis] == griddem_submodel_at(r)) shown[r] = 1;
+    }
+    CHECK(griddem_spec_mix(&s[0], &s[1], &mixed) == -1 && griddem_spec_to_params(&mixed, &p, why, sizeof(why)) == 0,
+          "example of %s %s: the unlike pair mixes and converts: %s", griddem_axis_name(row->axis), row->name, why);
+  }
+  for (size_t r = 0; r < nrows && r < sizeof(shown) / sizeof(shown[0]); r++)
+    CHECK(shown[r], "%s %s is in some row's example", griddem_axis_name(griddem_submodel_at(r)->axis),
+          griddem_submodel_at(r)->name);
+}
+
+/* pair granular's models that the table lacks are not found on their axis */
+static void stock_only(void)
+{
+  size_t n = 0;
+  for (; griddem_stock_only_at(n); n++) {
+    const griddem_stock_only *u = griddem_stock_only_at(n);
+    int axis = 0;
+    while (axis < GRIDDEM_NAXES && strcmp(griddem_axis_name(axis), u->keyword) != 0) axis++;
+    const griddem_submodel *m = axis < GRIDDEM_NAXES ? griddem_submodel_find(axis, u->name) : NULL;
+    CHECK(!m || (m->flags & GRIDDEM_SUBMODEL_INTERNAL), "%s %s is refused, not a row the style takes", u->keyword, u->name);
+  }
+  CHECK(n > 0, "pair granular's models the table lacks are listed");
+}
+
 int main(void)
 {
+  examples();
+  stock_only();
   conversions();
   mixing();
   refusals();

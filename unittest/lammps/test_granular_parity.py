@@ -1,14 +1,13 @@
 """griddem/granular against stock pair granular with the same pair_coeff lines: forces, torques,
 virial and 20-step trajectories agree to 1e-10 relative on a dense random polydisperse (1:3)
 configuration of two atom types (the unlike pair mixed from the like ones), with random linear
-and angular velocities, for every supported sub-model: normal hooke, hertz, hertz/material, dmt
-and jkr; damping velocity, mass_velocity, viscoelastic, tsuji and coeff_restitution; tangential
-linear_nohistory, linear_history, linear_history_classic, mindlin, mindlin_rescale, mindlin/force
-and mindlin_rescale/force (with k given and NULL); rolling sds; twisting sds and marshall. In the
-JKR case stock has pairs interacting beyond contact at step 20 (separated after touching, inside
-the pull-off distance; checked), so that this range is compared too. Unsupported sub-models are
-refused by name, bad arguments with a message naming them, and a restart file naming an unknown
-sub-model stops read_restart naming it."""
+and angular velocities, for the example law of every row of the sub-model table
+(griddem_submodels.c) that pair granular also has; together the examples name every sub-model
+the style takes (unittest/core/test_submodels.c checks that). In the jkr example stock has pairs
+interacting beyond contact at step 20 (separated after touching, inside the pull-off distance;
+checked), so that this range is compared too. The models pair granular has and the table does
+not are refused by name, bad arguments with a message naming them, and a restart file naming an
+unknown sub-model stops read_restart naming it."""
 import os
 import struct
 import sys
@@ -20,55 +19,9 @@ from test_stock_parity import compare, run as parity_run
 # stock's list is built once: a pair keeps its i/j order, so its rolling history keeps its sign
 FROZEN_LIST = "neighbor 0.3 bin\nneigh_modify every 1000 delay 0 check no"
 
-# (label, type 1 coefficients, type 2 coefficients); the 1-2 pair is mixed.
-# Twisting torques act on the angular velocity directly: their damping is kept below I/dt of the
-# lightest sphere (I = 1.7e-5), as a stable stock run needs.
-MODELS = [
-    ("hooke mass_velocity linear_history",
-     "hooke 1e4 50 damping mass_velocity tangential linear_history 3e3 0.5 0.5",
-     "hooke 2e4 30 damping mass_velocity tangential linear_history 5e3 0.4 0.3"),
-    ("hertz viscoelastic linear_history rolling sds",
-     "hertz 1e5 20 damping viscoelastic tangential linear_history 3e4 0.5 0.5 rolling sds 500 5 0.1",
-     "hertz 2e5 10 tangential linear_history 2e4 0.6 0.4 rolling sds 300 3 0.2"),
-    ("hertz/material tsuji linear_nohistory limit_damping",
-     "hertz/material 1e6 0.8 0.3 damping tsuji tangential linear_nohistory 1.0 0.5 limit_damping",
-     "hertz/material 5e5 0.6 0.25 damping tsuji tangential linear_nohistory 0.8 0.3 limit_damping"),
-    ("hooke velocity linear_nohistory rolling sds",
-     "hooke 1e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 200 1 0.2",
-     "hooke 3e4 5 damping velocity tangential linear_nohistory 0.5 0.5 rolling sds 100 2 0.1"),
-    # coeff_restitution: its damping coefficient is the restitution coefficient (hooke's formula)
-    ("hooke coeff_restitution linear_history",
-     "hooke 1e4 0.8 damping coeff_restitution tangential linear_history 3e3 0.5 0.5",
-     "hooke 2e4 0.6 damping coeff_restitution tangential linear_history 5e3 0.4 0.3"),
-    # ... and the Hertzian one; mindlin's k NULL: 8 G from the (mixed) material properties
-    ("hertz/material coeff_restitution mindlin NULL",
-     "hertz/material 1e6 0.8 0.3 damping coeff_restitution tangential mindlin NULL 0.5 0.5",
-     "hertz/material 5e5 0.7 0.25 damping coeff_restitution tangential mindlin NULL 0.4 0.3"),
-    ("hertz mindlin_rescale twisting sds",
-     "hertz 1e5 20 tangential mindlin_rescale 3e4 0.5 0.5 twisting sds 200 0.01 0.1",
-     "hertz 2e5 10 tangential mindlin_rescale 2e4 0.6 0.4 twisting sds 100 0.005 0.2"),
-    # k NULL for type 1 and given for type 2: the mixed pair falls back to the material's 8 G
-    ("hertz/material mindlin/force twisting marshall",
-     "hertz/material 1e6 20 0.3 tangential mindlin/force NULL 0.5 0.5 twisting marshall",
-     "hertz/material 5e5 10 0.25 tangential mindlin/force 3e5 0.4 0.3 twisting marshall"),
-    ("hertz/material mindlin_rescale/force rolling sds",
-     "hertz/material 1e6 20 0.3 tangential mindlin_rescale/force NULL 0.5 0.5 rolling sds 500 5 0.1",
-     "hertz/material 5e5 10 0.25 tangential mindlin_rescale/force NULL 0.4 0.3 rolling sds 300 3 0.2"),
-    ("hooke velocity linear_history_classic",
-     "hooke 1e4 5 damping velocity tangential linear_history_classic 3e3 0.5 0.5",
-     "hooke 2e4 8 damping velocity tangential linear_history_classic 5e3 0.4 0.3"),
-    # cohesive normal models take viscoelastic, velocity or mass_velocity damping and no
-    # limit_damping (stock refuses the others)
-    ("dmt mindlin rolling sds twisting sds",
-     "dmt 1e6 20 0.3 500 tangential mindlin NULL 0.5 0.5 rolling sds 500 5 0.1 twisting sds 200 0.01 0.1",
-     "dmt 5e5 10 0.25 300 tangential mindlin 3e5 0.6 0.4 rolling sds 300 3 0.2 twisting sds 100 0.005 0.2"),
-    # pull-off distance 0.005-0.02 (JKR's 1.2277 (R c^2 / E*^2)^(1/3)), about what the pairs
-    # pushed apart by the initial overlaps separate by in 20 steps
-    ("jkr mindlin_rescale twisting marshall",
-     "jkr 1e6 20 0.3 2000 tangential mindlin_rescale NULL 0.5 0.5 twisting marshall",
-     "jkr 5e5 10 0.25 1000 tangential mindlin_rescale 3e5 0.4 0.3 twisting marshall"),
-]
-JKR = MODELS[-1]
+# (label, type 1 coefficients, type 2 coefficients): each row's example; the 1-2 pair is mixed
+MODELS, STOCK_ONLY = t.submodel_table()
+JKR = next(m for m in MODELS if m[0] == "normal jkr")
 
 
 def run(wd, name, data, pair, c1, c2, extra=""):
@@ -134,20 +87,24 @@ def main():
     t.check(forced > 1000 and beyond >= 0.01 * forced,
             "jkr: stock has pairs interacting beyond contact at step 20 (%d of %d)" % (beyond, forced))
 
-    label, c1, c2 = MODELS[1]
+    label, c1, c2 = next(m for m in MODELS if m[0] == "normal hertz")
     compare("granular %s, neigh_modify exclude type 1 2" % label,
             run(wd, "stock_ex", data, "granular", c1, c2, "neigh_modify exclude type 1 2"),
             run(wd, "grid_ex", data, "griddem/granular", c1, c2, "neigh_modify exclude type 1 2\nfix grid all griddem contacts 64"))
 
-    # unsupported sub-models: refused with their name
-    for coeff, name in [("mdr 1e4 0.3 10 0 0.5 0.5 damping none tangential linear_history 1 1 1", "mdr"),
-                        ("hooke 1e4 5 tangential mindlin_classic 1 1 1", "mindlin_classic"),
-                        ("hooke 1e4 5 tangential linear_history 1 1 1 heat radius 1", "radius"),
-                        ("hooke 1e4 5 tangential linear_history 1 1 1 heat area 1", "area")]:
-        rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
-                            "pair_style griddem/granular\npair_coeff * * %s\n" % coeff, wd, name="in.bad")
-        t.check(rc != 0 and "does not support" in out and name in out,
-                "unsupported %s refused by name: %s" % (name, out.strip().splitlines()[-1:]))
+    # pair granular's models that the table does not evaluate: stock knows each name, and
+    # griddem/granular refuses it by name (at the name, before its coefficients are read)
+    t.check(len(STOCK_ONLY) > 0, "the table lists pair granular's models it does not evaluate")
+    for keyword, name in STOCK_ONLY:
+        coeff = name if keyword == "normal" else "hooke 1e4 5 %s %s" % (keyword, name)
+        text = ("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
+                "pair_style {pair}\npair_coeff * * %s\n" % coeff)
+        rc, out = t.run_lmp(text.format(pair="granular"), wd, name="in.stock_only")
+        t.check("Illegal model type" not in out, "pair granular knows %s %s: %s" % (
+            keyword, name, t.errors(out)[:1]))
+        rc, out = t.run_lmp(text.format(pair="griddem/granular"), wd, name="in.bad")
+        t.check(rc != 0 and "does not support %s model %s" % (keyword, name) in out,
+                "unsupported %s %s refused by name: %s" % (keyword, name, out.strip().splitlines()[-1:]))
 
     # bad arguments: each stops with a message naming what is wrong (run 0 reaches the checks
     # made when coefficients are mixed and converted)

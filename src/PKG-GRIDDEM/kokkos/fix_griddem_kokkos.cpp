@@ -209,7 +209,7 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int 
     buf[m++] = (double) k_partner[cur].h_view(e);
     for (int k = 0; k < nv; k++) buf[m++] = k_value[cur].h_view((long) e * nv + k);
   }
-  return 1 + n * (1 + nv);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(n, nv);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, const double *message)
@@ -228,7 +228,7 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, con
   modify_host();
   longest = MAX(longest, count);
   update_maxexchange();
-  return 1 + count * (1 + nv);
+  return GRIDDEM_ROW_MESSAGE_LENGTH(count, nv);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
@@ -238,31 +238,26 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::unpack_exchange(in
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_restart(int i, double *buf)
 {
-  buf[1] = nv;    // as fix griddem: record length, values per contact, row message
-  buf[0] = 2 + pack_exchange(i, buf + 2);
-  return static_cast<int>(buf[0]);
+  return griddem_restart_frame(buf, nv, pack_exchange(i, buf + GRIDDEM_RESTART_HEADER));
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::unpack_restart(int nlocal, int nth)
 {
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  const double *record = &extra[nlocal][m];
-  const int record_values = static_cast<int>(record[1]);
+  const double *record = griddem_restart_record(atom->extra[nlocal], nth);
+  const int record_values = griddem_restart_values(record);
   if (record_values != nv) set_values(record_values);
-  put_row(nlocal, record + 2);
+  put_row(nlocal, griddem_restart_message(record));
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::size_restart(int nlocal)
 {
   sync_host();
-  return 3 + k_count[cur].h_view(nlocal) * (1 + nv);
+  return GRIDDEM_RESTART_HEADER + GRIDDEM_ROW_MESSAGE_LENGTH(k_count[cur].h_view(nlocal), nv);
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::maxsize_restart()
 {
-  int mine = 3 + longest * (1 + nv), most;
+  int mine = GRIDDEM_RESTART_HEADER + GRIDDEM_ROW_MESSAGE_LENGTH(longest, nv), most;
   MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, world);
   return most;
 }
@@ -331,7 +326,7 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
             for (int k = 0; k < nvalues; k++) buf(m++) = value((long) e * nvalues + k);
           }
         }
-        offset += 1 + n * (1 + nvalues);
+        offset += GRIDDEM_ROW_MESSAGE_LENGTH(n, nvalues);
       },
       total);
   // refill the sent slots only after every message is packed: a copy source may be sent too

@@ -107,8 +107,7 @@ struct GriddemKKGrid {
   int n[3];
   KOKKOS_INLINE_FUNCTION int axis_cell(int d, double x) const
   {
-    const long c = (long) floor((x - anchor[d]) * hinv) - k0[d];
-    return c < 0 ? 0 : (c >= n[d] ? n[d] - 1 : (int) c);
+    return griddem_axis_cell(x, anchor[d], hinv, k0[d], n[d]);
   }
   KOKKOS_INLINE_FUNCTION int cell_of(double x, double y, double z) const
   {
@@ -130,12 +129,7 @@ struct GriddemKKGrids {
   GriddemKKGrid g[GRIDDEM_MAX_CLASSES];
   int offset[GRIDDEM_MAX_CLASSES + 1];      // first cell of each class; offset[ncls]: all cells
   double upper[GRIDDEM_MAX_CLASSES + 1];    // upper[ncls] = 0
-  KOKKOS_INLINE_FUNCTION int class_of(double r) const
-  {
-    int c = 0;
-    while (c < ncls - 1 && r <= upper[c + 1]) c++;
-    return c;
-  }
+  KOKKOS_INLINE_FUNCTION int class_of(double r) const { return griddem_class_of(r, upper, ncls); }
   // the lower corner of cell c (numbered over all classes)
   KOKKOS_INLINE_FUNCTION void cell_corner(int c, double corner[3]) const
   {
@@ -247,9 +241,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   double slack;          // added to every search distance: round-off of the positions
   int repair;            // 1: list again the atoms whose room was short, into room from `top`
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
-  Kokkos::View<const unsigned char *, DeviceType> excl_type;        // empty: no type exclusions
-  Kokkos::View<const int *, DeviceType> excl_group;                 // pairs of group bits
-  int excl_both;    // pairs whose two masks both have this bit (fix griddem/rom's kinematic atoms)
+  griddem_exclusions excl;    // the CPU style's, its tables on the device
   Kokkos::View<long, DeviceType> top;    // repair: the next free list entry
 
   KOKKOS_INLINE_FUNCTION void init(value_type &s) const
@@ -265,17 +257,6 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
     s.incomplete += o.incomplete;
     s.needed += o.needed;
     if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
-  }
-
-  KOKKOS_INLINE_FUNCTION int excluded(int ta, int ma, int tb, int mb) const
-  {
-    if (ma & mb & excl_both) return 1;
-    if (excl_type.extent(0) && excl_type(ta * (this->ntypes + 1) + tb)) return 1;
-    for (int k = 0; k + 1 < (int) excl_group.extent(0); k += 2) {
-      const int b1 = excl_group(k), b2 = excl_group(k + 1);
-      if (((ma & b1) && (mb & b2)) || ((ma & b2) && (mb & b1))) return 1;
-    }
-    return 0;
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
@@ -332,7 +313,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
                 if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = this->order(u);
                 continue;
               }
-              if (excluded(itype, imask, this->tm(u, 0), this->tm(u, 1))) continue;
+              if (griddem_excluded(&excl, itype, imask, this->tm(u, 0), this->tm(u, 1))) continue;
               if (n < room) this->list(head + n) = u;
               n++;
             }

@@ -182,8 +182,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   const int mode = this->fix->cell_mode;
   const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
   grids.ncls = classes ? griddem_class_count(this->rmin, rmax) : 1;
-  for (int c = 0; c < grids.ncls; c++) grids.upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
-  grids.upper[grids.ncls] = 0.0;
+  griddem_class_bounds(rmax, grids.ncls, grids.upper);
   GriddemKKClassBoxes boxes;
   if (grids.ncls == 1) {
     boxes.count[0] = nall;
@@ -213,7 +212,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       extent = MAX(extent,
                    MAX(fabs(lo[d] - this->domain->boxlo[d]), fabs(hi[d] - this->domain->boxlo[d])));
     }
-    const long max_cells = grids.ncls == 1 ? 32L * nall + 65536L
+    const long max_cells = grids.ncls == 1 ? GRIDDEM_ONE_GRID_MAX_CELLS(nall)
                                            : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
     griddem_grid fitted;
     const double edge = classes ? griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0)
@@ -438,9 +437,9 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   find.slack = slack;
   find.repair = 0;
   find.start = d_start;
-  find.excl_type = d_excl_type;
-  find.excl_group = d_excl_group;
-  find.excl_both = this->exclusions.both_bit;
+  find.excl = this->exclusions;
+  find.excl.type_pair = d_excl_type.extent(0) ? d_excl_type.data() : nullptr;
+  find.excl.group_bits = d_excl_group.data();
   GriddemKKFindValue found;
   Kokkos::parallel_reduce("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
                           found);
