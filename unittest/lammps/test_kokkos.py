@@ -12,7 +12,8 @@ kk run continues bit for bit under kk and the CPU style, and a CPU restart under
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
-instead of OpenMP threads and 1 and 2 ranks."""
+instead of OpenMP threads and 1 and 2 ranks. `--only laws,growth,...` runs the named sections
+(SECTIONS, at the end) alone."""
 import os
 import re
 import subprocess
@@ -142,266 +143,20 @@ def main():
               "(README, 'Building with KOKKOS') and set GRIDDEM_LMP to that lmp" % (t.LMP, " ".join(sorted(packages))))
         sys.exit(SKIP)
 
+    only = sys.argv[sys.argv.index("--only") + 1].split(",") if "--only" in sys.argv else list(SECTIONS)
+    unknown = [name for name in only if name not in SECTIONS]
+    if unknown:
+        raise SystemExit("test_kokkos.py --only: no section %s (sections: %s)" % (",".join(unknown), ",".join(SECTIONS)))
     wd = t.workdir()
     data = os.path.join(wd, "data.dense")
     t.write_random_spheres(data, 1500, (4.5, 4.5, 4.5), 0.1, 0.3, seed=23, vscale=1.0, wscale=5.0,
                            ntypes=2)
-    for k, (label, griddem, stock, coeffs) in enumerate(LAWS):
-        ref = run(wd, "stock_%d" % k, data, stock, coeffs, extra=FROZEN_LIST)
-        cpu = run(wd, "cpu_%d" % k, data, griddem, coeffs)
-        for nprocs in RANKS:
-            for threads in THREADS:
-                kk = run(wd, "kk_%d_%d_%d" % (k, nprocs, threads), data, griddem, coeffs, nprocs, threads)
-                what = "%s/kk [%s], %d rank(s), %d thread(s)" % (griddem.split()[0], label, nprocs, threads)
-                compare(what + " vs stock " + stock.split()[0], ref, kk)
-                compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
-
-    # the kk styles really ran: with -sf kk the pair style is the kk one
-    for law in (LAWS[0], LAWS[2], HISTORY):
-        style = law[1].split()[0]
-        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
-                            "print \"STYLE $(is_active(pair_style,%s/kk))\"\nrun 0\n" % style, wd,
-                            name="in.active", extra=kk_args(1))
-        t.check(rc == 0 and "STYLE 1" in out, "with -sf kk pair_style %s is %s/kk: %s"
-                % (style, style, [l for l in out.splitlines() if "STYLE" in l or "ERROR" in l][-1:]))
-
-    # the explicit /kk/host and /kk/device names (without -sf kk) give the same virial
-    for law, variant in ((LAWS[0], "host"), (LAWS[3], "device")):
-        words = law[1].split()
-        pair = " ".join([words[0] + "/kk/" + variant] + words[1:])
-        text = t.PERIODIC_SPHERES.format(data=data, pair=pair, coeffs=law[3]).replace(
-            "atom_style sphere", "atom_style sphere/kk") + (
-            "run_style verlet/kk\nfix integrate all nve/sphere/kk\ntimestep 1e-5\n"
-            "thermo_style custom step press\nthermo_modify format float %.17g\nthermo 10\nrun 20\n")
-        rc, out = t.run_lmp(text, wd, name="in.variant", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
-        a, b = t.thermo_values(out, "Press"), t.thermo_values(run(wd, "cpu_v", data, law[1], law[3])[1], "Press")
-        worst = max(abs(x - y) for x, y in zip(a, b)) / max(abs(v) for v in b) if rc == 0 and len(a) == 3 else 1.0
-        t.check(rc == 0 and worst <= 1e-10, "pair_style %s runs and matches the CPU style's press (%.3g, exit %d)"
-                % (pair.split()[0], worst, rc))
-
-    # neigh_modify exclude (type and group) and fix freeze (infinite mass) as the CPU style
-    extra = ("group low id <= 700\nneigh_modify exclude group low low exclude type 1 2\n"
-             "group base id > 1300\nset group base diameter 0.4\nset group base density 1.0\n"
-             "fix frozen base freeze")
-    for law in (LAWS[0], LAWS[3]):
-        style = law[1].split()[0]
-        cpu = run(wd, "cpu_ex", data, law[1], law[3], extra=extra)
-        compare("%s/kk with exclusions and fix freeze vs CPU" % style, cpu,
-                run(wd, "kk_ex", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=extra))
-        compare("%s/kk with exclusions and fix freeze vs stock" % style,
-                run(wd, "stock_ex", data, law[2], law[3], extra=extra),
-                run(wd, "kk_ex1", data, law[1], law[3], threads=1, extra=extra))
-
-    # per-atom virial (compute stress/atom) as the CPU style's, on steps 0 to 3
-    stress = ("compute s all stress/atom NULL pair\n"
-              "dump st all custom 1 dump.st id c_s[1] c_s[2] c_s[3] c_s[4] c_s[5] c_s[6]\n"
-              "dump_modify st format float %.17g sort id\n"
-              "timestep 1e-5\nfix integrate all nve/sphere\nrun 3\n")
-    cols = ["c_s[%d]" % k for k in range(1, 7)]
-    per_atom = []
-    for extra in ([], kk_args(2)):
-        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[3][1], coeffs=LAWS[3][3]) + stress,
-                            wd, name="in.stress", extra=extra, threads=2)
-        t.check(rc == 0, "stress/atom run (exit %d)" % rc)
-        per_atom.append(t.read_dumps(os.path.join(wd, "dump.st")))
-    t.check(len(per_atom[0]) == len(per_atom[1]) == 4, "stress/atom dumped at steps 0 to 3")
-    err = max(t.max_rel_diff(a, b, cols) for a, b in zip(per_atom[1], per_atom[0]))
-    print("griddem/granular/kk per-atom virial vs CPU: %.2g" % err)
-    t.check(err <= 1e-10, "griddem/granular/kk per-atom virial relative error %.3g" % err)
-
-    # the history fix must match the pair style: a kk style with the CPU fix, and the reverse
-    for pair, fix, wanted in (("griddem/hooke/history/kk", "griddem", "griddem/kk, but fix grid is fix griddem:"),
-                              ("griddem/hooke/history", "griddem/kk", "griddem, but fix grid is fix griddem/kk:")):
-        text = t.PERIODIC_SPHERES.format(data=data, pair=pair + " 1e4 NULL 50 NULL 0.5 1", coeffs="pair_coeff * *")
-        text = text.replace("atom_style sphere", "atom_style sphere/kk") + "fix grid all %s\nrun 0\n" % fix
-        rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
-        t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
-                "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
-
-    # coincident centres: stopped with the atom IDs
-    rc, out = t.run_lmp("units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\n"
-                        "region b block 0 4 0 4 0 4\ncreate_box 1 b\ncreate_atoms 1 single 1 1 1\n"
-                        "create_atoms 1 single 2 2 2\ncreate_atoms 1 single 1 1 1\n"
-                        "pair_style %s\npair_coeff * *\nrun 0\n" % LAWS[0][1], wd, name="in.same", extra=kk_args(1))
-    errors = t.errors(out)
-    t.check(rc != 0 and any("atoms 1 and 3 are at the same position" in l for l in errors),
-            "griddem/hooke/kk names coincident atoms: %s" % errors[:1])
-
-    # an atom faster than one exact-mode cell per step: stopped naming it, as the CPU style
-    rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") +
-                        "set atom 42 vx 1e5\ntimestep 1e-5\nfix integrate all nve/sphere\nrun 2\n", wd,
-                        name="in.fast", extra=kk_args(1))
-    errors = t.errors(out)
-    t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
-
-    # a non-finite velocity (inf, and nan = inf - inf), found by the kk scan: stopped naming the
-    # atom, in the CPU style's words
-    for kind, value in (("inf", "1e308*1e308"), ("nan", "(1e308*1e308-1e308*1e308)")):
-        bad_in = t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") + (
-            'variable bad atom "(id==42)*%s"\nset atom 42 vx v_bad\nfix integrate all nve/sphere\nrun 2\n' % value)
-        said = errors_of_cpu_and_kk(wd, "bad", bad_in)
-        t.check(said["kk"] == said["cpu"] and said["kk"][0] and "atom 42 has a non-finite velocity" in said["kk"][1][0],
-                "%s velocity: kk stops naming the atom as the CPU style: %s vs %s" % (kind, said["kk"], said["cpu"]))
-
-    # one grid of a given edge: a contact distance (1 here) over more than 32 edges is refused in
-    # the CPU style's words (edge 1/32 = 0.03125: 33 cells, with the search's margin), and a
-    # hair above that edge runs, on both
-    reach_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
-                "region box block 0 2.2 0 1.2 0 1.2\ncreate_box 1 box\ncreate_atoms 1 single 0.55 0.6 0.6\n"
-                "create_atoms 1 single 1.7 0.6 0.6\nset type 1 diameter 1.0\nset atom 2 diameter 0.01\n"
-                "pair_style %s\n%s\nfix grid all griddem cell {edge}\nfix integrate all nve/sphere\nrun 5\n"
-                % (HISTORY[1], HISTORY[3]))
-    for edge, refused in (("0.03125", True), ("0.0313", False)):
-        said = errors_of_cpu_and_kk(wd, "reach", reach_in.format(edge=edge))
-        t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
-                (not refused or "spans more than 32 cells of edge 0.03125" in said["kk"][1][0]),
-                "cell %s: kk %s as the CPU style: %s vs %s" % (edge, "refuses" if refused else "runs",
-                                                               said["kk"], said["cpu"]))
-
-    # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
-    # classes searched from both sides; and the same on one grid (fix griddem cell multi), and on
-    # one grid of a given edge smaller than the largest spheres' contact distance (0.8)
-    poly = os.path.join(wd, "data.poly")
-    t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.025, 0.4, seed=5, density=100.0, vscale=1.0, wscale=5.0, ntypes=2)
-    for law in (HISTORY, LAWS[-1]):
-        ref = run(wd, "poly_stock", poly, law[2], law[3], extra=FROZEN_LIST)
-        cpu = run(wd, "poly_cpu", poly, law[1], law[3])
-        for cell in ("classes", "multi", "0.3"):
-            kk = run(wd, "poly_kk", poly, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem cell " + cell)
-            what = "%s/kk [%s] radii 1:16, cell %s" % (law[1].split()[0], law[0], cell)
-            compare(what + " vs stock", ref, kk)
-            compare(what + " vs CPU", cpu, kk)
-    # the classes are real: the smaller spheres' own finer grid spreads them over more cells
-    occupancy = {}
-    for cell in ("classes", "multi"):
-        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=poly, pair=HISTORY[1], coeffs=HISTORY[3]) +
-                            "fix grid all griddem cell %s\nthermo_style custom step f_grid[1]\nrun 0\n" % cell,
-                            wd, name="in.occ", extra=kk_args(1))
-        occupancy[cell] = t.thermo_values(out, "f_grid[1]")
-    print("occupied cells, radii 1:16: classes %s, multi %s" % (occupancy["classes"], occupancy["multi"]))
-    t.check(occupancy["classes"] and occupancy["multi"] and occupancy["classes"][0] > 1.5 * occupancy["multi"][0],
-            "size classes on kk: %s occupied cells, against %s on one grid" % (occupancy["classes"], occupancy["multi"]))
-
-    # fix griddem's diagnostics from the kk sweep, as the CPU engine reports them: cell edge,
-    # contacts, most contacts of one atom, elastic energy (the same grid: cell multi, exact, or a
-    # given edge, which the kk styles take as asked)
-    for cell, edge in (("multi", None), ("exact", None), ("0.17", 0.17)):
-        stats = {}
-        stats_in = (t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
-                    "fix grid all griddem cell %s\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
-                    "thermo_modify format float %%.17g\nrun 0\n" % cell)
-        for name, out in run_cpu_and_kk(wd, "stats", lambda name: stats_in):
-            stats[name.split("_")[1]] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
-        print("fix griddem diagnostics (edge, contacts, most, energy), cell %s: CPU %s, kk %s" % (cell, stats["cpu"], stats["kk"]))
-        t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
-                stats["cpu"][1][0] > 0 and (edge is None or abs(stats["kk"][0][0] - edge) <= 1e-12 * edge),
-                "kk diagnostics, cell %s, equal the CPU engine's: %s vs %s" % (cell, stats["kk"], stats["cpu"]))
-
-    # a dilute scene coarsens the grid asked for, with the CPU style's warning and edge
-    dilute_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\natom_modify sort 0 0\n"
-                 "region box block 0 1000 0 1000 0 1000\ncreate_box 1 box\ncreate_atoms 1 single 1 1 1\n"
-                 "create_atoms 1 single 1.9 1 1\ncreate_atoms 1 single 900 900 900\n"
-                 "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
-                 "fix grid all griddem cell 0.01\nthermo_style custom step f_grid[4]\n"
-                 "thermo_modify format float %%.17g\nrun 0\n" % (HISTORY[1], HISTORY[3]))
-    coarse = {}
-    for name, out in run_cpu_and_kk(wd, "dilute", lambda name: dilute_in):
-        warned = [as_cpu_says(l) for l in out.splitlines() if "enlarged" in l]
-        coarse[name.split("_")[1]] = (warned, t.thermo_values(out, "f_grid[4]"))
-    print("dilute, cell 0.01: CPU %s, kk %s" % (coarse["cpu"], coarse["kk"]))
-    t.check(coarse["kk"] == coarse["cpu"] and len(coarse["kk"][0]) == 1 and "from 0.01 to" in coarse["kk"][0][0]
-            and coarse["kk"][1] and coarse["kk"][1][0] > 1.0,
-            "kk coarsens a dilute grid as the CPU style, with its warning: %s vs %s" % (coarse["kk"], coarse["cpu"]))
-
-    # the occupancy (fix griddem values 1 and 2), which the kk styles count only when asked: 64
-    # spheres of diameter 1 in a closed box, each centred in its own cell of the `multi` grid
-    # (edge 1 + 1e-9 from boxlo) and two cells apart, and a 65th in the first one's cell
-    lattice = [((2 * a + 0.5), (2 * b + 0.5), (2 * c + 0.5)) for a in range(4) for b in range(4) for c in range(4)]
-    lattice.append((0.8, 0.5, 0.5))
-    occupancy_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
-                    "region box block 0 8 0 8 0 8\ncreate_box 1 box\n" +
-                    "".join("create_atoms 1 single %g %g %g\n" % p for p in lattice) +
-                    "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
-                    "fix grid all griddem cell multi\nthermo_style custom step f_grid[1] f_grid[2]\nrun 0\n"
-                    % (HISTORY[1], HISTORY[3]))
-    for name, out in run_cpu_and_kk(wd, "occupancy", lambda name: occupancy_in):
-        found = (t.thermo_values(out, "f_grid[1]"), t.thermo_values(out, "f_grid[2]"))
-        t.check(found == ([64.0], [2.0]), "%s: 64 occupied cells, at most 2 centres in one: %s" % (name, found))
-
-    # not read during the run and read after the pair style changed, they are refused by name, as
-    # LAMMPS refuses a compute that is not current; read during the run, they keep their value
-    switch = ("pair_style gran/hooke/history 1e4 NULL 50 NULL 0.5 1\npair_coeff * *\n"
-              "print \"OCC $(f_grid[1])\"\n")
-    unread = occupancy_in.replace("thermo_style custom step f_grid[1] f_grid[2]\n", "")
-    rc, out = t.run_lmp(unread + switch, wd, name="in.occ_unread", extra=kk_args(1))
-    t.check(rc != 0 and "run a step first" in out and not re.search(r"^OCC ", out, re.M),
-            "occupancy of a pair style no longer in use refused: %s" % t.errors(out)[:1])
-    rc, out = t.run_lmp(occupancy_in + switch, wd, name="in.occ_read", extra=kk_args(1))
-    t.check(rc == 0 and re.search(r"^OCC 64$", out, re.M),
-            "occupancy read during the run kept after the pair style changed: %s" % t.errors(out)[:1])
-
-    # a process without atoms: two overlapping spheres in one half of a closed box on 2 ranks
-    # (all kernels run over no atoms there) give the one-rank CPU style's kinetic energy
-    if RANKS[-1] > 1:
-        lone_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
-                   "region box block 0 16 0 8 0 8\ncreate_box 1 box\n"
-                   "create_atoms 1 single 0.5 0.5 0.5\ncreate_atoms 1 single 1.4 0.5 0.5\n"
-                   "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
-                   "fix 1 all nve/sphere\ntimestep 0.001\nthermo_style custom step ke\n"
-                   "thermo_modify format float %%.17g\nthermo 10\nrun 20\n" % (HISTORY[1], HISTORY[3]))
-        ke = {name.split("_")[1]: t.thermo_values(out, "KinEng")
-              for name, out in run_cpu_and_kk(wd, "lone", lambda name: lone_in, kk_ranks=2)}
-        t.check(len(ke["kk"]) == 3 and ke["kk"][-1] > 0 and
-                max(abs(a - b) for a, b in zip(ke["kk"], ke["cpu"])) <= 1e-10 * ke["cpu"][-1],
-                "kk on 2 ranks, one without atoms, as the CPU style: KE %s vs %s" % (ke["kk"], ke["cpu"]))
-
-    # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
-    # out from each atom's contacts whatever N is. The numbers are unchanged either way
-    few = "fix rows all griddem contacts 1"
-    for law in (HISTORY, LAWS[-1]):
-        compare("%s/kk [%s] with contacts 1 vs CPU" % (law[1].split()[0], law[0]),
-                run(wd, "few_cpu", data, law[1], law[3], extra=few),
-                run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
-
-    # fix griddem precision single: channels in float, positions relative to their cell. Their
-    # rounding (2^-24 of a cell edge, ~4e-8 here) moves forces by a few 1e-6 of the largest (the
-    # smallest overlaps are ~1e-3 of the radii); more than round-off, well below 1e-4
-    for law in (LAWS[0], HISTORY, LAWS[-1]):
-        double = run(wd, "prec_d", data, law[1], law[3], 1, 1, extra="fix grid all griddem precision double")
-        single = run(wd, "prec_s", data, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem precision single")
-        forces = max(t.max_rel_diff(single[0][k], double[0][k], FORCES) for k in (0, 1))
-        state = t.max_rel_diff(single[0][1], double[0][1], STATE)
-        print("%s/kk [%s] precision single vs double: force/torque %.2g, x/v at step 20 %.2g"
-              % (law[1].split()[0], law[0], forces, state))
-        t.check(1e-9 < forces < 1e-4 and state < 1e-5, "%s/kk [%s] single precision error %.3g (forces), %.3g (x/v)"
-                % (law[1].split()[0], law[0], forces, state))
-
-    # rows that migrate: atoms crossing between ranks and re-sorted in memory every 3 steps, with
-    # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank
-    moving = ("neigh_modify every 1 delay 0 check no\natom_modify sort 3 0.5\n"
-              "velocity all scale 30.0\ntimestep 1e-4\nfix integrate all nve/sphere\nrun 60\n"
-              "dump snap all custom 1 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz\n"
-              "dump_modify snap format float %.17g sort id\nrun 0\n")
-    for law in (HISTORY, LAWS[-1]):
-        runs = run_cpu_and_kk(wd, "mv", lambda name: t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
-                              moving.format(name=name), kk_ranks=RANKS[-1])
-        got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
-        err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
-        print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
-        t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
-
-    # beside the stock kk fixes: gravity, wall/gran, deform (triclinic shear), freeze, nve/sphere
-    check_stock_kk_fixes(wd)
-    check_rom_kk(wd)
-    check_pair_local_kk(wd, data)
-    check_atoms_added_and_deleted_kk(wd, data)
-
-    # restart: 10 steps, write, read, 10 more, against 20 straight (kk, and across CPU and kk)
-    check_restarts(wd, data)
+    for name in only:
+        SECTIONS[name](wd, data)
     t.finish()
 
 
-def check_pair_local_kk(wd, data):
+def check_pair_local(wd, data):
     """single() reads a pair's history from fix griddem/kk's rows (on the host, whatever layout the
     device gives them): compute pair/local after 20 steps of griddem/hooke/history/kk equals the
     CPU style's, pair by pair, every column. Both with newton off: a pair across a periodic
@@ -444,7 +199,7 @@ run 10
 """
 
 
-def check_atoms_added_and_deleted_kk(wd, data):
+def check_add_delete(wd, data):
     """Atoms deleted between runs (their rows move with the atoms that take their places) and new
     atoms (empty rows, fix griddem's set_arrays) under griddem/hooke/history/kk: the state after
     the second run equals the CPU style's."""
@@ -482,7 +237,7 @@ run 300
 """
 
 
-def check_stock_kk_fixes(wd):
+def check_stock_fixes(wd, _data):
     """The kk fixes LAMMPS ships (gravity/kk, wall/gran/kk, deform/kk, freeze/kk, nve/sphere/kk)
     with griddem/hooke/history/kk, against the CPU style with the CPU fixes. The wall is
     frictionless: with friction, LAMMPS 4Feb2025's wall/gran/kk departs from its CPU wall/gran
@@ -513,7 +268,7 @@ run 400
 """
 
 
-def check_rom_kk(wd):
+def check_rom(wd, _data):
     """fix griddem/rom (a host fix) with griddem/hooke/history/kk equals it with the CPU style:
     on a lattice of spacing 0.45 (radii 0.15-0.25: many touch), atoms slower than 1.5 (field 0)
     become kinematic and the kk sweep skips their pairs with each other (the pressure, whose pair
@@ -568,7 +323,7 @@ def restart_run(wd, name, data, law, kk_first, kk_second, fix=""):
     return t.read_dumps(os.path.join(wd, "dump.%s_b" % name))[-1]
 
 
-def check_restarts(wd, data):
+def check_restart(wd, data):
     # the second hooke/history case defines fix griddem in the script (named through -sf kk)
     for law, fix in ((HISTORY, ""), (LAWS[-1], ""), (HISTORY, "fix grid all griddem contacts 3")):
         straight = RESTART.format(start="read_data %s" % data, pair=law[1], coeffs=law[3], name="straight",
@@ -586,6 +341,292 @@ def check_restarts(wd, data):
             # kk after kk: bit for bit; across CPU and kk: the engines' round-off
             t.check(err == 0.0 if kk_first and kk_second else err <= 1e-10, "%s: state at step 20 (%.3g)" % (what, err))
 
+
+def check_laws(wd, data):
+    for k, (label, griddem, stock, coeffs) in enumerate(LAWS):
+        ref = run(wd, "stock_%d" % k, data, stock, coeffs, extra=FROZEN_LIST)
+        cpu = run(wd, "cpu_%d" % k, data, griddem, coeffs)
+        for nprocs in RANKS:
+            for threads in THREADS:
+                kk = run(wd, "kk_%d_%d_%d" % (k, nprocs, threads), data, griddem, coeffs, nprocs, threads)
+                what = "%s/kk [%s], %d rank(s), %d thread(s)" % (griddem.split()[0], label, nprocs, threads)
+                compare(what + " vs stock " + stock.split()[0], ref, kk)
+                compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
+
+
+def check_active(wd, data):
+    # the kk styles really ran: with -sf kk the pair style is the kk one
+    for law in (LAWS[0], LAWS[2], HISTORY):
+        style = law[1].split()[0]
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                            "print \"STYLE $(is_active(pair_style,%s/kk))\"\nrun 0\n" % style, wd,
+                            name="in.active", extra=kk_args(1))
+        t.check(rc == 0 and "STYLE 1" in out, "with -sf kk pair_style %s is %s/kk: %s"
+                % (style, style, [l for l in out.splitlines() if "STYLE" in l or "ERROR" in l][-1:]))
+
+
+def check_variants(wd, data):
+    # the explicit /kk/host and /kk/device names (without -sf kk) give the same virial
+    for law, variant in ((LAWS[0], "host"), (LAWS[3], "device")):
+        words = law[1].split()
+        pair = " ".join([words[0] + "/kk/" + variant] + words[1:])
+        text = t.PERIODIC_SPHERES.format(data=data, pair=pair, coeffs=law[3]).replace(
+            "atom_style sphere", "atom_style sphere/kk") + (
+            "run_style verlet/kk\nfix integrate all nve/sphere/kk\ntimestep 1e-5\n"
+            "thermo_style custom step press\nthermo_modify format float %.17g\nthermo 10\nrun 20\n")
+        rc, out = t.run_lmp(text, wd, name="in.variant", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
+        a, b = t.thermo_values(out, "Press"), t.thermo_values(run(wd, "cpu_v", data, law[1], law[3])[1], "Press")
+        worst = max(abs(x - y) for x, y in zip(a, b)) / max(abs(v) for v in b) if rc == 0 and len(a) == 3 else 1.0
+        t.check(rc == 0 and worst <= 1e-10, "pair_style %s runs and matches the CPU style's press (%.3g, exit %d)"
+                % (pair.split()[0], worst, rc))
+
+
+def check_exclusions(wd, data):
+    # neigh_modify exclude (type and group) and fix freeze (infinite mass) as the CPU style
+    extra = ("group low id <= 700\nneigh_modify exclude group low low exclude type 1 2\n"
+             "group base id > 1300\nset group base diameter 0.4\nset group base density 1.0\n"
+             "fix frozen base freeze")
+    for law in (LAWS[0], LAWS[3]):
+        style = law[1].split()[0]
+        cpu = run(wd, "cpu_ex", data, law[1], law[3], extra=extra)
+        compare("%s/kk with exclusions and fix freeze vs CPU" % style, cpu,
+                run(wd, "kk_ex", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=extra))
+        compare("%s/kk with exclusions and fix freeze vs stock" % style,
+                run(wd, "stock_ex", data, law[2], law[3], extra=extra),
+                run(wd, "kk_ex1", data, law[1], law[3], threads=1, extra=extra))
+
+
+def check_virial(wd, data):
+    # per-atom virial (compute stress/atom) as the CPU style's, on steps 0 to 3
+    stress = ("compute s all stress/atom NULL pair\n"
+              "dump st all custom 1 dump.st id c_s[1] c_s[2] c_s[3] c_s[4] c_s[5] c_s[6]\n"
+              "dump_modify st format float %.17g sort id\n"
+              "timestep 1e-5\nfix integrate all nve/sphere\nrun 3\n")
+    cols = ["c_s[%d]" % k for k in range(1, 7)]
+    per_atom = []
+    for extra in ([], kk_args(2)):
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[3][1], coeffs=LAWS[3][3]) + stress,
+                            wd, name="in.stress", extra=extra, threads=2)
+        t.check(rc == 0, "stress/atom run (exit %d)" % rc)
+        per_atom.append(t.read_dumps(os.path.join(wd, "dump.st")))
+    t.check(len(per_atom[0]) == len(per_atom[1]) == 4, "stress/atom dumped at steps 0 to 3")
+    err = max(t.max_rel_diff(a, b, cols) for a, b in zip(per_atom[1], per_atom[0]))
+    print("griddem/granular/kk per-atom virial vs CPU: %.2g" % err)
+    t.check(err <= 1e-10, "griddem/granular/kk per-atom virial relative error %.3g" % err)
+
+
+def check_mismatch(wd, data):
+    # the history fix must match the pair style: a kk style with the CPU fix, and the reverse
+    for pair, fix, wanted in (("griddem/hooke/history/kk", "griddem", "griddem/kk, but fix grid is fix griddem:"),
+                              ("griddem/hooke/history", "griddem/kk", "griddem, but fix grid is fix griddem/kk:")):
+        text = t.PERIODIC_SPHERES.format(data=data, pair=pair + " 1e4 NULL 50 NULL 0.5 1", coeffs="pair_coeff * *")
+        text = text.replace("atom_style sphere", "atom_style sphere/kk") + "fix grid all %s\nrun 0\n" % fix
+        rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
+        t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
+                "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
+
+
+def check_extremes(wd, data):
+    # coincident centres: stopped with the atom IDs
+    rc, out = t.run_lmp("units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\n"
+                        "region b block 0 4 0 4 0 4\ncreate_box 1 b\ncreate_atoms 1 single 1 1 1\n"
+                        "create_atoms 1 single 2 2 2\ncreate_atoms 1 single 1 1 1\n"
+                        "pair_style %s\npair_coeff * *\nrun 0\n" % LAWS[0][1], wd, name="in.same", extra=kk_args(1))
+    errors = t.errors(out)
+    t.check(rc != 0 and any("atoms 1 and 3 are at the same position" in l for l in errors),
+            "griddem/hooke/kk names coincident atoms: %s" % errors[:1])
+
+    # an atom faster than one exact-mode cell per step: stopped naming it, as the CPU style
+    rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") +
+                        "set atom 42 vx 1e5\ntimestep 1e-5\nfix integrate all nve/sphere\nrun 2\n", wd,
+                        name="in.fast", extra=kk_args(1))
+    errors = t.errors(out)
+    t.check(rc != 0 and any("atom 42 moves" in l for l in errors), "griddem/hooke/kk names a too fast atom: %s" % errors[:1])
+
+    # a non-finite velocity (inf, and nan = inf - inf), found by the kk scan: stopped naming the
+    # atom, in the CPU style's words
+    for kind, value in (("inf", "1e308*1e308"), ("nan", "(1e308*1e308-1e308*1e308)")):
+        bad_in = t.PERIODIC_SPHERES.format(data=data, pair=LAWS[0][1], coeffs="pair_coeff * *") + (
+            'variable bad atom "(id==42)*%s"\nset atom 42 vx v_bad\nfix integrate all nve/sphere\nrun 2\n' % value)
+        said = errors_of_cpu_and_kk(wd, "bad", bad_in)
+        t.check(said["kk"] == said["cpu"] and said["kk"][0] and "atom 42 has a non-finite velocity" in said["kk"][1][0],
+                "%s velocity: kk stops naming the atom as the CPU style: %s vs %s" % (kind, said["kk"], said["cpu"]))
+
+
+def check_reach(wd, data):
+    # one grid of a given edge: a contact distance (1 here) over more than 32 edges is refused in
+    # the CPU style's words (edge 1/32 = 0.03125: 33 cells, with the search's margin), and a
+    # hair above that edge runs, on both
+    reach_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+                "region box block 0 2.2 0 1.2 0 1.2\ncreate_box 1 box\ncreate_atoms 1 single 0.55 0.6 0.6\n"
+                "create_atoms 1 single 1.7 0.6 0.6\nset type 1 diameter 1.0\nset atom 2 diameter 0.01\n"
+                "pair_style %s\n%s\nfix grid all griddem cell {edge}\nfix integrate all nve/sphere\nrun 5\n"
+                % (HISTORY[1], HISTORY[3]))
+    for edge, refused in (("0.03125", True), ("0.0313", False)):
+        said = errors_of_cpu_and_kk(wd, "reach", reach_in.format(edge=edge))
+        t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
+                (not refused or "spans more than 32 cells of edge 0.03125" in said["kk"][1][0]),
+                "cell %s: kk %s as the CPU style: %s vs %s" % (edge, "refuses" if refused else "runs",
+                                                               said["kk"], said["cpu"]))
+
+
+def check_classes(wd, data):
+    # size classes: radii 1:16 (three classes of a factor 4), each on its own grid, pairs across
+    # classes searched from both sides; and the same on one grid (fix griddem cell multi), and on
+    # one grid of a given edge smaller than the largest spheres' contact distance (0.8)
+    poly = os.path.join(wd, "data.poly")
+    t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.025, 0.4, seed=5, density=100.0, vscale=1.0, wscale=5.0, ntypes=2)
+    for law in (HISTORY, LAWS[-1]):
+        ref = run(wd, "poly_stock", poly, law[2], law[3], extra=FROZEN_LIST)
+        cpu = run(wd, "poly_cpu", poly, law[1], law[3])
+        for cell in ("classes", "multi", "0.3"):
+            kk = run(wd, "poly_kk", poly, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem cell " + cell)
+            what = "%s/kk [%s] radii 1:16, cell %s" % (law[1].split()[0], law[0], cell)
+            compare(what + " vs stock", ref, kk)
+            compare(what + " vs CPU", cpu, kk)
+    # the classes are real: the smaller spheres' own finer grid spreads them over more cells
+    occupancy = {}
+    for cell in ("classes", "multi"):
+        rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=poly, pair=HISTORY[1], coeffs=HISTORY[3]) +
+                            "fix grid all griddem cell %s\nthermo_style custom step f_grid[1]\nrun 0\n" % cell,
+                            wd, name="in.occ", extra=kk_args(1))
+        occupancy[cell] = t.thermo_values(out, "f_grid[1]")
+    print("occupied cells, radii 1:16: classes %s, multi %s" % (occupancy["classes"], occupancy["multi"]))
+    t.check(occupancy["classes"] and occupancy["multi"] and occupancy["classes"][0] > 1.5 * occupancy["multi"][0],
+            "size classes on kk: %s occupied cells, against %s on one grid" % (occupancy["classes"], occupancy["multi"]))
+
+
+def check_diagnostics(wd, data):
+    # fix griddem's diagnostics from the kk sweep, as the CPU engine reports them: cell edge,
+    # contacts, most contacts of one atom, elastic energy (the same grid: cell multi, exact, or a
+    # given edge, which the kk styles take as asked)
+    for cell, edge in (("multi", None), ("exact", None), ("0.17", 0.17)):
+        stats = {}
+        stats_in = (t.PERIODIC_SPHERES.format(data=data, pair=LAWS[-1][1], coeffs=LAWS[-1][3]) +
+                    "fix grid all griddem cell %s\nthermo_style custom step f_grid[4] f_grid[5] f_grid[6] f_grid[7]\n"
+                    "thermo_modify format float %%.17g\nrun 0\n" % cell)
+        for name, out in run_cpu_and_kk(wd, "stats", lambda name: stats_in):
+            stats[name.split("_")[1]] = [t.thermo_values(out, "f_grid[%d]" % k) for k in (4, 5, 6, 7)]
+        print("fix griddem diagnostics (edge, contacts, most, energy), cell %s: CPU %s, kk %s" % (cell, stats["cpu"], stats["kk"]))
+        t.check(all(a and b and abs(a[0] - b[0]) <= 1e-12 * abs(a[0]) for a, b in zip(stats["cpu"], stats["kk"])) and
+                stats["cpu"][1][0] > 0 and (edge is None or abs(stats["kk"][0][0] - edge) <= 1e-12 * edge),
+                "kk diagnostics, cell %s, equal the CPU engine's: %s vs %s" % (cell, stats["kk"], stats["cpu"]))
+
+
+def check_dilute(wd, data):
+    # a dilute scene coarsens the grid asked for, with the CPU style's warning and edge
+    dilute_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\natom_modify sort 0 0\n"
+                 "region box block 0 1000 0 1000 0 1000\ncreate_box 1 box\ncreate_atoms 1 single 1 1 1\n"
+                 "create_atoms 1 single 1.9 1 1\ncreate_atoms 1 single 900 900 900\n"
+                 "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+                 "fix grid all griddem cell 0.01\nthermo_style custom step f_grid[4]\n"
+                 "thermo_modify format float %%.17g\nrun 0\n" % (HISTORY[1], HISTORY[3]))
+    coarse = {}
+    for name, out in run_cpu_and_kk(wd, "dilute", lambda name: dilute_in):
+        warned = [as_cpu_says(l) for l in out.splitlines() if "enlarged" in l]
+        coarse[name.split("_")[1]] = (warned, t.thermo_values(out, "f_grid[4]"))
+    print("dilute, cell 0.01: CPU %s, kk %s" % (coarse["cpu"], coarse["kk"]))
+    t.check(coarse["kk"] == coarse["cpu"] and len(coarse["kk"][0]) == 1 and "from 0.01 to" in coarse["kk"][0][0]
+            and coarse["kk"][1] and coarse["kk"][1][0] > 1.0,
+            "kk coarsens a dilute grid as the CPU style, with its warning: %s vs %s" % (coarse["kk"], coarse["cpu"]))
+
+
+def check_occupancy(wd, data):
+    # the occupancy (fix griddem values 1 and 2), which the kk styles count only when asked: 64
+    # spheres of diameter 1 in a closed box, each centred in its own cell of the `multi` grid
+    # (edge 1 + 1e-9 from boxlo) and two cells apart, and a 65th in the first one's cell
+    lattice = [((2 * a + 0.5), (2 * b + 0.5), (2 * c + 0.5)) for a in range(4) for b in range(4) for c in range(4)]
+    lattice.append((0.8, 0.5, 0.5))
+    occupancy_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+                    "region box block 0 8 0 8 0 8\ncreate_box 1 box\n" +
+                    "".join("create_atoms 1 single %g %g %g\n" % p for p in lattice) +
+                    "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+                    "fix grid all griddem cell multi\nthermo_style custom step f_grid[1] f_grid[2]\nrun 0\n"
+                    % (HISTORY[1], HISTORY[3]))
+    for name, out in run_cpu_and_kk(wd, "occupancy", lambda name: occupancy_in):
+        found = (t.thermo_values(out, "f_grid[1]"), t.thermo_values(out, "f_grid[2]"))
+        t.check(found == ([64.0], [2.0]), "%s: 64 occupied cells, at most 2 centres in one: %s" % (name, found))
+
+    # not read during the run and read after the pair style changed, they are refused by name, as
+    # LAMMPS refuses a compute that is not current; read during the run, they keep their value
+    switch = ("pair_style gran/hooke/history 1e4 NULL 50 NULL 0.5 1\npair_coeff * *\n"
+              "print \"OCC $(f_grid[1])\"\n")
+    unread = occupancy_in.replace("thermo_style custom step f_grid[1] f_grid[2]\n", "")
+    rc, out = t.run_lmp(unread + switch, wd, name="in.occ_unread", extra=kk_args(1))
+    t.check(rc != 0 and "run a step first" in out and not re.search(r"^OCC ", out, re.M),
+            "occupancy of a pair style no longer in use refused: %s" % t.errors(out)[:1])
+    rc, out = t.run_lmp(occupancy_in + switch, wd, name="in.occ_read", extra=kk_args(1))
+    t.check(rc == 0 and re.search(r"^OCC 64$", out, re.M),
+            "occupancy read during the run kept after the pair style changed: %s" % t.errors(out)[:1])
+
+
+def check_empty_rank(wd, data):
+    # a process without atoms: two overlapping spheres in one half of a closed box on 2 ranks
+    # (all kernels run over no atoms there) give the one-rank CPU style's kinetic energy
+    if RANKS[-1] == 1:
+        return
+    lone_in = ("units lj\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+               "region box block 0 16 0 8 0 8\ncreate_box 1 box\n"
+               "create_atoms 1 single 0.5 0.5 0.5\ncreate_atoms 1 single 1.4 0.5 0.5\n"
+               "set type 1 diameter 1.0\nset type 1 density 1.0\npair_style %s\n%s\n"
+               "fix 1 all nve/sphere\ntimestep 0.001\nthermo_style custom step ke\n"
+               "thermo_modify format float %%.17g\nthermo 10\nrun 20\n" % (HISTORY[1], HISTORY[3]))
+    ke = {name.split("_")[1]: t.thermo_values(out, "KinEng")
+          for name, out in run_cpu_and_kk(wd, "lone", lambda name: lone_in, kk_ranks=2)}
+    t.check(len(ke["kk"]) == 3 and ke["kk"][-1] > 0 and
+            max(abs(a - b) for a, b in zip(ke["kk"], ke["cpu"])) <= 1e-10 * ke["cpu"][-1],
+            "kk on 2 ranks, one without atoms, as the CPU style: KE %s vs %s" % (ke["kk"], ke["cpu"]))
+
+
+def check_growth(wd, data):
+    # fix griddem contacts 1: the CPU fix's rows grow from one contact; the kk rows are laid
+    # out from each atom's contacts whatever N is. The numbers are unchanged either way
+    few = "fix rows all griddem contacts 1"
+    for law in (HISTORY, LAWS[-1]):
+        compare("%s/kk [%s] with contacts 1 vs CPU" % (law[1].split()[0], law[0]),
+                run(wd, "few_cpu", data, law[1], law[3], extra=few),
+                run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
+
+
+def check_precision(wd, data):
+    # fix griddem precision single: channels in float, positions relative to their cell. Their
+    # rounding (2^-24 of a cell edge, ~4e-8 here) moves forces by a few 1e-6 of the largest (the
+    # smallest overlaps are ~1e-3 of the radii); more than round-off, well below 1e-4
+    for law in (LAWS[0], HISTORY, LAWS[-1]):
+        double = run(wd, "prec_d", data, law[1], law[3], 1, 1, extra="fix grid all griddem precision double")
+        single = run(wd, "prec_s", data, law[1], law[3], RANKS[-1], THREADS[-1], extra="fix grid all griddem precision single")
+        forces = max(t.max_rel_diff(single[0][k], double[0][k], FORCES) for k in (0, 1))
+        state = t.max_rel_diff(single[0][1], double[0][1], STATE)
+        print("%s/kk [%s] precision single vs double: force/torque %.2g, x/v at step 20 %.2g"
+              % (law[1].split()[0], law[0], forces, state))
+        t.check(1e-9 < forces < 1e-4 and state < 1e-5, "%s/kk [%s] single precision error %.3g (forces), %.3g (x/v)"
+                % (law[1].split()[0], law[0], forces, state))
+
+
+def check_migration(wd, data):
+    # rows that migrate: atoms crossing between ranks and re-sorted in memory every 3 steps, with
+    # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank
+    moving = ("neigh_modify every 1 delay 0 check no\natom_modify sort 3 0.5\n"
+              "velocity all scale 30.0\ntimestep 1e-4\nfix integrate all nve/sphere\nrun 60\n"
+              "dump snap all custom 1 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz\n"
+              "dump_modify snap format float %.17g sort id\nrun 0\n")
+    for law in (HISTORY, LAWS[-1]):
+        runs = run_cpu_and_kk(wd, "mv", lambda name: t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                              moving.format(name=name), kk_ranks=RANKS[-1])
+        got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
+        err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
+        print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
+        t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
+
+
+# The suite's sections in the order they run; `test_kokkos.py --only a,b` runs those alone (the
+# GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
+# that grow, migrate and go through restart)
+SECTIONS = {f.__name__[len("check_"):]: f for f in (
+    check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
+    check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_growth, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
+    check_add_delete, check_restart)}
 
 
 if __name__ == "__main__":
