@@ -25,9 +25,19 @@ With --cell the griddem styles run once per fix griddem cell mode given (auto, m
 an edge, as `fix grid all griddem cell X`), each line recording its "cell"; the cell edge trades
 candidates searched against cells visited, and a GPU may weigh the two otherwise than a CPU.
 
+--scene poly runs the polydisperse scene instead: spheres of diameters log-uniform over 1:10 (0.1 to
+1) on a simple cubic lattice of spacing 1, squeezed by fix deform to half the box's edge (solid
+fraction about 0.6) in --prep steps, then timed for --steps at that density. Stock KOKKOS has no
+multi binning, so stock kk lists every pair within the largest diameter plus the skin (0.1, the
+chute's; LAMMPS's best for it is the smallest skin whose rebuilds stay rare: check yes every step).
+
+--results PATH writes the lines there instead of bench/results/gpu.jsonl (bench/gpu_session.py
+collects a session's lines in its output folder).
+
 usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
                     [--steps N] [--only STYLE,...] [--cell MODE,...] [--timeout S]
-                    [--lammps-bench DIR] [--census] [--launch-blocking] [--build LABEL]"""
+                    [--lammps-bench DIR] [--census] [--launch-blocking] [--build LABEL]
+                    [--scene chute|poly] [--prep N] [--results PATH]"""
 import argparse
 import datetime
 import json
@@ -53,6 +63,34 @@ STYLES = [
     ("gran/hooke/kk", "stock, like for like with griddem/hooke/kk"),
 ]
 GPU_SIZES = ["0.5M", "2M", "8M", "32M", "100M"]
+# the polydisperse scene, squeezed from a lattice; kn and the step resolve the smallest spheres'
+# contacts (diameter 0.1, density 1: a contact lasts about 18 steps)
+POLY = """units lj
+atom_style sphere
+boundary p p p
+newton off
+comm_modify vel yes
+region box block 0 {n} 0 {n} 0 {nz}
+create_box 1 box
+lattice sc 1.0
+create_atoms 1 box
+variable d atom 0.1*10^random(0,1,4711)
+set group all diameter v_d
+set group all density 1.0
+pair_style {style} 20000.0 NULL 50.0 NULL 0.5 0
+pair_coeff * *
+{fix}neighbor 0.1 bin
+neigh_modify every 1 delay 0 check yes
+timestep 0.00002
+fix 1 all nve/sphere
+fix squeeze all deform 1 x scale 0.5 y scale 0.5 z scale 0.5 remap x
+thermo_style custom step atoms ke press
+thermo_modify norm no
+thermo 100
+run {prep}
+unfix squeeze
+run {steps}
+"""
 CPU_SIZES = ["32k", "128k"]
 
 
@@ -66,6 +104,37 @@ def replicas(natoms):
     n = max(1, int(round(natoms / BASE)))
     y = max(d for d in range(1, int(math.isqrt(n)) + 1) if n % d == 0)
     return n // y, y
+
+
+def poly_lattice(natoms):
+    """n, nz: an n x n x nz simple cubic lattice nearest natoms, as cubic as it goes."""
+    n = max(2, int(round(natoms ** (1.0 / 3.0))))
+    return n, max(2, int(round(natoms / float(n * n))))
+
+
+def scene_layout(scene, natoms):
+    """(atoms, fields naming the scene's shape in a line) of the scene nearest natoms."""
+    if scene == "poly":
+        n, nz = poly_lattice(natoms)
+        return n * n * nz, {"lattice": "%d %d %d" % (n, n, nz)}
+    x, y = replicas(natoms)
+    return BASE * x * y, {"replicate": "%d %d 1" % (x, y)}
+
+
+def scene_input(args, scaled, style, cell, natoms):
+    """(input text, lmp's -var switches) of one run of the scene with this pair style, and with
+    `fix grid all griddem cell <cell>` after its pair_coeff line when cell is given."""
+    fix = "fix grid all griddem cell %s\n" % cell if cell else ""
+    if args.scene == "poly":
+        n, nz = poly_lattice(natoms)
+        return POLY.format(n=n, nz=nz, style=style, fix=fix, prep=args.prep, steps=args.steps), []
+    text = scaled.replace("gran/hooke/history ", style + " ")
+    if cell:
+        text, found = re.subn(r"^(pair_coeff.*)$", lambda m: m.group(1) + "\n" + fix.rstrip(), text, flags=re.M)
+        if found != 1:
+            raise SystemExit("in.chute.scaled: no single pair_coeff line to put fix griddem after")
+    x, y = replicas(natoms)
+    return re.sub(r"run\s+100", "run %d" % args.steps, text), ["-var", "x", str(x), "-var", "y", str(y)]
 
 
 def lmp_info(lmp):
@@ -187,8 +256,14 @@ def main():
     ap.add_argument("--build", default=None, help="a label for the lmp's source, recorded in each line")
     ap.add_argument("--census", action="store_true",
                     help="run each again under bench/kokkos_census.c and record time per kernel")
+    ap.add_argument("--scene", choices=("chute", "poly"), default="chute")
+    ap.add_argument("--prep", type=int, default=2000, help="poly: steps of the squeeze before the timed run")
+    ap.add_argument("--results", default=os.path.join(HERE, "results", "gpu.jsonl"),
+                    help="the JSON lines file to append to")
     args = ap.parse_args()
     args.lmp = os.path.abspath(args.lmp)    # runs happen in a scratch folder
+    if not os.access(args.lmp, os.X_OK):
+        raise SystemExit("gpu.py: no lmp at %s: build one (README, 'Building with KOKKOS') and name it with --lmp" % args.lmp)
 
     api, have = lmp_info(args.lmp)
     if not api:
@@ -213,12 +288,19 @@ def main():
     sizes = [atoms(s) for s in (args.sizes.split(",") if args.sizes else GPU_SIZES if gpu else CPU_SIZES)]
     grow = gpu and not args.sizes
 
+    chute = [os.path.join(args.lammps_bench, name) for name in ("data.chute", "in.chute.scaled")]
+    if args.scene == "chute" and not all(os.path.exists(path) for path in chute):
+        raise SystemExit("gpu.py: no %s: name the folder of LAMMPS's data.chute and in.chute.scaled with "
+                         "--lammps-bench DIR (./tools/build downloads it into .deps)" % " or ".join(
+                             path for path in chute if not os.path.exists(path)))
     wd = tempfile.mkdtemp(prefix="griddem-gpu-")
-    shutil.copy(os.path.join(args.lammps_bench, "data.chute"), wd)
+    scaled = None
+    if args.scene == "chute":
+        shutil.copy(chute[0], wd)
+        with open(chute[1]) as f:
+            scaled = f.read()
     census_lib = build_census(wd) if args.census else None
-    with open(os.path.join(args.lammps_bench, "in.chute.scaled")) as f:
-        scaled = f.read()
-    out_path = os.path.join(HERE, "results", "gpu.jsonl")
+    out_path = args.results
     only = args.only.split(",") if args.only else None
     cells = args.cell.split(",") if args.cell else [None]
     styles = [(s, note, cell) for s, note in STYLES if not only or s in only
@@ -226,12 +308,14 @@ def main():
     failed = set()
     i = 0
     while i < len(sizes):
-        x, y = replicas(sizes[i])
+        natoms, shape = scene_layout(args.scene, sizes[i])
         ran = False
         for style, note, cell in styles:
-            record = {"date": datetime.date.today().isoformat(), "device": device, "scene": "chute",
-                      "natoms": BASE * x * y, "replicate": "%d %d 1" % (x, y), "steps": args.steps,
-                      "style": style, "note": note}
+            record = {"date": datetime.date.today().isoformat(), "device": device, "scene": args.scene,
+                      "natoms": natoms, "steps": args.steps, "style": style, "note": note}
+            record.update(shape)
+            if args.scene == "poly":
+                record["prep_steps"] = args.prep
             if cell:
                 record["cell"] = cell
             if blocking:
@@ -243,17 +327,10 @@ def main():
             elif (style, cell) in failed:
                 continue  # failed at a smaller size
             else:
-                text = scaled.replace("gran/hooke/history ", style + " ")
-                if cell:
-                    text, n = re.subn(r"^(pair_coeff.*)$", r"\1\nfix grid all griddem cell " + cell, text,
-                                      flags=re.M)
-                    if n != 1:
-                        raise SystemExit("in.chute.scaled: no single pair_coeff line to put fix griddem after")
-                text = re.sub(r"run\s+100", "run %d" % args.steps, text)
+                text, variables = scene_input(args, scaled, style, cell, natoms)
                 with open(os.path.join(wd, "in.run"), "w") as f:
                     f.write(text)
-                cmd = [args.lmp] + kk + ["-var", "x", str(x), "-var", "y", str(y), "-in", "in.run",
-                                         "-log", "none"]
+                cmd = [args.lmp] + kk + variables + ["-in", "in.run", "-log", "none"]
                 rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu, blocking)
                 found = re.findall(r"Loop time of ([0-9.e+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", out)
                 if rc == 0 and found:
