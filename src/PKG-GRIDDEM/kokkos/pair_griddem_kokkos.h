@@ -10,9 +10,12 @@
       per size class, or one grid of `multi`'s, `exact`'s or a given edge), anchored at
       domain->boxlo; within a cell the slots are ordered by tag (then position, for periodic
       images of one atom), so sums do not depend on storage order;
-      the sorted positions, radii, velocities, masses, types and masks are the "channels";
+      the sorted positions (float, relative to the cell: `near`), radii, velocities, masses,
+      types and masks are the "channels";
    3. search: one thread per sorted owned particle visits the cells of every size class within
-      reach of it and lists the candidates that touch (GriddemKKFind);
+      reach of it and lists the candidates that touch (GriddemKKFind): the compact float
+      positions reject the far candidates (a conservative margin: a pair they reject cannot
+      touch), the touch test of the rest is the law's own, in its precision;
    4. sweep: one thread per sorted owned particle evaluates the law over its list from its own
       side (griddem_contact_eval). The law is exactly odd under i <-> j, so each particle sums its
       own force and torque: no atomics, no colouring, no reverse communication. The global virial
@@ -34,6 +37,7 @@
 #include "pair_kokkos.h"
 
 #include <climits>
+#include <type_traits>
 
 namespace LAMMPS_NS {
 
@@ -190,15 +194,17 @@ template <class DeviceType> struct GriddemKKClassScan {
   }
 };
 
-/* The sorted particles' data the sweep reads, in the precision of fix griddem's `precision`:
-   positions relative to their cell's lower corner (so single precision keeps ~1e-7 of a cell,
-   not of the box), radius, velocity, angular velocity, mass. Rows (LayoutRight) on every device:
-   the sweep gathers a candidate's four values together (one 32-byte sector on a GPU, where the
-   default layout would spread them over four arrays). */
+/* The sorted particles' positions for the search: float, relative to their cell's lower corner
+   (~1e-7 of a cell, not of the box), and radius. Rows (LayoutRight) on every device: the search
+   gathers a candidate's four values together, 16 bytes (half a 32-byte sector on a GPU, where the
+   default layout would spread them over four arrays, and half of what doubles took). In single
+   precision they are also the law's positions. */
+typedef float GriddemKKNear[4];
+
+/* The sorted particles' velocity, angular velocity and mass, in the precision of fix griddem's
+   `precision`; rows, as the positions. */
 template <class DeviceType, typename Real> struct GriddemKKChannels {
-  typedef Kokkos::View<Real *[4], Kokkos::LayoutRight, DeviceType> t_pos;      // x y z in the cell, radius
   typedef Kokkos::View<Real *[7], Kokkos::LayoutRight, DeviceType> t_state;    // v, omega, mass
-  t_pos pos;
   t_state state;
 };
 
@@ -213,16 +219,45 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    alone into room appended to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
    ascending, as one pass over the stencil. What both kernels read: */
 template <class DeviceType, typename Real> struct GriddemKKSorted {
+  // double: the law's positions and radii are LAMMPS's own (x_i - x_j as the CPU engine takes
+  // them); float: the channels' (positions in their cells, plus the cells' corners)
+  static constexpr bool atom_positions = std::is_same<Real, double>::value;
   GriddemKKGrids grids;
   int nlocal, ntypes;
   double reach_extra;    // model.reach_extra
   Kokkos::View<const int *, DeviceType> order;        // atom index of each slot
   Kokkos::View<const int *, DeviceType> slot_cell;    // cell of each slot (over all classes)
-  Kokkos::View<const Real *[4], Kokkos::LayoutRight, DeviceType> pos;    // GriddemKKChannels
+  Kokkos::View<const GriddemKKNear *, Kokkos::LayoutRight, DeviceType> near;
+  typename ArrayTypes<DeviceType>::t_x_array_randomread x;            // by atom index
+  typename ArrayTypes<DeviceType>::t_float_1d_randomread radius;      // by atom index
   Kokkos::View<const int *[2], Kokkos::LayoutRight, DeviceType> tm;     // type, mask
   Kokkos::View<int *, DeviceType> list;     // candidate slots, each slot's from first(s)
   Kokkos::View<int *, DeviceType> first;    // [nall + 1] laid out; a repaired slot's moves
   Kokkos::View<int *, DeviceType> count;    // candidates listed; -needed: the room was short
+
+  // slot s's radius, in the law's precision
+  KOKKOS_INLINE_FUNCTION double radius_of(int s) const
+  {
+    if constexpr (atom_positions) return radius(order(s));
+    else return near(s, 3);
+  }
+  // x_s - x_u into dx and its square, and u's radius, in the law's precision; cs: s's cell corner
+  KOKKOS_INLINE_FUNCTION double separation(int s, int u, const double cs[3], double dx[3],
+                                           double &radj) const
+  {
+    if constexpr (atom_positions) {
+      const int i = order(s), j = order(u);
+      for (int d = 0; d < 3; d++) dx[d] = x(i, d) - x(j, d);
+      radj = radius(j);
+    } else {
+      double cu[3];
+      grids.cell_corner(slot_cell(u), cu);
+      for (int d = 0; d < 3; d++)
+        dx[d] = ((double) near(s, d) - (double) near(u, d)) + (cs[d] - cu[d]);
+      radj = near(u, 3);
+    }
+    return dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+  }
 };
 
 /* what the search finds besides the lists */
@@ -239,6 +274,8 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   typedef GriddemKKFindValue value_type;
 
   double slack;          // added to every search distance: round-off of the positions
+  double near_margin;    // added to the float test's distance: the rounding of `near` (0 where
+                         // `near` is the law's own position)
   int repair;            // 1: list again the atoms whose room was short, into room from `top`
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
   griddem_exclusions excl;    // the CPU style's, its tables on the device
@@ -273,9 +310,9 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
       head = this->first(s);
       room = this->first(s + 1) - head;
     }
-    const double pi[3] = {(double) this->pos(s, 0), (double) this->pos(s, 1),
-                          (double) this->pos(s, 2)};
-    const double radi = this->pos(s, 3);
+    const double pi[3] = {(double) this->near(s, 0), (double) this->near(s, 1),
+                          (double) this->near(s, 2)};
+    const double radi = this->radius_of(s);
     const int itype = this->tm(s, 0), imask = this->tm(s, 1);
     double corner[3], xi[3];
     this->grids.cell_corner(this->slot_cell(s), corner);
@@ -302,13 +339,19 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
             const double sx = corner[0] - g.corner(0, x);
             for (const int end = start(row + x + 1); u < end; u++) {
               if (u == s) continue;
-              const Real *pu = &this->pos(u, 0);    // x, y, z, radius: one row (LayoutRight)
+              const float *pu = &this->near(u, 0);    // x, y, z, radius: one row
               const double dx = (pi[0] - (double) pu[0]) + sx;
               const double dy = (pi[1] - (double) pu[1]) + sy;
               const double dz = (pi[2] - (double) pu[2]) + sz;
-              const double rsq = dx * dx + dy * dy + dz * dz;
-              const double rs = radi + this->reach_extra + (double) pu[3];
-              if (!(rsq < rs * rs)) continue;
+              double rsq = dx * dx + dy * dy + dz * dz;
+              const double reach = radi + this->reach_extra + (double) pu[3] + near_margin;
+              if (!(rsq < reach * reach)) continue;
+              if constexpr (GriddemKKSorted<DeviceType, Real>::atom_positions) {
+                double sep[3], radj;
+                rsq = this->separation(s, u, corner, sep, radj);
+                const double rs = radi + this->reach_extra + radj;
+                if (!(rsq < rs * rs)) continue;
+              }
               if (rsq == 0.0) {
                 if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = this->order(u);
                 continue;
@@ -393,9 +436,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   {
     const int i = this->order(s);
     if (i >= this->nlocal) return;
-    const double pi[3] = {(double) this->pos(s, 0), (double) this->pos(s, 1),
-                          (double) this->pos(s, 2)};
-    const double radi = this->pos(s, 3), mi = state(s, 6);
+    const double radi = this->radius_of(s), mi = state(s, 6);
     const int itype = this->tm(s, 0), imask = this->tm(s, 1);
     double corner[3];
     this->grids.cell_corner(this->slot_cell(s), corner);
@@ -407,14 +448,9 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
 
     for (int e = head; e < head + n; e++) {
       const int u = this->list(e);
-      double cu[3];
-      this->grids.cell_corner(this->slot_cell(u), cu);
-      const Real *pu = &this->pos(u, 0);
-      const double dx = (pi[0] - (double) pu[0]) + (corner[0] - cu[0]);
-      const double dy = (pi[1] - (double) pu[1]) + (corner[1] - cu[1]);
-      const double dz = (pi[2] - (double) pu[2]) + (corner[2] - cu[2]);
-      const double rsq = dx * dx + dy * dy + dz * dz;
-      const double radj = pu[3];
+      double sep[3], radj;
+      const double rsq = this->separation(s, u, corner, sep, radj);
+      const double dx = sep[0], dy = sep[1], dz = sep[2];
       const int jtype = this->tm(u, 0), jmask = this->tm(u, 1);
       const griddem_pair_params *law = &params(itype * (this->ntypes + 1) + jtype);
       const tagint partner = track ? tag(this->order(u)) : 0;
@@ -485,7 +521,8 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
   template <typename Real> void bin(const GriddemKKGrids &grids);
   template <typename Real, bool Classic>
-  void sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
+  void sweep(const GriddemKKGrids &grids, double slack, double near_margin,
+             const GriddemKKScanValue &sc);
 
  protected:
   // sizes the Views below were allocated for
@@ -502,6 +539,7 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   // [nmax] each atom's list length of the last step (by atom index: it guides the next layout
   // only, so atoms that moved in LAMMPS's arrays cost at most a repair)
   Kokkos::View<int *, DeviceType> d_list, d_list_first, d_list_count, d_last;
+  Kokkos::View<GriddemKKNear *, Kokkos::LayoutRight, DeviceType> d_near;    // [nall]
   GriddemKKChannels<DeviceType, double> channels_double;
   GriddemKKChannels<DeviceType, float> channels_single;
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }

@@ -78,8 +78,7 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
   };
   add(d_cell), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
   add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
-  add(channels_double.pos), add(channels_double.state);
-  add(channels_single.pos), add(channels_single.state);
+  add(d_near), add(channels_double.state), add(channels_single.state);
   add(d_params), add(d_excl_type), add(d_excl_group);
   return bytes;
 }
@@ -261,14 +260,22 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
                                                         const GriddemKKScanValue &sc)
 {
   bin<Real>(grids);
+  // the float positions' rounding: 2^-24 of a position in its cell (under an edge) and of a
+  // radius, for each side of a pair, well inside this margin; none where they are the law's
+  double near_margin = 0.0;
+  if (GriddemKKSorted<DeviceType, Real>::atom_positions) {
+    double hmax = 0.0;
+    for (int c = 0; c < grids.ncls; c++) hmax = MAX(hmax, grids.g[c].h);
+    near_margin = 1e-6 * (hmax + 2.0 * this->rmax + this->model.reach_extra) + slack;
+  }
   if (all_classic)
-    sweep<Real, true>(grids, slack, sc);
+    sweep<Real, true>(grids, slack, near_margin, sc);
   else
-    sweep<Real, false>(grids, slack, sc);
+    sweep<Real, false>(grids, slack, near_margin, sc);
 }
 
-/* counting sort into the channels (of Real: positions relative to their cell, velocities,
-   angular velocities, mass, radius) */
+/* counting sort into the channels (positions relative to their cell and radius in float; of
+   Real: velocities, angular velocities, mass) */
 
 template <class DeviceType, class Base>
 template <typename Real>
@@ -300,8 +307,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
     Kokkos::resize(d_last, nmax_atoms);    // kept: the next layout's guide
     d_tm = Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType>("griddem/kk:tm", nmax_atoms);
   }
-  if (nall > (int) chan.pos.extent(0)) {
-    chan.pos = typename GriddemKKChannels<DeviceType, Real>::t_pos("griddem/kk:pos", nmax_atoms);
+  if (nall > (int) d_near.extent(0))
+    d_near = Kokkos::View<GriddemKKNear *, Kokkos::LayoutRight, DeviceType>("griddem/kk:near", nmax_atoms);
+  if (nall > (int) chan.state.extent(0)) {
     chan.state =
         typename GriddemKKChannels<DeviceType, Real>::t_state("griddem/kk:state", nmax_atoms);
   }
@@ -319,7 +327,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto unsorted = d_unsorted;
   auto order = d_order;
   auto slot_cell = d_slot_cell;
-  auto pos = chan.pos;
+  auto near = d_near;
   auto state = chan.state;
   auto tm = d_tm;
   // count is zero here: zero-filled when made, and each binning zeroes what it counted
@@ -367,8 +375,8 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         const double p[3] = {xi, yi, zi};
         double corner[3];
         grids.cell_corner(c, corner);
-        for (int d = 0; d < 3; d++) pos(slot, d) = (Real) (p[d] - corner[d]);
-        pos(slot, 3) = radius(i);
+        for (int d = 0; d < 3; d++) near(slot, d) = (float) (p[d] - corner[d]);
+        near(slot, 3) = (float) radius(i);
         for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
         state(slot, 6) = rmass(i);
         tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
@@ -380,7 +388,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
 template <class DeviceType, class Base>
 template <typename Real, bool Classic>
 void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, double slack,
-                                                const GriddemKKScanValue &sc)
+                                                double near_margin, const GriddemKKScanValue &sc)
 {
   AtomKokkos *atomKK = this->atomKK;
   const int nlocal = this->atom->nlocal;
@@ -429,12 +437,15 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sorted.reach_extra = this->model.reach_extra;
   sorted.order = d_order;
   sorted.slot_cell = d_slot_cell;
-  sorted.pos = chan.pos;
+  sorted.near = d_near;
+  sorted.x = atomKK->k_x.template view<DeviceType>();
+  sorted.radius = atomKK->k_radius.template view<DeviceType>();
   sorted.tm = d_tm;
   sorted.list = d_list;
   sorted.first = d_list_first;
   sorted.count = d_list_count;
   find.slack = slack;
+  find.near_margin = near_margin;
   find.repair = 0;
   find.start = d_start;
   find.excl = this->exclusions;
