@@ -547,17 +547,17 @@ def check_occupancy(wd, data):
         found = (t.thermo_values(out, "f_grid[1]"), t.thermo_values(out, "f_grid[2]"))
         t.check(found == ([64.0], [2.0]), "%s: 64 occupied cells, at most 2 centres in one: %s" % (name, found))
 
-    # not read during the run and read after the pair style changed, they are refused by name, as
-    # LAMMPS refuses a compute that is not current; read during the run, they keep their value
+    # once a stock pair style replaced the kk one, the last griddem step's values are refused
+    # naming the pair style (the CPU fix's rule: they would read as current), whether or not
+    # the run counted them
     switch = ("pair_style gran/hooke/history 1e4 NULL 50 NULL 0.5 1\npair_coeff * *\n"
               "print \"OCC $(f_grid[1])\"\n")
     unread = occupancy_in.replace("thermo_style custom step f_grid[1] f_grid[2]\n", "")
-    rc, out = t.run_lmp(unread + switch, wd, name="in.occ_unread", extra=kk_args(1))
-    t.check(rc != 0 and "run a step first" in out and not re.search(r"^OCC ", out, re.M),
-            "occupancy of a pair style no longer in use refused: %s" % t.errors(out)[:1])
-    rc, out = t.run_lmp(occupancy_in + switch, wd, name="in.occ_read", extra=kk_args(1))
-    t.check(rc == 0 and re.search(r"^OCC 64$", out, re.M),
-            "occupancy read during the run kept after the pair style changed: %s" % t.errors(out)[:1])
+    for name, text in (("unread", unread + switch), ("read", occupancy_in + switch)):
+        rc, out = t.run_lmp(text, wd, name="in.occ_" + name, extra=kk_args(1))
+        t.check(rc != 0 and "pair style gran/hooke/history/kk is not a griddem pair style" in out
+                and not re.search(r"^OCC ", out, re.M),
+                "occupancy (%s during the run) refused after the pair style changed: %s" % (name, t.errors(out)[:1]))
 
 
 def check_empty_rank(wd, data):
@@ -586,6 +586,59 @@ def check_growth(wd, data):
         compare("%s/kk [%s] with contacts 1 vs CPU" % (law[1].split()[0], law[0]),
                 run(wd, "few_cpu", data, law[1], law[3], extra=few),
                 run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
+
+
+SQUEEZE = """units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 16 0 16 0 16
+create_box 1 box
+lattice sc 1.0
+create_atoms 1 box
+variable d atom 0.1*10^random(0,1,4711)
+set group all diameter v_d
+set group all density 1.0
+pair_style {pair} 2e4 NULL 50 NULL 0.5 0
+pair_coeff * *
+timestep 2e-5
+fix 1 all nve/sphere
+fix squeeze all deform 1 x scale 0.5 y scale 0.5 z scale 0.5 remap x
+thermo_style custom step ke
+thermo 100
+run 300
+"""
+
+
+def peak_rss_mib(wd, text, name, extra):
+    """Peak resident memory (MiB) of one lmp run of text, and its output."""
+    import resource
+    with open(os.path.join(wd, "in." + name), "w") as f:
+        f.write(text)
+    with open(os.path.join(wd, "out." + name), "w+") as out:
+        proc = subprocess.Popen([t.LMP, "-in", "in." + name, "-log", "none"] + extra, cwd=wd,
+                                stdout=out, stderr=subprocess.STDOUT)
+        _, status, usage = os.wait4(proc.pid, 0)
+        out.seek(0)
+        return usage.ru_maxrss / 1024.0, os.waitstatus_to_exitcode(status), out.read()
+
+
+def check_exchange_buffer(wd, _data):
+    """bench/gpu.py's poly scene at 4,096 atoms (diameters 1:10 on a lattice, squeezed fast to
+    half the edge): the longest history row grows one contact at a time to about 18, and
+    LAMMPS's CommKokkos grows its send buffer by 1.5 each time a fix's maxexchange grows; fix
+    griddem/kk sizes it by powers of two, so the run stays within twice stock kk's memory
+    (griddem needs half of stock's per atom). With a maxexchange that followed each contact:
+    472 MiB against stock's 78."""
+    rss = {}
+    for pair in ("gran/hooke/history", "griddem/hooke/history"):
+        rss[pair], rc, out = peak_rss_mib(wd, SQUEEZE.format(pair=pair), "squeeze", kk_args(1))
+        t.check(rc == 0, "%s/kk squeeze runs (exit %d): %s" % (pair, rc, t.errors(out)[:1]))
+    print("squeeze, peak RSS: stock kk %.0f MiB, griddem kk %.0f MiB" % (rss["gran/hooke/history"],
+                                                                        rss["griddem/hooke/history"]))
+    t.check(rss["griddem/hooke/history"] < 2.0 * rss["gran/hooke/history"],
+            "griddem/hooke/history/kk's peak memory %.0f MiB within twice stock kk's %.0f MiB"
+            % (rss["griddem/hooke/history"], rss["gran/hooke/history"]))
 
 
 def check_precision(wd, data):
@@ -625,7 +678,7 @@ def check_migration(wd, data):
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
     check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
-    check_growth, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
+    check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart)}
 
 

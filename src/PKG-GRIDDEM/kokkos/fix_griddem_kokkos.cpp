@@ -71,9 +71,15 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_here(int p
   each_array(p, [](auto &k) { k.template modify<DeviceType>(); });
 }
 
+/* Room for a power of two of entries: LAMMPS's CommKokkos grows its send buffer by its factor
+   1.5 each time a fix's maxexchange grows (its grow_send_kokkos applies the factor where
+   CommBrick's does not), so a maxexchange that followed the longest row one contact at a time
+   grew that buffer geometrically (to 388 MB for 16,250 hot polydisperse atoms). */
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::update_maxexchange()
 {
-  maxexchange = 2 + longest * (1 + nv);
+  int room = 1;
+  while (room < longest) room *= 2;
+  maxexchange = 2 + room * (1 + nv);
 }
 
 /* DualView::resize keeps the contents of the side modified last and reallocates the other, to
