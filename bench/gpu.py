@@ -359,4 +359,5 @@ def main():
     shutil.rmtree(wd, ignore_errors=True)
 
 
-main()
+if __name__ == "__main__":
+    main()

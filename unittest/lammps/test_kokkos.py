@@ -24,6 +24,9 @@ import griddem_testlib as t
 from test_granular_parity import FROZEN_LIST, MODELS
 from test_stock_parity import FORCES, STATE, TEMPLATE, compare as parity_compare, run as parity_run
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
+from gpu import POLY  # noqa: E402  (bench/gpu.py's polydisperse scene)
+
 SKIP = 77
 GPUS = os.environ.get("GRIDDEM_KK_GPUS")
 RANKS = (1,) if GPUS else (1, 2)
@@ -588,26 +591,6 @@ def check_growth(wd, data):
                 run(wd, "few_kk", data, law[1], law[3], nprocs=RANKS[-1], threads=THREADS[-1], extra=few))
 
 
-SQUEEZE = """units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-region box block 0 16 0 16 0 16
-create_box 1 box
-lattice sc 1.0
-create_atoms 1 box
-variable d atom 0.1*10^random(0,1,4711)
-set group all diameter v_d
-set group all density 1.0
-pair_style {pair} 2e4 NULL 50 NULL 0.5 0
-pair_coeff * *
-timestep 2e-5
-fix 1 all nve/sphere
-fix squeeze all deform 1 x scale 0.5 y scale 0.5 z scale 0.5 remap x
-thermo_style custom step ke
-thermo 100
-run 300
-"""
 
 
 def peak_rss_mib(wd, text, name, extra):
@@ -632,7 +615,8 @@ def check_exchange_buffer(wd, _data):
     472 MiB against stock's 78."""
     rss = {}
     for pair in ("gran/hooke/history", "griddem/hooke/history"):
-        rss[pair], rc, out = peak_rss_mib(wd, SQUEEZE.format(pair=pair), "squeeze", kk_args(1))
+        text = POLY.format(n=16, nz=16, style=pair, fix="", prep=300, steps=0)
+        rss[pair], rc, out = peak_rss_mib(wd, text, "squeeze", kk_args(1))
         t.check(rc == 0, "%s/kk squeeze runs (exit %d): %s" % (pair, rc, t.errors(out)[:1]))
     print("squeeze, peak RSS: stock kk %.0f MiB, griddem kk %.0f MiB" % (rss["gran/hooke/history"],
                                                                         rss["griddem/hooke/history"]))
