@@ -12,7 +12,7 @@ the solver may ask. Only cells at least one grain layer deep (p >= phi rho_s g d
 surface p -> 0 and I -> infinity by construction, not by the flow.
 
     /usr/bin/python3 coupling.py [--lmp PATH] [--factors 1.5,2,3] [--first 1] [--others 0.5,2,3]
-                                 [--tol 0.015] [--policy sample] [--I-cap 0.6] [--h 1.0]
+                                 [--tol 0.015] [--policy sample] [--I-cap 1.0] [--h 1.0] [--dt-max 0.1]
 
 Start set: the recorded RVEs of ../rheology at I = 0.001, 0.003 (the expensive low-I plateau),
 0.01, 0.0548 and 0.3 (its adaptive loop's start). The first collapse (DEM column of collapse.py's
@@ -40,10 +40,11 @@ I_REF = 0.3
 class AdaptiveRheology:
     """mu(I) for the solver, refined on the fly. run(I) -> RVE result dict (learn_mu.run_rve)."""
 
-    def __init__(self, run, points, factor, tol, policy="sample", I_cap=0.6):
-        self.run_rve, self.points = run, list(points)
+    def __init__(self, run, points, factor, tol, policy="sample", I_cap=1.0, members=8):
+        self.run_rve, self.points, self.members = run, list(points), members
         self.factor, self.tol, self.policy, self.I_cap = factor, tol, policy, I_cap
         self.runs = []                     # new RVEs: dicts I, source, wall_s, reason
+        self.failed = []                   # grid points whose RVE failed (not retried; mu held there)
         self.refit()
 
     def grid_point(self, I):
@@ -51,12 +52,12 @@ class AdaptiveRheology:
         return I_REF * self.factor ** k
 
     def sampled(self, I):
-        return any(abs(math.log(I / p["Irequested"])) < 1e-6 for p in self.points)
+        return any(abs(math.log(I / J)) < 1e-6 for J in [p["Irequested"] for p in self.points] + self.failed)
 
     def refit(self):
         Ireq = [p["Irequested"] for p in self.points]
         self.Ilo, self.Ihi = min(Ireq), max(Ireq)
-        self.ens = L.Ensemble(self.Ilo, self.Ihi).fit(self.points)
+        self.ens = L.Ensemble(self.Ilo, self.Ihi, members=self.members).fit(self.points)
         Ig = np.logspace(math.log10(self.Ilo), math.log10(self.Ihi), 60)
         curve = L.regularise(Ig, self.ens.predict(Ig)[0][:, 0], I_c=self.Ilo)
         self.mu = HeldMu(curve, curve.params["I_max"])
@@ -86,7 +87,8 @@ class AdaptiveRheology:
         if self.policy == "sample" and I_cells.size and I_cells.max() > self.Ihi:
             k = math.floor(math.log(self.Ihi / I_REF) / math.log(self.factor) + 1e-9) + 1
             g = I_REF * self.factor ** k
-            if g <= self.I_cap * (1 + 1e-9) and I_cells.max() >= self.grid_point(g) / math.sqrt(self.factor):
+            if g <= self.I_cap * (1 + 1e-9) and not self.sampled(g) and \
+                    I_cells.max() >= self.grid_point(g) / math.sqrt(self.factor):
                 return g, "cells at I up to %.3g above the sampled %.3g" % (I_cells.max(), self.Ihi)
         return None
 
@@ -97,7 +99,12 @@ class AdaptiveRheology:
             return None
         I, why = c
         t0 = time.time()
-        r = self.run_rve(I)
+        try:
+            r = self.run_rve(I)
+        except RuntimeError as e:          # e.g. the RVE's pressure control cannot hold a dilute flow
+            self.failed.append(I)
+            self.runs.append(dict(I=I, failed=str(e).splitlines()[0], wall_s=round(time.time() - t0, 1), reason=why))
+            return self.runs[-1]
         self.points.append(r)
         self.runs.append(dict(I=I, mu=r["mu"], dmu=r["dmu"], source=r.get("source", "run"),
                               wall_s=round(time.time() - t0, 1), reason=why))
@@ -114,8 +121,9 @@ def main():
     ap.add_argument("--spheres", type=int, default=1800)
     ap.add_argument("--tol", type=float, default=0.015)
     ap.add_argument("--policy", default="sample", choices=("sample", "hold"))
-    ap.add_argument("--I-cap", type=float, default=0.6)
+    ap.add_argument("--I-cap", type=float, default=1.0)
     ap.add_argument("--h", type=float, default=1.0)
+    ap.add_argument("--dt-max", type=float, default=0.1)
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     with open(os.path.join(CL.RHEOLOGY, "rve_points.json")) as f:
@@ -125,10 +133,11 @@ def main():
 
     def run(I):
         r = L.run_rve(lmp, I, workdir=os.path.join(rve_dir, "rve_%.5g" % I), recorded=recorded)
-        print("   RVE I=%.4g: mu %.4f +- %.4f (%s)" % (I, r["mu"], r["dmu"], r.get("source", "run")), flush=True)
+        print("   RVE I=%.4g: mu %.4f +- %.4f, %s, %s s" % (I, r["mu"], r["dmu"], r.get("source", "run"),
+                                                          r.get("wall_s")), flush=True)
         return r
 
-    out = dict(tol=a.tol, policy=a.policy, I_cap=a.I_cap, h=a.h, start=list(START), factors=[])
+    out = dict(tol=a.tol, policy=a.policy, I_cap=a.I_cap, h=a.h, dt_max=a.dt_max, start=list(START), factors=[])
     for fac in [float(x) for x in a.factors.split(",")]:
         rheo = AdaptiveRheology(run, start, fac, a.tol, a.policy, a.I_cap)
         rec = dict(factor=fac, collapses=[])
@@ -142,10 +151,12 @@ def main():
                     pass
 
             t0 = time.time()
-            con = CL.run_continuum(dem, rheo, h=a.h, on_output=on_output)
+            con = CL.run_continuum(dem, rheo, h=a.h, on_output=on_output, dt_max=a.dt_max)
             held_note = "held above the final sampled I = %.3g" % rheo.Ihi
             new = rheo.runs[n_before:]
             rec["collapses"].append(dict(a=dem["a"], a_target=asp, new_rves=new, n_new=len(new),
+                                         n_failed=sum("failed" in r for r in new),
+                                         n_cached=sum(r.get("source") == "work/ cache" for r in new),
                                          sampled_range=[rheo.Ilo, rheo.Ihi], runout=con["runout"],
                                          dem_runout=dem["runout"], final_height=con["final_height"],
                                          wall_s=round(time.time() - t0, 1),

@@ -35,9 +35,10 @@ def bagnold_air(y, H, A, theta, I, phi, rho_air, g=1.0, rho_s=1.0, d=1.0):
         (q(0.0) ** 1.5 - q(np.asarray(y, float)) ** 1.5)
 
 
-def run_layer(cells_over_H, H=10.0, A=2.0, theta_deg=25.0, phi=0.6, t_end=200.0, dt=0.1, nx=2):
+def run_layer(cells_over_H, H=10.0, A=2.0, theta_deg=25.0, phi=0.6, t_end=400.0, dt=0.5, nx=2, passes=1):
     """March the layer from rest; returns dict with the relative rms and surface errors of u in the
-    grain layer against bagnold_air, and the largest relative change of u over the last 10 time units."""
+    grain layer against bagnold_air, and the largest relative change of u over the last 10 time units.
+    One viscosity pass per step: the steady state does not depend on it."""
     theta = math.radians(theta_deg)
     h = H / cells_over_H
     ny = int(round((H + A) / h))
@@ -50,7 +51,7 @@ def run_layer(cells_over_H, H=10.0, A=2.0, theta_deg=25.0, phi=0.6, t_end=200.0,
     t0 = time.time()
     u_prev = None
     for k in range(steps):
-        f.step(dt)
+        f.step(dt, passes)
         if k == steps - int(round(10.0 / dt)) - 1:
             u_prev = f.u_full()[0][0].copy()
     u = f.u_full()[0][0]                                       # u at the faces x = 0, cell centres in y
@@ -63,7 +64,6 @@ def run_layer(cells_over_H, H=10.0, A=2.0, theta_deg=25.0, phi=0.6, t_end=200.0,
                 rms_rel=float(np.sqrt(np.mean((u[grain] - exact[grain]) ** 2)) / us),
                 surface_rel=float(abs(u[grain].max() - us) / us),
                 drift_last_10=float(np.max(np.abs(u - u_prev)) / us),
-                mass_change=float(abs(f.c.sum() * h * h * nx / nx - f.c.sum() * h * h)),
                 wall_s=round(time.time() - t0, 2), y=y[grain].tolist(), u=u[grain].tolist(),
                 exact=exact[grain].tolist())
 

@@ -11,6 +11,10 @@ the DEM input (in.collapse). Each number has its own reason:
   area) to round-off, with 0 <= c <= 1 within 1e-9, and its front advances (it does collapse);
 - HeldMu holds mu at I_max above it (no extrapolation);
 - deposit.front: on a linear profile h = 3 - x the farthest x with h >= 1 is 2, interpolated;
+- the on-the-fly coupling (coupling.AdaptiveRheology, with a stand-in for the RVE): cells above the
+  sampled range (0.3) ask for the next grid point 0.3 f (f = 2: 0.6), run once, after which the
+  sampled range ends there and I_cap (1.0) stops the next (1.2); with policy "hold" nothing runs;
+  an RVE that fails is recorded and its grid point is not asked again;
 - in.collapse (a small column: 4 columns of spheres, 9 layers): it settles (kinetic energy per
   sphere below 1e-6), the settled packing fraction lies between a simple-cubic lattice (0.52) and
   random close packing (0.64), no sphere is lost, and the deposit runs out beyond the gate.
@@ -93,6 +97,36 @@ def python_checks():
     t.check(abs(D.front(x, 3.0 - x) - 2.0) < 1e-12, "front of h = 3 - x: %s" % D.front(x, 3.0 - x))
 
 
+def coupling_checks():
+    import coupling as CP
+    import learn_mu as L
+    asked = []
+
+    def stand_in(I):
+        asked.append(I)
+        return dict(I=I, dI=0.0, mu=float(L.mu_jop(I, 0.36, 1.0, 1.0)), dmu=0.008, phi=0.6 - 0.1 * I,
+                    dphi=0.002, Irequested=I)
+    start = [stand_in(I) for I in (0.001, 0.01, 0.3)]
+    del asked[:]
+    cells = np.array([0.05, 0.2, 0.8])
+    r = CP.AdaptiveRheology(stand_in, start, 2.0, tol=1.0, members=2)
+    while r.update(cells) is not None:
+        pass
+    t.check(np.allclose(asked, [0.6]) and abs(r.Ihi - 0.6) < 1e-12,
+            "cells up to I 0.8, factor 2: RVEs at %s, sampled up to %s" % (asked, r.Ihi))
+    r = CP.AdaptiveRheology(stand_in, start, 2.0, tol=1.0, policy="hold", members=2)
+    t.check(r.update(cells) is None and r.I_max == 0.3, "policy hold: no RVE, mu held above 0.3")
+
+    def failing(I):
+        asked.append(I)
+        raise RuntimeError("RVE at I=%g: pressure control failed" % I)
+    del asked[:]
+    r = CP.AdaptiveRheology(failing, start, 2.0, tol=1.0, members=2)
+    first, second = r.update(cells), r.update(cells)
+    t.check(first is not None and "failed" in first and second is None and asked == [0.6],
+            "a failed RVE is recorded once and not asked again: %s %s %s" % (first, second, asked))
+
+
 def lammps_checks():
     wd = t.workdir()
     shutil.copy(os.path.join(EXAMPLE, "in.collapse"), wd)
@@ -121,6 +155,7 @@ if __name__ == "__main__":
     rest_checks()
     mass_checks()
     layer_checks()
+    coupling_checks()
     if shutil.which(t.LMP) or os.path.exists(t.LMP):
         lammps_checks()
     t.finish()
