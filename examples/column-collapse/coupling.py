@@ -8,7 +8,10 @@ mu at its value at the highest sampled I; both are reported (largest I met, cell
 
 New RVEs sit on a log grid I_ref f^k (I_ref = 0.3, f = the sampling factor): an unsure I is
 snapped to the nearest grid point and each grid point is run at most once, so f sets how finely
-the solver may ask. Only cells at least one grain layer deep (p >= phi rho_s g d) count: at the free
+the solver may ask. The sampled range is that of the measured I of the RVEs: an RVE whose measured
+I misses the requested one by more than 10 % (in.rve's pressure control caps the dilation rate, so
+at high shear rates Pzz overshoots and I falls short) is reported and not used, and no higher I is
+asked for after it. Only cells at least one grain layer deep (p >= phi rho_s g d) count: at the free
 surface p -> 0 and I -> infinity by construction, not by the flow.
 
     /usr/bin/python3 coupling.py [--lmp PATH] [--factors 1.5,2,3] [--first 1] [--others 0.5,2,3]
@@ -35,6 +38,7 @@ from continuum import HeldMu  # noqa: E402
 
 START = (0.001, 0.003, 0.01, 0.0548, 0.3)
 I_REF = 0.3
+MISS = 1.1         # an RVE whose measured I is off the requested by more than this factor missed it
 
 
 class AdaptiveRheology:
@@ -44,7 +48,8 @@ class AdaptiveRheology:
         self.run_rve, self.points, self.members = run, list(points), members
         self.factor, self.tol, self.policy, self.I_cap = factor, tol, policy, I_cap
         self.runs = []                     # new RVEs: dicts I, source, wall_s, reason
-        self.failed = []                   # grid points whose RVE failed (not retried; mu held there)
+        self.failed = []                   # grid points whose RVE failed or missed (not retried)
+        self.unreachable = math.inf        # requested I from which the RVE missed its target
         self.refit()
 
     def grid_point(self, I):
@@ -55,8 +60,9 @@ class AdaptiveRheology:
         return any(abs(math.log(I / J)) < 1e-6 for J in [p["Irequested"] for p in self.points] + self.failed)
 
     def refit(self):
-        Ireq = [p["Irequested"] for p in self.points]
-        self.Ilo, self.Ihi = min(Ireq), max(Ireq)
+        """Ensemble and regularised curve on the measured I of the points (the sampled range)."""
+        Imeas = [p["I"] for p in self.points]
+        self.Ilo, self.Ihi = min(Imeas), max(Imeas)
         self.ens = L.Ensemble(self.Ilo, self.Ihi, members=self.members).fit(self.points)
         Ig = np.logspace(math.log10(self.Ilo), math.log10(self.Ihi), 60)
         curve = L.regularise(Ig, self.ens.predict(Ig)[0][:, 0], I_c=self.Ilo)
@@ -87,7 +93,7 @@ class AdaptiveRheology:
         if self.policy == "sample" and I_cells.size and I_cells.max() > self.Ihi:
             k = math.floor(math.log(self.Ihi / I_REF) / math.log(self.factor) + 1e-9) + 1
             g = I_REF * self.factor ** k
-            if g <= self.I_cap * (1 + 1e-9) and not self.sampled(g) and \
+            if g <= self.I_cap * (1 + 1e-9) and g < self.unreachable and not self.sampled(g) and \
                     I_cells.max() >= self.grid_point(g) / math.sqrt(self.factor):
                 return g, "cells at I up to %.3g above the sampled %.3g" % (I_cells.max(), self.Ihi)
         return None
@@ -105,11 +111,20 @@ class AdaptiveRheology:
             self.failed.append(I)
             self.runs.append(dict(I=I, failed=str(e).splitlines()[0], wall_s=round(time.time() - t0, 1), reason=why))
             return self.runs[-1]
+        run = dict(I=I, I_measured=r["I"], mu=r["mu"], dmu=r["dmu"], phi=r["phi"], source=r.get("source", "run"),
+                   wall_s=round(time.time() - t0, 1), rve_wall_s=r.get("wall_s"), reason=why)
+        if abs(math.log(r["I"] / I)) > math.log(MISS):
+            # the RVE's pressure control could not hold P (its dilation rate is capped): the point is
+            # not steady at the requested rate, so it is not used, and no higher I is asked for
+            run["missed"] = "measured I %.3g for %.3g requested: not used" % (r["I"], I)
+            self.failed.append(I)
+            self.unreachable = min(self.unreachable, I)
+            self.runs.append(run)
+            return run
         self.points.append(r)
-        self.runs.append(dict(I=I, mu=r["mu"], dmu=r["dmu"], source=r.get("source", "run"),
-                              wall_s=round(time.time() - t0, 1), reason=why))
+        self.runs.append(run)
         self.refit()
-        return self.runs[-1]
+        return run
 
 
 def main():
@@ -156,6 +171,7 @@ def main():
             new = rheo.runs[n_before:]
             rec["collapses"].append(dict(a=dem["a"], a_target=asp, new_rves=new, n_new=len(new),
                                          n_failed=sum("failed" in r for r in new),
+                                         n_missed=sum("missed" in r for r in new),
                                          n_cached=sum(r.get("source") == "work/ cache" for r in new),
                                          sampled_range=[rheo.Ilo, rheo.Ihi], runout=con["runout"],
                                          dem_runout=dem["runout"], final_height=con["final_height"],

@@ -14,7 +14,9 @@ the DEM input (in.collapse). Each number has its own reason:
 - the on-the-fly coupling (coupling.AdaptiveRheology, with a stand-in for the RVE): cells above the
   sampled range (0.3) ask for the next grid point 0.3 f (f = 2: 0.6), run once, after which the
   sampled range ends there and I_cap (1.0) stops the next (1.2); with policy "hold" nothing runs;
-  an RVE that fails is recorded and its grid point is not asked again;
+  an RVE that fails is recorded and its grid point is not asked again; one whose measured I falls
+  short of the request by more than 10 % (0.3 for 0.6) is reported, not used, and nothing higher
+  is asked;
 - in.collapse (a small column: 4 columns of spheres, 9 layers): it settles (kinetic energy per
   sphere below 1e-6), the settled packing fraction lies between a simple-cubic lattice (0.52) and
   random close packing (0.64), no sphere is lost, and the deposit runs out beyond the gate.
@@ -125,6 +127,16 @@ def coupling_checks():
     first, second = r.update(cells), r.update(cells)
     t.check(first is not None and "failed" in first and second is None and asked == [0.6],
             "a failed RVE is recorded once and not asked again: %s %s %s" % (first, second, asked))
+
+    def short(I):
+        return dict(stand_in(I), I=0.5 * I)           # stand_in records the request
+    del asked[:]
+    r = CP.AdaptiveRheology(short, start, 1.5, tol=1.0, members=2)
+    first = r.update(np.array([0.05, 2.0]))
+    second = r.update(np.array([0.05, 2.0]))
+    t.check(first is not None and "missed" in first and second is None and np.allclose(asked, [0.45]) and r.Ihi == 0.3
+            and len(r.points) == 3, "an RVE short of its I is not used and stops the sampling above: %s %s %s"
+            % (first, second, asked))
 
 
 def lammps_checks():
