@@ -93,6 +93,9 @@ class AdaptiveRheology:
         if self.policy == "sample" and I_cells.size and I_cells.max() > self.Ihi:
             k = math.floor(math.log(self.Ihi / I_REF) / math.log(self.factor) + 1e-9) + 1
             g = I_REF * self.factor ** k
+            while self.sampled(g) and g < self.I_cap:    # run, but measured a little below the grid point
+                k += 1
+                g = I_REF * self.factor ** k
             if g <= self.I_cap * (1 + 1e-9) and g < self.unreachable and not self.sampled(g) and \
                     I_cells.max() >= self.grid_point(g) / math.sqrt(self.factor):
                 return g, "cells at I up to %.3g above the sampled %.3g" % (I_cells.max(), self.Ihi)
