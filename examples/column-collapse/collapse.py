@@ -1,0 +1,276 @@
+#!/usr/bin/python3
+"""Granular column collapse: DEM (in.collapse, griddem spheres, one process, one thread) and the 2D
+mu(I) continuum (continuum.py) with the rheology learned from RVEs (../rheology), measured by one
+rule (deposit.py). For each aspect ratio: run-out, final height, front over time, final profile,
+wall times; the run-outs against published scaling laws. Writes results.json and figures.
+
+    /usr/bin/python3 collapse.py [--lmp PATH] [--aspect 0.5,1,2,3] [--spheres 1800] [--h 0.5]
+                                 [--no-continuum] [--no-plot]
+
+Column: ncols = round(sqrt(0.197 N / a) / 1.1) lattice columns (width L0 = 1.1 ncols), fill height
+a L0 / 0.65 (the lattice fill settles to about 0.65 of it); the measured a = H0 / L0 after settling
+is what the results use. DEM results are cached in work/dem_<a>_<N>/ (ignored by git)."""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RHEOLOGY = os.path.join(HERE, "..", "rheology")
+sys.path.insert(0, HERE)
+sys.path.insert(0, RHEOLOGY)
+import deposit as D  # noqa: E402
+from continuum import HeldMu, MuIFlow  # noqa: E402
+
+WORK = os.path.join(HERE, "work")
+W = 4.4            # periodic depth of in.collapse
+DUMP_EVERY = 0.5
+DT = 0.001         # DEM time step (in.collapse's default: contact time / 23)
+
+
+def default_lmp():
+    return os.environ.get("GRIDDEM_LMP", os.path.join(HERE, "..", "..", "build", "lmp"))
+
+
+def geometry(a, spheres):
+    ncols = max(4, int(round(math.sqrt(0.197 * spheres / a) / 1.1)))
+    L0 = 1.1 * ncols
+    H = a * L0 / 0.65
+    H0 = 0.65 * H
+    Lx = math.ceil(L0 + 2.5 * H0 + 15.0)
+    tmax = math.ceil(20.0 + 5.0 * math.sqrt(H0))
+    return L0, H, Lx, tmax
+
+
+def run_dem(lmp, a, spheres, extra=(), tag=""):
+    L0, H, Lx, tmax = geometry(a, spheres)
+    wd = os.path.join(WORK, "dem_%g_%d%s" % (a, spheres, tag))
+    res_path = os.path.join(wd, "dem.json")
+    if os.path.exists(res_path):
+        with open(res_path) as f:
+            return json.load(f)
+    os.makedirs(wd, exist_ok=True)
+    t0 = time.time()
+    log = os.path.join(wd, "log.lammps")
+    finished = os.path.exists(log) and "GRIDDEM collapse: released" in open(log).read()
+    if not finished:       # (a finished run whose analysis was interrupted is analysed, not rerun)
+        cmd = [lmp, "-in", os.path.join(HERE, "in.collapse"), "-var", "L0", "%g" % L0, "-var", "H", "%g" % H,
+               "-var", "Lx", "%g" % Lx, "-var", "tmax", "%g" % tmax, "-var", "dump_every", "%g" % DUMP_EVERY,
+               "-var", "dt", "%g" % DT, "-log", "log.lammps", "-echo", "none"] + list(extra)
+        p = subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                           env=dict(os.environ, OMP_NUM_THREADS="1"))
+        if p.returncode != 0 or "GRIDDEM collapse: released" not in p.stdout:
+            raise RuntimeError("in.collapse failed (exit %d):\n%s" % (p.returncode, p.stdout[-2000:]))
+    wall = time.time() - t0
+    settled = D.read_dump(os.path.join(wd, "settled.dump"))[0][1]
+    phi0, H0 = D.settled_column(settled, W, L0)
+    frames = D.read_dump(os.path.join(wd, "collapse.dump"))
+    times, fronts, heights = [], [], []
+    for step, xzr in frames:
+        xc, h = D.dem_thickness(xzr, W, phi0, Lx)
+        times.append(step * DT)
+        fronts.append(D.front(xc, h))
+        heights.append(float(h.max()))
+    xc, h = D.dem_thickness(frames[-1][1], W, phi0, Lx)
+    loop = sum(float(l.split()[3]) for l in open(log) if l.startswith("Loop time of"))
+    res = dict(a_target=a, spheres_requested=spheres, spheres=int(len(settled)), L0=L0, H_fill=H, Lx=Lx, phi0=phi0, H0=H0, a=H0 / L0,
+               t=times, front=fronts, height=heights, runout=fronts[-1], final_height=heights[-1],
+               x=xc.tolist(), profile=h.tolist(), wall_s=round(wall, 1) if not finished else None, loop_s=round(loop, 1),
+               stopped_at=times[-1], date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t0)),
+               lmp=lmp, extra=list(extra))
+    with open(res_path, "w") as f:
+        json.dump(res, f)
+    return res
+
+
+def learned_mu():
+    """The regularised mu(I) of ../rheology (its final ensemble refitted to rve_points.json, the
+    procedure of learn_mu.main), held at its value at the highest sampled I above it."""
+    import learn_mu as L
+    with open(os.path.join(RHEOLOGY, "rve_points.json")) as f:
+        pts = json.load(f)
+    Ilo, Ihi = min(p["Irequested"] for p in pts), max(p["Irequested"] for p in pts)
+    ens = L.Ensemble(Ilo, Ihi).fit(pts)
+    Ig = np.logspace(math.log10(Ilo), math.log10(Ihi), 60)
+    mu_reg = L.regularise(Ig, ens.predict(Ig)[0][:, 0], I_c=Ilo)
+    return HeldMu(mu_reg, mu_reg.params["I_max"]), ens
+
+
+def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2):
+    """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
+    height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
+    largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
+    mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling)."""
+    L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
+    per_bin = int(round(1.0 / h))
+    nx = int(round(Lx / h)) // per_bin * per_bin
+    ny = int(math.ceil((H0 + 2.0) / h))
+    f = MuIFlow(nx, ny, h, mu, phi0)
+    f.set_column(L0, H0)
+    pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
+    mass0 = float(f.c.sum())
+    t_end = t_end or dem["stopped_at"]
+    t0 = time.time()
+    times, fronts, heights = [], [], []
+    next_out, steps = 0.0, 0
+    I_seen, held, cells = 0.0, 0, 0
+    xc = (np.arange(nx // per_bin) + 0.5) * per_bin * h
+    while True:
+        if f.t >= next_out - 1e-9:
+            thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
+            times.append(f.t); fronts.append(D.front(xc, thick)); heights.append(float(thick.max()))
+            next_out += DUMP_EVERY
+            I_cells = f.grain_inertial_numbers()
+            if I_cells.size:
+                I_seen = max(I_seen, float(I_cells.max()))
+                held += int((I_cells > mu.I_max).sum())
+                cells += I_cells.size
+            if on_output is not None:
+                on_output(f)
+            # stopped: kinetic energy per unit grain volume below ke_stop of the initial potential energy
+            if f.t > 5.0 and f.kinetic_energy() < ke_stop * pe0:
+                break
+        if f.t >= t_end:
+            break
+        f.step(min(f.stable_dt(dt_max=dt_max), next_out - f.t), passes)
+        steps += 1
+    thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
+    return dict(h=h, dt_max=dt_max, passes=passes, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+                final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
+                wall_s=round(time.time() - t0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
+                c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
+                deep_grain_cells=cells)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lmp", default=default_lmp())
+    ap.add_argument("--aspect", default="0.5,1,2,3")
+    ap.add_argument("--spheres", type=int, default=1800)
+    ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
+    ap.add_argument("--no-continuum", action="store_true")
+    ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
+    a = ap.parse_args()
+    lmp = os.path.abspath(a.lmp)
+    mu = None if a.no_continuum else learned_mu()[0]
+    out = dict(cases=[])
+    if os.path.exists(a.out):
+        with open(a.out) as f:
+            out = json.load(f)
+    for asp in [float(x) for x in a.aspect.split(",")]:
+        dem = run_dem(lmp, asp, a.spheres)
+        print("DEM a %.2f (target %g): N %d L0 %.1f H0 %.2f phi0 %.3f run-out %.2f (dL/L0 %.2f) final height %.2f "
+              "stopped t %.1f, LAMMPS loop time %.0f s" % (dem["a"], asp, dem["spheres"], dem["L0"], dem["H0"], dem["phi0"],
+                                              dem["runout"], (dem["runout"] - dem["L0"]) / dem["L0"],
+                                              dem["final_height"], dem["stopped_at"], dem["loop_s"]), flush=True)
+        case = dict(dem=dem)
+        if mu is not None:
+            con = run_continuum(dem, mu, h=a.h)
+            print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s, "
+                  "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
+                  % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
+                     con["steps"], con["wall_s"], con["mass_rel_change"], con["I_max_seen"], con["held_cells"], con["deep_grain_cells"]),
+                  flush=True)
+            case["continuum"] = con
+        out["cases"] = [c for c in out["cases"] if abs(c["dem"]["a_target"] - asp) > 1e-9 or
+                        c["dem"]["spheres_requested"] != a.spheres] + [case]
+        summarise(out)
+        with open(a.out, "w") as f:
+            json.dump(out, f, indent=1)
+    if not a.no_plot:
+        plot(out)
+
+
+
+# ---------------------------------------------------------------- published scaling and figures
+# Balmforth & Kerswell (JFM 538, 2005), experiments in rectangular channels (abstract): run-out
+# (l_inf - L)/L ~ a^(0.9 +- 0.1) in wide channels, a^(0.65 +- 0.05) in narrow slots; H/h_inf ~ a^0.6
+# (wide), a^0.5 (narrow); the prefactors depend on the material. Larrieu, Staron & Hinch (JFM 554,
+# 2006): run-out ~ a^0.65 for planar collapses (their shallow-water model, matching experiments).
+PUBLISHED_EXPONENTS = dict(runout_wide=(0.9, 0.1), runout_narrow=(0.65, 0.05), height_wide=0.6, height_narrow=0.5)
+
+
+def power_fit(a, y):
+    """Least squares of log y = log k + n log a: (k, n, standard error of n)."""
+    A = np.vstack([np.ones(len(a)), np.log(a)]).T
+    coef, res, _, _ = np.linalg.lstsq(A, np.log(y), rcond=None)
+    dof = max(len(a) - 2, 1)
+    s2 = float(np.sum((A @ coef - np.log(y)) ** 2)) / dof
+    cov = s2 * np.linalg.inv(A.T @ A)
+    return float(math.exp(coef[0])), float(coef[1]), float(math.sqrt(cov[1, 1]))
+
+
+def summarise(out):
+    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    a = np.array([c["dem"]["a"] for c in cases])
+    summ = dict(a=a.tolist())
+    for who in ("dem", "continuum"):
+        if not all(who in c for c in cases):
+            continue
+        L0 = np.array([c["dem"]["L0"] for c in cases])
+        H0 = np.array([c["dem"]["H0"] for c in cases])
+        run = np.array([c[who]["runout"] for c in cases])
+        hf = np.array([c[who]["final_height"] for c in cases])
+        s = dict(dL_over_L0=((run - L0) / L0).tolist(), H0_over_hf=(H0 / hf).tolist())
+        if len(a) >= 2:
+            s["runout_fit"] = power_fit(a, (run - L0) / L0)
+            s["height_fit"] = power_fit(a, H0 / hf)
+        summ[who] = s
+    if all("continuum" in c for c in cases):
+        summ["runout_rel_diff"] = [(c["continuum"]["runout"] - c["dem"]["runout"]) / c["dem"]["runout"] for c in cases]
+        summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in cases]
+    out["summary"] = summ
+    return summ
+
+
+def plot(out, path=HERE):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    summ = out["summary"]
+    a = np.array(summ["a"])
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    for who, st in (("dem", "ko"), ("continuum", "bs")):
+        if who in summ:
+            k, n, dn = summ[who]["runout_fit"] if "runout_fit" in summ[who] else (None, None, None)
+            a1.plot(a, summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
+                    ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
+            a2.plot(a, summ[who]["H0_over_hf"], st, label=who)
+    aa = np.linspace(a.min(), a.max(), 50)
+    if "dem" in summ and "runout_fit" in summ["dem"]:
+        k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9
+        a1.plot(aa, k0 * aa ** 0.9, "g--", lw=1, label="slope a^0.9 (B&K 2005 wide)")
+        k1 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.65
+        a1.plot(aa, k1 * aa ** 0.65, "m:", lw=1, label="slope a^0.65 (B&K 2005 narrow)")
+        k2 = summ["dem"]["H0_over_hf"][0] / a[0] ** 0.6
+        a2.plot(aa, k2 * aa ** 0.6, "g--", lw=1, label="slope a^0.6 (B&K wide)")
+        k3 = summ["dem"]["H0_over_hf"][0] / a[0] ** 0.5
+        a2.plot(aa, k3 * aa ** 0.5, "m:", lw=1, label="slope a^0.5 (B&K narrow)")
+    for ax, lab in ((a1, "(L_inf - L0) / L0"), (a2, "H0 / h_inf")):
+        ax.set_xscale("log"); ax.set_yscale("log"); ax.set_xlabel("a = H0 / L0"); ax.set_ylabel(lab)
+        ax.legend(fontsize=7)
+    fig.tight_layout(); fig.savefig(os.path.join(path, "runout.png"), dpi=70)
+    fig, axes = plt.subplots(len(cases), 2, figsize=(10, 2.3 * len(cases)), squeeze=False)
+    for (ax, bx), c in zip(axes, cases):
+        d = c["dem"]
+        ax.plot(d["x"], d["profile"], "k-", label="DEM")
+        bx.plot(d["t"], d["front"], "k-", label="DEM")
+        if "continuum" in c:
+            ax.plot(c["continuum"]["x"], c["continuum"]["profile"], "b--", label="continuum")
+            bx.plot(c["continuum"]["t"], c["continuum"]["front"], "b--", label="continuum")
+        ax.set_xlim(0, max(d["runout"], c.get("continuum", d)["runout"]) * 1.15)
+        ax.set_ylabel("h (a = %.2f)" % d["a"]); bx.set_ylabel("front")
+        ax.legend(fontsize=7)
+    axes[-1][0].set_xlabel("x (final deposit)"); axes[-1][1].set_xlabel("t")
+    fig.tight_layout(); fig.savefig(os.path.join(path, "profiles.png"), dpi=60)
+
+
+if __name__ == "__main__":
+    main()
