@@ -1,0 +1,112 @@
+/* ----------------------------------------------------------------------
+   GRIDDEM as a LAMMPS plugin: "plugin load griddemplugin.so" registers the package's pair, fix and
+   compute styles (and, when built with KOKKOS, their kk, kk/device and kk/host variants) with a
+   LAMMPS built with the PLUGIN and GRANULAR packages.
+
+   The styles registered are exactly those LAMMPS would compile in: griddem_plugin_styles.h, written
+   at configure time, includes every package header that declares a style, and each header's
+   PairStyle/FixStyle/ComputeStyle line is expanded here into one registration, as LAMMPS's
+   force.cpp and modify.cpp expand style_*.h.
+------------------------------------------------------------------------- */
+
+#include "error.h"
+#include "lammps.h"
+#include "lammpsplugin.h"
+#include "library.h"
+#include "version.h"
+
+#include "griddem_plugin_styles.h"
+
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+template <class T> Pair *make_pair(LAMMPS *lmp)
+{
+  return new T(lmp);
+}
+
+template <class T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
+
+template <class T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
+
+/* The plugin shares LAMMPS's classes, so it must come from the same LAMMPS version, integer sizes
+   and MPI library (or STUBS) as the host; a mismatch would corrupt memory, so it is refused. */
+void check_host(LAMMPS *lmp)
+{
+  if (strcmp(lmp->version, LAMMPS_VERSION) != 0)
+    lmp->error->all(FLERR, "GRIDDEM plugin was compiled for LAMMPS {}, not {}: rebuild it against "
+                    "this LAMMPS's source", LAMMPS_VERSION, lmp->version);
+  const int host_sizes[3] = {lammps_extract_setting(lmp, "tagint"),
+                             lammps_extract_setting(lmp, "bigint"),
+                             lammps_extract_setting(lmp, "imageint")};
+  if (host_sizes[0] != (int) sizeof(tagint) || host_sizes[1] != (int) sizeof(bigint) ||
+      host_sizes[2] != (int) sizeof(imageint))
+    lmp->error->all(FLERR, "GRIDDEM plugin was compiled with {}-byte tagint, {}-byte bigint and "
+                    "{}-byte imageint, this LAMMPS has {}, {} and {} (LAMMPS_SIZES): rebuild it "
+                    "with this LAMMPS's LAMMPS_SIZES", sizeof(tagint), sizeof(bigint),
+                    sizeof(imageint), host_sizes[0], host_sizes[1], host_sizes[2]);
+#ifdef MPI_STUBS
+  const int plugin_mpi = 0;
+#else
+  const int plugin_mpi = 1;
+#endif
+  if (lammps_config_has_mpi_support() != plugin_mpi)
+    lmp->error->all(FLERR, "GRIDDEM plugin was compiled {} MPI, this LAMMPS {}: rebuild it with "
+                    "BUILD_MPI as this LAMMPS", plugin_mpi ? "with" : "without",
+                    plugin_mpi ? "uses the MPI STUBS" : "uses MPI");
+}
+
+}    // namespace
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  check_host((LAMMPS *) lmp);
+  auto register_style = (lammpsplugin_regfunc) regfunc;
+  lammpsplugin_t plugin;
+  plugin.version = LAMMPS_VERSION;
+  plugin.author = "the GRIDDEM developers";
+  plugin.handle = handle;
+
+  plugin.style = "pair";
+#define PAIR_CLASS
+#define PairStyle(key, Class)                                               \
+  plugin.name = #key;                                                       \
+  plugin.info = "GRIDDEM pair style " #key;                                 \
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &make_pair<Class>;          \
+  (*register_style)(&plugin, lmp);
+#include "griddem_plugin_styles.h"
+#undef PairStyle
+#undef PAIR_CLASS
+
+  plugin.style = "fix";
+#define FIX_CLASS
+#define FixStyle(key, Class)                                                \
+  plugin.name = #key;                                                       \
+  plugin.info = "GRIDDEM fix style " #key;                                  \
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &make_fix<Class>;           \
+  (*register_style)(&plugin, lmp);
+#include "griddem_plugin_styles.h"
+#undef FixStyle
+#undef FIX_CLASS
+
+  plugin.style = "compute";
+#define COMPUTE_CLASS
+#define ComputeStyle(key, Class)                                            \
+  plugin.name = #key;                                                       \
+  plugin.info = "GRIDDEM compute style " #key;                              \
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &make_compute<Class>;       \
+  (*register_style)(&plugin, lmp);
+#include "griddem_plugin_styles.h"
+#undef ComputeStyle
+#undef COMPUTE_CLASS
+}
