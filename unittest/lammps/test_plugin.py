@@ -1,7 +1,8 @@
 """griddemplugin.so in a LAMMPS built without GRIDDEM (GRIDDEM_LMP, with GRIDDEM_PLUGIN): that LAMMPS
 knows no griddem style by itself; "plugin load" registers every style the package's headers declare
 (PairStyle/FixStyle/ComputeStyle lines, the list LAMMPS compiles in; kk ones when the host has
-KOKKOS), each once, and a second load adds nothing. The styles' numbers through the plugin are
+KOKKOS), each once, and a second load adds nothing; a plugin compiled for other integer sizes
+(GRIDDEM_PLUGIN_OTHER_SIZES, the registration alone) is refused with an error. The styles' numbers through the plugin are
 checked by the suite's own tests run with GRIDDEM_PLUGIN set (lammps.plugin.*)."""
 import glob
 import os
@@ -61,6 +62,14 @@ def main():
     t.check(set(listed) == expected, "registered %s, declared %s" % (sorted(set(listed)), sorted(expected)))
     t.check(len(re.findall(r"^Ignoring load of", out, re.M)) == len(expected),
             "the second load is ignored for each of the %d styles" % len(expected))
+
+    other = os.environ.get("GRIDDEM_PLUGIN_OTHER_SIZES")
+    t.check(bool(other), "GRIDDEM_PLUGIN_OTHER_SIZES names the plugin built for other LAMMPS_SIZES")
+    if other:
+        rc, out = t.run_lmp("plugin load %s\nplugin list\n" % other, wd, name="in.sizes")
+        t.check(rc != 0 and any("GRIDDEM plugin was compiled with 8-byte tagint" in line or
+                                "GRIDDEM plugin was compiled with 4-byte tagint" in line for line in t.errors(out)),
+                "a plugin for other integer sizes is refused:\n" + out[-1500:])
     t.finish()
 
 

@@ -9,16 +9,20 @@
    force.cpp and modify.cpp expand style_*.h.
 ------------------------------------------------------------------------- */
 
+#include "compute.h"
 #include "error.h"
+#include "fix.h"
 #include "lammps.h"
 #include "lammpsplugin.h"
 #include "library.h"
+#include "pair.h"
 #include "version.h"
 
 #include "griddem_plugin_styles.h"
 
 #include <cstring>
 #include <mpi.h>
+#include <string>
 
 using namespace LAMMPS_NS;
 
@@ -40,7 +44,8 @@ template <class T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
 }
 
 /* The plugin shares LAMMPS's classes, so it must come from the same LAMMPS version, integer sizes
-   and MPI library (or STUBS) as the host; a mismatch would corrupt memory, so it is refused. */
+   and MPI library (or STUBS) as the host; a mismatch would corrupt memory, so it is refused (MPI
+   libraries are told apart as far as the size of their MPI_Comm allows). */
 void check_host(LAMMPS *lmp)
 {
   if (strcmp(lmp->version, LAMMPS_VERSION) != 0)
@@ -56,14 +61,20 @@ void check_host(LAMMPS *lmp)
                     "with this LAMMPS's LAMMPS_SIZES", sizeof(tagint), sizeof(bigint),
                     sizeof(imageint), host_sizes[0], host_sizes[1], host_sizes[2]);
 #ifdef MPI_STUBS
-  const int plugin_mpi = 0;
+  const int plugin_comm = 0;
 #else
-  const int plugin_mpi = 1;
+  const int plugin_comm = (int) sizeof(MPI_Comm);
 #endif
-  if (lammps_config_has_mpi_support() != plugin_mpi)
-    lmp->error->all(FLERR, "GRIDDEM plugin was compiled {} MPI, this LAMMPS {}: rebuild it with "
-                    "BUILD_MPI as this LAMMPS", plugin_mpi ? "with" : "without",
-                    plugin_mpi ? "uses the MPI STUBS" : "uses MPI");
+  // the host's answer is 0 for the STUBS, else its sizeof(MPI_Comm) (4 for MPICH, 8 for Open MPI)
+  const int host_comm = lammps_config_has_mpi_support();
+  if (host_comm != plugin_comm) {
+    auto mpi = [](int comm) {
+      return comm ? "with an MPI whose MPI_Comm has " + std::to_string(comm) + " bytes"
+                  : std::string("with the MPI STUBS");
+    };
+    lmp->error->all(FLERR, "GRIDDEM plugin was compiled {}, this LAMMPS {}: rebuild it with this "
+                    "LAMMPS's BUILD_MPI and MPI library", mpi(plugin_comm), mpi(host_comm));
+  }
 }
 
 }    // namespace
