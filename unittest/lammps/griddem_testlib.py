@@ -9,6 +9,9 @@ import sys
 import tempfile
 
 LMP = os.path.abspath(os.environ.get("GRIDDEM_LMP", "lmp")) if os.sep in os.environ.get("GRIDDEM_LMP", "lmp") else os.environ.get("GRIDDEM_LMP", "lmp")
+# with GRIDDEM_PLUGIN set (a griddemplugin.so), every input starts by loading it: the tests then
+# run GRIDDEM's styles through a LAMMPS built without them
+PLUGIN = os.path.abspath(os.environ["GRIDDEM_PLUGIN"]) if os.environ.get("GRIDDEM_PLUGIN") else None
 _failures = []
 _passed = 0
 
@@ -63,6 +66,8 @@ def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None, timeout
     Raises subprocess.TimeoutExpired after timeout seconds."""
     path = os.path.join(cwd, name)
     with open(path, "w") as f:
+        if PLUGIN:
+            f.write("plugin load %s\n" % PLUGIN)
         f.write(text)
     cmd = [LMP, "-in", name, "-log", "none", "-echo", "screen"] + list(extra)
     if nprocs > 1:
