@@ -42,6 +42,24 @@ def submodel_table():
             [tuple(r[1:]) for r in rows if r[0] == "stock_only"])
 
 
+def require_modules(modules, message, skip):
+    """Return if this Python imports every module; else run this script again, once, under
+    Debian's /usr/bin/python3 (CMake may have found another Python, pyenv's, without Debian's
+    packages); else print message and exit 77 (reported as skipped) if skip, 1 if not."""
+    import importlib
+    try:
+        for name in modules:
+            importlib.import_module(name)
+        return
+    except ImportError:
+        pass
+    if os.path.exists("/usr/bin/python3") and os.environ.get("GRIDDEM_REEXEC") != "1":
+        os.environ["GRIDDEM_REEXEC"] = "1"
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    print(message, file=sys.stderr)
+    sys.exit(77 if skip else 1)
+
+
 def check(cond, message):
     """Record one assertion; report it if it fails."""
     global _passed

@@ -10,19 +10,15 @@ import os
 import subprocess
 import sys
 
-try:
-    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
-    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPolyDataReader, vtkXMLRectilinearGridReader
-except ImportError:
-    if os.path.exists("/usr/bin/python3") and os.environ.get("GRIDDEM_REEXEC") != "1":
-        os.environ["GRIDDEM_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
-    raise SystemExit("test_grid_output: needs VTK's Python module (Debian python3-vtk9: tools/install-deps)")
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 DUMP2VTK = os.path.join(HERE, "..", "..", "tools", "dump2vtk")
 sys.path.insert(0, HERE)
 import griddem_testlib as t
+
+t.require_modules(("vtkmodules.vtkIOXML",),
+                  "test_grid_output: needs VTK's Python module (Debian python3-vtk9: tools/install-deps)", skip=False)
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPolyDataReader, vtkXMLRectilinearGridReader
 
 # the reader ParaView picks for each extension of VTK's XML formats
 READER = {".vtr": vtkXMLRectilinearGridReader, ".vtp": vtkXMLPolyDataReader}

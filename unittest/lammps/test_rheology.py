@@ -39,18 +39,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLE = os.path.join(HERE, "..", "..", "examples", "rheology")
 sys.path.insert(0, HERE)
 
-try:
-    import numpy  # noqa: F401
-    import scipy  # noqa: F401
-except ImportError:
-    if os.path.exists("/usr/bin/python3") and os.environ.get("GRIDDEM_REEXEC") != "1":
-        os.environ["GRIDDEM_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
-    print("test_rheology: needs NumPy and SciPy (Debian: /usr/bin/python3)", file=sys.stderr)
-    sys.exit(77)
+import griddem_testlib as t
+
+t.require_modules(("numpy", "scipy"), "test_rheology: needs NumPy and SciPy (Debian: /usr/bin/python3)", skip=True)
 
 import numpy as np
-import griddem_testlib as t
 
 sys.path.insert(0, EXAMPLE)
 import learn_mu as L
