@@ -232,14 +232,10 @@ double FixGriddem::compute_vector(int n)
     error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} has run none with it yet",
                id, pair_style);
   }
-  if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0) {
-    auto source = dynamic_cast<GriddemOccupancySource *>(force->pair);
-    if (!source)
-      error->all(FLERR, "Fix {}: values 1 and 2 (occupied cells) of the last step's grid are "
-                 "counted by the Kokkos pair style that ran it, and pair style {} is not that "
-                 "style; run a step first", id, force->pair_style ? force->pair_style : "none");
-    source->count_occupancy(engine.stats);
-  }
+  // counted when asked: only the Kokkos styles leave it so, and their pair ran this step (the
+  // values are current), so force->pair is the GriddemOccupancySource that can count it
+  if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0)
+    dynamic_cast<GriddemOccupancySource &>(*force->pair).count_occupancy(engine.stats);
   const griddem_engine_stats &s = engine.stats;
   double value = 0.0, mine = 0.0;
   MPI_Op op = MPI_MAX;

@@ -594,8 +594,7 @@ def check_growth(wd, data):
 
 
 def peak_rss_mib(wd, text, name, extra):
-    """Peak resident memory (MiB) of one lmp run of text, and its output."""
-    import resource
+    """Peak resident memory (MiB) of one lmp run of text, its exit code and its output."""
     with open(os.path.join(wd, "in." + name), "w") as f:
         f.write(text)
     with open(os.path.join(wd, "out." + name), "w+") as out:

@@ -438,8 +438,9 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     if (i >= this->nlocal) return;
     const double radi = this->radius_of(s), mi = state(s, 6);
     const int itype = this->tm(s, 0), imask = this->tm(s, 1);
-    double corner[3];
-    this->grids.cell_corner(this->slot_cell(s), corner);
+    double corner[3] = {0.0, 0.0, 0.0};    // separation() reads it in single precision only
+    if constexpr (!GriddemKKSorted<DeviceType, Real>::atom_positions)
+      this->grids.cell_corner(this->slot_cell(s), corner);
     double fsum[3] = {0.0, 0.0, 0.0}, tsum[3] = {0.0, 0.0, 0.0};
     double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, energy = 0.0;
     const int head = this->first(s), n = this->count(s);
