@@ -150,21 +150,9 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   for (long c = g->ncell; c > 0; c--) start[c] = start[c - 1];
   start[0] = 0;
 
-  /* insertion sort by key within each cell: cells hold few centres */
-  if (key && most > 1) {
-    for (long c = 0; c < g->ncell; c++) {
-      for (int s = start[c] + 1; s < start[c + 1]; s++) {
-        const int moving = b->order[s];
-        const int64_t k = griddem_key_at(key, key_bytes, moving);
-        int t = s;
-        while (t > start[c] && griddem_key_at(key, key_bytes, b->order[t - 1]) > k) {
-          b->order[t] = b->order[t - 1];
-          t--;
-        }
-        b->order[t] = moving;
-      }
-    }
-  }
+  if (key && most > 1)
+    for (long c = 0; c < g->ncell; c++)
+      griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
   return 0;
 }
 

@@ -14,9 +14,69 @@ extern "C" {
 #endif
 
 /* Element i of an array of 32- or 64-bit integers (key_bytes 4 or 8), such as LAMMPS's tags. */
-static inline int64_t griddem_key_at(const void *key, int key_bytes, int i)
+GRIDDEM_INLINE int64_t griddem_key_at(const void *key, int key_bytes, int i)
 {
   return key_bytes == 8 ? ((const int64_t *) key)[i] : (int64_t) ((const int *) key)[i];
+}
+
+/* Whether point a comes before point b in a cell: by key (tags), then by position (x, y, z:
+ * periodic images of one particle share its tag), so the order within a cell does not depend on
+ * how the host stores its particles. x: 3 interleaved coordinates per point. */
+GRIDDEM_INLINE int griddem_slot_before(int a, int b, const void *key, int key_bytes,
+                                       const double *x)
+{
+  const int64_t ka = griddem_key_at(key, key_bytes, a), kb = griddem_key_at(key, key_bytes, b);
+  if (ka != kb) return ka < kb;
+  for (int d = 0; d < 3; d++)
+    if (x[3 * a + d] != x[3 * b + d]) return x[3 * a + d] < x[3 * b + d];
+  return 0;
+}
+
+/* Cells up to this many centres are sorted by insertion, larger ones by heapsort. */
+#define GRIDDEM_CELL_SORT_SMALL 16
+
+/* Sorts the n points of one cell (their indices in slot[]) by griddem_slot_before. Insertion for
+ * the few centres a cell holds; heapsort above GRIDDEM_CELL_SORT_SMALL, so that a crowded cell (a
+ * coarsened grid, a cell of a given edge) costs O(n log n), not O(n^2). No memory beyond slot[],
+ * no recursion: it runs as one GPU thread per cell. */
+GRIDDEM_INLINE void griddem_sort_cell(int *slot, int n, const void *key, int key_bytes,
+                                      const double *x)
+{
+  if (n <= GRIDDEM_CELL_SORT_SMALL) {
+    for (int s = 1; s < n; s++) {
+      const int moving = slot[s];
+      int t = s;
+      while (t > 0 && griddem_slot_before(moving, slot[t - 1], key, key_bytes, x)) {
+        slot[t] = slot[t - 1];
+        t--;
+      }
+      slot[t] = moving;
+    }
+    return;
+  }
+  /* heapsort: a max-heap in slot[0, end), its root swapped to the end until the heap is empty */
+  for (int end = n, build = n / 2; end > 1;) {
+    int root;
+    if (build > 0) {
+      root = --build;
+    } else {
+      const int top = slot[0];
+      slot[0] = slot[--end];
+      slot[end] = top;
+      root = 0;
+    }
+    for (;;) {
+      int child = 2 * root + 1;
+      if (child >= end) break;
+      if (child + 1 < end && griddem_slot_before(slot[child], slot[child + 1], key, key_bytes, x))
+        child++;
+      if (!griddem_slot_before(slot[root], slot[child], key, key_bytes, x)) break;
+      const int held = slot[root];
+      slot[root] = slot[child];
+      slot[child] = held;
+      root = child;
+    }
+  }
 }
 
 /* How the cell edge is chosen. */
@@ -88,8 +148,7 @@ typedef struct griddem_bins {
 } griddem_bins;
 
 /* Counting sort of n interleaved points into g's cells; within a cell, slots are ordered by key
- * (particle tags: the order then does not depend on how the host stores its particles).
- * key is 32- or 64-bit per key_bytes, or NULL to keep input order.
+ * and position (griddem_sort_cell). key is 32- or 64-bit per key_bytes, or NULL to keep input order.
  * Returns 0, or -1 when memory cannot be had. */
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes);

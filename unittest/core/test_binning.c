@@ -1,13 +1,50 @@
 /* Binning: the counting sort is a permutation, cells are in order, slots within a cell are in
- * key order, occupancy statistics match a direct count, and dilute boxes are coarsened; output
+ * key order (a cell's sort agrees with libc's qsort, for cells of every size and tied tags), occupancy statistics match a direct count, and dilute boxes are coarsened; output
  * grids over a box put points in the cell that holds them. */
 #include "check.h"
 #include "griddem_grid.h"
 
 #include <stdlib.h>
 
+/* qsort's comparison of (tag, x, y, z): the reference order for griddem_sort_cell */
+static const int *ref_tag;
+static const double *ref_x;
+static int by_tag_then_position(const void *pa, const void *pb)
+{
+  const int a = *(const int *) pa, b = *(const int *) pb;
+  if (ref_tag[a] != ref_tag[b]) return ref_tag[a] < ref_tag[b] ? -1 : 1;
+  for (int d = 0; d < 3; d++)
+    if (ref_x[3 * a + d] != ref_x[3 * b + d]) return ref_x[3 * a + d] < ref_x[3 * b + d] ? -1 : 1;
+  return 0;
+}
+
+/* cells of 0..400 points, tags drawn from a few values (ties: periodic images share a tag) */
+static void check_cell_sort(void)
+{
+  enum { M = 400 };
+  static double x[3 * M];
+  static int tag[M], slot[M], expect[M];
+  ref_tag = tag, ref_x = x;
+  int agree = 1, sizes = 0;
+  for (int n = 0; n <= M; n += n < 40 ? 1 : 61) {
+    for (int i = 0; i < n; i++) {
+      tag[i] = (int) (check_uniform() * (n / 3 + 1));
+      for (int d = 0; d < 3; d++) x[3 * i + d] = (double) (int) (4.0 * check_uniform());
+      slot[i] = expect[i] = n - 1 - i;
+    }
+    griddem_sort_cell(slot, n, tag, 4, x);
+    qsort(expect, (size_t) n, sizeof(int), by_tag_then_position);
+    for (int s = 0; s < n; s++)
+      if (by_tag_then_position(&slot[s], &expect[s]) != 0) agree = 0;
+    sizes++;
+  }
+  CHECK(agree, "cell sort of %d cell sizes equals qsort by (tag, position)", sizes);
+}
+
 int main(void)
 {
+  check_cell_sort();
+
   enum { N = 2000 };
   static double x[3 * N];
   static int tag[N];
