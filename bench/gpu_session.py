@@ -8,7 +8,9 @@ so that a session cut short still keeps what it reached:
 
   start    the lmp starts and initialises Kokkos on the device (ldd: no library missing)
   kktests  test_kokkos.py's GPU sections (KK_SECTIONS: list and row layouts, size classes,
-           history rows that grow, migrate and go through restart), GRIDDEM_KK_GPUS=1
+           history rows that grow, migrate and go through restart, the blocking synchronisations
+           of a step, counted by unittest/kokkos_tools/sync_counter.c, built here with cc),
+           GRIDDEM_KK_GPUS=1
   chute    bench/gpu.py: stock and griddem kk on LAMMPS's chute at 2M, 8M and 32M atoms
   bound    bench/gpu.py --launch-blocking: one stock run at 2M, for the bound on any pair style
   poly     bench/gpu.py --scene poly: the 1:10 polydisperse squeeze at 2M, stock kk and griddem
@@ -42,7 +44,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 GPU_PY = os.path.join(HERE, "gpu.py")
-KK_SECTIONS = "laws,classes,growth,migration,add_delete,restart"
+KK_SECTIONS = "laws,classes,growth,migration,add_delete,restart,synchronisation"
 STOCK, HISTORY = "gran/hooke/history/kk", "griddem/hooke/history/kk"
 # (step, cap in seconds, GPU sizes, CPU dry-run sizes)
 STEPS = [
@@ -182,7 +184,10 @@ def main():
             kk = ["-k", "on"] + (["t", str(args.cpu)] if args.cpu else ["g", "1"])
             cmd = [lmp] + kk + ["-sf", "kk", "-in", "/dev/null", "-log", "none"]
         elif name == "kktests":
-            env = {"GRIDDEM_LMP": lmp}
+            counter = os.path.join(scratch, "griddem_sync_counter.so")
+            subprocess.run(["cc", "-O2", "-shared", "-fPIC", "-o", counter,
+                            os.path.join(TOP, "unittest", "kokkos_tools", "sync_counter.c")])
+            env = {"GRIDDEM_LMP": lmp, "GRIDDEM_SYNC_COUNTER": counter}
             env.update({"OMP_NUM_THREADS": str(args.cpu)} if args.cpu else {"GRIDDEM_KK_GPUS": "1"})
             cmd = [sys.executable, os.path.join(TOP, "unittest", "lammps", "test_kokkos.py"), "--only", KK_SECTIONS]
             line["sections"] = KK_SECTIONS

@@ -1,6 +1,6 @@
 /* The core headers compiled as CUDA device code: every sub-model is reachable from a kernel
  * through griddem_contact_eval, and the engine pieces the Kokkos kernels call (cell of a point,
- * class of a radius, exclusions) are too, so the headers the CPU engine uses are the ones a GPU
+ * class of a radius, exclusions, the order of a cell's slots) are too, so the headers the CPU engine uses are the ones a GPU
  * kernel can use (a host-only construct in any of them fails this compile). */
 #include "griddem_engine.h"
 
@@ -12,8 +12,9 @@ __global__ void griddem_device_law(const griddem_pair_params *p, griddem_contact
 }
 
 __global__ void griddem_device_engine(const griddem_exclusions *e, const double *upper, int ncls,
-                                      const double *x, int *out)
+                                      const double *x, const long long *tag, int *slot, int *out)
 {
+  griddem_sort_cell(slot, out[3], tag, sizeof(*tag), x);
   out[0] = griddem_axis_cell(x[0], 0.0, 2.0, -3, 10);
   out[1] = griddem_class_of(x[1], upper, ncls);
   out[2] = griddem_excluded(e, 1, 3, 2, 5);

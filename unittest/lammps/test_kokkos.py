@@ -5,10 +5,12 @@ torques at step 0, positions and velocities after 20 steps, and the virial (ther
 pair part of compute pressure) agree to 1e-10 relative on a dense random polydisperse (1:3)
 configuration of two atom types with random linear and angular velocities, run with
 `-k on t N -sf kk -pk kokkos newton off neigh half` on 1 and 2 Kokkos (OpenMP) threads and on
-1 and 2 MPI ranks. Contact lists get room for two candidates more than an atom had, so the first
-step of these dense runs searches again for the atoms with more (the repair pass) without changing
-a number, also with fix griddem contacts 1 (the CPU fix's rows then grow); a restart written by a
-kk run continues bit for bit under kk and the CPU style, and a CPU restart under kk.
+1 and 2 MPI ranks. Contact lists get room for two candidates more than an atom had, so in the
+first steps of these dense runs atoms with more are listed again at the end of the list, and
+lists and history rows that outgrow the room the last step needed make the step run again, without
+changing a number, also with fix griddem contacts 1 (the CPU fix's rows then grow); a restart
+written by a kk run continues bit for bit under kk and the CPU style, and a CPU restart under kk;
+a step waits for the device once between reneighborings (section synchronisation).
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
@@ -655,6 +657,53 @@ def check_migration(wd, data):
         t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
 
 
+SYNC_COUNTER = os.environ.get("GRIDDEM_SYNC_COUNTER") or os.path.join(
+    os.path.dirname(os.path.abspath(t.LMP)), "unittest", "kokkos_tools", "griddem_sync_counter.so")
+
+
+def check_synchronisation(wd, data):
+    """One blocking synchronisation a step between reneighborings, two at a reneighboring, more
+    only where a View grew: the Kokkos Tools library unittest/kokkos_tools/sync_counter.c
+    counts, in each compute(), the runs of fences with no kernel launched between them, and the
+    allocations. The dense scene, 200 steps of griddem/hooke/history/kk: without reneighboring
+    after the setup, every compute that allocates nothing makes one; reneighboring whenever an
+    atom moved half the skin, such computes make at most two, and at most as many make two as
+    LAMMPS built neighbor lists."""
+    if not os.path.exists(SYNC_COUNTER):
+        t.check(False, "the Kokkos Tools sync counter is at %s (GRIDDEM_SYNC_COUNTER)" % SYNC_COUNTER)
+        return
+    for label, neigh in (("never", "neigh_modify every 1000 delay 0 check no"),
+                         ("often", "neighbor 0.02 bin\nneigh_modify every 1 delay 0 check yes")):
+        log = os.path.join(wd, "syncs." + label)
+        text = t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) + (
+            "fix grid all griddem\n%s\ntimestep 1e-5\nfix integrate all nve/sphere\n"
+            "thermo 50\nrun 200\n" % neigh)
+        os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
+        try:
+            rc, out = t.run_lmp(text, wd, name="in.syncs_" + label, extra=kk_args(THREADS[-1]),
+                                threads=THREADS[-1])
+        finally:
+            for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
+                del os.environ[key]
+        t.check(rc == 0 and os.path.exists(log), "%s: runs with the sync counter (exit %d): %s"
+                % (label, rc, t.errors(out)[:1]))
+        if rc != 0 or not os.path.exists(log):
+            continue
+        steps = [tuple(int(v) for v in line.split()) for line in open(log)][1:]    # after the setup
+        builds = int(re.search(r"Neighbor list builds = (\d+)", out).group(1))
+        steady = [syncs for syncs, allocated in steps if not allocated]
+        print("%s: %d computes after the setup, %d allocating; of the others %d with one blocking "
+              "synchronisation, %d with two, %d with more; %d neighbor list builds"
+              % (label, len(steps), len(steps) - len(steady), steady.count(1), steady.count(2),
+                 sum(1 for n in steady if n > 2), builds))
+        t.check(len(steps) == 200 and min(n for n, _ in steps) >= 1,
+                "%s: every step's compute counted, each reads its results" % label)
+        t.check(len(steady) >= 190, "%s: %d of 200 computes allocate nothing" % (label, len(steady)))
+        most = 1 if builds == 0 else 2
+        t.check(max(steady) <= most and steady.count(2) <= builds,
+                "%s: one blocking synchronisation a step, two at the %d reneighborings (%d with "
+                "two, most %d)" % (label, builds, steady.count(2), max(steady)))
+
 # The suite's sections in the order they run; `test_kokkos.py --only a,b` runs those alone (the
 # GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
 # that grow, migrate and go through restart)
@@ -662,7 +711,7 @@ SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
     check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
-    check_add_delete, check_restart)}
+    check_add_delete, check_restart, check_synchronisation)}
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ using namespace LAMMPS_NS;
 
 template <class DeviceType>
 FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixGriddem(lmp, narg, arg), cur(0), used(0), laid_out(0), nv(0), longest(0)
+    FixGriddem(lmp, narg, arg), cur(0), used(0), nv(0), longest(0)
 {
   kokkosable = 1;
   exchange_comm_device = sort_device = 1;
@@ -135,7 +135,7 @@ typename FixGriddemKokkos<DeviceType>::Rows FixGriddemKokkos<DeviceType>::rows_o
   return rows;
 }
 
-/* room in the other pool for the rows the sweep writes: the entries of the step's contact lists */
+/* room in the other pool for the rows the sweep writes */
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_out(long entries)
 {
@@ -144,13 +144,19 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::reserve_out(long 
   // written on DeviceType from here on, whatever either side held before
   each_array(out, [](auto &k) { k.clear_sync_state(); });
   modify_here(out);
-  laid_out = entries;
 }
 
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::commit(int longest_row)
+template <class DeviceType> long FixGriddemKokkos<DeviceType>::out_room() const
+{
+  const int out = 1 - cur;
+  const long room = (long) k_partner[out].extent(0);
+  return nv ? MIN(room, (long) k_value[out].extent(0) / nv) : room;
+}
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::commit(long entries, int longest_row)
 {
   cur = 1 - cur;
-  used = laid_out;
+  used = entries;
   longest = longest_row;
   update_maxexchange();
 }

@@ -72,8 +72,8 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   const double *find_history(int i, double partner) const override;
 
   // For the pair's sweep, on its device: the rows of the last step (read), and the rows the
-  // sweep writes (first_out, count_out), in room for `entries` that `reserve_out` makes;
-  // `commit` makes the written rows current.
+  // sweep writes (first_out, count_out), in room for at least `entries` that `reserve_out`
+  // makes (out_room: how many); `commit` makes the written rows, `entries` in all, current.
   struct Rows {
     t_partners partner, partner_out;
     t_values value, value_out;
@@ -81,7 +81,8 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   };
   Rows rows_on_device();
   void reserve_out(long entries);
-  void commit(int longest_row);
+  long out_room() const;
+  void commit(long entries, int longest_row);
   int values_per_contact() const { return nv; }
 
  private:
@@ -91,7 +92,6 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   tdual_index k_count[2];         // [nmax] entries in it
   int cur;          // the pool and row heads of the current rows
   long used;        // entries of pool cur in use (rows, and holes left by atoms that left)
-  long laid_out;    // entries of the other pool reserve_out made room for
   int nv;           // history values per contact
   int longest;      // most entries of one row
   mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy

@@ -4,8 +4,8 @@
    PairGriddemGranular), which parses the arguments, mixes and checks the coefficients and fills
    `model`/`params`; this class only replaces compute() with device kernels:
 
-   1. scan: bounding box of owned + ghost centres, non-finite positions and velocities, fastest
-      owned atom, radius range (one parallel_reduce);
+   1. scan: bounding box of owned + ghost centres (and of each size class's), non-finite
+      positions and velocities, fastest owned atom, radius range (one parallel_reduce);
    2. binning: a counting sort of the centres into the grids of fix griddem's cell mode (a grid
       per size class, or one grid of `multi`'s, `exact`'s or a given edge), anchored at
       domain->boxlo; within a cell the slots are ordered by tag (then position, for periodic
@@ -21,6 +21,15 @@
       own force and torque: no atomics, no colouring, no reverse communication. The global virial
       (half of del*f per owned side) and fix griddem's statistics come back from its
       parallel_reduce; the occupancy of the cells is counted only when fix griddem is asked.
+
+   One blocking synchronisation a step: the kernels leave what the host needs in one report
+   (GriddemKKStepReport), copied back once after the sweep. Between reneighborings the grids are
+   planned from the last step's boxes, widened by what an atom can move in a step, and the scan
+   runs alongside the other kernels (its errors are raised from the report); a reneighboring step
+   reads its scan before binning, as every process must agree on the radius range there. What
+   the plan could not know is found on the device and makes the sweep do nothing, and the step
+   is computed again: an atom binned more than a cell outside the grid (planned anew from a
+   scan), a list or the history rows outgrowing the room laid out (grown to what they needed).
 
    Laws with contact history keep it in fix griddem/kk (a row per atom, written anew each step by
    the atom's own thread with room for its list: GriddemKKSweep). Views grow, never shrink, and are
@@ -134,11 +143,17 @@ struct GriddemKKGrids {
   int offset[GRIDDEM_MAX_CLASSES + 1];      // first cell of each class; offset[ncls]: all cells
   double upper[GRIDDEM_MAX_CLASSES + 1];    // upper[ncls] = 0
   KOKKOS_INLINE_FUNCTION int class_of(double r) const { return griddem_class_of(r, upper, ncls); }
-  // the lower corner of cell c (numbered over all classes)
-  KOKKOS_INLINE_FUNCTION void cell_corner(int c, double corner[3]) const
+  // the class whose grid holds cell c (numbered over all classes)
+  KOKKOS_INLINE_FUNCTION int class_of_cell(int c) const
   {
     int k = 0;
     while (offset[k + 1] <= c) k++;
+    return k;
+  }
+  // the lower corner of cell c
+  KOKKOS_INLINE_FUNCTION void cell_corner(int c, double corner[3]) const
+  {
+    const int k = class_of_cell(c);
     const GriddemKKGrid &gk = g[k];
     const int local = c - offset[k];
     corner[0] = gk.corner(0, local % gk.n[0]);
@@ -194,6 +209,54 @@ template <class DeviceType> struct GriddemKKClassScan {
   }
 };
 
+/* what the search finds besides the lists: coincident centres (local indices); INT_MAX: none */
+struct GriddemKKFindValue {
+  int fault_i, fault_j;
+};
+
+/* what the law's kernel sums: global virial and fix griddem's statistics */
+struct GriddemKKSweepValue {
+  double v[6];
+  double energy;     // elastic energy in the springs (a pair counts half on each side)
+  long contacts;     // contacts of owned atoms (an owned pair counts twice)
+  int most;          // most contacts of one owned atom
+};
+
+/* why a step is computed again (GriddemKKStepReport::retry) */
+enum {
+  GRIDDEM_KK_RETRY_GRID = 1,     // an atom binned more than a cell outside the planned grid
+  GRIDDEM_KK_RETRY_LISTS = 2,    // the contact lists outgrew their room
+  GRIDDEM_KK_RETRY_ROWS = 4      // the history rows outgrew the other pool
+};
+
+/* What one step's kernels leave for the host, read in one copy after the sweep. */
+struct GriddemKKStepReport {
+  GriddemKKScanValue scan;
+  double class_boxes[7 * GRIDDEM_MAX_CLASSES];    // GriddemKKClassScan's (per_class = 7)
+  GriddemKKFindValue found;
+  GriddemKKSweepValue sums;
+  long listed;    // list entries taken: the layout's, then those of lists that outgrew it
+  long rows;      // history entries of the step's rows
+  int retry;      // GRIDDEM_KK_RETRY_* bits: the sweep did nothing
+};
+
+/* the boxes of a report's scan: the whole box for one class, else the class scan's */
+inline GriddemKKClassBoxes griddem_kk_boxes(const GriddemKKStepReport &report, int ncls, int nall)
+{
+  GriddemKKClassBoxes boxes;
+  if (ncls == 1) {
+    boxes.count[0] = nall;
+    for (int d = 0; d < 3; d++) boxes.lo[0][d] = report.scan.lo[d], boxes.hi[0][d] = report.scan.hi[d];
+    return boxes;
+  }
+  for (int c = 0; c < ncls; c++) {
+    const double *box = report.class_boxes + 7 * c;
+    boxes.count[c] = (int) box[0];
+    for (int d = 0; d < 3; d++) boxes.lo[c][d] = box[1 + d], boxes.hi[c][d] = box[4 + d];
+  }
+  return boxes;
+}
+
 /* The sorted particles' positions for the search: float, relative to their cell's lower corner
    (~1e-7 of a cell, not of the box), and radius. Rows (LayoutRight) on every device: the search
    gathers a candidate's four values together, 16 bytes (half a 32-byte sector on a GPU, where the
@@ -215,9 +278,10 @@ template <class DeviceType, typename Real> struct GriddemKKChannels {
    flight to hide the gathers, which a kernel that also holds the law cannot have (one kernel:
    180 registers on sm_90, ~11 warps an SM; the search alone: 64), while the law runs once per
    contact, the threads of a warp together. The lists are laid out before the search from each
-   atom's last count plus a margin; an atom with more candidates than its room is searched again
-   alone into room appended to the list (a repair of the search, not of the law). Evaluation order: cells z, y, x, slots
-   ascending, as one pass over the stencil. What both kernels read: */
+   atom's last count plus a margin; an atom with more candidates than its room takes room at the
+   end of the list and is searched again there (a repair of the search, not of the law).
+   Evaluation order: cells z, y, x, slots ascending, as one pass over the stencil. What both
+   kernels read: */
 template <class DeviceType, typename Real> struct GriddemKKSorted {
   // double: the law's positions and radii are LAMMPS's own (x_i - x_j as the CPU engine takes
   // them); float: the channels' (positions in their cells, plus the cells' corners)
@@ -232,8 +296,10 @@ template <class DeviceType, typename Real> struct GriddemKKSorted {
   typename ArrayTypes<DeviceType>::t_float_1d_randomread radius;      // by atom index
   Kokkos::View<const int *[2], Kokkos::LayoutRight, DeviceType> tm;     // type, mask
   Kokkos::View<int *, DeviceType> list;     // candidate slots, each slot's from first(s)
-  Kokkos::View<int *, DeviceType> first;    // [nall + 1] laid out; a repaired slot's moves
-  Kokkos::View<int *, DeviceType> count;    // candidates listed; -needed: the room was short
+  Kokkos::View<int *, DeviceType> first;    // [nall] laid out; a repaired slot's moves
+  Kokkos::View<int *, DeviceType> count;    // room laid out, then candidates listed (-needed:
+                                            // the list had no room left; the step is retried)
+  Kokkos::View<GriddemKKStepReport, DeviceType> report;
 
   // slot s's radius, in the law's precision
   KOKKOS_INLINE_FUNCTION double radius_of(int s) const
@@ -260,14 +326,6 @@ template <class DeviceType, typename Real> struct GriddemKKSorted {
   }
 };
 
-/* what the search finds besides the lists */
-struct GriddemKKFindValue {
-  long listed;             // candidates of all owned atoms (the new history rows' room)
-  int incomplete;          // owned atoms with more candidates than room
-  long needed;             // the candidates of those atoms
-  int fault_i, fault_j;    // coincident centres (local indices); fault_i == INT_MAX: none
-};
-
 template <class DeviceType, typename Real>
 struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   typedef DeviceType device_type;
@@ -276,23 +334,13 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   double slack;          // added to every search distance: round-off of the positions
   double near_margin;    // added to the float test's distance: the rounding of `near` (0 where
                          // `near` is the law's own position)
-  int repair;            // 1: list again the atoms whose room was short, into room from `top`
+  long capacity;         // entries of `list`
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
   griddem_exclusions excl;    // the CPU style's, its tables on the device
-  Kokkos::View<long, DeviceType> top;    // repair: the next free list entry
 
-  KOKKOS_INLINE_FUNCTION void init(value_type &s) const
-  {
-    s.listed = 0;
-    s.incomplete = 0;
-    s.needed = 0;
-    s.fault_i = s.fault_j = INT_MAX;
-  }
+  KOKKOS_INLINE_FUNCTION void init(value_type &s) const { s.fault_i = s.fault_j = INT_MAX; }
   KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
   {
-    s.listed += o.listed;
-    s.incomplete += o.incomplete;
-    s.needed += o.needed;
     if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
   }
 
@@ -300,16 +348,28 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   {
     const int i = this->order(s);
     if (i >= this->nlocal) return;
-    int head, room;
-    if (repair) {
-      if (this->count(s) >= 0) return;    // its list was complete
-      room = -this->count(s);
-      head = (int) Kokkos::atomic_fetch_add(&top(), (long) room);
-      this->first(s) = head;
-    } else {
-      head = this->first(s);
-      room = this->first(s + 1) - head;
+    int head = this->first(s);
+    const int room = (int) Kokkos::min((long) this->count(s), Kokkos::max(0L, capacity - head));
+    int n = search(s, i, head, room, sum);
+    if (n > room) {    // room at the end of the list, where the layout's ends
+      const long end = Kokkos::atomic_fetch_add(&this->report().listed, (long) n);
+      if (end + n <= capacity) {
+        head = (int) end;
+        this->first(s) = head;
+        search(s, i, head, n, sum);
+      } else {
+        Kokkos::atomic_fetch_or(&this->report().retry, (int) GRIDDEM_KK_RETRY_LISTS);
+        n = -n;
+      }
     }
+    this->count(s) = n;
+  }
+
+  // lists slot s's (atom i's) touching candidates into list(head), up to room of them; returns
+  // how many there are
+  KOKKOS_INLINE_FUNCTION int search(const int s, const int i, const int head, const int room,
+                                    value_type &sum) const
+  {
     const double pi[3] = {(double) this->near(s, 0), (double) this->near(s, 1),
                           (double) this->near(s, 2)};
     const double radi = this->radius_of(s);
@@ -364,18 +424,8 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
         }
       }
     }
-    this->count(s) = n <= room ? n : -n;
-    sum.listed += n;
-    if (n > room) sum.incomplete++, sum.needed += n;
+    return n;
   }
-};
-
-/* what the law's kernel sums: global virial and fix griddem's statistics */
-struct GriddemKKSweepValue {
-  double v[6];
-  double energy;     // elastic energy in the springs (a pair counts half on each side)
-  long contacts;     // contacts of owned atoms (an owned pair counts twice)
-  int most;          // most contacts of one owned atom
 };
 
 /* The contact law over each owned particle's list: the thread sums its particle's force and
@@ -435,7 +485,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
   {
     const int i = this->order(s);
-    if (i >= this->nlocal) return;
+    if (i >= this->nlocal || this->report().retry) return;
     const double radi = this->radius_of(s), mi = state(s, 6);
     const int itype = this->tm(s, 0), imask = this->tm(s, 1);
     double corner[3] = {0.0, 0.0, 0.0};    // separation() reads it in single precision only
@@ -518,12 +568,11 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   double memory_usage() override;
   void count_occupancy(griddem_engine_stats &stats) override;
   // public only because CUDA's extended lambdas may not live in a protected member function
-  template <typename Real>
-  void bin_and_sweep(const GriddemKKGrids &grids, double slack, const GriddemKKScanValue &sc);
+  void scan(const GriddemKKGrids &grids, bool class_boxes);
+  template <typename Real> void bin_and_sweep(const GriddemKKGrids &grids, double slack);
   template <typename Real> void bin(const GriddemKKGrids &grids);
   template <typename Real, bool Classic>
-  void sweep(const GriddemKKGrids &grids, double slack, double near_margin,
-             const GriddemKKScanValue &sc);
+  void sweep(const GriddemKKGrids &grids, double slack, double near_margin);
 
  protected:
   // sizes the Views below were allocated for
@@ -533,7 +582,6 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   Kokkos::View<int *, DeviceType> d_count;       // [ncell+1] atoms per cell, then fill cursor;
                                                  // zero between steps
   Kokkos::View<int *, DeviceType> d_start;       // [ncell+1] first slot of each cell
-  Kokkos::View<int *, DeviceType> d_unsorted;    // [nall] slots filled in arrival order
   Kokkos::View<int *, DeviceType> d_order;       // [nall] atom index of each sorted slot
   Kokkos::View<int *, DeviceType> d_slot_cell;   // [nall] cell of each sorted slot
   // contact lists (GriddemKKSorted): candidates, [nall+1] first entry and [nall] count per slot;
@@ -546,7 +594,16 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
   GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
   Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType> d_tm;
-  Kokkos::View<long, DeviceType> d_top;    // the repair's next free list entry
+  Kokkos::View<GriddemKKStepReport, DeviceType> d_report;
+  typename Kokkos::View<GriddemKKStepReport, DeviceType>::HostMirror h_report;
+  // the boxes of the last step's scan and its fastest atom, to plan the next step's grids
+  GriddemKKClassBoxes last_boxes;
+  double last_speed;
+  int boxes_known;    // 0 until a step has been computed
+  // room the last step's lists and history rows needed
+  long list_needed, rows_needed;
+  // attempts at one step before giving up: each retry grows what it found short
+  static constexpr int max_attempts = 8;
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;
@@ -564,6 +621,10 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
 
   std::string history_fix_style() const override;
   void upload_tables();
+  void check_scan(const GriddemKKScanValue &sc);
+  void plan_classes(GriddemKKGrids &grids);
+  void fit_grids(GriddemKKGrids &grids, const GriddemKKClassBoxes &boxes, double margin);
+  void finish(const GriddemKKGrids &grids, const GriddemKKStepReport &report);
   void report_coincident(int i, int j);
 };
 

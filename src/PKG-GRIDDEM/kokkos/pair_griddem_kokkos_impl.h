@@ -27,8 +27,8 @@ namespace LAMMPS_NS {
 
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
-    Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), params_stale(1),
-    coarsened_warned_kk(0), history(nullptr)
+    Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), last_speed(0.0), boxes_known(0),
+    list_needed(0), rows_needed(0), params_stale(1), coarsened_warned_kk(0), history(nullptr)
 {
   this->kokkosable = 1;
   this->atomKK = (AtomKokkos *) this->atom;
@@ -76,7 +76,7 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
   auto add = [&bytes](const auto &view) {
     bytes += (double) view.span() * sizeof(typename std::decay_t<decltype(view)>::value_type);
   };
-  add(d_cell), add(d_count), add(d_start), add(d_unsorted), add(d_order), add(d_tm);
+  add(d_cell), add(d_count), add(d_start), add(d_order), add(d_tm);
   add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
   add(d_near), add(channels_double.state), add(channels_single.state);
   add(d_params), add(d_excl_type), add(d_excl_group);
@@ -122,9 +122,12 @@ void PairGriddemKokkos<DeviceType, Base>::report_coincident(int i, int j)
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
 {
-  Error *error = this->error;
-  const char *style = this->force->pair_style;
-
+  // a Kokkos Tools region per step, for profilers (and the tests, which count the blocking
+  // synchronisations in it)
+  struct ProfilingRegion {
+    ProfilingRegion() { Kokkos::Profiling::pushRegion("griddem/kk:compute"); }
+    ~ProfilingRegion() { Kokkos::Profiling::popRegion(); }
+  } region;
   this->ev_init(eflag, vflag, 0);
   if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared
     if ((int) k_vatom.extent(0) < this->maxvatom) {
@@ -135,25 +138,97 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     }
   }
   if (params_stale) upload_tables();
+  if (!d_report.data()) {
+    d_report = Kokkos::View<GriddemKKStepReport, DeviceType>("griddem/kk:report");
+    h_report = Kokkos::create_mirror_view(d_report);
+  }
 
   AtomKokkos *atomKK = this->atomKK;
   atomKK->sync(this->execution_space, this->datamask_read);
   atomKK->modified(this->execution_space, this->datamask_modify);
+  const int nall = this->atom->nlocal + this->atom->nghost;
 
-  auto x = atomKK->k_x.template view<DeviceType>();
-  auto v = atomKK->k_v.template view<DeviceType>();
-  auto radius = atomKK->k_radius.template view<DeviceType>();
-  const int nlocal = this->atom->nlocal;
-  const int nall = nlocal + this->atom->nghost;
+  // the grids planned from the last step's boxes, between reneighborings
+  bool planned = this->neighbor->ago != 0 && boxes_known;
+  for (int attempt = 0;; attempt++) {
+    if (attempt == max_attempts)
+      this->error->one(FLERR, "Pair style {}: a step still found its room short after {} "
+                       "attempts", this->force->pair_style, max_attempts);
+    GriddemKKGrids grids;
+    GriddemKKClassBoxes boxes;
+    double margin = 0.0;
+    if (planned) {
+      plan_classes(grids);
+      scan(grids, grids.ncls > 1);    // read with the rest, below
+      boxes = last_boxes;
+      // an atom moves less than an exact-mode cell in a step (the NN4DEM rule); twice that and
+      // the last step's fastest atom's move, for the atoms that speed up
+      const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, this->rmax, 0.0);
+      margin = 2.0 * (h_nn4dem + last_speed * this->update->dt);
+    } else {
+      // 1. scan: read before binning, as a reneighboring step sets the radius range from it
+      scan(grids, false);
+      Kokkos::deep_copy(h_report, d_report);
+      const GriddemKKScanValue &sc = h_report().scan;
+      check_scan(sc);
+      if (this->neighbor->ago == 0)    // radius range, refreshed as the CPU style does
+        this->set_radius_range(this->atom->nlocal ? sc.rmin : INFINITY, sc.rmax);
+      if (this->rmax == 0.0) return;    // no atoms yet
+      plan_classes(grids);
+      if (grids.ncls > 1) {
+        scan(grids, true);
+        Kokkos::deep_copy(h_report, d_report);
+      }
+    }
+    if (!planned) boxes = griddem_kk_boxes(h_report(), grids.ncls, nall);
 
-  // 1. scan
-  GriddemKKScan<DeviceType> scan;
-  scan.x = x;
-  scan.v = v;
-  scan.radius = radius;
-  scan.nlocal = nlocal;
-  GriddemKKScanValue sc;
-  Kokkos::parallel_reduce("griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan, sc);
+    // 2. grids
+    fit_grids(grids, boxes, margin);
+    // the search distance's margin for round-off of positions relative to their cells
+    double extent = 0.0;
+    for (int c = 0; c < grids.ncls; c++)
+      for (int d = 0; d < 3; d++)
+        extent = MAX(extent, MAX(fabs(grids.g[c].corner(d, 0) - this->domain->boxlo[d]),
+                                 fabs(grids.g[c].corner(d, grids.g[c].n[d]) -
+                                      this->domain->boxlo[d])));
+    const double slack = 1e-10 * (2.0 * this->rmax + this->model.reach_extra) + 1e-14 * extent;
+    // one grid of a given edge: refused where the CPU style's stencil would be (the largest
+    // pair's search distance over more than GRIDDEM_MAX_REACH edges), rather than searched over
+    // (2 x reach + 1)^3 cells per atom
+    if (!(this->fix->cell_mode == GRIDDEM_CELL_AUTO ||
+          this->fix->cell_mode == GRIDDEM_CELL_CLASSES) &&
+        griddem_stencil_reach(grids.g[0].h, 2.0 * this->rmax + this->model.reach_extra + slack) >
+            GRIDDEM_MAX_REACH)
+      this->error_stencil_reach(grids.g[0].h);
+
+    // 3.-6. binning, lists, search, law: launched, then the step's one blocking copy
+    if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
+      bin_and_sweep<float>(grids, slack);
+    else
+      bin_and_sweep<double>(grids, slack);
+    Kokkos::deep_copy(h_report, d_report);
+    const GriddemKKStepReport &report = h_report();
+    if (planned) check_scan(report.scan);
+    if (report.retry & GRIDDEM_KK_RETRY_GRID) planned = false;
+    if (report.retry & GRIDDEM_KK_RETRY_LISTS) list_needed = report.listed;
+    if (report.retry & GRIDDEM_KK_RETRY_ROWS) rows_needed = report.rows;
+    if (report.retry) continue;
+
+    last_boxes = griddem_kk_boxes(report, grids.ncls, nall);
+    last_speed = report.scan.ivmax >= 0 ? sqrt(report.scan.vmax2) : 0.0;
+    boxes_known = 1;
+    finish(grids, report);
+    return;
+  }
+}
+
+/* non-finite positions and velocities, and the NN4DEM rule (as the CPU style): no atom crosses
+   more than one exact-mode cell per step */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::check_scan(const GriddemKKScanValue &sc)
+{
+  AtomKokkos *atomKK = this->atomKK;
   if (sc.badx != INT_MAX) {
     atomKK->sync(Host, X_MASK | TAG_MASK);
     this->error_nonfinite("position", sc.badx, this->atom->x[sc.badx]);
@@ -162,69 +237,88 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     atomKK->sync(Host, V_MASK | TAG_MASK);
     this->error_nonfinite("velocity", sc.badv, this->atom->v[sc.badv]);
   }
-  if (this->neighbor->ago == 0)    // radius range, refreshed as the CPU style does
-    this->set_radius_range(nlocal ? sc.rmin : INFINITY, sc.rmax);
-  const double rmax = this->rmax;
-  if (rmax == 0.0) return;    // no atoms yet
-
-  // NN4DEM rule, as the CPU style: no atom crosses more than one exact-mode cell per step
-  const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, rmax, 0.0);
+  if (this->rmax == 0.0) return;
+  const double h_nn4dem = griddem_cell_edge(GRIDDEM_CELL_EXACT, this->rmin, this->rmax, 0.0);
   if (sc.ivmax >= 0 && sqrt(sc.vmax2) * this->update->dt > h_nn4dem) {
     atomKK->sync(Host, TAG_MASK);
     this->error_too_fast(sc.ivmax, sqrt(sc.vmax2), h_nn4dem);
   }
+}
 
-  // 2. grids: one per size class (fix griddem's auto and classes), else one grid of the mode's
-  // edge (multi, exact, a number: as the CPU style), anchored at boxlo, a grid given larger cells
-  // where it would need too many
-  GriddemKKGrids grids;
+/* 1. the scan into the report, and with class_boxes the boxes of grids' size classes */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool class_boxes)
+{
+  AtomKokkos *atomKK = this->atomKK;
+  const int nall = this->atom->nlocal + this->atom->nghost;
+  GriddemKKStepReport *report = d_report.data();    // addresses on the device, not dereferenced
+  GriddemKKScan<DeviceType> scan;
+  scan.x = atomKK->k_x.template view<DeviceType>();
+  scan.v = atomKK->k_v.template view<DeviceType>();
+  scan.radius = atomKK->k_radius.template view<DeviceType>();
+  scan.nlocal = this->atom->nlocal;
+  Kokkos::parallel_reduce(
+      "griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan,
+      Kokkos::View<GriddemKKScanValue, DeviceType, Kokkos::MemoryUnmanaged>(&report->scan));
+  if (!class_boxes) return;
+  GriddemKKClassScan<DeviceType> class_scan;
+  class_scan.value_count = GriddemKKClassScan<DeviceType>::per_class * grids.ncls;
+  class_scan.x = scan.x;
+  class_scan.radius = scan.radius;
+  class_scan.grids = grids;
+  Kokkos::parallel_reduce(
+      "griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall), class_scan,
+      Kokkos::View<double *, DeviceType, Kokkos::MemoryUnmanaged>(report->class_boxes,
+                                                                   class_scan.value_count));
+}
+
+/* the size classes of fix griddem's cell mode for the radius range: a grid per class (auto,
+   classes), else one */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::plan_classes(GriddemKKGrids &grids)
+{
   const int mode = this->fix->cell_mode;
   const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
-  grids.ncls = classes ? griddem_class_count(this->rmin, rmax) : 1;
-  griddem_class_bounds(rmax, grids.ncls, grids.upper);
-  GriddemKKClassBoxes boxes;
-  if (grids.ncls == 1) {
-    boxes.count[0] = nall;
-    for (int d = 0; d < 3; d++) boxes.lo[0][d] = sc.lo[d], boxes.hi[0][d] = sc.hi[d];
-  } else {
-    GriddemKKClassScan<DeviceType> class_scan;
-    class_scan.value_count = GriddemKKClassScan<DeviceType>::per_class * grids.ncls;
-    class_scan.x = x;
-    class_scan.radius = radius;
-    class_scan.grids = grids;
-    double found[GriddemKKClassScan<DeviceType>::per_class * GRIDDEM_MAX_CLASSES];
-    Kokkos::parallel_reduce("griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall),
-                            class_scan, found);
-    for (int c = 0; c < grids.ncls; c++) {
-      const double *box = found + GriddemKKClassScan<DeviceType>::per_class * c;
-      boxes.count[c] = (int) box[0];
-      for (int d = 0; d < 3; d++) boxes.lo[c][d] = box[1 + d], boxes.hi[c][d] = box[4 + d];
-    }
-  }
-  double extent = 0.0;
+  grids.ncls = classes ? griddem_class_count(this->rmin, this->rmax) : 1;
+  griddem_class_bounds(this->rmax, grids.ncls, grids.upper);
+}
+
+/* 2. each class's grid over its box widened by margin: of the mode's edge (multi, exact, a
+   number: as the CPU style) or multi's for the class, anchored at boxlo, given larger cells where
+   it would need too many */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::fit_grids(GriddemKKGrids &grids,
+                                                    const GriddemKKClassBoxes &boxes,
+                                                    double margin)
+{
+  const int mode = this->fix->cell_mode;
+  const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
+  const double *boxlo = this->domain->boxlo;
   long total = 0;
   for (int c = 0; c < grids.ncls; c++) {
     double lo[3], hi[3];
     for (int d = 0; d < 3; d++) {
-      lo[d] = boxes.count[c] ? boxes.lo[c][d] : this->domain->boxlo[d];
-      hi[d] = boxes.count[c] ? boxes.hi[c][d] : this->domain->boxlo[d];
-      extent = MAX(extent,
-                   MAX(fabs(lo[d] - this->domain->boxlo[d]), fabs(hi[d] - this->domain->boxlo[d])));
+      lo[d] = boxes.count[c] ? boxes.lo[c][d] - margin : boxlo[d];
+      hi[d] = boxes.count[c] ? boxes.hi[c][d] + margin : boxlo[d];
     }
-    const long max_cells = grids.ncls == 1 ? GRIDDEM_ONE_GRID_MAX_CELLS(nall)
+    const long max_cells = grids.ncls == 1 ? GRIDDEM_ONE_GRID_MAX_CELLS(boxes.count[0])
                                            : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
     griddem_grid fitted;
     const double edge = classes ? griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0)
-                                : griddem_cell_edge(mode, this->rmin, rmax, this->fix->cell_edge);
-    const int coarsened = griddem_grid_fit(&fitted, this->domain->boxlo, lo, hi, edge, max_cells);
+                                : griddem_cell_edge(mode, this->rmin, this->rmax, this->fix->cell_edge);
+    const int coarsened = griddem_grid_fit(&fitted, boxlo, lo, hi, edge, max_cells);
     if (coarsened && !coarsened_warned_kk) {
       coarsened_warned_kk = 1;
       // worded as the CPU style's, naming the class when there are several
-      error->warning(FLERR,
-                     "Pair style {}: cell edge {}enlarged from {} to {} so that the grid over "
-                     "this process's atoms stays within {} cells",
-                     style, grids.ncls > 1 ? fmt::format("of size class {} ", c) : "", edge,
-                     fitted.h, max_cells);
+      this->error->warning(FLERR,
+                           "Pair style {}: cell edge {}enlarged from {} to {} so that the grid over "
+                           "this process's atoms stays within {} cells",
+                           this->force->pair_style,
+                           grids.ncls > 1 ? fmt::format("of size class {} ", c) : "", edge,
+                           fitted.h, max_cells);
     }
     GriddemKKGrid &g = grids.g[c];
     for (int d = 0; d < 3; d++)
@@ -234,34 +328,20 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     grids.offset[c] = (int) total;
     total += fitted.ncell;
     if (total >= INT_MAX)
-      error->one(FLERR, "Pair style {}: the grids would need {} cells, more than an int counts",
-                 style, total);
+      this->error->one(FLERR, "Pair style {}: the grids would need {} cells, more than an int "
+                       "counts", this->force->pair_style, total);
   }
   grids.offset[grids.ncls] = (int) total;
-  // the search distance's margin for round-off of positions relative to their cells
-  const double slack = 1e-10 * (2.0 * rmax + this->model.reach_extra) + 1e-14 * extent;
-  // one grid of a given edge: refused where the CPU style's stencil would be (the largest pair's
-  // search distance over more than GRIDDEM_MAX_REACH edges), rather than searched over
-  // (2 x reach + 1)^3 cells per atom
-  if (!classes &&
-      griddem_stencil_reach(grids.g[0].h, 2.0 * rmax + this->model.reach_extra + slack) >
-          GRIDDEM_MAX_REACH)
-    this->error_stencil_reach(grids.g[0].h);
-
-  if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
-    bin_and_sweep<float>(grids, slack, sc);
-  else
-    bin_and_sweep<double>(grids, slack, sc);
 }
 
 template <class DeviceType, class Base>
 template <typename Real>
-void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &grids, double slack,
-                                                        const GriddemKKScanValue &sc)
+void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &grids, double slack)
 {
   bin<Real>(grids);
-  // the float positions' rounding: 2^-24 of a position in its cell (under an edge) and of a
-  // radius, for each side of a pair, well inside this margin; none where they are the law's
+  // the float positions' rounding: 2^-24 of a position in its cell (under two edges: the
+  // binning retries a step with an atom further out) and of a radius, for each side of a pair,
+  // well inside this margin; none where they are the law's
   double near_margin = 0.0;
   if (GriddemKKSorted<DeviceType, Real>::atom_positions) {
     double hmax = 0.0;
@@ -269,9 +349,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin_and_sweep(const GriddemKKGrids &gr
     near_margin = 1e-6 * (hmax + 2.0 * this->rmax + this->model.reach_extra) + slack;
   }
   if (all_classic)
-    sweep<Real, true>(grids, slack, near_margin, sc);
+    sweep<Real, true>(grids, slack, near_margin);
   else
-    sweep<Real, false>(grids, slack, near_margin, sc);
+    sweep<Real, false>(grids, slack, near_margin);
 }
 
 /* counting sort into the channels (positions relative to their cell and radius in float; of
@@ -299,7 +379,6 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   if (nall > nmax_atoms || !nmax_atoms) {
     nmax_atoms = MAX(MAX(nall, 1), (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
-    d_unsorted = Kokkos::View<int *, DeviceType>("griddem/kk:unsorted", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
     d_slot_cell = Kokkos::View<int *, DeviceType>("griddem/kk:slot_cell", nmax_atoms);
     d_list_first = Kokkos::View<int *, DeviceType>("griddem/kk:list_first", nmax_atoms + 1);
@@ -324,12 +403,17 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto cell = d_cell;
   auto count = d_count;
   auto start = d_start;
-  auto unsorted = d_unsorted;
   auto order = d_order;
   auto slot_cell = d_slot_cell;
   auto near = d_near;
   auto state = chan.state;
   auto tm = d_tm;
+  auto report = d_report;
+  Kokkos::parallel_for(
+      "griddem/kk:report_reset", Kokkos::RangePolicy<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
+        report().retry = 0;
+        report().listed = report().rows = 0;
+      });
   // count is zero here: zero-filled when made, and each binning zeroes what it counted
   Kokkos::parallel_for(
       "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
@@ -351,31 +435,33 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   Kokkos::parallel_for(
       "griddem/kk:fill", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const int c = cell(i);
-        unsorted(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
+        order(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
       });
-  // within a cell, slot = rank by (tag, x, y, z): the same order whatever order atoms are stored in
+  // within a cell, slots by (tag, x, y, z): the same order whatever order atoms are stored in
+  const tagint *tags = tag.data();
+  const double *xs = x.data();    // LayoutRight: 3 interleaved coordinates an atom
   Kokkos::parallel_for(
-      "griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int s) {
-        const int i = unsorted(s);
-        const int c = cell(i);
-        const tagint ti = tag(i);
-        const double xi = x(i, 0), yi = x(i, 1), zi = x(i, 2);
-        int rank = 0;
-        for (int u = start(c); u < start(c + 1); u++) {
-          const int j = unsorted(u);
-          const tagint tj = tag(j);
-          const double xj = x(j, 0), yj = x(j, 1), zj = x(j, 2);
-          rank += tj < ti ||
-              (tj == ti && (xj < xi || (xj == xi && (yj < yi || (yj == yi && zj < zi)))));
-        }
-        const int slot = start(c) + rank;
+      "griddem/kk:sort_cells", Kokkos::RangePolicy<DeviceType>(0, ncell),
+      KOKKOS_LAMBDA(const int c) {
         count(c) = 0;    // the fill cursor's work is done: zero again for the next binning
-        order(slot) = i;
+        griddem_sort_cell(&order(start(c)), start(c + 1) - start(c), tags, sizeof(tagint), xs);
+      });
+  Kokkos::parallel_for(
+      "griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int slot) {
+        const int i = order(slot);
+        const int c = cell(i);
         slot_cell(slot) = c;
-        const double p[3] = {xi, yi, zi};
+        const double p[3] = {x(i, 0), x(i, 1), x(i, 2)};
         double corner[3];
         grids.cell_corner(c, corner);
-        for (int d = 0; d < 3; d++) near(slot, d) = (float) (p[d] - corner[d]);
+        const double h = grids.g[grids.class_of_cell(c)].h;
+        bool inside = true;
+        for (int d = 0; d < 3; d++) {
+          const double rel = p[d] - corner[d];
+          inside = inside && rel >= -h && rel < 2.0 * h;
+          near(slot, d) = (float) rel;
+        }
+        if (!inside) Kokkos::atomic_fetch_or(&report().retry, (int) GRIDDEM_KK_RETRY_GRID);
         near(slot, 3) = (float) radius(i);
         for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
         state(slot, 6) = rmass(i);
@@ -383,52 +469,58 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
       });
 }
 
-/* the contact lists, the law over them, and fix griddem's statistics */
+/* the contact lists and the law over them, their sums into the report */
 
 template <class DeviceType, class Base>
 template <typename Real, bool Classic>
 void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, double slack,
-                                                double near_margin, const GriddemKKScanValue &sc)
+                                                double near_margin)
 {
   AtomKokkos *atomKK = this->atomKK;
   const int nlocal = this->atom->nlocal;
   const int nall = nlocal + this->atom->nghost;
   auto &chan = channels(Real());
   const int track = this->model.track_contacts;
+  GriddemKKStepReport *report_at = d_report.data();    // addresses on the device
+  auto report = d_report;
+
+  // fix griddem/kk's rows, with room in the other pool for as many as the last step's
+  typename FixGriddemKokkos<DeviceType>::Rows rows;
+  long row_room = 0;
+  if (track) {
+    history->reserve_out(rows_needed);
+    rows = history->rows_on_device();
+    row_room = history->out_room();
+  }
 
   // 4. lists laid out slot by slot: each owned atom's last list length (or its history row's,
-  // which moved with it) plus the margin
-  typename FixGriddemKokkos<DeviceType>::Rows rows;    // fix griddem/kk's, with history
-  if (track) rows = history->rows_on_device();
+  // which moved with it) plus the margin, in room the last step's lists needed
   auto first = d_list_first;
+  auto count = d_list_count;
   auto order = d_order;
   auto last = d_last;
   auto row_count = rows.count;
-  long laid_out = 0;
   Kokkos::parallel_scan(
       "griddem/kk:list_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
       KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
-        if (final) first(s) = (int) offset;
-        if (s == nall) return;
+        if (s == nall) {
+          if (final) report().listed = offset;
+          return;
+        }
         const int i = order(s);
-        if (i < nlocal)
-          offset += list_margin + (track ? Kokkos::max(last(i), row_count(i)) : last(i));
-      },
-      laid_out);
-  auto reserve_list = [&](long entries, bool keep) {
-    if (entries > INT_MAX)
-      this->error->one(FLERR, "Pair style {}: {} contact candidates on one process, more than an "
-                       "int counts", this->force->pair_style, entries);
-    if (entries <= (long) d_list.extent(0)) return;
-    const long room = MAX(entries, (long) (1.25 * d_list.extent(0)));
-    if (keep)
-      Kokkos::resize(d_list, room);
-    else
-      d_list = Kokkos::View<int *, DeviceType>("griddem/kk:list", room);
-  };
-  reserve_list(laid_out, false);
+        const int room =
+            i < nlocal ? list_margin + (track ? Kokkos::max(last(i), row_count(i)) : last(i)) : 0;
+        if (final) first(s) = (int) offset, count(s) = room;
+        offset += room;
+      });
+  if (list_needed > INT_MAX)
+    this->error->one(FLERR, "Pair style {}: {} contact candidates on one process, more than an "
+                     "int counts", this->force->pair_style, list_needed);
+  if (list_needed > (long) d_list.extent(0))
+    d_list = Kokkos::View<int *, DeviceType>(
+        "griddem/kk:list", MIN((long) INT_MAX, MAX(list_needed, (long) (1.25 * d_list.extent(0)))));
 
-  // 5. the search, and again for the atoms whose room was short
+  // 5. the search
   GriddemKKFind<DeviceType, Real> find;
   GriddemKKSorted<DeviceType, Real> &sorted = find;
   sorted.grids = grids;
@@ -444,44 +536,35 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sorted.list = d_list;
   sorted.first = d_list_first;
   sorted.count = d_list_count;
+  sorted.report = d_report;
   find.slack = slack;
   find.near_margin = near_margin;
-  find.repair = 0;
+  find.capacity = (long) d_list.extent(0);
   find.start = d_start;
   find.excl = this->exclusions;
   find.excl.type_pair = d_excl_type.extent(0) ? d_excl_type.data() : nullptr;
   find.excl.group_bits = d_excl_group.data();
-  GriddemKKFindValue found;
-  Kokkos::parallel_reduce("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
-                          found);
-  if (found.fault_i != INT_MAX) report_coincident(found.fault_i, found.fault_j);
-  if (found.incomplete) {
-    reserve_list(laid_out + found.needed, true);
-    if (!d_top.data()) d_top = Kokkos::View<long, DeviceType>("griddem/kk:top");
-    Kokkos::deep_copy(d_top, laid_out);
-    sorted.list = d_list;
-    find.top = d_top;
-    find.repair = 1;
-    GriddemKKFindValue repaired;
-    Kokkos::parallel_reduce("griddem/kk:find_repair", Kokkos::RangePolicy<DeviceType>(0, nall),
-                            find, repaired);
-    if (repaired.incomplete)
-      this->error->one(FLERR, "Pair style {}: contact lists laid out too short",
-                       this->force->pair_style);
-  }
+  Kokkos::parallel_reduce(
+      "griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
+      Kokkos::View<GriddemKKFindValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->found));
 
-  // the new history rows: room for each owned atom's list, slot by slot
+  // the new history rows: room for each owned atom's list, slot by slot, in the other pool
   if (track) {
-    history->reserve_out(found.listed);
-    rows = history->rows_on_device();
-    auto count = d_list_count;
     Kokkos::parallel_scan(
-        "griddem/kk:row_layout", Kokkos::RangePolicy<DeviceType>(0, nall),
+        "griddem/kk:row_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
         KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
+          if (s == nall) {
+            if (final) {
+              report().rows = offset;
+              if (offset > row_room)
+                Kokkos::atomic_fetch_or(&report().retry, (int) GRIDDEM_KK_RETRY_ROWS);
+            }
+            return;
+          }
           const int i = order(s);
           if (i >= nlocal) return;
           if (final) rows.first_out(i) = (int) offset;
-          offset += count(s);
+          offset += Kokkos::max(count(s), 0);
         });
   }
 
@@ -503,10 +586,24 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
   sweep.rows = rows;
-  GriddemKKSweepValue sums;
-  Kokkos::parallel_reduce("griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
-                          sums);
-  if (track) history->commit(sums.most);
+  Kokkos::parallel_reduce(
+      "griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
+      Kokkos::View<GriddemKKSweepValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->sums));
+}
+
+/* a computed step's report: faults, the history rows made current, virial and diagnostics */
+
+template <class DeviceType, class Base>
+void PairGriddemKokkos<DeviceType, Base>::finish(const GriddemKKGrids &grids,
+                                                 const GriddemKKStepReport &report)
+{
+  if (report.found.fault_i != INT_MAX) report_coincident(report.found.fault_i, report.found.fault_j);
+  const GriddemKKSweepValue &sums = report.sums;
+  if (this->model.track_contacts) {
+    rows_needed = report.rows;
+    history->commit(report.rows, sums.most);
+  }
+  list_needed = report.listed;
 
   if (this->vflag_global)
     for (int k = 0; k < 6; k++) this->virial[k] += sums.v[k];
@@ -523,7 +620,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   stats.contacts = sums.contacts;
   stats.max_contacts = sums.most;
   stats.elastic_energy = sums.energy;
-  stats.max_speed = sc.ivmax >= 0 ? sqrt(sc.vmax2) : 0.0;
+  stats.max_speed = last_speed;
   stats.max_cells_moved = stats.max_speed * this->update->dt / grids.g[grids.ncls - 1].h;
   stats.nonfinite_velocity = 0;
   this->fix->set_stats(stats);
