@@ -9,7 +9,8 @@ so that a session cut short still keeps what it reached:
   start    the lmp starts and initialises Kokkos on the device (ldd: no library missing)
   kktests  test_kokkos.py's GPU sections (KK_SECTIONS: list and row layouts, size classes,
            history rows that grow, migrate and go through restart, the blocking synchronisations
-           of a step, counted by unittest/kokkos_tools/sync_counter.c, built here with cc),
+           of a step, counted by unittest/kokkos_tools/sync_counter.c, built here with cc,
+           the team search against the thread search),
            GRIDDEM_KK_GPUS=1
   chute    bench/gpu.py: stock and griddem kk on LAMMPS's chute at 2M, 8M and 32M atoms
   bound    bench/gpu.py --launch-blocking: one stock run at 2M, for the bound on any pair style
@@ -44,7 +45,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 GPU_PY = os.path.join(HERE, "gpu.py")
-KK_SECTIONS = "laws,classes,growth,migration,add_delete,restart,synchronisation"
+KK_SECTIONS = "laws,classes,growth,migration,add_delete,restart,synchronisation,search"
 STOCK, HISTORY = "gran/hooke/history/kk", "griddem/hooke/history/kk"
 # (step, cap in seconds, GPU sizes, CPU dry-run sizes)
 STEPS = [

@@ -21,7 +21,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), made_by_pair(0),
+    Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0),
     stats_current(0), engine(), row_of(nullptr), reserved(0)
 {
   int iarg = 3;
@@ -58,6 +58,17 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
         precision = GRIDDEM_PRECISION_SINGLE;
       else
         error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "search") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem search", error);
+      if (strcmp(arg[iarg + 1], "auto") == 0)
+        search = GRIDDEM_SEARCH_AUTO;
+      else if (strcmp(arg[iarg + 1], "thread") == 0)
+        search = GRIDDEM_SEARCH_THREAD;
+      else if (strcmp(arg[iarg + 1], "team") == 0)
+        search = GRIDDEM_SEARCH_TEAM;
+      else
+        error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
       iarg += 2;
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);

@@ -18,6 +18,9 @@ FixStyle(griddem,FixGriddem);
 namespace LAMMPS_NS {
 
 enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
+// the Kokkos styles' search: a thread per atom reading its candidates from device memory, or a
+// team per block of cells with their neighbourhood staged in scratch memory; auto: teams on a GPU
+enum { GRIDDEM_SEARCH_AUTO, GRIDDEM_SEARCH_THREAD, GRIDDEM_SEARCH_TEAM };
 
 /* A pair style whose grid counts its occupied cells only when they are asked for (the Kokkos
    styles: a pass over every cell that most steps do not need); it reports them as -1. */
@@ -74,6 +77,7 @@ class FixGriddem : public Fix {
   double cell_edge;     // for GRIDDEM_CELL_FIXED
   int contacts;         // expected contacts per atom (initial history storage); 0: no history
   int precision;        // of the sorted particle data (the Kokkos styles); GRIDDEM_PRECISION_*
+  int search;           // the Kokkos styles' search; GRIDDEM_SEARCH_*
 
   int made_by_pair;     // 1: the pair style's own fix, deleted with the pair style
 

@@ -308,6 +308,10 @@ void PairGriddem::init_style()
   if (fix->precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
     error->all(FLERR, "Pair style {}: fix {} precision single is implemented by the Kokkos styles only "
                "(griddem/.../kk); the CPU styles work in double", style, fix->id);
+  if (fix->search != GRIDDEM_SEARCH_AUTO && !kokkosable)
+    error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
+               "(griddem/.../kk); the CPU styles have one", style, fix->id,
+               fix->search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
   if (model.track_contacts && fix->kokkos_history != (history_fix_style() != "griddem"))
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,

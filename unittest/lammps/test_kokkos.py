@@ -657,6 +657,32 @@ def check_migration(wd, data):
         t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
 
 
+def check_search(wd, data):
+    """fix griddem search team (a team per block of 8 cells along x, the candidates of the
+    block's neighbourhood in its size class copied into scratch memory) lists what search thread
+    lists, in the same order, so forces, torques, positions and velocities after 20 steps are the
+    same to the last bit; both equal the CPU style to 1e-10. On the dense scene with cell multi
+    (3 cells wide stencil) and exact (5 wide), the 1:16 polydisperse scene with classes (the
+    other classes' rows read from device memory), and a cell edge of 1.5 (about 55 centres a
+    cell: windows beyond the team's 1024 candidates read device memory)."""
+    poly = os.path.join(wd, "data.search_poly")
+    t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.025, 0.4, seed=5, density=100.0,
+                           vscale=1.0, wscale=5.0, ntypes=2)
+    law = HISTORY
+    for scene, cell in ((data, "multi"), (data, "exact"), (poly, "classes"), (data, "1.5")):
+        fix = "fix grid all griddem contacts 16 cell " + cell
+        cpu = run(wd, "search_cpu", scene, law[1], law[3], extra=fix)
+        found = {}
+        for mode in ("thread", "team"):
+            found[mode] = run(wd, "search_" + mode, scene, law[1], law[3], 1, THREADS[-1],
+                              extra=fix + " search " + mode)
+            compare("%s/kk search %s, cell %s vs CPU" % (law[1].split()[0], mode, cell), cpu, found[mode])
+        (a, _), (b, _) = found["thread"], found["team"]
+        same = len(a) == len(b) == 2 and all(
+            t.max_rel_diff(b[k], a[k], FORCES + STATE) == 0.0 for k in (0, 1))
+        t.check(same, "cell %s: search team gives search thread's numbers to the last bit" % cell)
+
+
 SYNC_COUNTER = os.environ.get("GRIDDEM_SYNC_COUNTER") or os.path.join(
     os.path.dirname(os.path.abspath(t.LMP)), "unittest", "kokkos_tools", "griddem_sync_counter.so")
 
@@ -711,7 +737,7 @@ SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
     check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
-    check_add_delete, check_restart, check_synchronisation)}
+    check_add_delete, check_restart, check_synchronisation, check_search)}
 
 
 if __name__ == "__main__":

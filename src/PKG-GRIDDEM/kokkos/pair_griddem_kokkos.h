@@ -12,10 +12,12 @@
       images of one atom), so sums do not depend on storage order;
       the sorted positions (float, relative to the cell: `near`), radii, velocities, masses,
       types and masks are the "channels";
-   3. search: one thread per sorted owned particle visits the cells of every size class within
-      reach of it and lists the candidates that touch (GriddemKKFind): the compact float
-      positions reject the far candidates (a conservative margin: a pair they reject cannot
-      touch), the touch test of the rest is the law's own, in its precision;
+   3. search: each sorted owned particle visits the cells of every size class within reach of it
+      and lists the candidates that touch (GriddemKKFind): the compact float positions reject
+      the far candidates (a conservative margin: a pair they reject cannot touch), the touch
+      test of the rest is the law's own, in its precision. A thread per particle
+      (GriddemKKFind), or a team per block of cells with the candidates of its neighbourhood in
+      its class staged in scratch memory (GriddemKKFindTeams), per fix griddem's `search`;
    4. sweep: one thread per sorted owned particle evaluates the law over its list from its own
       side (griddem_contact_eval). The law is exactly odd under i <-> j, so each particle sums its
       own force and torque: no atomics, no colouring, no reverse communication. The global virial
@@ -209,11 +211,6 @@ template <class DeviceType> struct GriddemKKClassScan {
   }
 };
 
-/* what the search finds besides the lists: coincident centres (local indices); INT_MAX: none */
-struct GriddemKKFindValue {
-  int fault_i, fault_j;
-};
-
 /* what the law's kernel sums: global virial and fix griddem's statistics */
 struct GriddemKKSweepValue {
   double v[6];
@@ -233,7 +230,8 @@ enum {
 struct GriddemKKStepReport {
   GriddemKKScanValue scan;
   double class_boxes[7 * GRIDDEM_MAX_CLASSES];    // GriddemKKClassScan's (per_class = 7)
-  GriddemKKFindValue found;
+  long coincident;    // the first pair of coincident centres (local indices i << 32 | j), or
+                      // LONG_MAX: none
   GriddemKKSweepValue sums;
   long listed;    // list entries taken: the layout's, then those of lists that outgrew it
   long rows;      // history entries of the step's rows
@@ -326,10 +324,18 @@ template <class DeviceType, typename Real> struct GriddemKKSorted {
   }
 };
 
+/* A team's copy of the `near` rows around its block (GriddemKKFindTeams): rows y0..y1, z0..z1
+   of size class cls's grid, cells x0..x1 of each; slot u of row r is at data[4 * (u + shift[r])]
+   (rows y fastest). valid 0: none, every row is read from `near`. */
+struct GriddemKKWindow {
+  int valid, cls, x0, x1, y0, y1, z0, z1;
+  const int *shift;
+  const float *data;
+};
+
 template <class DeviceType, typename Real>
 struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   typedef DeviceType device_type;
-  typedef GriddemKKFindValue value_type;
 
   double slack;          // added to every search distance: round-off of the positions
   double near_margin;    // added to the float test's distance: the rounding of `near` (0 where
@@ -338,25 +344,26 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
   griddem_exclusions excl;    // the CPU style's, its tables on the device
 
-  KOKKOS_INLINE_FUNCTION void init(value_type &s) const { s.fault_i = s.fault_j = INT_MAX; }
-  KOKKOS_INLINE_FUNCTION void join(value_type &s, const value_type &o) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int s) const
   {
-    if (o.fault_i < s.fault_i) s.fault_i = o.fault_i, s.fault_j = o.fault_j;
+    const GriddemKKWindow none = {0, 0, 0, 0, 0, 0, 0, 0, nullptr, nullptr};
+    list_candidates(s, none);
   }
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int s, value_type &sum) const
+  // slot s's list, in its room or, where that is short, in room at the end of the list
+  KOKKOS_INLINE_FUNCTION void list_candidates(const int s, const GriddemKKWindow &w) const
   {
     const int i = this->order(s);
     if (i >= this->nlocal) return;
     int head = this->first(s);
     const int room = (int) Kokkos::min((long) this->count(s), Kokkos::max(0L, capacity - head));
-    int n = search(s, i, head, room, sum);
+    int n = search(s, i, head, room, w);
     if (n > room) {    // room at the end of the list, where the layout's ends
       const long end = Kokkos::atomic_fetch_add(&this->report().listed, (long) n);
       if (end + n <= capacity) {
         head = (int) end;
         this->first(s) = head;
-        search(s, i, head, n, sum);
+        search(s, i, head, n, w);
       } else {
         Kokkos::atomic_fetch_or(&this->report().retry, (int) GRIDDEM_KK_RETRY_LISTS);
         n = -n;
@@ -365,10 +372,10 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
     this->count(s) = n;
   }
 
-  // lists slot s's (atom i's) touching candidates into list(head), up to room of them; returns
-  // how many there are
+  // lists slot s's (atom i's) touching candidates into list(head), up to room of them, reading
+  // the rows w holds from it; returns how many there are
   KOKKOS_INLINE_FUNCTION int search(const int s, const int i, const int head, const int room,
-                                    value_type &sum) const
+                                    const GriddemKKWindow &w) const
   {
     const double pi[3] = {(double) this->near(s, 0), (double) this->near(s, 1),
                           (double) this->near(s, 2)};
@@ -394,12 +401,19 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
         for (int y = lo[1]; y <= hi[1]; y++) {
           const double sy = corner[1] - g.corner(1, y);
           const int row = this->grids.offset[cj] + g.n[0] * (y + g.n[1] * z);
+          const float *rows = this->near.data();    // candidate u's x, y, z, radius: rows[4 * (u + shift)]
+          int shift = 0;
+          if (w.valid && cj == w.cls && y >= w.y0 && y <= w.y1 && z >= w.z0 && z <= w.z1 &&
+              lo[0] >= w.x0 && hi[0] <= w.x1) {
+            rows = w.data;
+            shift = w.shift[(y - w.y0) + (w.y1 - w.y0 + 1) * (z - w.z0)];
+          }
           int u = start(row + lo[0]);
           for (int x = lo[0]; x <= hi[0]; x++) {
             const double sx = corner[0] - g.corner(0, x);
             for (const int end = start(row + x + 1); u < end; u++) {
               if (u == s) continue;
-              const float *pu = &this->near(u, 0);    // x, y, z, radius: one row
+              const float *pu = rows + 4 * (u + shift);
               const double dx = (pi[0] - (double) pu[0]) + sx;
               const double dy = (pi[1] - (double) pu[1]) + sy;
               const double dz = (pi[2] - (double) pu[2]) + sz;
@@ -413,7 +427,8 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
                 if (!(rsq < rs * rs)) continue;
               }
               if (rsq == 0.0) {
-                if (i < sum.fault_i) sum.fault_i = i, sum.fault_j = this->order(u);
+                Kokkos::atomic_min(&this->report().coincident,
+                                   (long) i << 32 | (long) (unsigned) this->order(u));
                 continue;
               }
               if (griddem_excluded(&excl, itype, imask, this->tm(u, 0), this->tm(u, 1))) continue;
@@ -425,6 +440,80 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
       }
     }
     return n;
+  }
+};
+
+/* The search as a team per block of `width` cells along x of one size class's grid (after Chrono
+   GPU's and DEM-Engine's kernels): the team copies the `near` rows of its class within `reach`
+   cells of the block into scratch memory once, then its threads search the block's particles as
+   GriddemKKFind does, reading those rows from the copy (other classes' rows from `near`). A block
+   whose neighbourhood holds more than `budget` candidates reads them all from `near`. Lists,
+   their order and every number are GriddemKKFind's. */
+template <class DeviceType, typename Real> struct GriddemKKFindTeams {
+  typedef DeviceType device_type;
+  typedef typename Kokkos::TeamPolicy<DeviceType>::member_type member_type;
+  typedef Kokkos::View<int *, typename DeviceType::scratch_memory_space,
+                       Kokkos::MemoryTraits<Kokkos::Unmanaged>>
+      scratch_ints;
+  typedef Kokkos::View<float *, typename DeviceType::scratch_memory_space,
+                       Kokkos::MemoryTraits<Kokkos::Unmanaged>>
+      scratch_floats;
+  static constexpr int width = 8;        // cells of a block along x
+  static constexpr int budget = 1024;    // candidates a team's scratch holds
+
+  GriddemKKFind<DeviceType, Real> find;
+  int reach[GRIDDEM_MAX_CLASSES];              // cells around a block its class's search visits
+  int first_block[GRIDDEM_MAX_CLASSES + 1];    // blocks of the classes before
+  int most_rows;                               // of a window: (2 reach + 1)^2 at most
+
+  static int blocks_along_x(int nx) { return (nx + width - 1) / width; }
+  size_t team_shmem_size(int) const
+  {
+    return scratch_ints::shmem_size(most_rows) + scratch_floats::shmem_size(4 * budget);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const member_type &team) const
+  {
+    const int b = team.league_rank();
+    int ci = 0;
+    while (first_block[ci + 1] <= b) ci++;
+    const GriddemKKGrid &g = find.grids.g[ci];
+    const int nbx = (g.n[0] + width - 1) / width, local = b - first_block[ci];
+    const int bx = local % nbx, y = (local / nbx) % g.n[1], z = local / (nbx * g.n[1]);
+    const int x0 = bx * width, x1 = Kokkos::min(x0 + width, g.n[0]) - 1, r = reach[ci];
+    GriddemKKWindow w;
+    w.cls = ci;
+    w.x0 = Kokkos::max(x0 - r, 0), w.x1 = Kokkos::min(x1 + r, g.n[0] - 1);
+    w.y0 = Kokkos::max(y - r, 0), w.y1 = Kokkos::min(y + r, g.n[1] - 1);
+    w.z0 = Kokkos::max(z - r, 0), w.z1 = Kokkos::min(z + r, g.n[2] - 1);
+    const int ny = w.y1 - w.y0 + 1, nrows = ny * (w.z1 - w.z0 + 1);
+    scratch_ints shift(team.team_scratch(0), most_rows);
+    scratch_floats data(team.team_scratch(0), 4 * budget);
+    auto row_start = [&](int row) {    // first slot of the window's row `row`
+      const int yy = w.y0 + row % ny, zz = w.z0 + row / ny;
+      return find.grids.offset[ci] + g.n[0] * (yy + g.n[1] * zz);
+    };
+    // the window's rows, each a range of slots, laid out one after the other
+    int staged = 0;
+    for (int row = 0; row < nrows; row++) {
+      const int cells = row_start(row);
+      const int u0 = find.start(cells + w.x0), u1 = find.start(cells + w.x1 + 1);
+      if (staged + (u1 - u0) <= budget) {
+        Kokkos::single(Kokkos::PerTeam(team), [&]() { shift(row) = staged - u0; });
+        Kokkos::parallel_for(Kokkos::TeamThreadRange(team, u1 - u0), [&](const int k) {
+          for (int d = 0; d < 4; d++) data(4 * (staged + k) + d) = find.near(u0 + k, d);
+        });
+      }
+      staged += u1 - u0;
+    }
+    team.team_barrier();
+    w.valid = staged <= budget;
+    w.shift = shift.data();
+    w.data = data.data();
+    const int cells = find.grids.offset[ci] + g.n[0] * (y + g.n[1] * z);
+    const int s0 = find.start(cells + x0), s1 = find.start(cells + x1 + 1);
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, s0, s1),
+                         [&](const int s) { find.list_candidates(s, w); });
   }
 };
 
@@ -573,6 +662,7 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   template <typename Real> void bin(const GriddemKKGrids &grids);
   template <typename Real, bool Classic>
   void sweep(const GriddemKKGrids &grids, double slack, double near_margin);
+  template <typename Real> void search(const GriddemKKFind<DeviceType, Real> &find);
 
  protected:
   // sizes the Views below were allocated for

@@ -171,7 +171,9 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       Kokkos::deep_copy(h_report, d_report);
       const GriddemKKScanValue &sc = h_report().scan;
       check_scan(sc);
-      if (this->neighbor->ago == 0)    // radius range, refreshed as the CPU style does
+      // the radius range, refreshed as the CPU style does: once, as every process takes part
+      // (a step computed again is this process's alone)
+      if (this->neighbor->ago == 0 && attempt == 0)
         this->set_radius_range(this->atom->nlocal ? sc.rmin : INFINITY, sc.rmax);
       if (this->rmax == 0.0) return;    // no atoms yet
       plan_classes(grids);
@@ -413,6 +415,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
       "griddem/kk:report_reset", Kokkos::RangePolicy<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
         report().retry = 0;
         report().listed = report().rows = 0;
+        report().coincident = LONG_MAX;
       });
   // count is zero here: zero-filled when made, and each binning zeroes what it counted
   Kokkos::parallel_for(
@@ -544,9 +547,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   find.excl = this->exclusions;
   find.excl.type_pair = d_excl_type.extent(0) ? d_excl_type.data() : nullptr;
   find.excl.group_bits = d_excl_group.data();
-  Kokkos::parallel_reduce(
-      "griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find,
-      Kokkos::View<GriddemKKFindValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->found));
+  search<Real>(find);
 
   // the new history rows: room for each owned atom's list, slot by slot, in the other pool
   if (track) {
@@ -591,13 +592,46 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
       Kokkos::View<GriddemKKSweepValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->sums));
 }
 
+/* 5. the search: a thread per slot, or a team per block of cells (fix griddem's search) */
+
+template <class DeviceType, class Base>
+template <typename Real>
+void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType, Real> &find)
+{
+  const int nall = this->atom->nlocal + this->atom->nghost;
+  constexpr bool on_host =
+      std::is_same<typename DeviceType::execution_space, Kokkos::DefaultHostExecutionSpace>::value;
+  const int mode = this->fix->search;
+  if (mode == GRIDDEM_SEARCH_THREAD || (mode == GRIDDEM_SEARCH_AUTO && on_host)) {
+    Kokkos::parallel_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
+    return;
+  }
+  GriddemKKFindTeams<DeviceType, Real> teams;
+  teams.find = find;
+  const GriddemKKGrids &grids = find.grids;
+  int blocks = 0, most_reach = 0;
+  for (int c = 0; c < grids.ncls; c++) {
+    const GriddemKKGrid &g = grids.g[c];
+    teams.first_block[c] = blocks;
+    blocks += GriddemKKFindTeams<DeviceType, Real>::blocks_along_x(g.n[0]) * g.n[1] * g.n[2];
+    teams.reach[c] = griddem_stencil_reach(g.h, 2.0 * grids.upper[c] + find.reach_extra + find.slack);
+    most_reach = MAX(most_reach, teams.reach[c]);
+  }
+  teams.first_block[grids.ncls] = blocks;
+  teams.most_rows = (2 * most_reach + 1) * (2 * most_reach + 1);
+  // a warp a team on a GPU (a block holds ~8-30 particles); one thread on the host
+  Kokkos::TeamPolicy<DeviceType> policy(blocks, on_host ? 1 : 32);
+  Kokkos::parallel_for("griddem/kk:find_teams", policy, teams);
+}
+
 /* a computed step's report: faults, the history rows made current, virial and diagnostics */
 
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::finish(const GriddemKKGrids &grids,
                                                  const GriddemKKStepReport &report)
 {
-  if (report.found.fault_i != INT_MAX) report_coincident(report.found.fault_i, report.found.fault_j);
+  if (report.coincident != LONG_MAX)
+    report_coincident((int) (report.coincident >> 32), (int) (report.coincident & 0xffffffffL));
   const GriddemKKSweepValue &sums = report.sums;
   if (this->model.track_contacts) {
     rows_needed = report.rows;
