@@ -24,6 +24,8 @@ speed).
 With --cell the griddem styles run once per fix griddem cell mode given (auto, multi, exact or
 an edge, as `fix grid all griddem cell X`), each line recording its "cell"; the cell edge trades
 candidates searched against cells visited, and a GPU may weigh the two otherwise than a CPU.
+With --search they run once per fix griddem search given (thread, team, auto), each line
+recording its "search", and with both once per pair of the two.
 
 --scene poly runs the polydisperse scene instead: spheres of diameters log-uniform over 1:10 (0.1 to
 1) on a simple cubic lattice of spacing 1, squeezed by fix deform to half the box's edge (solid
@@ -35,7 +37,7 @@ chute's; LAMMPS's best for it is the smallest skin whose rebuilds stay rare: che
 collects a session's lines in its output folder).
 
 usage: bench/gpu.py [--lmp build-kk/lmp] [--gpu [N] | --threads N] [--sizes 32k,128k,0.5M]
-                    [--steps N] [--only STYLE,...] [--cell MODE,...] [--timeout S]
+                    [--steps N] [--only STYLE,...] [--cell MODE,...] [--search MODE,...] [--timeout S]
                     [--lammps-bench DIR] [--census] [--launch-blocking] [--build LABEL]
                     [--scene chute|poly] [--prep N] [--results PATH]"""
 import argparse
@@ -121,15 +123,18 @@ def scene_layout(scene, natoms):
     return BASE * x * y, {"replicate": "%d %d 1" % (x, y)}
 
 
-def scene_input(args, scaled, style, cell, natoms):
+def scene_input(args, scaled, style, variant, natoms):
     """(input text, lmp's -var switches) of one run of the scene with this pair style, and with
-    `fix grid all griddem cell <cell>` after its pair_coeff line when cell is given."""
-    fix = "fix grid all griddem cell %s\n" % cell if cell else ""
+    `fix grid all griddem cell <cell> search <search>` after its pair_coeff line when variant
+    (cell, search) gives either."""
+    cell, search = variant
+    options = "".join(" %s %s" % (key, value) for key, value in (("cell", cell), ("search", search)) if value)
+    fix = "fix grid all griddem%s\n" % options if options else ""
     if args.scene == "poly":
         n, nz = poly_lattice(natoms)
         return POLY.format(n=n, nz=nz, style=style, fix=fix, prep=args.prep, steps=args.steps), []
     text = scaled.replace("gran/hooke/history ", style + " ")
-    if cell:
+    if fix:
         text, found = re.subn(r"^(pair_coeff.*)$", lambda m: m.group(1) + "\n" + fix.rstrip(), text, flags=re.M)
         if found != 1:
             raise SystemExit("in.chute.scaled: no single pair_coeff line to put fix griddem after")
@@ -251,6 +256,8 @@ def main():
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     ap.add_argument("--cell", default=None,
                     help="fix griddem cell modes for the griddem styles, e.g. auto,0.5 (default: none given)")
+    ap.add_argument("--search", default=None,
+                    help="fix griddem search modes for the griddem styles, e.g. thread,team (default: none given)")
     ap.add_argument("--launch-blocking", action="store_true",
                     help="GPU: CUDA_LAUNCH_BLOCKING=1, so that LAMMPS's timing breakdown charges each kernel to its section")
     ap.add_argument("--build", default=None, help="a label for the lmp's source, recorded in each line")
@@ -302,32 +309,34 @@ def main():
     census_lib = build_census(wd) if args.census else None
     out_path = args.results
     only = args.only.split(",") if args.only else None
-    cells = args.cell.split(",") if args.cell else [None]
-    styles = [(s, note, cell) for s, note in STYLES if not only or s in only
-              for cell in (cells if s.startswith("griddem/") else [None])]
+    variants = [(cell, search) for cell in (args.cell.split(",") if args.cell else [None])
+                for search in (args.search.split(",") if args.search else [None])]
+    styles = [(s, note, variant) for s, note in STYLES if not only or s in only
+              for variant in (variants if s.startswith("griddem/") else [(None, None)])]
     failed = set()
     i = 0
     while i < len(sizes):
         natoms, shape = scene_layout(args.scene, sizes[i])
         ran = False
-        for style, note, cell in styles:
+        for style, note, variant in styles:
             record = {"date": datetime.date.today().isoformat(), "device": device, "scene": args.scene,
                       "natoms": natoms, "steps": args.steps, "style": style, "note": note}
             record.update(shape)
             if args.scene == "poly":
                 record["prep_steps"] = args.prep
-            if cell:
-                record["cell"] = cell
+            for key, value in zip(("cell", "search"), variant):
+                if value:
+                    record[key] = value
             if blocking:
                 record["launch_blocking"] = True
             if args.build:
                 record["build"] = args.build
             if style not in have:
                 record.update(status="not available", reason="%s is not in %s" % (style, args.lmp))
-            elif (style, cell) in failed:
+            elif (style, variant) in failed:
                 continue  # failed at a smaller size
             else:
-                text, variables = scene_input(args, scaled, style, cell, natoms)
+                text, variables = scene_input(args, scaled, style, variant, natoms)
                 with open(os.path.join(wd, "in.run"), "w") as f:
                     f.write(text)
                 cmd = [args.lmp] + kk + variables + ["-in", "in.run", "-log", "none"]
@@ -345,7 +354,7 @@ def main():
                             cmd, wd, args.timeout, gpu, census_lib, steps)
                 else:
                     record.update(status="failed", reason=reason(rc, out, timed_out, args.timeout))
-                    failed.add((style, cell))
+                    failed.add((style, variant))
                 record["host_peak_rss_mib"] = round(rss, 1)
                 if gpu:
                     record["gpu_peak_mem_mib"] = gpu_mem

@@ -110,6 +110,9 @@ case("fix_cell", "classes or a positive edge, not -1", pre="fix grid all griddem
 case("fix_precision", "precision must be single or double, not half", pre="fix grid all griddem precision half")
 case("precision_cpu", "precision single is implemented by the Kokkos styles only",
      pre="fix grid all griddem precision single")
+case("fix_search", "search must be auto, thread or team, not warp", pre="fix grid all griddem search warp")
+case("search_cpu", "search team chooses among the Kokkos styles' searches",
+     pre="fix grid all griddem search team")
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("exclude_molecule", "does not support neigh_modify exclude molecule",

@@ -714,7 +714,7 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   void check_scan(const GriddemKKScanValue &sc);
   void plan_classes(GriddemKKGrids &grids);
   void fit_grids(GriddemKKGrids &grids, const GriddemKKClassBoxes &boxes, double margin);
-  void finish(const GriddemKKGrids &grids, const GriddemKKStepReport &report);
+  void close_step(const GriddemKKGrids &grids, const GriddemKKStepReport &report);
   void report_coincident(int i, int j);
 };
 

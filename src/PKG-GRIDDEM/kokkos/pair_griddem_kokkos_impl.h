@@ -219,7 +219,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     last_boxes = griddem_kk_boxes(report, grids.ncls, nall);
     last_speed = report.scan.ivmax >= 0 ? sqrt(report.scan.vmax2) : 0.0;
     boxes_known = 1;
-    finish(grids, report);
+    close_step(grids, report);
     return;
   }
 }
@@ -627,8 +627,8 @@ void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType,
 /* a computed step's report: faults, the history rows made current, virial and diagnostics */
 
 template <class DeviceType, class Base>
-void PairGriddemKokkos<DeviceType, Base>::finish(const GriddemKKGrids &grids,
-                                                 const GriddemKKStepReport &report)
+void PairGriddemKokkos<DeviceType, Base>::close_step(const GriddemKKGrids &grids,
+                                                     const GriddemKKStepReport &report)
 {
   if (report.coincident != LONG_MAX)
     report_coincident((int) (report.coincident >> 32), (int) (report.coincident & 0xffffffffL));
