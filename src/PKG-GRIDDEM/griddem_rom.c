@@ -18,6 +18,17 @@ int griddem_rom_inside(const griddem_rom_grid *g, const double x[3])
   return 1;
 }
 
+int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3])
+{
+  if (!griddem_rom_inside(g, x)) return -1;
+  int idx[3];
+  for (int d = 0; d < 3; d++) {
+    idx[d] = (int) ((x[d] - g->lo[d]) / (g->hi[d] - g->lo[d]) * g->n[d]);
+    if (idx[d] >= g->n[d]) idx[d] = g->n[d] - 1; /* rounding at hi */
+  }
+  return idx[0] + g->n[0] * (idx[1] + g->n[1] * idx[2]);
+}
+
 static int wrap(int i, int n)
 {
   i %= n;
@@ -120,6 +131,44 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
             next[i] = 0;
             *hits += kinematic[i];
           }
+        }
+      }
+  }
+  return 0;
+}
+
+int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *radius,
+                          const int *kinematic, double reach, double cap, int *near,
+                          double *budget, griddem_grid *g, griddem_bins *b)
+{
+  double rmax = 0.0;
+  for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
+  for (int i = 0; i < nlocal; i++) {
+    near[i] = 0;
+    budget[i] = cap;
+  }
+  if (nall == 0) return 0;
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  /* the edge may grow for a dilute set; 27 cells still hold every pair with gap < cap */
+  griddem_grid_cover(g, anchor, nall, x, (2.0 * rmax + cap) * (1.0 + 1e-12) + 1e-300, 8L * nall + 1024L);
+  if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
+  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  for (int i = 0; i < nlocal; i++) {
+    const double *xi = x + 3 * (long) i;
+    const long c = b->cell[i], cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++) {
+        const long row = nx * (y + ny * z);
+        const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
+        const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
+        for (int s = s0; s < s1; s++) {
+          const int j = b->order[s];
+          if (j == i || kinematic[j] == kinematic[i]) continue;
+          const double *xj = x + 3 * (long) j;
+          const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+          const double gap = sqrt(dx * dx + dy * dy + dz * dz) - radius[i] - radius[j];
+          if (kinematic[i]) near[i] |= gap < reach;
+          else if (gap >= reach && gap < budget[i]) budget[i] = gap;
         }
       }
   }

@@ -55,8 +55,8 @@ def resting_spheres(*centres):
 
 # integration, the fix griddem/rom line ({rom}) and the pair virial printed every step
 VIRIAL_EACH_STEP = """
-fix integrate all nve/sphere
 {rom}
+fix integrate {dyn} nve/sphere
 compute vir all pressure NULL virial
 thermo_style custom step c_vir
 thermo_modify format float %.17g
@@ -68,8 +68,8 @@ def model_input(path):
     """A one-control fix griddem/rom reading the model file at path, run 0."""
     return HEAD.format(bnd="f f f") + PAIR + """
 variable w equal 1.0
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+fix integrate rom_dynamic nve/sphere
 run 0
 """.format(m=path)
 
@@ -112,15 +112,15 @@ set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all create 0.5 4928 dist gaussian
 """ + PAIR + """
-fix integrate all nve/sphere
 {rom}
+fix integrate {dyn} nve/sphere
 dump d all custom 200 {dump} id x y z vx vy vz omegax fx {extra}
 dump_modify d format float %.17g sort id
 thermo 100
 run 400
 """
-    t.run_ok(base.format(rom="", dump="plain.dump", extra=""), WD, name="in.plain")
-    t.run_ok(base.format(rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1" % model,
+    t.run_ok(base.format(rom="", dyn="all", dump="plain.dump", extra=""), WD, name="in.plain")
+    t.run_ok(base.format(dyn="rom_dynamic", rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1" % model,
                          dump="rom0.dump", extra="f_rom"), WD, name="in.rom0")
     plain, rom = t.read_dumps(os.path.join(WD, "plain.dump")), t.read_dumps(os.path.join(WD, "rom0.dump"))
     t.check(len(plain) == len(rom) == 3, "three snapshots each")
@@ -139,9 +139,9 @@ def uniform_field():
     text = resting_spheres((1.5, 1.5, 3.0), (4.5, 4.5, 3.0)) + """
 set atom 2 vx 0.9
 """ + PAIR + """
-fix integrate all nve/sphere
-fix down all gravity {g} vector 0 0 -1
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+fix down all gravity {g} vector 0 0 -1
 dump d all custom 5 uniform.dump id x y z vx vy vz f_rom
 dump_modify d format float %.17g sort id
 run 25
@@ -174,7 +174,7 @@ group romable id 1 2 4 5
 dump_modify d format float %.17g sort id
 run 10
 """
-    out = t.run_ok(base.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+    out = t.run_ok(base.format(dyn="rom_dynamic", rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
                                dump="contacts.dump", extra="f_rom"), WD, name="in.contacts")
     snaps = t.read_dumps(os.path.join(WD, "contacts.dump"))
     s = snaps[-1][1]
@@ -191,12 +191,12 @@ run 10
     only12 = base.replace("create_atoms 1 single 3.0 3.995 3.0\n", "").replace(
         "create_atoms 1 single 1.0 1.0 1.0\ncreate_atoms 1 single 1.9 1.0 1.0\n", "").replace(
         "group romable id 1 2 4 5", "group romable id 1 2")
-    out = t.run_ok(only12.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+    out = t.run_ok(only12.format(dyn="rom_dynamic", rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
                                  dump="only12.dump", extra="f_rom"), WD, name="in.only12")
     vir = t.thermo_values(out, "c_vir")
     t.check(vir[0] != 0.0, "before the first classification the pair 1-2 pushes (virial %g)" % vir[0])
     t.check(all(v == 0.0 for v in vir[2:]), "after it the kinematic pair exerts no force (virial %s)" % vir[2:5])
-    out = t.run_ok(only12.format(rom="", dump="only12plain.dump", extra=""), WD, name="in.only12plain")
+    out = t.run_ok(only12.format(rom="", dyn="all", dump="only12plain.dump", extra=""), WD, name="in.only12plain")
     vir = t.thermo_values(out, "c_vir")
     t.check(all(v != 0.0 for v in vir[2:]), "the same pair without the fix keeps pushing")
 
@@ -212,7 +212,7 @@ set type 1 density 1.0
 velocity all set 0 0 0
 """ + PAIR + VIRIAL_EACH_STEP + """run 10
 """
-    out = t.run_ok(text.format(rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
+    out = t.run_ok(text.format(dyn="rom_dynamic", rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
                    WD, nprocs=2, name="in.procs")
     vir = t.thermo_values(out, "c_vir")
     t.check(vir[0] != 0.0 and all(v == 0.0 for v in vir[2:]),
@@ -225,9 +225,9 @@ def release():
     t.write_rom_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
     text = resting_spheres((0.52, 3.0, 3.0)) + """
 """ + PAIR + """
-fix integrate all nve/sphere
-fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
 variable x equal x[1]
 thermo_style custom step v_x f_rom[6]
 thermo_modify format float %.17g
@@ -248,8 +248,8 @@ run 500
 set atom 2 vx 1.0
 group target id 1
 """ + PAIR + """
-fix integrate all nve/sphere
 fix rom target griddem/rom model {m} eps 0.2 v0 1 every 1
+fix integrate rom_dynamic nve/sphere
 dump d all custom 100 hit.dump id vx f_rom
 dump_modify d format float %.17g sort id
 run 1000
@@ -270,9 +270,9 @@ def loaded():
     text = resting_spheres((3.0, 3.0, 2.0), (3.0, 3.0, 3.0)) + """
 group bottom id 1
 """ + PAIR + """
-fix integrate all nve/sphere
-fix gravity all gravity 1.0 vector 0 0 -1
 fix rom bottom griddem/rom model {m} eps 0.08 v0 1 every 50
+fix integrate rom_dynamic nve/sphere
+fix gravity all gravity 1.0 vector 0 0 -1
 variable z1 equal z[1]
 variable z2 equal z[2]
 thermo_style custom step v_z1 v_z2 f_rom[1] f_rom[6]
@@ -300,8 +300,8 @@ def field_jump():
     text = resting_spheres((3.0, 3.0, 3.0)) + """
 """ + PAIR + """
 variable on equal step>100
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 control v_on
+fix integrate rom_dynamic nve/sphere
 variable x equal x[1]
 thermo_style custom step v_x f_rom[1] f_rom[8]
 thermo_modify format float %.17g
@@ -323,8 +323,8 @@ def resolved_region():
     text = resting_spheres((3.0, 3.0, 1.5), (3.0, 3.0, 4.5)) + PAIR + """
 variable zlo equal 4.0-3.0*(step>100)
 region top block INF INF INF INF v_zlo INF
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 resolved top
+fix integrate rom_dynamic nve/sphere
 thermo_style custom step f_rom[1] f_rom[5]
 thermo 50
 dump d all custom 50 region.dump id f_rom
@@ -358,8 +358,8 @@ set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set 0 0 0
 """ + PAIR + """
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
 dump g all grid 5 field{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
 dump_modify g sort id format float %.17g
 run 10
