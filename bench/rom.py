@@ -2,7 +2,7 @@
 """Adaptive reduced-order DEM against resolved DEM on the rom-pile scene, in one job.
 
     /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
-                                  [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10]
+                                  [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
 
 Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs and the model are reused
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
@@ -48,6 +48,9 @@ def main():
     ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
     ap.add_argument("--eps", type=float, default=0.1)
     ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--block", type=float, default=0.0, help="fix griddem/rom keyword block (0: atom by atom)")
+    ap.add_argument("--walls", default="rom_dynamic", help="group of the walls in the reduced run (all: the force "
+                    "rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
     ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
     ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
@@ -68,22 +71,27 @@ def main():
     if not os.path.exists(os.path.join(wd, model)):
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=wd, check=True,
                        stdout=subprocess.DEVNULL)
-    res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d" % (a.test, a.eps, a.every)
+    res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d.b%g.%s" % (a.test, a.eps, a.every, a.block, a.walls)
     run_pile(lmp, wd, scene, a.steps, a.test, res)
     run_pile(lmp, wd, scene, a.steps, a.test, rom,
-             ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every)])
+             ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every),
+              "-var", "block", str(a.block), "-var", "walls", a.walls])
     noise = None
     if a.noise_seed is not None:
         noise = "test.w%g.resolved.seed%d" % (a.test, a.noise_seed)
-        run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % noise)):    # its timing is not used
+            run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
     if noise:
         n = compare(res, noise)
-        c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"])
+        c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"],
+                 height_accuracy_over_floor=c["height_accuracy"] / n["height_accuracy"],
+                 velocity_error_over_floor=c["velocity_error"] / n["velocity_error"])
         if "temperature_error" in n:
             c["noise_temperature_error"] = n["temperature_error"]
+            c["temperature_error_over_floor"] = c["temperature_error"] / n["temperature_error"]
     if a.plot:
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "plot_rom.py"), res, rom] + ([noise] if noise else []) +
                        [os.path.abspath(os.path.join(here, a.plot))], check=True)
@@ -92,7 +100,7 @@ def main():
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
                 scene="rom-pile W%d H%d fill %g inlet %g" % (a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet),
                 natoms=atoms, steps=steps,
-                train=a.train, test=a.test, eps=a.eps, every=a.every, ranks=1, threads=1,
+                train=a.train, test=a.test, eps=a.eps, every=a.every, block=a.block, walls=a.walls, ranks=1, threads=1,
                 **{k: round(v, 4) for k, v in c.items() if isinstance(v, float)})
     print(json.dumps(line))
     with open(a.out, "a") as f:

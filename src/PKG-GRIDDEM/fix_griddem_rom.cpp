@@ -55,7 +55,10 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     else if (word == "overlap") overlap_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "resolved") resolved_id = arg[iarg + 1];
     else if (word == "cfl") cfl = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-    else if (word == "reach") reach_user = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    else if (word == "reach") {
+      reach_user = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (reach_user < 0.0) error->all(FLERR, "Fix griddem/rom: keyword reach must be >= 0");
+    }
     else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
@@ -66,7 +69,6 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   if (every <= 0) error->all(FLERR, "Fix griddem/rom: keyword every is required and must be > 0");
   if (overlap_max <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword overlap must be > 0");
   if (cfl <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword cfl must be > 0");
-  if (reach_user != -1.0 && reach_user < 0.0) error->all(FLERR, "Fix griddem/rom: keyword reach must be >= 0");
   if (block_fraction < 0.0 || block_fraction > 1.0)
     error->all(FLERR, "Fix griddem/rom: keyword block must be between 0 and 1");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)

@@ -14,8 +14,14 @@ int griddem_rom_nvoxel(const griddem_rom_grid *g)
 int griddem_rom_inside(const griddem_rom_grid *g, const double x[3])
 {
   for (int d = 0; d < 3; d++)
-    if (!(x[d] >= g->lo[d] && x[d] < g->hi[d])) return 0;
+    if (!g->periodic[d] && !(x[d] >= g->lo[d] && x[d] < g->hi[d])) return 0;
   return 1;
+}
+
+static int wrap(int i, int n)
+{
+  i %= n;
+  return i < 0 ? i + n : i;
 }
 
 int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3])
@@ -23,16 +29,11 @@ int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3])
   if (!griddem_rom_inside(g, x)) return -1;
   int idx[3];
   for (int d = 0; d < 3; d++) {
-    idx[d] = (int) ((x[d] - g->lo[d]) / (g->hi[d] - g->lo[d]) * g->n[d]);
-    if (idx[d] >= g->n[d]) idx[d] = g->n[d] - 1; /* rounding at hi */
+    idx[d] = (int) floor((x[d] - g->lo[d]) / (g->hi[d] - g->lo[d]) * g->n[d]);
+    if (g->periodic[d]) idx[d] = wrap(idx[d], g->n[d]);
+    else if (idx[d] >= g->n[d]) idx[d] = g->n[d] - 1; /* rounding at hi */
   }
   return idx[0] + g->n[0] * (idx[1] + g->n[1] * idx[2]);
-}
-
-static int wrap(int i, int n)
-{
-  i %= n;
-  return i < 0 ? i + n : i;
 }
 
 void griddem_rom_weights(const griddem_rom_grid *g, const double x[3], int voxel[8],

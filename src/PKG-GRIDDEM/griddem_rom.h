@@ -24,10 +24,11 @@ typedef struct griddem_rom_grid {
 /* Number of voxels. */
 int griddem_rom_nvoxel(const griddem_rom_grid *g);
 
-/* 1 if x lies inside the grid's box (lo <= x < hi on every axis). */
+/* 1 if x lies inside the grid's box (lo <= x < hi on every non-periodic axis; along a periodic
+ * one every x is inside: between reneighborings LAMMPS leaves atoms past a periodic boundary). */
 int griddem_rom_inside(const griddem_rom_grid *g, const double x[3]);
 
-/* The voxel holding x (lo <= x < hi), or -1 outside the box. */
+/* The voxel holding x (periodic axes wrapped), or -1 outside the box. */
 int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3]);
 
 /* The 8 voxels and their weights (summing to 1) of a point; along a non-periodic axis indices

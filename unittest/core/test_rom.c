@@ -60,8 +60,9 @@ static void check_interpolation(void)
   double v[3];
   griddem_rom_interpolate(&G, field, corner, v);
   CHECK_CLOSE(v[1], 0.7, 1e-14, 0.0);
-  CHECK(griddem_rom_inside(&G, corner) && !griddem_rom_inside(&G, (const double[3]){3.0, 0.5, 3.0}),
-        "inside: lo <= x < hi");
+  CHECK(griddem_rom_inside(&G, corner) && !griddem_rom_inside(&G, (const double[3]){3.0, 0.5, 3.0}) &&
+            griddem_rom_inside(&G, (const double[3]){0.0, 1.6, 3.0}),
+        "inside: lo <= x < hi, any y along the periodic axis");
 }
 
 static void check_predict(void)
@@ -158,8 +159,10 @@ static void check_near(double spread)
   const double corner[3] = {2.999999, 1.4999999, 6.9999999};
   CHECK(griddem_rom_voxel(&G, corner) == 59 && griddem_rom_voxel(&G, (const double[3]){-1.0, 0.0, 2.0}) == 0 &&
             griddem_rom_voxel(&G, (const double[3]){0.5, 0.6, 4.2}) == 1 + 4 * (1 + 3 * 2) &&
-            griddem_rom_voxel(&G, (const double[3]){3.0, 0.5, 3.0}) == -1,
-        "voxel of a point: corners, an inner point, outside");
+            griddem_rom_voxel(&G, (const double[3]){3.0, 0.5, 3.0}) == -1 &&
+            griddem_rom_voxel(&G, (const double[3]){0.5, 0.6 + 1.5, 4.2}) == 1 + 4 * (1 + 3 * 2) &&
+            griddem_rom_voxel(&G, (const double[3]){0.5, 0.6 - 1.5, 4.2}) == 1 + 4 * (1 + 3 * 2),
+        "voxel of a point: corners, an inner point, outside, past the periodic y boundary");
   griddem_bins_free(&b);
 }
 

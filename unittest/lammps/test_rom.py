@@ -421,7 +421,171 @@ def training():
     t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map (worst weight error %.2g)" % worst)
 
 
+def model_step():
+    """A kinematic atom that no dynamic atom can reach moves only at the model step, by exactly
+    U M dt, where M follows the CFL rule M = floor(cfl h / (|U| dt)) = floor(0.01 x 2 / (0.374 x
+    0.001)) = 53 (every 100 caps it); between model steps it stays put; at the run's end it is
+    brought up to date (x0 + U t)."""
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "uniform_step.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    text = resting_spheres((3.0, 3.0, 3.0)) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 100 cfl 0.01
+fix integrate rom_dynamic nve/sphere
+dump d all custom 1 step.dump id x y z f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step f_rom[1] f_rom[9] f_rom[10]
+thermo 10
+run 180
+print "FINAL $(x[1]:%.17g) $(y[1]:%.17g) $(z[1]:%.17g)"
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.step")
+    dt, x0 = 0.001, (3.0, 3.0, 3.0)
+    steps = int(0.01 * 2.0 / (math.sqrt(sum(u * u for u in U)) * dt))
+    t.check(steps == 53 and t.thermo_values(out, "f_rom[10]")[-1] == 53, "model step by the CFL rule: %s, expected %d"
+            % (t.thermo_values(out, "f_rom[10]")[-1], steps))
+    t.check(t.thermo_values(out, "f_rom[9]")[-1] == 0, "the atom is not within reach of a dynamic one")
+    snaps = t.read_dumps(os.path.join(WD, "step.dump"))
+    pos = {k: snaps[k][1][1][:3] for k in range(len(snaps))}
+    t.check(snaps[100][1][1][3] == 1.0 and pos[100] == list(x0) and pos[152] == list(x0),
+            "kinematic from step 100; it stays put until the next model step (step 152 %s)" % pos[152])
+    ok = all(abs(pos[153][d] - (x0[d] + 53 * dt * U[d])) <= 1e-14 for d in range(3))
+    t.check(ok and pos[179] == pos[153], "at step 153 it has moved by U 53 dt (%s) and then waits" % pos[153])
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:3]]
+    t.check(all(abs(final[d] - (x0[d] + 80 * dt * U[d])) <= 1e-14 for d in range(3)),
+            "at the run's end it is at x0 + U (180 - 100) dt: %s" % final)
+
+
+def boundary(nprocs, reach=""):
+    """A kinematic atom carried at U = 1 along x towards a resting dynamic atom 0.3 away, on
+    nprocs processes (2: the atoms on different ones, the kinematic one crossing over). Lagging
+    (model step 50) it would jump into the other by up to U 50 dt = 0.05; held at DEM's step within
+    reach, it pushes it like a rigid obstacle at speed U, whose overlap is at most U sqrt(m / kn)
+    = 0.0162 (the undamped value; damping lowers it). The kinematic atom ends at x0 + U t."""
+    model = os.path.join(WD, "push.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(1.0, 0.0, 0.0))
+    text = resting_spheres((1.9, 3.0, 3.0), (3.2, 3.0, 3.0)).replace(
+        "region box", "processors %d 1 1\nregion box" % nprocs) + PAIR + """
+set atom 1 vx 1.0
+group carried id 1
+fix rom carried griddem/rom model {m} eps 2 v0 1 every 50 {reach}
+fix integrate rom_dynamic nve/sphere
+variable gap equal sqrt((x[2]-x[1])^2+(y[2]-y[1])^2+(z[2]-z[1])^2)-1.0
+variable kin equal f_rom[1]
+thermo_style custom step v_gap v_kin f_rom[9] f_rom[11] atoms
+thermo_modify format float %.17g
+thermo 1
+run 1500
+print "FINAL $(x[1]:%.17g) $(vx[2]:%.17g) $(atoms)"
+""".format(m=model, reach=reach)
+    out = t.run_ok(text, WD, nprocs=nprocs, name="in.boundary%d%s" % (nprocs, reach.replace(" ", "")))
+    gap, kin = t.thermo_values(out, "v_gap"), t.thermo_values(out, "v_kin")
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:3]]
+    bound = 1.0 * math.sqrt((math.pi / 6.0) / 2000.0)
+    label = "%d process(es)%s" % (nprocs, ", " + reach if reach else "")
+    t.check(kin[50:] == [1.0] * len(kin[50:]) and min(gap) < -0.005,
+            "%s: the atom stays kinematic and pushes the other (deepest overlap %.4f)" % (label, -min(gap)))
+    t.check(-min(gap) <= bound, "%s: overlap %.5f within a rigid obstacle's %.5f" % (label, -min(gap), bound))
+    t.check(abs(final[0] - (1.9 + 1.5)) <= 1e-12 and final[1] > 0.9 and final[2] == 2,
+            "%s: kinematic atom at x0 + U t = 3.4 (%.15g), the other pushed (vx %.3f), 2 atoms" % (label, final[0],
+                                                                                              final[1]))
+
+
+def migration():
+    """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box all moving at U: 100 carried
+    by the uniform field U (kinematic), 25 outside the fix's group (dynamic, free flight). They
+    cross the sub-domains of 4 processes many times; no atom is lost, every atom ends at x0 + U t
+    (wrapped), and the classification, the atoms within reach and the reach tests between model
+    steps are the same on 1 and 4 processes."""
+    U = (0.7, 0.4, 0.0)
+    model = os.path.join(WD, "flow.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    results = []
+    for nprocs, grid in ((1, "1 1 1"), (4, "2 2 1")):
+        text = HEAD.format(bnd="p p p").replace("region box", "processors %s\nregion box" % grid) + """
+lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set {u0} {u1} {u2} units box
+group carried id > 25
+""".format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
+fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200
+fix integrate rom_dynamic nve/sphere
+write_dump all custom start{n}.dump id x y z modify sort id format float %.17g
+thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[11]
+thermo 100
+run 3000
+write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
+""".format(m=model, n=nprocs)
+        out = t.run_ok(text, WD, nprocs=nprocs, name="in.migrate%d" % nprocs)
+        start = t.read_dump(os.path.join(WD, "start%d.dump" % nprocs))[1]
+        end = t.read_dump(os.path.join(WD, "end%d.dump" % nprocs))[1]
+        worst = 0.0
+        for tag, x0 in start.items():
+            for d in range(3):
+                dx = (end[tag][d] - x0[d] - U[d] * 3000 * 0.001) % 6.0
+                worst = max(worst, min(dx, 6.0 - dx))
+        counts = [t.thermo_values(out, c) for c in ("Atoms", "f_rom[1]", "f_rom[9]", "f_rom[11]")]
+        t.check(len(end) == 125 and all(a == 125 for a in counts[0]), "%d processes: no atom lost" % nprocs)
+        t.check(worst <= 1e-10, "%d processes: every atom at x0 + U t (worst %.2g)" % (nprocs, worst))
+        results.append(counts[1:])
+    t.check(results[0][0][-1] == 100 and results[0][2][-1] > 0, "100 kinematic; reach tests between model steps: %s"
+            % results[0][2][-1])
+    t.check(results[0] == results[1], "kinematic, within reach and reach tests equal on 1 and 4 processes")
+
+
+def blocks():
+    """Keyword block: voxel (0,1,1) holds two resting atoms, voxel (1,1,1) one resting and one
+    moving at 0.9 > eps v0 relative to the zero field, on different processes. Block 1: the resting
+    atom of the second voxel stays dynamic with its neighbour (counted in f_rom[12]); block 0.5:
+    half its atoms qualify, so it is kinematic; block 0: atom by atom."""
+    model = os.path.join(WD, "rest_blocks.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    expected = {"1": (2, 1), "0.5": (3, 0), "0": (3, 0)}
+    for fraction, (nkin, held) in expected.items():
+        text = resting_spheres((0.55, 3.0, 3.0), (1.6, 3.0, 3.0), (2.65, 3.0, 3.0), (3.7, 3.0, 3.0)).replace(
+            "region box", "processors 2 1 1\nregion box") + PAIR + """
+set atom 4 vx 0.9
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 block {b}
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[12]
+thermo 5
+run 5
+""".format(m=model, b=fraction)
+        out = t.run_ok(text, WD, nprocs=2, name="in.block%s" % fraction)
+        got = (t.thermo_values(out, "f_rom[1]")[-1], t.thermo_values(out, "f_rom[12]")[-1])
+        t.check(got == (nkin, held), "block %s: %d kinematic, %d held dynamic by the voxel (got %s)"
+                % (fraction, nkin, held, got))
+
+
+def keyword_checks():
+    model = os.path.join(WD, "rest_kw.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    base = resting_spheres((3.0, 3.0, 3.0)) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 {kw}
+fix integrate {grp} nve/sphere
+run 10
+"""
+    cases = [("cfl 0", "rom_dynamic", "keyword cfl must be > 0"),
+             ("block 1.5", "rom_dynamic", "keyword block must be between 0 and 1"),
+             ("reach -1", "rom_dynamic", "keyword reach must be >= 0"),
+             ("reach 5", "rom_dynamic", "keyword reach 5 exceeds the ghost cutoff's bound"),
+             ("", "all", "fix integrate (nve/sphere) integrates group all, which holds atoms of the fix's group")]
+    for kw, grp, expected in cases:
+        name = "in.kw_" + (kw or grp).replace(" ", "_")
+        rc, out = t.run_lmp(base.format(m=model, kw=kw, grp=grp), WD, name=name)
+        t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
+
+
 model_checks()
+keyword_checks()
+model_step()
+boundary(1)
+boundary(2)
+boundary(1, "reach 0")
+migration()
+blocks()
 processes()
 release()
 loaded()
