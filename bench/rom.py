@@ -8,13 +8,14 @@ Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs an
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
 (examples/rom-pile/train_rom.py), then the test width resolved and reduced back to back, and
 appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, loop times,
-speed-up, the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
+speed-up (and the same from the runs' CPU times), the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
 velocity-field and granular-temperature errors (examples/rom-pile/compare.py defines them), and
 with --noise-seed the same accuracies of a resolved run with another seed (the noise floor);
 --plot draws examples/rom-pile/plot_rom.py's figure."""
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 
@@ -33,7 +34,10 @@ def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
             "-var", "tag", tag, "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in scene.items():
         args += ["-var", k, str(v)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(args + list(extra), cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
 def main():
@@ -72,8 +76,8 @@ def main():
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=wd, check=True,
                        stdout=subprocess.DEVNULL)
     res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d.b%g.%s" % (a.test, a.eps, a.every, a.block, a.walls)
-    run_pile(lmp, wd, scene, a.steps, a.test, res)
-    run_pile(lmp, wd, scene, a.steps, a.test, rom,
+    cpu_res = run_pile(lmp, wd, scene, a.steps, a.test, res)
+    cpu_rom = run_pile(lmp, wd, scene, a.steps, a.test, rom,
              ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every),
               "-var", "block", str(a.block), "-var", "walls", a.walls])
     noise = None
@@ -84,6 +88,9 @@ def main():
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
+    # the CPU time of the whole run (setup and output included): on a shared machine it varies less
+    # than the loop's wall time
+    c.update(cpu_resolved_s=cpu_res, cpu_reduced_s=cpu_rom, speedup_cpu=cpu_res / cpu_rom)
     if noise:
         n = compare(res, noise)
         c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"],

@@ -305,7 +305,7 @@ void FixGriddemRom::setup(int)
     error->warning(FLERR, "Fix griddem/rom: the ghost cutoff {} leaves no reach beyond the largest contact "
                    "distance {}: all kinematic atoms move at DEM's step (raise comm_modify cutoff)",
                    comm->get_comm_cutoff(), 2.0 * rall);
-  reach = reach_user < 0.0 ? 0.5 * MAX(cap, 0.0) : reach_user;
+  reach = reach_user < 0.0 ? MAX(cap, 0.0) : reach_user;
   if (reach > MAX(cap, 0.0) && reach > 0.0)
     error->all(FLERR, "Fix griddem/rom: keyword reach {} exceeds the ghost cutoff's bound {} (the ghost cutoff "
                "less the largest contact distance); raise comm_modify cutoff", reach, cap);

@@ -64,7 +64,7 @@ class FixGriddemRom : public Fix {
   std::vector<int> control_vars;
   double eps, v0, overlap_max;
   double cfl;               // model step: at most cfl h / max |u| (keyword cfl)
-  double reach_user;        // keyword reach, or -1: half of the reach the ghost cutoff allows
+  double reach_user;        // keyword reach, or -1: the most the ghost cutoff allows
   double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
   double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)

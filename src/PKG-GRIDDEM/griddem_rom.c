@@ -157,19 +157,23 @@ int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *r
   for (int i = 0; i < nlocal; i++) {
     const double *xi = x + 3 * (long) i;
     const long c = b->cell[i], cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
-      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++) {
+    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz && !near[i]; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny && !near[i]; y++) {
         const long row = nx * (y + ny * z);
         const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
         const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
-        for (int s = s0; s < s1; s++) {
+        for (int s = s0; s < s1 && !near[i]; s++) {
           const int j = b->order[s];
-          if (j == i || kinematic[j] == kinematic[i]) continue;
+          if (kinematic[j] == kinematic[i]) continue;
           const double *xj = x + 3 * (long) j;
           const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-          const double gap = sqrt(dx * dx + dy * dy + dz * dz) - radius[i] - radius[j];
-          if (kinematic[i]) near[i] |= gap < reach;
-          else if (gap >= reach && gap < budget[i]) budget[i] = gap;
+          /* only gaps below reach (kinematic i) or below the budget so far (dynamic i) count */
+          const double limit = radius[i] + radius[j] + (kinematic[i] ? reach : budget[i]);
+          const double r2 = dx * dx + dy * dy + dz * dz;
+          if (r2 >= limit * limit) continue;
+          const double gap = sqrt(r2) - radius[i] - radius[j];
+          if (kinematic[i]) near[i] = gap < reach;
+          else if (gap >= reach) budget[i] = gap;
         }
       }
   }

@@ -493,7 +493,9 @@ print "FINAL $(x[1]:%.17g) $(vx[2]:%.17g) $(atoms)"
 
 def migration():
     """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box all moving at U: 100 carried
-    by the uniform field U (kinematic), 25 outside the fix's group (dynamic, free flight). They
+    by the uniform field U (kinematic), the 25 of the plane z = 0.3 outside the fix's group
+    (dynamic, free flight), so that the 50 of the planes z = 1.5 and 5.1 (across the periodic
+    boundary) are within reach (gap 0.2 < reach 0.3) and move at every step. They
     cross the sub-domains of 4 processes many times; no atom is lost, every atom ends at x0 + U t
     (wrapped), and the classification, the atoms within reach and the reach tests between model
     steps are the same on 1 and 4 processes."""
@@ -508,7 +510,9 @@ create_atoms 1 box
 set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set {u0} {u1} {u2} units box
-group carried id > 25
+region low block INF INF INF INF INF 1.0
+group low region low
+group carried subtract all low
 """.format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
 fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200
 fix integrate rom_dynamic nve/sphere
@@ -530,8 +534,8 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
         t.check(len(end) == 125 and all(a == 125 for a in counts[0]), "%d processes: no atom lost" % nprocs)
         t.check(worst <= 1e-10, "%d processes: every atom at x0 + U t (worst %.2g)" % (nprocs, worst))
         results.append(counts[1:])
-    t.check(results[0][0][-1] == 100 and results[0][2][-1] > 0, "100 kinematic; reach tests between model steps: %s"
-            % results[0][2][-1])
+    t.check(results[0][0][-1] == 100 and results[0][1][-1] == 50 and results[0][2][-1] > 0,
+            "100 kinematic, 50 within reach; reach tests between model steps: %s" % results[0][2][-1])
     t.check(results[0] == results[1], "kinematic, within reach and reach tests equal on 1 and 4 processes")
 
 
