@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 
 int griddem_rom_nvoxel(const griddem_rom_grid *g)
 {
@@ -149,33 +150,61 @@ int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *r
     budget[i] = cap;
   }
   if (nall == 0) return 0;
+  /* only the kinematic atoms are binned; each dynamic atom (owned or ghost) visits them: every
+   * pair of the two kinds is seen once, from its dynamic side */
+  int nkin = 0;
+  for (int j = 0; j < nall; j++) nkin += kinematic[j] != 0;
+  if (nkin == 0) return 0;
+  double *xk = (double *) malloc(sizeof(double) * 3 * (size_t) nkin);
+  int *which = (int *) malloc(sizeof(int) * (size_t) nkin);
+  if (!xk || !which) {
+    free(xk);
+    free(which);
+    return -1;
+  }
+  for (int j = 0, k = 0; j < nall; j++)
+    if (kinematic[j]) {
+      for (int d = 0; d < 3; d++) xk[3 * k + d] = x[3 * (long) j + d];
+      which[k++] = j;
+    }
   const double anchor[3] = {0.0, 0.0, 0.0};
-  /* the edge may grow for a dilute set; 27 cells still hold every pair with gap < cap */
+  /* the grid covers every atom (the dynamic ones look up their cells); the edge may grow for a
+   * dilute set, and 27 cells still hold every pair with gap < cap */
   griddem_grid_cover(g, anchor, nall, x, (2.0 * rmax + cap) * (1.0 + 1e-12) + 1e-300, 8L * nall + 1024L);
-  if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
+  if (griddem_bin_points(b, g, nkin, xk, NULL, 0) != 0) {
+    free(xk);
+    free(which);
+    return -1;
+  }
   const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
-  for (int i = 0; i < nlocal; i++) {
-    const double *xi = x + 3 * (long) i;
-    const long c = b->cell[i], cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz && !near[i]; z++)
-      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny && !near[i]; y++) {
+  for (int j = 0; j < nall; j++) {
+    if (kinematic[j]) continue;
+    const double *xj = x + 3 * (long) j;
+    const int owned = j < nlocal;
+    const long c = griddem_cell_of(g, xj[0], xj[1], xj[2]), cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++) {
         const long row = nx * (y + ny * z);
         const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
         const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
-        for (int s = s0; s < s1 && !near[i]; s++) {
-          const int j = b->order[s];
-          if (kinematic[j] == kinematic[i]) continue;
-          const double *xj = x + 3 * (long) j;
+        for (int s = s0; s < s1; s++) {
+          const int i = which[b->order[s]];
+          if (!owned && (i >= nlocal || near[i])) continue;
+          const double *xi = x + 3 * (long) i;
           const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-          /* only gaps below reach (kinematic i) or below the budget so far (dynamic i) count */
-          const double limit = radius[i] + radius[j] + (kinematic[i] ? reach : budget[i]);
+          /* only gaps below the budget so far (owned j; >= reach) or below reach count */
+          const double limit = radius[i] + radius[j] + (owned ? budget[j] : reach);
           const double r2 = dx * dx + dy * dy + dz * dz;
           if (r2 >= limit * limit) continue;
-          const double gap = sqrt(r2) - radius[i] - radius[j];
-          if (kinematic[i]) near[i] = gap < reach;
-          else if (gap >= reach) budget[i] = gap;
+          const double gap = sqrt(r2) - (radius[i] + radius[j]);
+          if (gap < reach) {
+            if (i < nlocal) near[i] = 1;
+          } else if (owned)
+            budget[j] = gap;
         }
       }
   }
+  free(xk);
+  free(which);
   return 0;
 }

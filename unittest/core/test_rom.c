@@ -144,7 +144,7 @@ static void check_near(double spread)
     for (int j = 0; j < NALL; j++) {
       if (j == i || kin[j] == kin[i]) continue;
       const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
-      const double gap = sqrt(dx * dx + dy * dy + dz * dz) - r[i] - r[j];
+      const double gap = sqrt(dx * dx + dy * dy + dz * dz) - (r[i] + r[j]);
       if (kin[i] && gap < reach) ref_near = 1;
       if (!kin[i] && gap >= reach && gap < ref_budget) ref_budget = gap;
     }
