@@ -582,7 +582,32 @@ run 10
         t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
 
 
+def rejoin():
+    """A lagging kinematic atom released by a field jump rejoins DEM where the field has carried
+    it and with the velocity the model predicted: field vx = 0.3 + c, c switching from 0 to 1 at
+    step 100 (> eps v0 = 0.5); kinematic from step 60 (model step 60), released at 120; then free
+    flight: x = x0 + 0.3 (200 - 60) dt (80 steps of rounding: 1e-13) and vx = 0.3 at step 200."""
+    model = os.path.join(WD, "rejoin.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(0.3, 0.0, 0.0), controls=1, control_weight=1.0)
+    text = resting_spheres((2.0, 3.0, 3.0)) + PAIR + """
+variable on equal step>100
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 60 control v_on
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[8]
+thermo 20
+run 200
+print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.rejoin")
+    kin, jumps = t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[8]")
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:2]]
+    t.check(kin[3] == 1 and kin[-1] == 0 and jumps[-1] == 1, "kinematic at step 60, released by the jump at 120")
+    t.check(abs(final[0] - (2.0 + 0.3 * 140 * 0.001)) <= 1e-13 and abs(final[1] - 0.3) <= 1e-15,
+            "released where the field carried it, with the predicted velocity (x %.17g, vx %.17g)" % tuple(final))
+
+
 model_checks()
+rejoin()
 keyword_checks()
 model_step()
 boundary(1)
