@@ -2,19 +2,20 @@
 """Adaptive reduced-order DEM against resolved DEM on the rom-pile scene, in one job.
 
     /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
-                                  [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10]
+                                  [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
 
 Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs and the model are reused
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
 (examples/rom-pile/train_rom.py), then the test width resolved and reduced back to back, and
 appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, loop times,
-speed-up, the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
+speed-up (and the same from the runs' CPU times), the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
 velocity-field and granular-temperature errors (examples/rom-pile/compare.py defines them), and
 with --noise-seed the same accuracies of a resolved run with another seed (the noise floor);
 --plot draws examples/rom-pile/plot_rom.py's figure."""
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 
@@ -33,7 +34,10 @@ def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
             "-var", "tag", tag, "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in scene.items():
         args += ["-var", k, str(v)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(args + list(extra), cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
 def main():
@@ -48,6 +52,9 @@ def main():
     ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
     ap.add_argument("--eps", type=float, default=0.1)
     ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--block", type=float, default=0.0, help="fix griddem/rom keyword block (0: atom by atom)")
+    ap.add_argument("--walls", default="rom_dynamic", help="group of the walls in the reduced run (all: the force "
+                    "rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
     ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
     ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
@@ -68,22 +75,30 @@ def main():
     if not os.path.exists(os.path.join(wd, model)):
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=wd, check=True,
                        stdout=subprocess.DEVNULL)
-    res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d" % (a.test, a.eps, a.every)
-    run_pile(lmp, wd, scene, a.steps, a.test, res)
-    run_pile(lmp, wd, scene, a.steps, a.test, rom,
-             ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every)])
+    res, rom = "test.w%g.resolved" % a.test, "test.w%g.rom.e%g.n%d.b%g.%s" % (a.test, a.eps, a.every, a.block, a.walls)
+    cpu_res = run_pile(lmp, wd, scene, a.steps, a.test, res)
+    cpu_rom = run_pile(lmp, wd, scene, a.steps, a.test, rom,
+             ["-var", "mode", "rom", "-var", "model", model, "-var", "eps", str(a.eps), "-var", "every", str(a.every),
+              "-var", "block", str(a.block), "-var", "walls", a.walls])
     noise = None
     if a.noise_seed is not None:
         noise = "test.w%g.resolved.seed%d" % (a.test, a.noise_seed)
-        run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % noise)):    # its timing is not used
+            run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
+    # the CPU time of the whole run (setup and output included): on a shared machine it varies less
+    # than the loop's wall time
+    c.update(cpu_resolved_s=cpu_res, cpu_reduced_s=cpu_rom, speedup_cpu=cpu_res / cpu_rom)
     if noise:
         n = compare(res, noise)
-        c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"])
+        c.update(noise_height_accuracy=n["height_accuracy"], noise_velocity_error=n["velocity_error"],
+                 height_accuracy_over_floor=c["height_accuracy"] / n["height_accuracy"],
+                 velocity_error_over_floor=c["velocity_error"] / n["velocity_error"])
         if "temperature_error" in n:
             c["noise_temperature_error"] = n["temperature_error"]
+            c["temperature_error_over_floor"] = c["temperature_error"] / n["temperature_error"]
     if a.plot:
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "plot_rom.py"), res, rom] + ([noise] if noise else []) +
                        [os.path.abspath(os.path.join(here, a.plot))], check=True)
@@ -92,7 +107,7 @@ def main():
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
                 scene="rom-pile W%d H%d fill %g inlet %g" % (a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet),
                 natoms=atoms, steps=steps,
-                train=a.train, test=a.test, eps=a.eps, every=a.every, ranks=1, threads=1,
+                train=a.train, test=a.test, eps=a.eps, every=a.every, block=a.block, walls=a.walls, ranks=1, threads=1,
                 **{k: round(v, 4) for k, v in c.items() if isinstance(v, float)})
     print(json.dumps(line))
     with open(a.out, "a") as f:

@@ -37,22 +37,40 @@ def heights(frame):
     return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
 
 
-def kinematic_series(tag):
-    """(steps, kinematic share of the atoms) at the thermo lines of log.TAG (columns: step time
-    atoms ke nkin); empty for a run without them."""
+def kinematic_series(tag, column=4):
+    """(steps, share of the atoms) at the thermo lines of log.TAG (columns: step time atoms ke
+    nkin nnear; column 4 the kinematic atoms, 5 those of them moving at DEM's step); empty for a
+    run without them."""
     steps, frac = [], []
     with open("log." + tag) as f:
         for line in f:
             w = line.split()
-            if len(w) == 5 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
+            if len(w) == 6 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
                 steps.append(int(w[0]))
-                frac.append(float(w[4]) / float(w[2]))
+                frac.append(float(w[column]) / float(w[2]))
     return np.array(steps), np.array(frac)
+
+
+def counters(tag):
+    """The fix's counters printed at the end of a reduced run (ROM-COUNTS name value ...)."""
+    with open("log." + tag) as f:
+        for line in f:
+            if line.startswith("ROM-COUNTS"):
+                w = line.split()[1:]
+                return {w[k]: float(w[k + 1]) for k in range(0, len(w), 2)}
+    return {}
 
 
 def kinematic_fraction(tag):
     """Mean over the thermo lines of the kinematic share of the atoms, 0 for a resolved run."""
     frac = kinematic_series(tag)[1]
+    return float(np.mean(frac)) if frac.size else 0.0
+
+
+def near_fraction(tag):
+    """Mean over the thermo lines of the share of the atoms that are kinematic and move at DEM's
+    step (within reach of a dynamic atom)."""
+    frac = kinematic_series(tag, 5)[1]
     return float(np.mean(frac)) if frac.size else 0.0
 
 
@@ -87,7 +105,8 @@ def compare(res_tag, rom_tag):
                 height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),
                 final_height_accuracy=float(1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])),
                 velocity_error=float(np.linalg.norm(vm - vr) / np.linalg.norm(vr)), voxels=int(mask.sum()),
-                kinematic_fraction=kinematic_fraction(rom_tag), heights_resolved=hr[-1], heights_reduced=hm[-1])
+                kinematic_fraction=kinematic_fraction(rom_tag), near_fraction=near_fraction(rom_tag),
+                **{"n_" + k: v for k, v in counters(rom_tag).items()}, heights_resolved=hr[-1], heights_reduced=hm[-1])
 
 
 def main():

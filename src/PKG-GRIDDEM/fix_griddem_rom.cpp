@@ -20,6 +20,7 @@
 #include "variable.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -28,9 +29,12 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kinematic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0), v0(-1.0),
-    overlap_max(0.1), resolved(nullptr), period(1), state(nullptr), fpair(nullptr), nmax(0), counts(),
-    grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins()
+    Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0),
+    v0(-1.0), overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
+    resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
+    force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
+    nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
+    counts()
 {
   std::string model_file;
   int every = 0;
@@ -50,6 +54,12 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     else if (word == "every") every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "overlap") overlap_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "resolved") resolved_id = arg[iarg + 1];
+    else if (word == "cfl") cfl = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    else if (word == "reach") {
+      reach_user = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (reach_user < 0.0) error->all(FLERR, "Fix griddem/rom: keyword reach must be >= 0");
+    }
+    else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
   }
@@ -58,9 +68,12 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   if (v0 <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword v0 is required and must be > 0");
   if (every <= 0) error->all(FLERR, "Fix griddem/rom: keyword every is required and must be > 0");
   if (overlap_max <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword overlap must be > 0");
+  if (cfl <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword cfl must be > 0");
+  if (block_fraction < 0.0 || block_fraction > 1.0)
+    error->all(FLERR, "Fix griddem/rom: keyword block must be between 0 and 1");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, "Fix griddem/rom requires atom_style sphere");
-  period = every;    // end_of_step runs each step (the per-atom state follows the atoms)
+  period = model_step = every;
 
   read_model(model_file.c_str());
   if ((int) control_names.size() != ncontrol)
@@ -69,20 +82,25 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
 
   const int igroup_kin = group->find_or_create((std::string(id) + "_kinematic").c_str());
   kinematic_bit = group->bitmask[igroup_kin];
+  const int igroup_dyn = group->find_or_create((std::string(id) + "_dynamic").c_str());
+  dynamic_bit = group->bitmask[igroup_dyn];
 
   peratom_flag = 1;
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 8;
+  size_vector = 13;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
   pergrid_flag = 1;
   pergrid_freq = every;
 
+  create_attribute = 1;
+
   FixGriddemRom::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
+  for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
   fill_state();
 }
 
@@ -91,13 +109,15 @@ FixGriddemRom::~FixGriddemRom()
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(state);
   memory->destroy(fpair);
+  memory->destroy(track);
   griddem_bins_free(&check_bins);
+  griddem_bins_free(&near_bins);
   deallocate_grid();
 }
 
 int FixGriddemRom::setmask()
 {
-  return PRE_REVERSE | POST_FORCE | END_OF_STEP;
+  return INITIAL_INTEGRATE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
 }
 
 /* The model file (format version 1; doc/fix_griddem_rom.md): '#' starts a comment; then
@@ -246,12 +266,25 @@ void FixGriddemRom::init()
       error->all(FLERR, "Fix griddem/rom: control variable {} is not equal-style", name);
     control_vars.push_back(ivar);
   }
-  // kinematic atoms must leave the step with no force: this fix zeroes them after all others
-  const int me = modify->find_fix(id);
-  for (int i = me + 1; i < modify->nfix; i++)
-    if (modify->fmask[i] & POST_FORCE)
-      error->all(FLERR, "Fix griddem/rom must be defined after fix {} ({}), which adds forces",
-                 modify->fix[i]->id, modify->fix[i]->style);
+  // kinematic atoms are moved by this fix alone: an integrator of atoms of the fix's group must
+  // integrate ID_dynamic
+  const int *mask = atom->mask;
+  for (auto &ifix : modify->get_fix_list()) {
+    if (ifix == this || !ifix->time_integrate || ifix->groupbit == dynamic_bit) continue;
+    int mine = 0, all = 0;
+    for (int i = 0; i < atom->nlocal; i++) mine += (mask[i] & ifix->groupbit) && (mask[i] & groupbit);
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_SUM, world);
+    if (all)
+      error->all(FLERR, "Fix griddem/rom: fix {} ({}) integrates group {}, which holds atoms of the fix's "
+                 "group; integrate group {}_dynamic instead", ifix->id, ifix->style, group->names[ifix->igroup], id);
+  }
+  // a fix that adds forces to kinematic atoms (its group is not ID_dynamic), gravity aside, is
+  // answered by the force rule each step; otherwise kinematic atoms cost nothing between model steps
+  force_each_step = false;
+  for (auto &ifix : modify->get_fix_list())
+    if (ifix != this && (ifix->setmask() & POST_FORCE) && ifix->groupbit != dynamic_bit &&
+        !utils::strmatch(ifix->style, "^gravity"))
+      force_each_step = true;
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
@@ -260,9 +293,29 @@ void FixGriddemRom::init()
   }
 }
 
-void FixGriddemRom::setup(int vflag)
+void FixGriddemRom::setup(int)
 {
-  post_force(vflag);
+  // the reach test looks for dynamic atoms among the owned and ghost atoms: a gap up to the ghost
+  // cutoff less the longest contact distance is seen on every process
+  double rmax = 0.0, rall = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) rmax = MAX(rmax, atom->radius[i]);
+  MPI_Allreduce(&rmax, &rall, 1, MPI_DOUBLE, MPI_MAX, world);
+  cap = comm->get_comm_cutoff() - 2.0 * rall;
+  if (cap <= 0.0 && rall > 0.0 && comm->me == 0)
+    error->warning(FLERR, "Fix griddem/rom: the ghost cutoff {} leaves no reach beyond the largest contact "
+                   "distance {}: all kinematic atoms move at DEM's step (raise comm_modify cutoff)",
+                   comm->get_comm_cutoff(), 2.0 * rall);
+  reach = reach_user < 0.0 ? MAX(cap, 0.0) : reach_user;
+  if (reach > MAX(cap, 0.0) && reach > 0.0)
+    error->all(FLERR, "Fix griddem/rom: keyword reach {} exceeds the ghost cutoff's bound {} (the ghost cutoff "
+               "less the largest contact distance); raise comm_modify cutoff", reach, cap);
+  int *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++)
+    mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
+  last_model = update->ntimestep;
+  if (next_model <= update->ntimestep) next_model = update->ntimestep + model_step;
+  comm->forward_comm(this);
+  mark_near();
   fill_state();
 }
 
@@ -271,10 +324,36 @@ void FixGriddemRom::setup_pre_reverse(int eflag, int vflag)
   pre_reverse(eflag, vflag);
 }
 
+/* Kinematic atoms within reach of a dynamic atom move at DEM's step; the others wait for the
+   next model step (catch_up). */
+void FixGriddemRom::initial_integrate(int)
+{
+  double **x = atom->x, **v = atom->v;
+  const int *mask = atom->mask;
+  const double dt = update->dt;
+  for (const int i : nearlist)
+    if (mask[i] & kinematic_bit)
+      for (int d = 0; d < 3; d++) x[i][d] += dt * v[i][d];
+}
+
+void FixGriddemRom::post_neighbor()
+{
+  fill_nearlist();
+}
+
+void FixGriddemRom::fill_nearlist()
+{
+  nearlist.clear();
+  const int *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((mask[i] & kinematic_bit) && track[i][4] != 0.0) nearlist.push_back(i);
+}
+
 /* The pair has run and no fix has added forces yet (griddem styles give ghosts nothing, so the
-   owned atoms' forces are final): f is the contact forces, kept for the kinematic atoms. */
+   owned atoms' forces are final): f is the contact forces, kept for the force rule. */
 void FixGriddemRom::pre_reverse(int, int)
 {
+  if (!force_each_step && update->ntimestep != next_model) return;
   double **f = atom->f;
   const int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
@@ -282,25 +361,21 @@ void FixGriddemRom::pre_reverse(int, int)
       for (int d = 0; d < 3; d++) fpair[i][d] = f[i][d];
 }
 
-void FixGriddemRom::post_force(int)
-{
-  zero_kinematic_forces();
-}
-
-/* A kinematic atom is released (made dynamic, keeping its force) when the force on it other than
-   its contacts with atoms and gravity would change its velocity by more than eps v0 within a
-   classification period: |f - f_pair - m g| N dt / m > eps v0: a wall it is driven into, or
-   another fix's force. Its contacts with dynamic atoms do not count: in a resting pile a
-   kinematic atom carries the weight of dynamic ones above it, which is no reason to release it
-   (counting it released most of a loaded pile every step); a dynamic atom that hits it is judged
-   by the hit test at the next classification. Gravity is the field's business. The others lose
-   their force and torque. */
-void FixGriddemRom::zero_kinematic_forces()
+/* A kinematic atom is released (made dynamic) when the force on it other than its contacts with
+   atoms and gravity would change its velocity by more than eps v0 within a model step:
+   |f - f_pair - m g| M dt / m > eps v0: a wall it is driven into, or another fix's force. Its
+   contacts with dynamic atoms do not count: in a resting pile a kinematic atom carries the weight
+   of dynamic ones above it, which is no reason to release it; a dynamic atom that hits it is
+   judged by the hit test at the next classification. Gravity is the field's business. A lagging
+   atom is brought up to date first; a released atom gets budget 0, so the reach test runs again
+   at this step's end. */
+void FixGriddemRom::release_by_force()
 {
   int *mask = atom->mask;
-  double **f = atom->f, **torque = atom->torque;
+  double **f = atom->f, **x = atom->x, **v = atom->v;
   const double *rmass = atom->rmass;
-  const double scale = period * update->dt, threshold = eps * v0;
+  const double scale = model_step * update->dt, threshold = eps * v0;
+  const double lag = (update->ntimestep - last_model) * update->dt;
   int released = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & kinematic_bit)) continue;
@@ -310,14 +385,16 @@ void FixGriddemRom::zero_kinematic_forces()
         for (int d = 0; d < 3; d++) fo[d] -= rmass[i] * g.second[d];
     const double fm2 = fo[0] * fo[0] + fo[1] * fo[1] + fo[2] * fo[2];
     if (sqrt(fm2) * scale > threshold * rmass[i]) {
-      mask[i] &= ~kinematic_bit;
+      if (track[i][4] == 0.0)
+        for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
+      mask[i] = (mask[i] & ~kinematic_bit) | dynamic_bit;
+      for (int d = 0; d < 3; d++) track[i][d] = x[i][d];
+      track[i][3] = track[i][4] = 0.0;
       released++;
-      continue;
     }
-    for (int d = 0; d < 3; d++) f[i][d] = torque[i][d] = 0.0;
   }
-  int any = released, all = 0;
-  MPI_Allreduce(&any, &all, 1, MPI_INT, MPI_SUM, world);
+  int all = 0;
+  MPI_Allreduce(&released, &all, 1, MPI_INT, MPI_SUM, world);
   if (all) {
     comm->forward_comm(this);    // the ghosts of released atoms too
     counts[5] += all;
@@ -325,10 +402,94 @@ void FixGriddemRom::zero_kinematic_forces()
   }
 }
 
+/* The lagging kinematic atoms to the present: x += v (steps since last_model) dt. */
+void FixGriddemRom::catch_up()
+{
+  const double lag = (update->ntimestep - last_model) * update->dt;
+  if (lag > 0.0) {
+    double **x = atom->x, **v = atom->v;
+    const int *mask = atom->mask;
+    for (int i = 0; i < atom->nlocal; i++)
+      if ((mask[i] & kinematic_bit) && track[i][4] == 0.0)
+        for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
+  }
+  last_model = update->ntimestep;
+}
+
+/* Which kinematic atoms move at DEM's step (near: a dynamic atom within reach), and how far each
+   dynamic atom may move before a lagging one could meet it (its budget); griddem_rom_mark_near.
+   Positions and masks of the ghosts must be current. */
+void FixGriddemRom::mark_near()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  double **x = atom->x, **v = atom->v;
+  const int *mask = atom->mask;
+  std::vector<int> kinematic(nall), near(nlocal);
+  std::vector<double> budget(nlocal);
+  for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
+  if (cap <= 0.0) {
+    std::fill(near.begin(), near.end(), 1);
+    std::fill(budget.begin(), budget.end(), INFINITY);
+  } else if (nall && griddem_rom_mark_near(nlocal, nall, x[0], atom->radius, kinematic.data(), reach, cap, near.data(),
+                                    budget.data(), &near_grid, &near_bins) != 0)
+    error->one(FLERR, "Fix griddem/rom: out of memory for the reach test of {} atoms", nall);
+  double umax = 0.0, nnear = 0.0, nkin = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    nkin += kinematic[i];
+    for (int d = 0; d < 3; d++) track[i][d] = x[i][d];
+    track[i][3] = budget[i];
+    track[i][4] = near[i] && kinematic[i];
+    nnear += track[i][4];
+    if (kinematic[i] && !near[i]) umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
+  }
+  MPI_Allreduce(&umax, &umax_far, 1, MPI_DOUBLE, MPI_MAX, world);
+  double mine[2] = {nnear, nkin}, all[2];
+  MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  counts[8] = all[0];
+  nfar = all[1] - all[0];
+  fill_nearlist();
+}
+
+/* At a model step: the lagging atoms to the present, the force rule, the classification, the
+   reach test. Between: the force rule where needed, and the skin rule of the lagging atoms: a
+   dynamic atom that has moved, plus the lagging atoms' possible travel, as far as its budget
+   brings all kinematic atoms up to date and runs the reach test again. */
 void FixGriddemRom::end_of_step()
 {
-  if (update->ntimestep % period == 0) classify();
+  const double t0 = MPI_Wtime();
+  if (update->ntimestep == next_model) {
+    catch_up();
+    comm->forward_comm();
+    release_by_force();
+    classify();
+    mark_near();
+  } else {
+    if (force_each_step) release_by_force();
+    double **x = atom->x;
+    const int *mask = atom->mask;
+    const double travel = umax_far * (update->ntimestep - last_model) * update->dt;
+    int mine = 0, any = 0;
+    for (int i = 0; i < atom->nlocal && !mine && nfar > 0.0; i++) {
+      if (mask[i] & kinematic_bit) continue;
+      double dx[3] = {x[i][0] - track[i][0], x[i][1] - track[i][1], x[i][2] - track[i][2]};
+      domain->minimum_image(dx);
+      mine = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) + travel >= track[i][3];
+    }
+    MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+    if (any) {
+      catch_up();
+      comm->forward_comm();
+      mark_near();
+      counts[10] += 1;
+    }
+  }
+  counts[12] += MPI_Wtime() - t0;
   fill_state();
+}
+
+void FixGriddemRom::post_run()
+{
+  catch_up();
 }
 
 /* The voxel density, the predicted velocity field, and the new state of each atom of the group. */
@@ -382,29 +543,64 @@ void FixGriddemRom::classify()
                                          overlap_max, next.data(), &hits, &overlaps, &check_grid, &check_bins) != 0)
     error->one(FLERR, "Fix griddem/rom: out of memory for the contact check of {} atoms", nall);
 
-  double nkin = 0;
+  // voxel blocks: a voxel's atoms are kinematic only where a share block_fraction of the atoms of
+  // the group in it qualify, so that kinematic atoms come in whole cells
+  double held = 0;
+  if (block_fraction > 0.0) {
+    std::vector<int> votes(2 * (size_t) nvox, 0), sums(2 * (size_t) nvox);
+    std::vector<int> voxel(nlocal, -1);
+    for (int i = 0; i < nlocal; i++) {
+      if (!use[i] || (voxel[i] = griddem_rom_voxel(&grid, x[i])) < 0) continue;
+      votes[2 * voxel[i]] += 1;
+      votes[2 * voxel[i] + 1] += next[i];
+    }
+    MPI_Allreduce(votes.data(), sums.data(), 2 * nvox, MPI_INT, MPI_SUM, world);
+    for (int i = 0; i < nlocal; i++)
+      if (next[i] && sums[2 * voxel[i] + 1] < block_fraction * sums[2 * voxel[i]]) {
+        next[i] = 0;
+        held += 1;
+      }
+  }
+
+  double nkin = 0, umax = 0;
   for (int i = 0; i < nlocal; i++) {
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
     if (next[i]) {
       made += !was;
       nkin += 1;
-      mask[i] |= kinematic_bit;
+      mask[i] = (mask[i] | kinematic_bit) & ~dynamic_bit;
       for (int d = 0; d < 3; d++) {
         v[i][d] = u[3 * i + d];
         omega[i][d] = f[i][d] = torque[i][d] = 0.0;
       }
+      umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
     } else
-      mask[i] &= ~kinematic_bit;
+      mask[i] = (mask[i] & ~kinematic_bit) | dynamic_bit;
   }
   comm->forward_comm(this);
 
-  double mine[6] = {nkin, made, (double) hits, (double) overlaps, left, jumps}, all[6];
-  MPI_Allreduce(mine, all, 6, MPI_DOUBLE, MPI_SUM, world);
+  double mine[7] = {nkin, made, (double) hits, (double) overlaps, left, jumps, held}, all[7];
+  MPI_Allreduce(mine, all, 7, MPI_DOUBLE, MPI_SUM, world);
   counts[0] = all[0];
   for (int k = 1; k < 5; k++) counts[k] += all[k];
   counts[6] += 1;
   counts[7] += all[5];
+  counts[11] += all[6];
+
+  // the model step: the fastest kinematic atom crosses at most cfl of the smallest voxel edge
+  double umax_all = 0.0, hmin = grid.hi[0] - grid.lo[0];
+  MPI_Allreduce(&umax, &umax_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  for (int d = 0; d < 3; d++) hmin = MIN(hmin, (grid.hi[d] - grid.lo[d]) / grid.n[d]);
+  const double steps = umax_all > 0.0 ? cfl * hmin / (umax_all * update->dt) : period;
+  model_step = steps >= period ? period : MAX(1, (int) steps);
+  counts[9] = model_step;
+  next_model = update->ntimestep + model_step;
 }
+
+/* ----------------------------------------------------------------------
+   per-atom arrays: the state (output), the pair's forces of this step, and the reach test's
+   record (moves with the atom)
+------------------------------------------------------------------------- */
 
 void FixGriddemRom::fill_state()
 {
@@ -415,10 +611,39 @@ void FixGriddemRom::grow_arrays(int n)
 {
   memory->grow(state, n, "griddem/rom:state");
   memory->grow(fpair, n, 3, "griddem/rom:fpair");
+  memory->grow(track, n, 5, "griddem/rom:track");
   vector_atom = state;
   nmax = n;
 }
 
+
+void FixGriddemRom::copy_arrays(int i, int j, int)
+{
+  for (int k = 0; k < 5; k++) track[j][k] = track[i][k];
+}
+
+/* A new atom (fix pour, create_atoms) is dynamic, with budget 0: the reach test runs again at the
+   step's end. */
+void FixGriddemRom::set_arrays(int i)
+{
+  int *mask = atom->mask;
+  mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
+  for (int d = 0; d < 3; d++) track[i][d] = atom->x[i][d];
+  track[i][3] = track[i][4] = 0.0;
+  state[i] = 0.0;
+}
+
+int FixGriddemRom::pack_exchange(int i, double *buf)
+{
+  for (int k = 0; k < 5; k++) buf[k] = track[i][k];
+  return 5;
+}
+
+int FixGriddemRom::unpack_exchange(int i, double *buf)
+{
+  for (int k = 0; k < 5; k++) track[i][k] = buf[k];
+  return 5;
+}
 
 int FixGriddemRom::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
@@ -430,15 +655,18 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
 {
   int *mask = atom->mask;
   for (int i = 0; i < n; i++) {
-    if (buf[i] != 0.0) mask[first + i] |= kinematic_bit;
-    else mask[first + i] &= ~kinematic_bit;
+    const int j = first + i;
+    mask[j] = buf[i] != 0.0 ? (mask[j] | kinematic_bit) & ~dynamic_bit : (mask[j] & ~kinematic_bit) | dynamic_bit;
   }
 }
 
 /* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5, 6: made dynamic again by a hit (a
    touching partner's relative speed), by an overlap, by leaving the model box or entering the
-   resolved region, by a force; 7:
-   classifications; 8: made dynamic by a jump of the field (2-6 and 8 summed over the run) */
+   resolved region, by a force; 7: classifications; 8: made dynamic by a jump of the field;
+   9: kinematic atoms moving at DEM's step (within reach of a dynamic atom) after the last reach
+   test; 10: the model step in DEM steps; 11: reach tests between model steps (the skin rule);
+   12: atoms that qualified but were kept dynamic by their voxel; 13: seconds this process spent
+   at the end of steps (classification, reach test, catch-up). 2-8, 11-13 summed over the run. */
 double FixGriddemRom::compute_vector(int n)
 {
   return counts[n];
@@ -521,5 +749,5 @@ void *FixGriddemRom::get_griddata_by_index(int index)
 
 double FixGriddemRom::memory_usage()
 {
-  return (double) nmax * 4 * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
+  return (double) nmax * 9 * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
 }

@@ -1,7 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    GRIDDEM package: adaptive reduced-order DEM. A ridge-regression model predicts the voxel
    velocity field from the voxel density field and control variables; particles moving with the
-   field become kinematic (carried by it, no contact forces, no contacts among themselves).
+   field become kinematic (carried by it at the model's step, no contact forces, no contacts
+   among themselves); the others form the group ID_dynamic that the user's integrator moves.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -29,11 +30,17 @@ class FixGriddemRom : public Fix {
   int setmask() override;
   void init() override;
   void setup(int) override;
+  void initial_integrate(int) override;
+  void post_neighbor() override;
   void setup_pre_reverse(int, int) override;
   void pre_reverse(int, int) override;
-  void post_force(int) override;
   void end_of_step() override;
+  void post_run() override;
   void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double compute_vector(int) override;
@@ -46,6 +53,7 @@ class FixGriddemRom : public Fix {
   double memory_usage() override;
 
   int kinematic_bit;    // group bit of the kinematic atoms (group ID_kinematic)
+  int dynamic_bit;      // group bit of all other atoms (group ID_dynamic), for the integrator
 
  private:
   griddem_rom_grid grid;
@@ -55,9 +63,23 @@ class FixGriddemRom : public Fix {
   std::vector<std::string> control_names;
   std::vector<int> control_vars;
   double eps, v0, overlap_max;
+  double cfl;               // model step: at most cfl h / max |u| (keyword cfl)
+  double reach_user;        // keyword reach, or -1: the most the ghost cutoff allows
+  double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
+  double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
-  int period;    // classification every period steps
+  int period;    // keyword every: the longest model step, in DEM steps
+  int model_step;              // the current model step (CFL rule), in DEM steps
+  bigint last_model;           // the step the lagging kinematic atoms were last brought up to date
+  bigint next_model;           // the step of the next classification
+  double umax_far;             // largest speed of a lagging kinematic atom (all processes)
+  double nfar;                 // number of lagging kinematic atoms (all processes)
+  bool force_each_step;        // a fix other than gravity acts on kinematic atoms: test forces each step
+  double **track;              // per atom: x at last_model (3), budget, near (1: moves each step)
+  std::vector<int> nearlist;   // owned kinematic atoms that move each step (rebuilt at reneighboring)
+  griddem_grid near_grid;      // the reach test's grid and bins (scratch kept between calls)
+  griddem_bins near_bins;
   std::vector<double> density, feature, field;
   double *state;    // per-atom output: 1 kinematic, 0 dynamic
   double **fpair;   // this step's contact forces on kinematic atoms (the pair's share of f)
@@ -69,12 +91,14 @@ class FixGriddemRom : public Fix {
   double ***grid_values[4];    // vx vy vz density of the last classification
   griddem_grid check_grid;    // the contact checks' grid and bins (scratch kept between calls)
   griddem_bins check_bins;
-  double counts[8];    // kinematic now, made kinematic, released by hits, overlaps, leaving, forces;
-                       // classifications; released by field jumps
+  double counts[13];    // see compute_vector
 
   void read_model(const char *file);
   void classify();
-  void zero_kinematic_forces();
+  void release_by_force();
+  void catch_up();
+  void mark_near();
+  void fill_nearlist();
   void fill_state();
   void allocate_grid();
   void deallocate_grid();

@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 
 int griddem_rom_nvoxel(const griddem_rom_grid *g)
 {
@@ -14,7 +15,7 @@ int griddem_rom_nvoxel(const griddem_rom_grid *g)
 int griddem_rom_inside(const griddem_rom_grid *g, const double x[3])
 {
   for (int d = 0; d < 3; d++)
-    if (!(x[d] >= g->lo[d] && x[d] < g->hi[d])) return 0;
+    if (!g->periodic[d] && !(x[d] >= g->lo[d] && x[d] < g->hi[d])) return 0;
   return 1;
 }
 
@@ -22,6 +23,18 @@ static int wrap(int i, int n)
 {
   i %= n;
   return i < 0 ? i + n : i;
+}
+
+int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3])
+{
+  if (!griddem_rom_inside(g, x)) return -1;
+  int idx[3];
+  for (int d = 0; d < 3; d++) {
+    idx[d] = (int) floor((x[d] - g->lo[d]) / (g->hi[d] - g->lo[d]) * g->n[d]);
+    if (g->periodic[d]) idx[d] = wrap(idx[d], g->n[d]);
+    else if (idx[d] >= g->n[d]) idx[d] = g->n[d] - 1; /* rounding at hi */
+  }
+  return idx[0] + g->n[0] * (idx[1] + g->n[1] * idx[2]);
 }
 
 void griddem_rom_weights(const griddem_rom_grid *g, const double x[3], int voxel[8],
@@ -123,5 +136,75 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
         }
       }
   }
+  return 0;
+}
+
+int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *radius,
+                          const int *kinematic, double reach, double cap, int *near,
+                          double *budget, griddem_grid *g, griddem_bins *b)
+{
+  double rmax = 0.0;
+  for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
+  for (int i = 0; i < nlocal; i++) {
+    near[i] = 0;
+    budget[i] = cap;
+  }
+  if (nall == 0) return 0;
+  /* only the kinematic atoms are binned; each dynamic atom (owned or ghost) visits them: every
+   * pair of the two kinds is seen once, from its dynamic side */
+  int nkin = 0;
+  for (int j = 0; j < nall; j++) nkin += kinematic[j] != 0;
+  if (nkin == 0) return 0;
+  double *xk = (double *) malloc(sizeof(double) * 3 * (size_t) nkin);
+  int *which = (int *) malloc(sizeof(int) * (size_t) nkin);
+  if (!xk || !which) {
+    free(xk);
+    free(which);
+    return -1;
+  }
+  for (int j = 0, k = 0; j < nall; j++)
+    if (kinematic[j]) {
+      for (int d = 0; d < 3; d++) xk[3 * k + d] = x[3 * (long) j + d];
+      which[k++] = j;
+    }
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  /* the grid covers every atom (the dynamic ones look up their cells); the edge may grow for a
+   * dilute set, and 27 cells still hold every pair with gap < cap */
+  griddem_grid_cover(g, anchor, nall, x, (2.0 * rmax + cap) * (1.0 + 1e-12) + 1e-300, 8L * nall + 1024L);
+  if (griddem_bin_points(b, g, nkin, xk, NULL, 0) != 0) {
+    free(xk);
+    free(which);
+    return -1;
+  }
+  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  for (int j = 0; j < nall; j++) {
+    if (kinematic[j]) continue;
+    const double *xj = x + 3 * (long) j;
+    const int owned = j < nlocal;
+    const long c = griddem_cell_of(g, xj[0], xj[1], xj[2]), cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
+      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++) {
+        const long row = nx * (y + ny * z);
+        const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
+        const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
+        for (int s = s0; s < s1; s++) {
+          const int i = which[b->order[s]];
+          if (!owned && (i >= nlocal || near[i])) continue;
+          const double *xi = x + 3 * (long) i;
+          const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+          /* only gaps below the budget so far (owned j; >= reach) or below reach count */
+          const double limit = radius[i] + radius[j] + (owned ? budget[j] : reach);
+          const double r2 = dx * dx + dy * dy + dz * dz;
+          if (r2 >= limit * limit) continue;
+          const double gap = sqrt(r2) - (radius[i] + radius[j]);
+          if (gap < reach) {
+            if (i < nlocal) near[i] = 1;
+          } else if (owned)
+            budget[j] = gap;
+        }
+      }
+  }
+  free(xk);
+  free(which);
   return 0;
 }

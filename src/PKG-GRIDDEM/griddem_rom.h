@@ -24,8 +24,12 @@ typedef struct griddem_rom_grid {
 /* Number of voxels. */
 int griddem_rom_nvoxel(const griddem_rom_grid *g);
 
-/* 1 if x lies inside the grid's box (lo <= x < hi on every axis). */
+/* 1 if x lies inside the grid's box (lo <= x < hi on every non-periodic axis; along a periodic
+ * one every x is inside: between reneighborings LAMMPS leaves atoms past a periodic boundary). */
 int griddem_rom_inside(const griddem_rom_grid *g, const double x[3]);
+
+/* The voxel holding x (periodic axes wrapped), or -1 outside the box. */
+int griddem_rom_voxel(const griddem_rom_grid *g, const double x[3]);
 
 /* The 8 voxels and their weights (summing to 1) of a point; along a non-periodic axis indices
  * beyond the grid go to the boundary voxel, along a periodic one they wrap. */
@@ -56,6 +60,18 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
                                const double *radius, const int *kinematic, const double *u,
                                double threshold, double overlap_max, int *next, int *hits,
                                int *overlaps, griddem_grid *g, griddem_bins *b);
+
+/* The reach test of the kinematic atoms that move only at the model step (a Verlet list's skin
+ * rule; doc/fix_griddem_rom.md). Particles 0..nall-1 (owned first, then ghosts); gap(i, j) =
+ * |xi - xj| - ri - rj. For each owned kinematic i: near[i] = 1 if some non-kinematic j has
+ * gap < reach, else 0. For each owned non-kinematic i: budget[i] = the smallest gap >= reach to a
+ * kinematic j, at most cap (>= reach): how far i may move (with the lagging atoms' own travel)
+ * before it can touch a kinematic atom that is not near; near[i] = 0. Pairs with gap >= cap are
+ * not looked at. g and b are the caller's scratch (as griddem_rom_check_contacts). Returns 0, or
+ * -1 without memory. */
+int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *radius,
+                          const int *kinematic, double reach, double cap, int *near,
+                          double *budget, griddem_grid *g, griddem_bins *b);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,8 @@
 /* Reduced-order model core: the voxel weights sum to 1, the deposit keeps the mass of the points
  * inside the box (and skips the others), interpolation reproduces a linear velocity field away
  * from the boundary voxels and a uniform one everywhere, and the prediction is the plain
- * matrix-vector product; the classification's contact checks equal a brute-force check. */
+ * matrix-vector product; the classification's contact checks and the reach test of lagging
+ * kinematic atoms equal brute-force searches; the voxel of a point. */
 #include "check.h"
 #include "griddem_rom.h"
 
@@ -59,8 +60,9 @@ static void check_interpolation(void)
   double v[3];
   griddem_rom_interpolate(&G, field, corner, v);
   CHECK_CLOSE(v[1], 0.7, 1e-14, 0.0);
-  CHECK(griddem_rom_inside(&G, corner) && !griddem_rom_inside(&G, (const double[3]){3.0, 0.5, 3.0}),
-        "inside: lo <= x < hi");
+  CHECK(griddem_rom_inside(&G, corner) && !griddem_rom_inside(&G, (const double[3]){3.0, 0.5, 3.0}) &&
+            griddem_rom_inside(&G, (const double[3]){0.0, 1.6, 3.0}),
+        "inside: lo <= x < hi, any y along the periodic axis");
 }
 
 static void check_predict(void)
@@ -118,6 +120,52 @@ static void check_contacts(double spread)
   griddem_bins_free(&b);
 }
 
+/* The reach test on the grid equals a brute-force search over every pair: the near kinematic
+ * atoms and the budgets of the others; also on a dilute set (far outliers grow the grid edge). */
+static void check_near(double spread)
+{
+  enum { NALL = 400, NLOCAL = 300 };
+  static double x[3 * NALL], r[NALL], budget[NALL];
+  static int kin[NALL], near[NALL];
+  const double reach = 0.05, cap = 0.3;
+  for (int i = 0; i < NALL; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 4.0 * check_uniform();
+    r[i] = 0.1 + 0.15 * check_uniform();
+    kin[i] = check_uniform() < 0.7;
+  }
+  x[3 * (NALL - 1)] = x[3 * (NALL - 2) + 2] = spread;
+  griddem_grid g;
+  griddem_bins b = {0};
+  CHECK(griddem_rom_mark_near(NLOCAL, NALL, x, r, kin, reach, cap, near, budget, &g, &b) == 0, "reach test runs");
+  int same = 1, nnear = 0, nfar = 0, capped = 0, tight = 0;
+  for (int i = 0; i < NLOCAL; i++) {
+    int ref_near = 0;
+    double ref_budget = cap;
+    for (int j = 0; j < NALL; j++) {
+      if (j == i || kin[j] == kin[i]) continue;
+      const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+      const double gap = sqrt(dx * dx + dy * dy + dz * dz) - (r[i] + r[j]);
+      if (kin[i] && gap < reach) ref_near = 1;
+      if (!kin[i] && gap >= reach && gap < ref_budget) ref_budget = gap;
+    }
+    same &= near[i] == ref_near && (kin[i] || budget[i] == ref_budget);
+    if (kin[i]) nnear += ref_near, nfar += !ref_near;
+    else capped += ref_budget == cap, tight += ref_budget < cap;
+  }
+  CHECK(same, "spread %g: near atoms and budgets equal the brute-force search", spread);
+  CHECK(nnear > 10 && nfar > 10 && capped > 3 && tight > 10,
+        "spread %g: both kinds occur (%d near, %d far; budgets %d capped, %d below the cap)", spread, nnear, nfar,
+        capped, tight);
+  const double corner[3] = {2.999999, 1.4999999, 6.9999999};
+  CHECK(griddem_rom_voxel(&G, corner) == 59 && griddem_rom_voxel(&G, (const double[3]){-1.0, 0.0, 2.0}) == 0 &&
+            griddem_rom_voxel(&G, (const double[3]){0.5, 0.6, 4.2}) == 1 + 4 * (1 + 3 * 2) &&
+            griddem_rom_voxel(&G, (const double[3]){3.0, 0.5, 3.0}) == -1 &&
+            griddem_rom_voxel(&G, (const double[3]){0.5, 0.6 + 1.5, 4.2}) == 1 + 4 * (1 + 3 * 2) &&
+            griddem_rom_voxel(&G, (const double[3]){0.5, 0.6 - 1.5, 4.2}) == 1 + 4 * (1 + 3 * 2),
+        "voxel of a point: corners, an inner point, outside, past the periodic y boundary");
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
   check_weights_and_deposit();
@@ -125,5 +173,7 @@ int main(void)
   check_predict();
   check_contacts(4.0);
   check_contacts(1e5);
+  check_near(4.0);
+  check_near(1e5);
   return check_summary();
 }

@@ -261,8 +261,8 @@ def check_stock_fixes(wd, _data):
 
 
 ROM = t.PERIODIC_SPHERES + """
-fix integrate all nve/sphere
 fix rom all griddem/rom model {model} eps 1.5 v0 1 every 5 overlap 0.5
+fix integrate rom_dynamic nve/sphere
 timestep 2e-4
 thermo_style custom step ke press f_rom[1]
 thermo_modify format float %.17g

@@ -55,8 +55,8 @@ def resting_spheres(*centres):
 
 # integration, the fix griddem/rom line ({rom}) and the pair virial printed every step
 VIRIAL_EACH_STEP = """
-fix integrate all nve/sphere
 {rom}
+fix integrate {dyn} nve/sphere
 compute vir all pressure NULL virial
 thermo_style custom step c_vir
 thermo_modify format float %.17g
@@ -68,8 +68,8 @@ def model_input(path):
     """A one-control fix griddem/rom reading the model file at path, run 0."""
     return HEAD.format(bnd="f f f") + PAIR + """
 variable w equal 1.0
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.1 v0 1 every 1 control v_w
+fix integrate rom_dynamic nve/sphere
 run 0
 """.format(m=path)
 
@@ -112,15 +112,15 @@ set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all create 0.5 4928 dist gaussian
 """ + PAIR + """
-fix integrate all nve/sphere
 {rom}
+fix integrate {dyn} nve/sphere
 dump d all custom 200 {dump} id x y z vx vy vz omegax fx {extra}
 dump_modify d format float %.17g sort id
 thermo 100
 run 400
 """
-    t.run_ok(base.format(rom="", dump="plain.dump", extra=""), WD, name="in.plain")
-    t.run_ok(base.format(rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1" % model,
+    t.run_ok(base.format(rom="", dyn="all", dump="plain.dump", extra=""), WD, name="in.plain")
+    t.run_ok(base.format(dyn="rom_dynamic", rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1" % model,
                          dump="rom0.dump", extra="f_rom"), WD, name="in.rom0")
     plain, rom = t.read_dumps(os.path.join(WD, "plain.dump")), t.read_dumps(os.path.join(WD, "rom0.dump"))
     t.check(len(plain) == len(rom) == 3, "three snapshots each")
@@ -139,9 +139,9 @@ def uniform_field():
     text = resting_spheres((1.5, 1.5, 3.0), (4.5, 4.5, 3.0)) + """
 set atom 2 vx 0.9
 """ + PAIR + """
-fix integrate all nve/sphere
-fix down all gravity {g} vector 0 0 -1
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+fix down all gravity {g} vector 0 0 -1
 dump d all custom 5 uniform.dump id x y z vx vy vz f_rom
 dump_modify d format float %.17g sort id
 run 25
@@ -174,7 +174,7 @@ group romable id 1 2 4 5
 dump_modify d format float %.17g sort id
 run 10
 """
-    out = t.run_ok(base.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+    out = t.run_ok(base.format(dyn="rom_dynamic", rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
                                dump="contacts.dump", extra="f_rom"), WD, name="in.contacts")
     snaps = t.read_dumps(os.path.join(WD, "contacts.dump"))
     s = snaps[-1][1]
@@ -191,12 +191,12 @@ run 10
     only12 = base.replace("create_atoms 1 single 3.0 3.995 3.0\n", "").replace(
         "create_atoms 1 single 1.0 1.0 1.0\ncreate_atoms 1 single 1.9 1.0 1.0\n", "").replace(
         "group romable id 1 2 4 5", "group romable id 1 2")
-    out = t.run_ok(only12.format(rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
+    out = t.run_ok(only12.format(dyn="rom_dynamic", rom="fix rom romable griddem/rom model %s eps 0.5 v0 1 every 1" % model,
                                  dump="only12.dump", extra="f_rom"), WD, name="in.only12")
     vir = t.thermo_values(out, "c_vir")
     t.check(vir[0] != 0.0, "before the first classification the pair 1-2 pushes (virial %g)" % vir[0])
     t.check(all(v == 0.0 for v in vir[2:]), "after it the kinematic pair exerts no force (virial %s)" % vir[2:5])
-    out = t.run_ok(only12.format(rom="", dump="only12plain.dump", extra=""), WD, name="in.only12plain")
+    out = t.run_ok(only12.format(rom="", dyn="all", dump="only12plain.dump", extra=""), WD, name="in.only12plain")
     vir = t.thermo_values(out, "c_vir")
     t.check(all(v != 0.0 for v in vir[2:]), "the same pair without the fix keeps pushing")
 
@@ -212,7 +212,7 @@ set type 1 density 1.0
 velocity all set 0 0 0
 """ + PAIR + VIRIAL_EACH_STEP + """run 10
 """
-    out = t.run_ok(text.format(rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
+    out = t.run_ok(text.format(dyn="rom_dynamic", rom="fix rom all griddem/rom model %s eps 0.5 v0 1 every 1" % model),
                    WD, nprocs=2, name="in.procs")
     vir = t.thermo_values(out, "c_vir")
     t.check(vir[0] != 0.0 and all(v == 0.0 for v in vir[2:]),
@@ -225,9 +225,9 @@ def release():
     t.write_rom_model(model, (3, 3, 3), BOX, bias=(U, 0.0, 0.0))
     text = resting_spheres((0.52, 3.0, 3.0)) + """
 """ + PAIR + """
-fix integrate all nve/sphere
-fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+fix wall all wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 xplane 0 NULL
 variable x equal x[1]
 thermo_style custom step v_x f_rom[6]
 thermo_modify format float %.17g
@@ -248,8 +248,8 @@ run 500
 set atom 2 vx 1.0
 group target id 1
 """ + PAIR + """
-fix integrate all nve/sphere
 fix rom target griddem/rom model {m} eps 0.2 v0 1 every 1
+fix integrate rom_dynamic nve/sphere
 dump d all custom 100 hit.dump id vx f_rom
 dump_modify d format float %.17g sort id
 run 1000
@@ -270,9 +270,9 @@ def loaded():
     text = resting_spheres((3.0, 3.0, 2.0), (3.0, 3.0, 3.0)) + """
 group bottom id 1
 """ + PAIR + """
-fix integrate all nve/sphere
-fix gravity all gravity 1.0 vector 0 0 -1
 fix rom bottom griddem/rom model {m} eps 0.08 v0 1 every 50
+fix integrate rom_dynamic nve/sphere
+fix gravity all gravity 1.0 vector 0 0 -1
 variable z1 equal z[1]
 variable z2 equal z[2]
 thermo_style custom step v_z1 v_z2 f_rom[1] f_rom[6]
@@ -300,8 +300,8 @@ def field_jump():
     text = resting_spheres((3.0, 3.0, 3.0)) + """
 """ + PAIR + """
 variable on equal step>100
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 control v_on
+fix integrate rom_dynamic nve/sphere
 variable x equal x[1]
 thermo_style custom step v_x f_rom[1] f_rom[8]
 thermo_modify format float %.17g
@@ -323,8 +323,8 @@ def resolved_region():
     text = resting_spheres((3.0, 3.0, 1.5), (3.0, 3.0, 4.5)) + PAIR + """
 variable zlo equal 4.0-3.0*(step>100)
 region top block INF INF INF INF v_zlo INF
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 resolved top
+fix integrate rom_dynamic nve/sphere
 thermo_style custom step f_rom[1] f_rom[5]
 thermo 50
 dump d all custom 50 region.dump id f_rom
@@ -358,8 +358,8 @@ set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set 0 0 0
 """ + PAIR + """
-fix integrate all nve/sphere
 fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
 dump g all grid 5 field{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
 dump_modify g sort id format float %.17g
 run 10
@@ -421,7 +421,200 @@ def training():
     t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map (worst weight error %.2g)" % worst)
 
 
+def model_step():
+    """A kinematic atom that no dynamic atom can reach moves only at the model step, by exactly
+    U M dt, where M follows the CFL rule M = floor(cfl h / (|U| dt)) = floor(0.01 x 2 / (0.374 x
+    0.001)) = 53 (every 100 caps it); between model steps it stays put; at the run's end it is
+    brought up to date (x0 + U t)."""
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "uniform_step.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    text = resting_spheres((3.0, 3.0, 3.0)) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 100 cfl 0.01
+fix integrate rom_dynamic nve/sphere
+dump d all custom 1 step.dump id x y z f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step f_rom[1] f_rom[9] f_rom[10]
+thermo 10
+run 180
+print "FINAL $(x[1]:%.17g) $(y[1]:%.17g) $(z[1]:%.17g)"
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.step")
+    dt, x0 = 0.001, (3.0, 3.0, 3.0)
+    steps = int(0.01 * 2.0 / (math.sqrt(sum(u * u for u in U)) * dt))
+    t.check(steps == 53 and t.thermo_values(out, "f_rom[10]")[-1] == 53, "model step by the CFL rule: %s, expected %d"
+            % (t.thermo_values(out, "f_rom[10]")[-1], steps))
+    t.check(t.thermo_values(out, "f_rom[9]")[-1] == 0, "the atom is not within reach of a dynamic one")
+    snaps = t.read_dumps(os.path.join(WD, "step.dump"))
+    pos = {k: snaps[k][1][1][:3] for k in range(len(snaps))}
+    t.check(snaps[100][1][1][3] == 1.0 and pos[100] == list(x0) and pos[152] == list(x0),
+            "kinematic from step 100; it stays put until the next model step (step 152 %s)" % pos[152])
+    ok = all(abs(pos[153][d] - (x0[d] + 53 * dt * U[d])) <= 1e-14 for d in range(3))
+    t.check(ok and pos[179] == pos[153], "at step 153 it has moved by U 53 dt (%s) and then waits" % pos[153])
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:3]]
+    t.check(all(abs(final[d] - (x0[d] + 80 * dt * U[d])) <= 1e-14 for d in range(3)),
+            "at the run's end it is at x0 + U (180 - 100) dt: %s" % final)
+
+
+def boundary(nprocs, reach=""):
+    """A kinematic atom carried at U = 1 along x towards a resting dynamic atom 0.3 away, on
+    nprocs processes (2: the atoms on different ones, the kinematic one crossing over). Lagging
+    (model step 50) it would jump into the other by up to U 50 dt = 0.05; held at DEM's step within
+    reach, it pushes it like a rigid obstacle at speed U, whose overlap is at most U sqrt(m / kn)
+    = 0.0162 (the undamped value; damping lowers it). The kinematic atom ends at x0 + U t."""
+    model = os.path.join(WD, "push.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(1.0, 0.0, 0.0))
+    text = resting_spheres((1.9, 3.0, 3.0), (3.2, 3.0, 3.0)).replace(
+        "region box", "processors %d 1 1\nregion box" % nprocs) + PAIR + """
+set atom 1 vx 1.0
+group carried id 1
+fix rom carried griddem/rom model {m} eps 2 v0 1 every 50 {reach}
+fix integrate rom_dynamic nve/sphere
+variable gap equal sqrt((x[2]-x[1])^2+(y[2]-y[1])^2+(z[2]-z[1])^2)-1.0
+variable kin equal f_rom[1]
+thermo_style custom step v_gap v_kin f_rom[9] f_rom[11] atoms
+thermo_modify format float %.17g
+thermo 1
+run 1500
+print "FINAL $(x[1]:%.17g) $(vx[2]:%.17g) $(atoms)"
+""".format(m=model, reach=reach)
+    out = t.run_ok(text, WD, nprocs=nprocs, name="in.boundary%d%s" % (nprocs, reach.replace(" ", "")))
+    gap, kin = t.thermo_values(out, "v_gap"), t.thermo_values(out, "v_kin")
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:3]]
+    bound = 1.0 * math.sqrt((math.pi / 6.0) / 2000.0)
+    label = "%d process(es)%s" % (nprocs, ", " + reach if reach else "")
+    t.check(kin[50:] == [1.0] * len(kin[50:]) and min(gap) < -0.005,
+            "%s: the atom stays kinematic and pushes the other (deepest overlap %.4f)" % (label, -min(gap)))
+    t.check(-min(gap) <= bound, "%s: overlap %.5f within a rigid obstacle's %.5f" % (label, -min(gap), bound))
+    t.check(abs(final[0] - (1.9 + 1.5)) <= 1e-12 and final[1] > 0.9 and final[2] == 2,
+            "%s: kinematic atom at x0 + U t = 3.4 (%.15g), the other pushed (vx %.3f), 2 atoms" % (label, final[0],
+                                                                                              final[1]))
+
+
+def migration():
+    """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box all moving at U: 100 carried
+    by the uniform field U (kinematic), the 25 of the plane z = 0.3 outside the fix's group
+    (dynamic, free flight), so that the 50 of the planes z = 1.5 and 5.1 (across the periodic
+    boundary) are within reach (gap 0.2 < reach 0.3) and move at every step. They
+    cross the sub-domains of 4 processes many times; no atom is lost, every atom ends at x0 + U t
+    (wrapped), and the classification, the atoms within reach and the reach tests between model
+    steps are the same on 1 and 4 processes."""
+    U = (0.7, 0.4, 0.0)
+    model = os.path.join(WD, "flow.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    results = []
+    for nprocs, grid in ((1, "1 1 1"), (4, "2 2 1")):
+        text = HEAD.format(bnd="p p p").replace("region box", "processors %s\nregion box" % grid) + """
+lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set {u0} {u1} {u2} units box
+region low block INF INF INF INF INF 1.0
+group low region low
+group carried subtract all low
+""".format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
+fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200
+fix integrate rom_dynamic nve/sphere
+write_dump all custom start{n}.dump id x y z modify sort id format float %.17g
+thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[11]
+thermo 100
+run 3000
+write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
+""".format(m=model, n=nprocs)
+        out = t.run_ok(text, WD, nprocs=nprocs, name="in.migrate%d" % nprocs)
+        start = t.read_dump(os.path.join(WD, "start%d.dump" % nprocs))[1]
+        end = t.read_dump(os.path.join(WD, "end%d.dump" % nprocs))[1]
+        worst = 0.0
+        for tag, x0 in start.items():
+            for d in range(3):
+                dx = (end[tag][d] - x0[d] - U[d] * 3000 * 0.001) % 6.0
+                worst = max(worst, min(dx, 6.0 - dx))
+        counts = [t.thermo_values(out, c) for c in ("Atoms", "f_rom[1]", "f_rom[9]", "f_rom[11]")]
+        t.check(len(end) == 125 and all(a == 125 for a in counts[0]), "%d processes: no atom lost" % nprocs)
+        t.check(worst <= 1e-10, "%d processes: every atom at x0 + U t (worst %.2g)" % (nprocs, worst))
+        results.append(counts[1:])
+    t.check(results[0][0][-1] == 100 and results[0][1][-1] == 50 and results[0][2][-1] > 0,
+            "100 kinematic, 50 within reach; reach tests between model steps: %s" % results[0][2][-1])
+    t.check(results[0] == results[1], "kinematic, within reach and reach tests equal on 1 and 4 processes")
+
+
+def blocks():
+    """Keyword block: voxel (0,1,1) holds two resting atoms, voxel (1,1,1) one resting and one
+    moving at 0.9 > eps v0 relative to the zero field, on different processes. Block 1: the resting
+    atom of the second voxel stays dynamic with its neighbour (counted in f_rom[12]); block 0.5:
+    half its atoms qualify, so it is kinematic; block 0: atom by atom."""
+    model = os.path.join(WD, "rest_blocks.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    expected = {"1": (2, 1), "0.5": (3, 0), "0": (3, 0)}
+    for fraction, (nkin, held) in expected.items():
+        text = resting_spheres((0.55, 3.0, 3.0), (1.6, 3.0, 3.0), (2.65, 3.0, 3.0), (3.7, 3.0, 3.0)).replace(
+            "region box", "processors 2 1 1\nregion box") + PAIR + """
+set atom 4 vx 0.9
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 block {b}
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[12]
+thermo 5
+run 5
+""".format(m=model, b=fraction)
+        out = t.run_ok(text, WD, nprocs=2, name="in.block%s" % fraction)
+        got = (t.thermo_values(out, "f_rom[1]")[-1], t.thermo_values(out, "f_rom[12]")[-1])
+        t.check(got == (nkin, held), "block %s: %d kinematic, %d held dynamic by the voxel (got %s)"
+                % (fraction, nkin, held, got))
+
+
+def keyword_checks():
+    model = os.path.join(WD, "rest_kw.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    base = resting_spheres((3.0, 3.0, 3.0)) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 {kw}
+fix integrate {grp} nve/sphere
+run 10
+"""
+    cases = [("cfl 0", "rom_dynamic", "keyword cfl must be > 0"),
+             ("block 1.5", "rom_dynamic", "keyword block must be between 0 and 1"),
+             ("reach -1", "rom_dynamic", "keyword reach must be >= 0"),
+             ("reach 5", "rom_dynamic", "keyword reach 5 exceeds the ghost cutoff's bound"),
+             ("", "all", "fix integrate (nve/sphere) integrates group all, which holds atoms of the fix's group")]
+    for kw, grp, expected in cases:
+        name = "in.kw_" + (kw or grp).replace(" ", "_")
+        rc, out = t.run_lmp(base.format(m=model, kw=kw, grp=grp), WD, name=name)
+        t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
+
+
+def rejoin():
+    """A lagging kinematic atom released by a field jump rejoins DEM where the field has carried
+    it and with the velocity the model predicted: field vx = 0.3 + c, c switching from 0 to 1 at
+    step 100 (> eps v0 = 0.5); kinematic from step 60 (model step 60), released at 120; then free
+    flight: x = x0 + 0.3 (200 - 60) dt (80 steps of rounding: 1e-13) and vx = 0.3 at step 200."""
+    model = os.path.join(WD, "rejoin.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(0.3, 0.0, 0.0), controls=1, control_weight=1.0)
+    text = resting_spheres((2.0, 3.0, 3.0)) + PAIR + """
+variable on equal step>100
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 60 control v_on
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[8]
+thermo 20
+run 200
+print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.rejoin")
+    kin, jumps = t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[8]")
+    final = [float(w) for w in out.split("FINAL")[-1].split()[:2]]
+    t.check(kin[3] == 1 and kin[-1] == 0 and jumps[-1] == 1, "kinematic at step 60, released by the jump at 120")
+    t.check(abs(final[0] - (2.0 + 0.3 * 140 * 0.001)) <= 1e-13 and abs(final[1] - 0.3) <= 1e-15,
+            "released where the field carried it, with the predicted velocity (x %.17g, vx %.17g)" % tuple(final))
+
+
 model_checks()
+rejoin()
+keyword_checks()
+model_step()
+boundary(1)
+boundary(2)
+boundary(1, "reach 0")
+migration()
+blocks()
 processes()
 release()
 loaded()
