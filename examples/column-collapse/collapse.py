@@ -169,6 +169,8 @@ def main():
     ap.add_argument("--aspect", default="0.5,1,2,3")
     ap.add_argument("--spheres", type=int, default=1800)
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
+    ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
+    ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
@@ -190,7 +192,7 @@ def main():
                                               dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h)
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
@@ -234,13 +236,15 @@ def summarise(out):
     a = np.array([c["dem"]["a"] for c in cases])
     summ = dict(a=a.tolist())
     for who in ("dem", "continuum"):
-        if not all(who in c for c in cases):
+        have = [c for c in cases if who in c]
+        if not have:
             continue
-        L0 = np.array([c["dem"]["L0"] for c in cases])
-        H0 = np.array([c["dem"]["H0"] for c in cases])
-        run = np.array([c[who]["runout"] for c in cases])
-        hf = np.array([c[who]["final_height"] for c in cases])
-        s = dict(dL_over_L0=((run - L0) / L0).tolist(), H0_over_hf=(H0 / hf).tolist())
+        a = np.array([c["dem"]["a"] for c in have])
+        L0 = np.array([c["dem"]["L0"] for c in have])
+        H0 = np.array([c["dem"]["H0"] for c in have])
+        run = np.array([c[who]["runout"] for c in have])
+        hf = np.array([c[who]["final_height"] for c in have])
+        s = dict(a=a.tolist(), dL_over_L0=((run - L0) / L0).tolist(), H0_over_hf=(H0 / hf).tolist())
         if len(a) >= 2:
             s["runout_fit"] = power_fit(a, (run - L0) / L0)
             s["height_fit"] = power_fit(a, H0 / hf)
@@ -249,11 +253,12 @@ def summarise(out):
                 s["runout_fit_" + branch] = power_fit(a[sel], ((run - L0) / L0)[sel])
                 s["height_fit_" + branch] = power_fit(a[sel], (H0 / hf)[sel])
         summ[who] = s
-    if all("continuum" in c for c in cases):
-        summ["runout_rel_diff"] = [(c["continuum"]["runout"] - c["dem"]["runout"]) / c["dem"]["runout"] for c in cases]
-        summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in cases]
-        if all("loop_cpu_s" in c["dem"] and "cpu_s" in c["continuum"] for c in cases):
-            summ["speedup_cpu"] = [c["dem"]["loop_cpu_s"] / c["continuum"]["cpu_s"] for c in cases]
+    both = [c for c in cases if "continuum" in c]
+    if both:
+        summ["runout_rel_diff"] = [(c["continuum"]["runout"] - c["dem"]["runout"]) / c["dem"]["runout"] for c in both]
+        summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in both]
+        if all("loop_cpu_s" in c["dem"] and "cpu_s" in c["continuum"] for c in both):
+            summ["speedup_cpu"] = [c["dem"]["loop_cpu_s"] / c["continuum"]["cpu_s"] for c in both]
     out["summary"] = summ
     return summ
 
@@ -269,9 +274,9 @@ def plot(out, path=HERE):
     for who, st in (("dem", "ko"), ("continuum", "bs")):
         if who in summ:
             k, n, dn = summ[who]["runout_fit"] if "runout_fit" in summ[who] else (None, None, None)
-            a1.plot(a, summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
+            a1.plot(summ[who]["a"], summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
                     ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
-            a2.plot(a, summ[who]["H0_over_hf"], st, label=who)
+            a2.plot(summ[who]["a"], summ[who]["H0_over_hf"], st, label=who)
     aa = np.linspace(a.min(), a.max(), 50)
     if "dem" in summ and "runout_fit" in summ["dem"]:
         k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9
