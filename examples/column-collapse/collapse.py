@@ -5,7 +5,7 @@ rule (deposit.py). For each aspect ratio: run-out, final height, front over time
 wall times; the run-outs against published scaling laws. Writes results.json and figures.
 
     /usr/bin/python3 collapse.py [--lmp PATH] [--aspect 0.5,1,2,3] [--spheres 1800] [--h 0.5]
-                                 [--no-continuum] [--no-plot]
+                                 [--no-continuum] [--no-plot] [--lmp-args ARGS --tag TAG]
 
 Column: ncols = round(sqrt(0.197 N / a) / 1.1) lattice columns (width L0 = 1.1 ncols), fill height
 a L0 / 0.65 (the lattice fill settles to about 0.65 of it); the measured a = H0 / L0 after settling
@@ -47,13 +47,29 @@ def geometry(a, spheres):
     return L0, H, Lx, tmax
 
 
+def lammps_times(log):
+    """LAMMPS's loop times summed over the runs of a log, and the same times the CPU use it reports
+    for each (the processor time: on a shared machine the loop time counts waits for a core)."""
+    loop = cpu = 0.0
+    last = 0.0
+    for line in open(log):
+        if line.startswith("Loop time of"):
+            last = float(line.split()[3])
+            loop += last
+        elif "% CPU use" in line:
+            cpu += last * float(line.split("%")[0]) / 100.0
+    return round(loop, 1), round(cpu, 1)
+
+
 def run_dem(lmp, a, spheres, extra=(), tag=""):
     L0, H, Lx, tmax = geometry(a, spheres)
     wd = os.path.join(WORK, "dem_%g_%d%s" % (a, spheres, tag))
     res_path = os.path.join(wd, "dem.json")
     if os.path.exists(res_path):
         with open(res_path) as f:
-            return json.load(f)
+            res = json.load(f)
+        res["loop_s"], res["loop_cpu_s"] = lammps_times(os.path.join(wd, "log.lammps"))
+        return res
     os.makedirs(wd, exist_ok=True)
     t0 = time.time()
     log = os.path.join(wd, "log.lammps")
@@ -77,10 +93,10 @@ def run_dem(lmp, a, spheres, extra=(), tag=""):
         fronts.append(D.front(xc, h))
         heights.append(float(h.max()))
     xc, h = D.dem_thickness(frames[-1][1], W, phi0, Lx)
-    loop = sum(float(l.split()[3]) for l in open(log) if l.startswith("Loop time of"))
+    loop, loop_cpu = lammps_times(log)
     res = dict(a_target=a, spheres_requested=spheres, spheres=int(len(settled)), L0=L0, H_fill=H, Lx=Lx, phi0=phi0, H0=H0, a=H0 / L0,
                t=times, front=fronts, height=heights, runout=fronts[-1], final_height=heights[-1],
-               x=xc.tolist(), profile=h.tolist(), wall_s=round(wall, 1) if not finished else None, loop_s=round(loop, 1),
+               x=xc.tolist(), profile=h.tolist(), wall_s=round(wall, 1) if not finished else None, loop_s=loop, loop_cpu_s=loop_cpu,
                stopped_at=times[-1], date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t0)),
                lmp=lmp, extra=list(extra))
     with open(res_path, "w") as f:
@@ -115,7 +131,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
     t_end = t_end or dem["stopped_at"]
-    t0 = time.time()
+    t0, cpu0 = time.time(), time.process_time()
     times, fronts, heights = [], [], []
     next_out, steps = 0.0, 0
     I_seen, held, cells = 0.0, 0, 0
@@ -142,7 +158,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
     return dict(h=h, dt_max=dt_max, passes=passes, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
-                wall_s=round(time.time() - t0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
+                wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
                 deep_grain_cells=cells)
 
@@ -153,9 +169,14 @@ def main():
     ap.add_argument("--aspect", default="0.5,1,2,3")
     ap.add_argument("--spheres", type=int, default=1800)
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
+    ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
+    ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
+    ap.add_argument("--lmp-args", default="", help="extra LAMMPS arguments, e.g. '-var seed 1234' or the "
+                    "Kokkos switches '-k on t 2 -sf kk -pk kokkos newton off neigh half'")
+    ap.add_argument("--tag", default="", help="suffix of the DEM cache directory (work/dem_<a>_<N><tag>)")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     mu = None if a.no_continuum else learned_mu()[0]
@@ -164,18 +185,18 @@ def main():
         with open(a.out) as f:
             out = json.load(f)
     for asp in [float(x) for x in a.aspect.split(",")]:
-        dem = run_dem(lmp, asp, a.spheres)
+        dem = run_dem(lmp, asp, a.spheres, a.lmp_args.split(), a.tag)
         print("DEM a %.2f (target %g): N %d L0 %.1f H0 %.2f phi0 %.3f run-out %.2f (dL/L0 %.2f) final height %.2f "
-              "stopped t %.1f, LAMMPS loop time %.0f s" % (dem["a"], asp, dem["spheres"], dem["L0"], dem["H0"], dem["phi0"],
+              "stopped t %.1f, LAMMPS loop time %.0f s (CPU %.0f s)" % (dem["a"], asp, dem["spheres"], dem["L0"], dem["H0"], dem["phi0"],
                                               dem["runout"], (dem["runout"] - dem["L0"]) / dem["L0"],
-                                              dem["final_height"], dem["stopped_at"], dem["loop_s"]), flush=True)
+                                              dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h)
-            print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s, "
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes)
+            print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
-                     con["steps"], con["wall_s"], con["mass_rel_change"], con["I_max_seen"], con["held_cells"], con["deep_grain_cells"]),
+                     con["steps"], con["wall_s"], con["cpu_s"], con["mass_rel_change"], con["I_max_seen"], con["held_cells"], con["deep_grain_cells"]),
                   flush=True)
             case["continuum"] = con
         out["cases"] = [c for c in out["cases"] if abs(c["dem"]["a_target"] - asp) > 1e-9 or
@@ -189,11 +210,15 @@ def main():
 
 
 # ---------------------------------------------------------------- published scaling and figures
-# Balmforth & Kerswell (JFM 538, 2005), experiments in rectangular channels (abstract): run-out
-# (l_inf - L)/L ~ a^(0.9 +- 0.1) in wide channels, a^(0.65 +- 0.05) in narrow slots; H/h_inf ~ a^0.6
-# (wide), a^0.5 (narrow); the prefactors depend on the material. Larrieu, Staron & Hinch (JFM 554,
-# 2006): run-out ~ a^0.65 for planar collapses (their shallow-water model, matching experiments).
+# Read through the search tool (abstracts): Balmforth & Kerswell (JFM 538, 2005), experiments in
+# rectangular channels: (l_inf - L)/L ~ a^(0.9 +- 0.1) in wide channels, a^(0.65 +- 0.05) in narrow
+# slots; H/h_inf ~ a^0.6 (wide), a^0.5 (narrow); the prefactors depend on the material. Larrieu,
+# Staron & Hinch (JFM 554, 2006): run-out ~ a^0.65 for planar collapses (shallow-water model,
+# matching experiments). Second hand (K. Kumar, PhD thesis, Cambridge 2015, chapter 2, its LaTeX
+# source), for the quasi-2D channel of Lajeunesse et al. (2005): (L - L0)/L0 ~ 1.2 a below a = 2.3,
+# 1.9 a^(2/3) above; h_inf/L0 ~ a below 0.7, a^(1/3) above.
 PUBLISHED_EXPONENTS = dict(runout_wide=(0.9, 0.1), runout_narrow=(0.65, 0.05), height_wide=0.6, height_narrow=0.5)
+SMALL_A, LARGE_A = 3.5, 3.0      # the two branches fitted separately (a <= 3.5 and a >= 3)
 
 
 def power_fit(a, y):
@@ -211,20 +236,29 @@ def summarise(out):
     a = np.array([c["dem"]["a"] for c in cases])
     summ = dict(a=a.tolist())
     for who in ("dem", "continuum"):
-        if not all(who in c for c in cases):
+        have = [c for c in cases if who in c]
+        if not have:
             continue
-        L0 = np.array([c["dem"]["L0"] for c in cases])
-        H0 = np.array([c["dem"]["H0"] for c in cases])
-        run = np.array([c[who]["runout"] for c in cases])
-        hf = np.array([c[who]["final_height"] for c in cases])
-        s = dict(dL_over_L0=((run - L0) / L0).tolist(), H0_over_hf=(H0 / hf).tolist())
+        a = np.array([c["dem"]["a"] for c in have])
+        L0 = np.array([c["dem"]["L0"] for c in have])
+        H0 = np.array([c["dem"]["H0"] for c in have])
+        run = np.array([c[who]["runout"] for c in have])
+        hf = np.array([c[who]["final_height"] for c in have])
+        s = dict(a=a.tolist(), dL_over_L0=((run - L0) / L0).tolist(), H0_over_hf=(H0 / hf).tolist())
         if len(a) >= 2:
             s["runout_fit"] = power_fit(a, (run - L0) / L0)
             s["height_fit"] = power_fit(a, H0 / hf)
+        for branch, sel in (("small_a", a <= SMALL_A), ("large_a", a >= LARGE_A)):
+            if sel.sum() >= 3:
+                s["runout_fit_" + branch] = power_fit(a[sel], ((run - L0) / L0)[sel])
+                s["height_fit_" + branch] = power_fit(a[sel], (H0 / hf)[sel])
         summ[who] = s
-    if all("continuum" in c for c in cases):
-        summ["runout_rel_diff"] = [(c["continuum"]["runout"] - c["dem"]["runout"]) / c["dem"]["runout"] for c in cases]
-        summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in cases]
+    both = [c for c in cases if "continuum" in c]
+    if both:
+        summ["runout_rel_diff"] = [(c["continuum"]["runout"] - c["dem"]["runout"]) / c["dem"]["runout"] for c in both]
+        summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in both]
+        if all("loop_cpu_s" in c["dem"] and "cpu_s" in c["continuum"] for c in both):
+            summ["speedup_cpu"] = [c["dem"]["loop_cpu_s"] / c["continuum"]["cpu_s"] for c in both]
     out["summary"] = summ
     return summ
 
@@ -240,9 +274,9 @@ def plot(out, path=HERE):
     for who, st in (("dem", "ko"), ("continuum", "bs")):
         if who in summ:
             k, n, dn = summ[who]["runout_fit"] if "runout_fit" in summ[who] else (None, None, None)
-            a1.plot(a, summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
+            a1.plot(summ[who]["a"], summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
                     ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
-            a2.plot(a, summ[who]["H0_over_hf"], st, label=who)
+            a2.plot(summ[who]["a"], summ[who]["H0_over_hf"], st, label=who)
     aa = np.linspace(a.min(), a.max(), 50)
     if "dem" in summ and "runout_fit" in summ["dem"]:
         k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9
@@ -253,6 +287,9 @@ def plot(out, path=HERE):
         a2.plot(aa, k2 * aa ** 0.6, "g--", lw=1, label="slope a^0.6 (B&K wide)")
         k3 = summ["dem"]["H0_over_hf"][0] / a[0] ** 0.5
         a2.plot(aa, k3 * aa ** 0.5, "m:", lw=1, label="slope a^0.5 (B&K narrow)")
+        a1.plot(aa, np.where(aa < 2.3, 1.2 * aa, 1.9 * aa ** (2 / 3)), "r-", lw=0.8,
+                label="1.2 a | 1.9 a^(2/3) (Lajeunesse 2005, 2nd hand)")
+        a2.plot(aa, np.where(aa < 0.7, 1.0, aa ** (2 / 3)), "r-", lw=0.8, label="1 | a^(2/3) (same)")
     for ax, lab in ((a1, "(L_inf - L0) / L0"), (a2, "H0 / h_inf")):
         ax.set_xscale("log"); ax.set_yscale("log"); ax.set_xlabel("a = H0 / L0"); ax.set_ylabel(lab)
         ax.legend(fontsize=7)

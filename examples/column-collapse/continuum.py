@@ -33,32 +33,66 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import solveh_banded
+from scipy.linalg import cho_solve_banded, cholesky_banded
 from scipy.ndimage import map_coordinates
 from scipy.sparse.linalg import splu
 
 
-def solve_spd(A, b, order=None):
-    """Solve a symmetric positive definite sparse system. With order (a permutation of the unknowns
-    that makes A narrow-banded: x-major on the grid, bandwidth about 2 ny), LAPACK's banded Cholesky
-    (O(n b^2)); else (periodic x, whose wrap couples the first and last columns) SuperLU with a
-    symmetric ordering."""
-    if order is None:
-        lu = splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options=dict(SymmetricMode=True))
-        return lu.solve(b)
-    inv = np.empty_like(order)
-    inv[order] = np.arange(order.size)
-    C = A.tocoo()
-    r, c = inv[C.row], inv[C.col]
-    upper = r <= c
-    r, c, v = r[upper], c[upper], C.data[upper]
-    bw = int((c - r).max())
-    ab = np.zeros((bw + 1, order.size))
-    np.add.at(ab, (bw + r - c, c), v)
-    x = solveh_banded(ab, b[order], check_finite=False)
-    out = np.empty_like(x)
-    out[order] = x
-    return out
+class GramSystem:
+    """The symmetric positive definite matrices A(w) = sum_m E_m^T diag(w_m) E_m of the solver, for
+    fixed sparse E_m and weights w_m that change every step (viscosities, densities, masses). With a
+    band order of the unknowns (x-major on the grid, bandwidth about 2 ny), every entry of A in
+    LAPACK's upper band storage is a fixed linear combination of the weights: that map is built once,
+    so assembling A is one sparse matrix-vector product, and LAPACK's banded Cholesky factors it
+    (O(n b^2)). Without an order (periodic x, whose wrap couples the first and last columns) A is
+    assembled as a sparse matrix and factored by SuperLU with a symmetric ordering."""
+
+    def __init__(self, blocks, order=None):
+        self.blocks = [sp.csr_matrix(E) for E in blocks]
+        self.n = self.blocks[0].shape[1]
+        self.order = order
+        if order is None:
+            return
+        inv = np.empty_like(order)
+        inv[order] = np.arange(self.n)
+        pairs, offset = [], 0
+        for E in self.blocks:
+            E.sum_duplicates()
+            counts = np.diff(E.indptr)
+            width = int(counts.max())
+            cols = -np.ones((E.shape[0], width), int)
+            vals = np.zeros((E.shape[0], width))
+            slot = np.arange(E.nnz) - np.repeat(E.indptr[:-1], counts)
+            rows = np.repeat(np.arange(E.shape[0]), counts)
+            cols[rows, slot], vals[rows, slot] = inv[E.indices], E.data
+            for a in range(width):
+                for b in range(width):
+                    r, c = cols[:, a], cols[:, b]
+                    keep = (r >= 0) & (c >= 0) & (r <= c)
+                    k = np.nonzero(keep)[0]
+                    pairs.append((r[k], c[k], vals[k, a] * vals[k, b], k + offset))
+            offset += E.shape[0]
+        r, c, v, w = (np.concatenate(x) for x in zip(*pairs))
+        self.bw = int((c - r).max())
+        self.assemble = sp.csr_matrix((v, ((self.bw + r - c) * self.n + c, w)),
+                                      shape=((self.bw + 1) * self.n, offset))
+
+    def factor(self, weights):
+        """A solver x = A(weights)^-1 b; weights: one array per block, in the blocks' order."""
+        if self.order is None:
+            A = sum(E.T @ sp.diags(w) @ E for E, w in zip(self.blocks, weights))
+            lu = splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                      options=dict(SymmetricMode=True))
+            return lu.solve
+        ab = (self.assemble @ np.concatenate(weights)).reshape(self.bw + 1, self.n)
+        chol = cholesky_banded(ab, check_finite=False)
+        order = self.order
+
+        def solve(b):
+            x = np.empty(self.n)
+            x[order] = cho_solve_banded((chol, False), b[order], check_finite=False)
+            return x
+        return solve
 
 
 class HeldMu:
@@ -132,6 +166,7 @@ class MuIFlow:
         self.Eyy = self._matrix([(cell, self.vid[I, J + 1].ravel(), ones / h),
                                  (cell, self.vid[I, J].ravel(), -ones / h)], nx * ny, n)
         self.Div = (self.Exx + self.Eyy).tocsr()
+        self.Grad = self.Div.T.tocsr()                          # minus the gradient, at the faces
         # nodes (i, j), j = 0..ny; the shear rate du/dy + dv/dx; rows at side walls and the top stay 0
         nnx = self.nnx
         Ni, Nj = np.meshgrid(np.arange(nnx), np.arange(ny + 1), indexing="ij")
@@ -193,8 +228,12 @@ class MuIFlow:
         self.g = np.concatenate([np.full(self.nu, self.gx), np.full(self.nv, self.gy)])
         # pressure gauge: p = 0 in the top-left cell (air); the closed-box Poisson matrix is singular
         # (constants), and a compatible right-hand side sums to 0, so this row fixes p there to 0
-        pin = ny - 1
-        self.gauge = sp.csr_matrix(([1.0 / (self.rho_g * h * h)], ([pin], [pin])), shape=(nx * ny, nx * ny))
+        self.gauge = np.zeros(nx * ny)
+        self.gauge[ny - 1] = 1.0 / (self.rho_g * h * h)
+        # viscous step: M/dt + Exx^T W_c Exx + Eyy^T W_c Eyy + Gxy^T W_n Gxy; projection:
+        # Div diag(1/rho_f) Div^T + gauge
+        self.viscous_system = GramSystem([self.Exx, self.Eyy, self.Gxy, sp.identity(n)], self.order_u)
+        self.pressure_system = GramSystem([self.Grad, sp.identity(nx * ny)], self.order_p)
 
     # ------------------------------------------------------------ fields
     def u_full(self, U=None):
@@ -312,18 +351,17 @@ class MuIFlow:
         p_node = self.C2N_p @ self.p.ravel()
         c_node = np.clip(self.C2N @ c, 0, 1)
         Uadv = self.advect_velocity(dt)
-        force_p = h * h * (self.Div.T @ self.p.ravel())          # -grad p^n times the cell area
+        force_p = h * h * (self.Grad @ self.p.ravel())          # -grad p^n times the cell area
         rhs = M * (Uadv / dt + self.g) + force_p
-        L = self.Div @ sp.diags(1.0 / rho_f) @ self.Div.T + self.gauge
+        solve_pressure = self.pressure_system.factor([1.0 / rho_f, self.gauge])
         U = self.U
         for _ in range(passes):
             gc, gn = self.strain_rates(U)
-            Wc = sp.diags(2 * self.viscosity(c, self.p.ravel(), gc) * h * h)
-            K = self.Exx.T @ Wc @ self.Exx + self.Eyy.T @ Wc @ self.Eyy + \
-                self.Gxy.T @ sp.diags(self.viscosity(c_node, p_node, gn) * self.node_area) @ self.Gxy
-            Ustar = solve_spd(sp.diags(M / dt) + K, rhs, self.order_u)
-            dp = solve_spd(L, -(self.Div @ Ustar) / dt, self.order_p)
-            U = Ustar + dt * (self.Div.T @ dp) / rho_f
+            wc = 2 * self.viscosity(c, self.p.ravel(), gc) * h * h
+            wn = self.viscosity(c_node, p_node, gn) * self.node_area
+            Ustar = self.viscous_system.factor([wc, wc, wn, M / dt])(rhs)
+            dp = solve_pressure(-(self.Div @ Ustar) / dt)
+            U = Ustar + dt * (self.Grad @ dp) / rho_f
         self.U = U
         self.p = self.p + dp.reshape(nx, ny)
         u, v = self.u_full()

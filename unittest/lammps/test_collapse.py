@@ -19,7 +19,10 @@ the DEM input (in.collapse). Each number has its own reason:
   is asked;
 - in.collapse (a small column: 4 columns of spheres, 9 layers): it settles (kinetic energy per
   sphere below 1e-6), the settled packing fraction lies between a simple-cubic lattice (0.52) and
-  random close packing (0.64), no sphere is lost, and the deposit runs out beyond the gate.
+  random close packing (0.64), no sphere is lost, and the deposit runs out beyond the gate;
+- the same with the kk styles (`-k on t 2 -sf kk`) when GRIDDEM_LMP has the KOKKOS package (else
+  reported as skipped), and their kinetic energy 2 time units into the settling equals the CPU
+  styles' to 1e-6 (the same forces to 1e-10, test_kokkos; later, collisions amplify round-off).
 The Python part needs NumPy/SciPy: without them this script re-runs itself under /usr/bin/python3."""
 import math
 import os
@@ -132,27 +135,56 @@ def coupling_checks():
             % (first, second, asked))
 
 
-def lammps_checks():
+KOKKOS_ARGS = ["-k", "on", "t", "2", "-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
+
+
+def has_kokkos():
+    """Whether GRIDDEM_LMP lists KOKKOS among its installed packages (lmp -h)."""
+    out = subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         universal_newlines=True, timeout=120).stdout
+    return "KOKKOS" in out.split("Installed packages:")[-1].split("List of individual")[0].split()
+
+
+def small_collapse(label, extra=()):
+    """The small column (4 columns of spheres, 9 layers) through in.collapse; the physical checks of
+    its settling and deposit; returns the screen output (None if it failed)."""
     wd = t.workdir()
     shutil.copy(os.path.join(EXAMPLE, "in.collapse"), wd)
     cmd = [t.LMP, "-in", "in.collapse", "-var", "L0", "4.4", "-var", "H", "10", "-var", "Lx", "20",
-           "-var", "tmax", "8", "-log", "none", "-echo", "none"]
+           "-var", "tmax", "8", "-log", "none", "-echo", "none"] + list(extra)
     p = subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
                        env=dict(os.environ, OMP_NUM_THREADS="1"), timeout=600)
     t.check(p.returncode == 0 and "GRIDDEM collapse: released" in p.stdout,
-            "in.collapse ran (exit %d): %s" % (p.returncode, p.stdout[-1500:]))
+            "%s: in.collapse ran (exit %d): %s" % (label, p.returncode, p.stdout[-1500:]))
     if p.returncode != 0:
-        return
+        return None
     line = [l for l in p.stdout.splitlines() if l.startswith("GRIDDEM collapse: N")][0]
-    t.check(float(line.split()[-1]) < 1e-6, "settled before release: %s" % line)
+    t.check(float(line.split()[-1]) < 1e-6, "%s: settled before release: %s" % (label, line))
     settled = D.read_dump(os.path.join(wd, "settled.dump"))[0][1]
     frames = D.read_dump(os.path.join(wd, "collapse.dump"))
     phi0, H0 = D.settled_column(settled, 4.4, 4.4)
-    t.check(0.52 < phi0 < 0.64, "settled packing fraction %.3f in (0.52, 0.64)" % phi0)
+    t.check(0.52 < phi0 < 0.64, "%s: settled packing fraction %.3f in (0.52, 0.64)" % (label, phi0))
     t.check(all(len(x) == len(settled) == 4 * 4 * 9 for _, x in frames),
-            "no sphere lost: %d spheres in every frame" % len(settled))
+            "%s: no sphere lost: %d spheres in every frame" % (label, len(settled)))
     xc, h = D.dem_thickness(frames[-1][1], 4.4, phi0, 20.0)
-    t.check(D.front(xc, h) > 4.4 + 1.0, "deposit runs out beyond the gate: front %.2f" % D.front(xc, h))
+    t.check(D.front(xc, h) > 4.4 + 1.0, "%s: deposit runs out beyond the gate: front %.2f" % (label, D.front(xc, h)))
+    return p.stdout
+
+
+def lammps_checks():
+    cpu = small_collapse("CPU styles")
+    if not has_kokkos():
+        print("kk styles: skipped (%s has no KOKKOS package)" % t.LMP)
+        return
+    kk = small_collapse("kk styles (2 threads)", KOKKOS_ARGS)
+    if cpu is None or kk is None:
+        return
+    t.check("KOKKOS mode" in kk, "the kk run has Kokkos enabled")
+    # same forces as the CPU styles (to 1e-10, test_kokkos), so the same trajectory until collisions
+    # amplify round-off: the kinetic energy 2 time units into the settling (printed to 8 digits)
+    ke_cpu, ke_kk = t.thermo_values(cpu, "c_ke"), t.thermo_values(kk, "c_ke")
+    t.check(len(ke_cpu) > 1 and len(ke_kk) > 1 and abs(ke_kk[1] / ke_cpu[1] - 1) < 1e-6,
+            "kk and CPU styles: kinetic energy at t = 2 %s and %s" % (ke_kk[1:2], ke_cpu[1:2]))
 
 
 if __name__ == "__main__":
