@@ -31,17 +31,9 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   }
   ch->n = n;
   ch->p = p;
-  double vmax2 = 0.0;
-  int nonfinite = 0;
-#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(| : nonfinite)
+#pragma omp parallel for schedule(static)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
-    if (i < p->nlocal) {
-      const double *v = p->v + 3 * (size_t) i;
-      const double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      nonfinite |= !isfinite(v2);
-      vmax2 = v2 > vmax2 ? v2 : vmax2;
-    }
     double *q = ch->pos + 4 * (size_t) s;
     q[0] = p->x[3 * (size_t) i];
     q[1] = p->x[3 * (size_t) i + 1];
@@ -52,8 +44,6 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     for (int d = 0; d < 3; d++) sum->f[d] = 0.0, sum->t[d] = 0.0;
     ch->ncontact[s] = 0;
   }
-  ch->vmax2 = vmax2;
-  ch->nonfinite = nonfinite;
   return 0;
 }
 
@@ -94,7 +84,7 @@ typedef struct sweep_context {
 typedef struct sweep_sums {
   double virial[6];
   double energy;
-  griddem_history_log *log;
+  griddem_history_overflow *overflow;
 } sweep_sums;
 
 /* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
@@ -119,7 +109,7 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
   const double *pa = ch->pos + 4 * (size_t) a, *pb = ch->pos + 4 * (size_t) b;
   const double *stored = m->track_contacts
-      ? griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]) : NULL;
+      ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, pa[3], pb[3], stored != NULL))
     return;
@@ -141,8 +131,16 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   double fc[3], ta[3], tb[3];
   const double energy = griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  if (m->track_contacts && griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
-    record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
+  if (m->track_contacts) {
+    /* the contact's entries in the next history: a's as evaluated, b's seen from b */
+    int failed = griddem_history_write(cx->hist, sums->overflow, a, ch->tag[b], hv);
+    if (b_owned) {
+      double hb[GRIDDEM_MAX_HISTORY];
+      for (int v = 0; v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
+      failed |= griddem_history_write(cx->hist, sums->overflow, b, ch->tag[a], hb);
+    }
+    if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
+  }
 
   griddem_slot_sum *sa = &ch->sum[a], *sb = &ch->sum[b];
   for (int d = 0; d < 3; d++) sa->f[d] += fc[d], sa->t[d] += ta[d];
@@ -386,15 +384,15 @@ static int slab_thickness(int nz, int nthreads, int reach)
   return thick < reach ? reach : thick;
 }
 
-/* A thread's empty accumulators, logging into its own history log */
+/* A thread's empty accumulators, with its own history overflow list */
 static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
 {
   sweep_sums sums;
   memset(&sums, 0, sizeof(sums));
 #ifdef _OPENMP
-  if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
+  if (model->track_contacts) sums.overflow = &hist->overflow[omp_get_thread_num()];
 #else
-  if (model->track_contacts) sums.log = &hist->logs[0];
+  if (model->track_contacts) sums.overflow = &hist->overflow[0];
 #endif
   return sums;
 }
@@ -421,7 +419,9 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 #ifdef _OPENMP
   nthreads = omp_get_max_threads();
 #endif
-  if (model->track_contacts && griddem_history_begin(hist, nthreads) != 0) {
+  int nslot = 0;
+  for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
+  if (model->track_contacts && griddem_history_begin(hist, nthreads, nslot, order, row_of, nlocal) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
@@ -508,17 +508,13 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       }
     }
 
-  int nslot = 0;
-  for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
-  if (model->track_contacts &&
-      griddem_history_build(hist, nslot, ch->ncontact, ch->tag, model->history_parity) != 0)
-    record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
+  if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
   long contacts = 0;
   int most = 0;
   for (int s = 0; s < nslot; s++) {
     const int i = order[s];
-    if (i >= nlocal) continue;
+    if (i >= nlocal || ch->ncontact[s] == 0) continue;    /* no contact, no force */
     for (int d = 0; d < 3; d++) f[3 * i + d] += ch->sum[s].f[d], torque[3 * i + d] += ch->sum[s].t[d];
     contacts += ch->ncontact[s];
     if (ch->ncontact[s] > most) most = ch->ncontact[s];

@@ -45,8 +45,6 @@ typedef struct griddem_channels {
   griddem_slot_sum *sum;
   int64_t *tag;
   int *ncontact;
-  double vmax2;    /* largest squared speed of an owned particle (found while filling) */
-  int nonfinite;   /* 1: some owned particle has a non-finite velocity */
   int *slab, *slots, *first;   /* cross-class pass: small spheres by slab of the coarse grid */
   int across_cap, first_cap;
 } griddem_channels;
