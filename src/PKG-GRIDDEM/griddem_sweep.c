@@ -330,30 +330,50 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   }
 }
 
+/* Most rows of a cross-class block: (2 reach + 1)^2 */
+#define MAX_BLOCK_ROWS ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1))
+
 /* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
- * grid l (l holds the larger spheres): every cell of l within reach of the slot's cell, the slot
- * on its own side. */
+ * grid l (l holds the larger spheres): the cells of l that the box of half-edge cut (the longest
+ * contact distance between the two classes) around the slot's centre overlaps, the slot on its
+ * own side. Consecutive slots mostly share that block, whose non-empty row ranges are then found
+ * once. */
 static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
-                         int reach, const int *slots, int n)
+                         double cut, const int *slots, int n)
 {
   const griddem_grid *g = l->g;
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  const double extra = cx->model->reach_extra;
+  const double extra = cx->model->reach_extra, *P = cx->ch->pos;
   hit_list hits;
   hits.n = 0;
+  int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
+  int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n; q++) {
     const int s = slots[q];
-    const double *ps = cx->ch->pos + 4 * (size_t) s;
-    const long c = griddem_cell_of(g, ps[0], ps[1], ps[2]);
-    const int x = (int) (c % nx), y = (int) ((c / nx) % g->n[1]), z = (int) (c / nxy);
-    const int x0 = x - reach < 0 ? 0 : x - reach, x1 = x + reach >= g->n[0] ? g->n[0] - 1 : x + reach;
-    for (int zz = z - reach; zz <= z + reach; zz++)
-      for (int yy = y - reach; yy <= y + reach; yy++) {
-        if (zz < 0 || zz >= g->n[2] || yy < 0 || yy >= g->n[1]) continue;
-        const long rowcell = nx * yy + nxy * zz;
-        collect_hits(cx, sums, s, extra, l->base + start[rowcell + x0], l->base + start[rowcell + x1 + 1], &hits);
-      }
+    const double *ps = P + 4 * (size_t) s;
+    int b[6];
+    for (int d = 0; d < 3; d++) {
+      b[d] = griddem_axis_cell(ps[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[3 + d] = griddem_axis_cell(ps[d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+    }
+    if (memcmp(b, block, sizeof(b)) != 0) {
+      nrange = total = 0;
+      for (int zz = b[2]; zz <= b[5]; zz++)
+        for (int yy = b[1]; yy <= b[4]; yy++) {
+          const long rowcell = nx * yy + nxy * zz;
+          lo[nrange] = l->base + start[rowcell + b[0]], hi[nrange] = l->base + start[rowcell + b[3] + 1];
+          if (hi[nrange] > lo[nrange]) total += hi[nrange] - lo[nrange], nrange++;
+        }
+      memcpy(block, b, sizeof(b));
+    }
+    if (total <= HITS_CAP) {
+      const double xi = ps[0], yi = ps[1], zi = ps[2], radi = ps[3] + extra;
+      int m = 0;
+      for (int r = 0; r < nrange; r++) m = test_run(P, xi, yi, zi, radi, lo[r], hi[r], hits.slot, m);
+      hits.n = m;
+    } else
+      for (int r = 0; r < nrange; r++) collect_hits(cx, sums, s, extra, lo[r], hi[r], &hits);
     if (hits.n) sweep_hits(cx, sums, s, &hits);
   }
 }
@@ -472,7 +492,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       const int nk = k->b->n;
       if (nk == 0 || l->b->n == 0) continue;
       const griddem_grid *g = l->g;
-      const int reach = griddem_stencil_reach(g->h, contact_reach(g, k->rmax, l->rmax, model->reach_extra));
+      const double cut = contact_reach(g, k->rmax, l->rmax, model->reach_extra);
+      const int reach = griddem_stencil_reach(g->h, cut);
       if (reach > MAX_REACH) {
         result->fault = GRIDDEM_FAULT_STENCIL;
         return result->fault;
@@ -500,7 +521,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
         for (int q = colour; q < nslab; q += 3) {
           sweep_sums sums = thread_sums(model, hist);
-          sweep_across(&cx, &sums, l, reach, slots + first[q], first[q + 1] - first[q]);
+          sweep_across(&cx, &sums, l, cut, slots + first[q], first[q + 1] - first[q]);
           v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
           v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
           energy += sums.energy;
