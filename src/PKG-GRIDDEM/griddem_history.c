@@ -169,7 +169,8 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
   return 0;
 }
 
-static int overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner, const double *v)
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
+                                    const double *v)
 {
   long cap = o->cap;
   if (ensure((void **) &o->slot, &cap, o->n + 1, sizeof(int)) != 0) return -1;
@@ -182,19 +183,6 @@ static int overflow_append(griddem_history_overflow *o, int values, int slot, in
   o->partner[o->n] = partner;
   memcpy(o->value + (size_t) values * o->n, v, sizeof(double) * (size_t) values);
   o->n++;
-  return 0;
-}
-
-int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot, int64_t partner,
-                          const double *v)
-{
-  griddem_history_pool *p = &h->next;
-  const long e = p->start[slot] + p->count[slot];
-  if (e >= p->start[slot + 1]) return overflow_append(overflow, h->values, slot, partner, v);
-  p->partner[e] = partner;
-  double *to = p->value + (size_t) h->values * e;
-  for (int k = 0; k < h->values; k++) to[k] = v[k];
-  p->count[slot]++;
   return 0;
 }
 

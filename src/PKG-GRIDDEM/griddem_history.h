@@ -8,6 +8,9 @@
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
 
+#include "griddem_portable.h"
+
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -82,9 +85,24 @@ int griddem_history_set_values(griddem_history *h, int values);
  * pool the history, the row of slot s being row s, with the overflow folded in (0, or -1). */
 int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
                           int nlocal);
-int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot, int64_t partner,
-                          const double *v);
 int griddem_history_end(griddem_history *h);
+
+/* An entry beyond its row's room, kept in the thread's overflow list. 0, or -1 without memory. */
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
+                                    const double *v);
+
+GRIDDEM_INLINE int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
+                                         int64_t partner, const double *v)
+{
+  griddem_history_pool *p = &h->next;
+  const long e = p->start[slot] + p->count[slot];
+  if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, h->values, slot, partner, v);
+  p->partner[e] = partner;
+  double *to = p->value + (size_t) h->values * e;
+  for (int k = 0; k < h->values; k++) to[k] = v[k];
+  p->count[slot]++;
+  return 0;
+}
 
 #ifdef __cplusplus
 }
