@@ -33,31 +33,39 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   upper[ncls] = 0.0;
 }
 
+/* Grow the box lo, hi by point xi; poison becomes NaN if a coordinate is not finite (x * 0 is 0
+ * for a finite x, NaN otherwise) */
+static inline void grow_box(const double *xi, double *lo, double *hi, double *poison)
+{
+  for (int d = 0; d < 3; d++) {
+    lo[d] = xi[d] < lo[d] ? xi[d] : lo[d];
+    hi[d] = xi[d] > hi[d] ? xi[d] : hi[d];
+  }
+  *poison += xi[0] * 0.0 + xi[1] * 0.0 + xi[2] * 0.0;
+}
+
 void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
 {
   const double *x = p->x;
   double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
   if (p->nall > 0)
     for (int d = 0; d < 3; d++) lo[d] = hi[d] = x[d];
-  int bad = -1;
-  double vmax2 = 0.0, rmin = INFINITY, rmax = 0.0;
+  double vmax2 = 0.0, rmin = INFINITY, rmax = 0.0, poison = 0.0;
   int nonfinite_v = 0;
-  for (int i = 0; i < p->nall; i++) {
-    const double *xi = x + 3 * (size_t) i;
-    if (bad < 0 && !(isfinite(xi[0]) && isfinite(xi[1]) && isfinite(xi[2]))) bad = i;
-    for (int d = 0; d < 3; d++) {
-      lo[d] = xi[d] < lo[d] ? xi[d] : lo[d];
-      hi[d] = xi[d] > hi[d] ? xi[d] : hi[d];
-    }
-    if (i < p->nlocal) {
-      const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], r = p->radius[i];
-      nonfinite_v |= !isfinite(v2);
-      vmax2 = v2 > vmax2 ? v2 : vmax2;
-      rmin = r < rmin ? r : rmin;
-      rmax = r > rmax ? r : rmax;
-    }
+  /* one pass: owned particles (position, velocity, radius), then ghosts (position) */
+  for (int i = 0; i < p->nlocal; i++) {
+    grow_box(x + 3 * (size_t) i, lo, hi, &poison);
+    const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], r = p->radius[i];
+    nonfinite_v |= !isfinite(v2);
+    vmax2 = v2 > vmax2 ? v2 : vmax2;
+    rmin = r < rmin ? r : rmin;
+    rmax = r > rmax ? r : rmax;
   }
-  scan->first_nonfinite = bad;
+  for (int i = p->nlocal; i < p->nall; i++) grow_box(x + 3 * (size_t) i, lo, hi, &poison);
+  scan->first_nonfinite = -1;
+  if (poison != poison) /* name the first one (a fault: the run stops) */
+    for (int i = 0; i < p->nall && scan->first_nonfinite < 0; i++)
+      if (!(isfinite(x[3 * i]) && isfinite(x[3 * i + 1]) && isfinite(x[3 * i + 2]))) scan->first_nonfinite = i;
   for (int d = 0; d < 3; d++) scan->lo[d] = lo[d], scan->hi[d] = hi[d];
   scan->vmax2 = vmax2;
   scan->nonfinite_velocity = nonfinite_v;

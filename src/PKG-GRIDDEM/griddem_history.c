@@ -157,11 +157,15 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
   p->nrows = 0, p->used = 0;
   if (pool_reserve(p, nslot, 0, h->values) != 0) return -1;
   long total = 0;
+  const int nrows = h->cur.nrows, *count = h->cur.count;
   for (int s = 0; s < nslot; s++) {
     const int i = order[s];
     p->start[s] = total;
     p->count[s] = 0;
-    if (i < nlocal) total += griddem_history_count(h, row_of[i]) + GRIDDEM_HISTORY_MARGIN;
+    if (i < nlocal) {
+      const int row = row_of[i];
+      total += (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
+    }
   }
   p->start[nslot] = total;
   if (pool_reserve(p, nslot, total, h->values) != 0) return -1;
