@@ -8,8 +8,6 @@
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
 
-#include "griddem_portable.h"
-
 #include <stddef.h>
 #include <stdint.h>
 
@@ -91,8 +89,9 @@ int griddem_history_end(griddem_history *h);
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
                                     const double *v);
 
-GRIDDEM_INLINE int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
-                                         int64_t partner, const double *v)
+/* CPU only (the Kokkos styles keep their own store), so plainly inline */
+static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
+                                        int64_t partner, const double *v)
 {
   griddem_history_pool *p = &h->next;
   const long e = p->start[slot] + p->count[slot];
