@@ -5,9 +5,10 @@ unittest/lammps/test_bidisperse_squeeze.py) with stock gran/hooke/history and gr
 (defaults, and each cell mode given), on 1 and 2 MPI ranks, in one job. Appends one JSON line per
 run to bench/results/cpu.jsonl.
 
-usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--only LABEL,...]"""
+usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]"""
 import argparse
 import os
+import subprocess
 import sys
 import tempfile
 
@@ -30,8 +31,11 @@ def main():
     ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default=None)
     args = ap.parse_args()
+    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
+                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
     only = args.only.split(",") if args.only else None
     wd = tempfile.mkdtemp(prefix="griddem-squeeze-")
     data = os.path.join(wd, "data.squeeze")
@@ -44,7 +48,7 @@ def main():
                                          name="bench").replace("pair_coeff * *", "pair_coeff * *\n" + fix)
             loop, steps, atoms, _ = benchlib.run_lmp(args.lmp, wd, text, ranks)
             benchlib.record(os.path.join(HERE, "results", "cpu.jsonl"), "squeeze 1:4", label, ranks, 1,
-                            loop, steps, atoms)
+                            loop, steps, atoms, build=build)
 
 
 main()

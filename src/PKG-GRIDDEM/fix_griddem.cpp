@@ -136,7 +136,7 @@ int FixGriddem::run_step(griddem_step &step, griddem_sweep_result &result, int &
 
 const double *FixGriddem::find_history(int i, double partner) const
 {
-  return griddem_engine_find(&engine, row_of[i], partner);
+  return griddem_engine_find(&engine, row_of[i], (tagint) partner);
 }
 
 void FixGriddem::leave()

@@ -33,6 +33,45 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   upper[ncls] = 0.0;
 }
 
+/* Grow the box lo, hi by point xi; poison becomes NaN if a coordinate is not finite (x * 0 is 0
+ * for a finite x, NaN otherwise) */
+static inline void grow_box(const double *xi, double *lo, double *hi, double *poison)
+{
+  for (int d = 0; d < 3; d++) {
+    lo[d] = xi[d] < lo[d] ? xi[d] : lo[d];
+    hi[d] = xi[d] > hi[d] ? xi[d] : hi[d];
+  }
+  *poison += xi[0] * 0.0 + xi[1] * 0.0 + xi[2] * 0.0;
+}
+
+void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
+{
+  const double *x = p->x;
+  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
+  if (p->nall > 0)
+    for (int d = 0; d < 3; d++) lo[d] = hi[d] = x[d];
+  double vmax2 = 0.0, rmin = INFINITY, rmax = 0.0, poison = 0.0;
+  int nonfinite_v = 0;
+  /* one pass: owned particles (position, velocity, radius), then ghosts (position) */
+  for (int i = 0; i < p->nlocal; i++) {
+    grow_box(x + 3 * (size_t) i, lo, hi, &poison);
+    const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], r = p->radius[i];
+    nonfinite_v |= !isfinite(v2);
+    vmax2 = v2 > vmax2 ? v2 : vmax2;
+    rmin = r < rmin ? r : rmin;
+    rmax = r > rmax ? r : rmax;
+  }
+  for (int i = p->nlocal; i < p->nall; i++) grow_box(x + 3 * (size_t) i, lo, hi, &poison);
+  scan->first_nonfinite = -1;
+  if (poison != poison) /* name the first one (a fault: the run stops) */
+    for (int i = 0; i < p->nall && scan->first_nonfinite < 0; i++)
+      if (!(isfinite(x[3 * i]) && isfinite(x[3 * i + 1]) && isfinite(x[3 * i + 2]))) scan->first_nonfinite = i;
+  for (int d = 0; d < 3; d++) scan->lo[d] = lo[d], scan->hi[d] = hi[d];
+  scan->vmax2 = vmax2;
+  scan->nonfinite_velocity = nonfinite_v;
+  scan->rmin = rmin, scan->rmax = rmax;
+}
+
 static int grow_work(griddem_engine *e, int n)
 {
   if (n <= e->work_cap) return 0;
@@ -112,7 +151,7 @@ static int mark_active_reach(griddem_engine *e, const griddem_step *s, int idle_
  * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; order: the
  * particle of each slot, classes one after the other from the largest spheres. Left out: ghosts
  * out of reach of every owned particle, and particles with idle_bit (0: none) out of reach of
- * every particle without it; the speed of owned ones left out still enters the motion check.
+ * every particle without it (the scan saw the speed of every owned particle).
  * Returns the number of slots, or -1 without memory. */
 static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, griddem_class_grid *cls,
                         int *coarsened)
@@ -141,10 +180,6 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
     if (!idle && within_reach(p, i, lo, hi, reach)) {
       c = griddem_class_of(p->radius[i], upper, ncls);
       base[c + 1]++;
-    } else if (idle && i < p->nlocal) {
-      const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      if (!isfinite(v2)) e->idle_nonfinite = 1;
-      else if (v2 > e->idle_vmax2) e->idle_vmax2 = v2;
     }
     e->order[i] = c;
   }
@@ -185,11 +220,13 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   memset(&all, 0, sizeof(all));
   all.n = p->nall;
   const int idle_bit = s->excl ? s->excl->both_bit : 0;
-  e->idle_vmax2 = 0.0;
-  e->idle_nonfinite = 0;
+  griddem_scan own_scan;
+  const griddem_scan *scan = s->scan;
+  if (!scan) griddem_engine_scan(p, &own_scan), scan = &own_scan;
   if (e->nclass == 1 && !idle_bit) {
-    /* one grid: the particles are binned as they are, nothing gathered */
-    *coarsened = griddem_grid_cover(&e->grid[0], s->anchor, p->nall, p->x, s->cell_edge, s->max_cells);
+    /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
+    *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
+                             : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
     if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
       result->fault = GRIDDEM_FAULT_MEMORY;
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
@@ -214,10 +251,9 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
       if (all.order[k] < p->nlocal) s->row_of[all.order[k]] = k;
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
-  const double vmax2 = e->channels.vmax2 > e->idle_vmax2 ? e->channels.vmax2 : e->idle_vmax2;
-  e->stats.max_speed = sqrt(vmax2);
+  e->stats.max_speed = sqrt(scan->vmax2);
   e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->nclass - 1].h;
-  e->stats.nonfinite_velocity = e->channels.nonfinite || e->idle_nonfinite;
+  e->stats.nonfinite_velocity = scan->nonfinite_velocity;
   e->stats.occupied_cells = 0;
   e->stats.max_occupancy = 0;
   for (int c = 0; c < e->nclass; c++) {
@@ -242,8 +278,8 @@ double griddem_engine_memory(const griddem_engine *e)
   double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t) + sizeof(long)) + (double) e->active_cap;
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
-  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_state) + sizeof(griddem_slot_sum) +
-                          sizeof(int64_t) + sizeof(int)) +
+  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_sum) + sizeof(int64_t) + sizeof(int)) +
+      (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int) +
       griddem_history_memory(&e->hist);
 }
 
@@ -272,7 +308,7 @@ int griddem_engine_get_row(const griddem_engine *e, int row, double *buf)
   const int count = griddem_history_count(&e->hist, row);
   const int n = count * GRIDDEM_HISTORY_ENTRY(e->hist.values);
   buf[0] = count;
-  memcpy(buf + 1, griddem_history_row(&e->hist, row), sizeof(double) * (size_t) n);
+  griddem_history_get_row(&e->hist, row, buf + 1);
   return n + 1;
 }
 
@@ -281,7 +317,7 @@ int griddem_engine_put_row(griddem_engine *e, const double *buf, int values)
   return griddem_history_add_row(&e->hist, (int) buf[0], buf + 1, values);
 }
 
-const double *griddem_engine_find(const griddem_engine *e, int row, double partner)
+const double *griddem_engine_find(const griddem_engine *e, int row, int64_t partner)
 {
   return griddem_history_find(&e->hist, row, partner);
 }

@@ -72,9 +72,20 @@ typedef struct griddem_engine {
   unsigned char *active;
   long *reach_cell;
   long active_cap;
-  double idle_vmax2;  /* largest squared speed of an owned particle left out */
-  int idle_nonfinite; /* 1: one of them has a non-finite velocity */
 } griddem_engine;
+
+/* The engine's first pass: one sweep over the particles finds what the step needs to know before
+ * it bins them. Positions and the box cover all particles (nall), velocities and radii the owned
+ * ones. */
+typedef struct griddem_scan {
+  int first_nonfinite;    /* first particle with a non-finite position, or -1 */
+  double lo[3], hi[3];    /* box of the positions (meaningless without particles) */
+  double vmax2;           /* largest squared speed of an owned particle */
+  int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
+  double rmin, rmax;      /* radius range of the owned particles (INFINITY, 0 without) */
+} griddem_scan;
+
+void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan);
 
 /* One step's input. Particles hold owned ones first, then ghosts. */
 typedef struct griddem_step {
@@ -88,6 +99,7 @@ typedef struct griddem_step {
   double rmax;             /* largest radius of any particle */
   const griddem_model *model;
   const griddem_exclusions *excl; /* may be NULL */
+  const griddem_scan *scan; /* this step's griddem_engine_scan of the particles; NULL: the step scans */
   double dt;
   int history_update;      /* 1: advance history values */
   int *row_of;             /* per particle: its history row (-1: none); updated for owned ones */
@@ -163,7 +175,7 @@ int griddem_engine_get_row(const griddem_engine *e, int row, double *buf); /* re
 int griddem_engine_put_row(griddem_engine *e, const double *buf, int values);
 
 /* Stored history values of row's contact with partner, or NULL. */
-const double *griddem_engine_find(const griddem_engine *e, int row, double partner);
+const double *griddem_engine_find(const griddem_engine *e, int row, int64_t partner);
 
 #ifdef __cplusplus
 }

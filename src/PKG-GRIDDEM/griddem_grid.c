@@ -24,16 +24,9 @@ int griddem_stencil_reach(double h, double cut)
   return reach < 1 ? 1 : reach;
 }
 
-int griddem_first_nonfinite(int n, const double *x)
-{
-  for (int i = 0; i < n; i++)
-    if (!isfinite(x[3 * i]) || !isfinite(x[3 * i + 1]) || !isfinite(x[3 * i + 2])) return i;
-  return -1;
-}
-
 static long axis_index(double x, double anchor, double hinv)
 {
-  return (long) floor((x - anchor) * hinv);
+  return griddem_floor_index((x - anchor) * hinv);
 }
 
 static long cells_for(const griddem_grid *g, const double *lo, const double *hi, double h, long *k0,
@@ -92,9 +85,14 @@ static inline long axis_cell(const griddem_grid *g, int d, double x)
   return griddem_axis_cell(x, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
 }
 
-long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
+static inline long cell_index(const griddem_grid *g, double x, double y, double z)
 {
   return axis_cell(g, 0, x) + (long) g->n[0] * (axis_cell(g, 1, y) + (long) g->n[1] * axis_cell(g, 2, z));
+}
+
+long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
+{
+  return cell_index(g, x, y, z);
 }
 
 long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], const double *x)
@@ -130,7 +128,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   memset(start, 0, sizeof(int) * (size_t) (g->ncell + 1));
 
   for (int i = 0; i < n; i++) {
-    const long c = griddem_cell_of(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     b->cell[i] = c;
     start[c + 1]++;
   }

@@ -105,9 +105,6 @@ double griddem_cell_edge(int mode, double rmin, double rmax, double value);
  * in the middle cell is visited: ceil(cut/h). */
 int griddem_stencil_reach(double h, double cut);
 
-/* Index of the first coordinate (of 3*n interleaved) that is not finite, or -1. */
-int griddem_first_nonfinite(int n, const double *x);
-
 /* Grid with edge h, faces aligned to anchor, covering the bounding box of n interleaved points.
  * Aligning to a fixed anchor makes a point's cell depend on its position only, not on which other
  * points (ghosts) a process holds, so sums come out in the same order on any decomposition.
@@ -122,12 +119,20 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);
 
+/* floor(v) as an integer, for finite v within the range of long: the truncation, one less for a
+ * negative non-integer (exactly floor's value, without a call into libm) */
+GRIDDEM_INLINE long griddem_floor_index(double v)
+{
+  const long t = (long) v;
+  return t - (v < (double) t);
+}
+
 /* The cell along one axis of a grid (faces at anchor + k / hinv, n cells from k = k0) that holds
  * coordinate x, clamped to the grid: points on or past the upper faces go to the last cell. How
  * both the CPU engine (griddem_cell_of) and the Kokkos styles place a point. */
 GRIDDEM_INLINE int griddem_axis_cell(double x, double anchor, double hinv, long k0, int n)
 {
-  const long c = (long) floor((x - anchor) * hinv) - k0;
+  const long c = griddem_floor_index((x - anchor) * hinv) - k0;
   return c < 0 ? 0 : (c >= n ? n - 1 : (int) c);
 }
 

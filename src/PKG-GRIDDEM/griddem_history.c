@@ -1,4 +1,4 @@
-/* Compressed contact history; see griddem_history.h. */
+/* The CPU contact-history store; see griddem_history.h. */
 #include "griddem_history.h"
 
 #include <stdlib.h>
@@ -10,32 +10,22 @@ void griddem_history_init(griddem_history *h, int values)
   h->values = values;
 }
 
+static void pool_free(griddem_history_pool *p)
+{
+  free(p->start), free(p->count), free(p->partner), free(p->value);
+  memset(p, 0, sizeof(*p));
+}
+
 void griddem_history_free(griddem_history *h)
 {
-  free(h->row_start), free(h->entries), free(h->next_start), free(h->next_entries);
-  for (int k = 0; k < h->nlogs; k++) free(h->logs[k].records);
-  free(h->logs);
+  pool_free(&h->cur);
+  pool_free(&h->next);
+  for (int k = 0; k < h->noverflow; k++) {
+    griddem_history_overflow *o = &h->overflow[k];
+    free(o->slot), free(o->partner), free(o->value);
+  }
+  free(h->overflow);
   memset(h, 0, sizeof(*h));
-}
-
-int griddem_history_count(const griddem_history *h, int row)
-{
-  return (row < 0 || row >= h->nrows) ? 0 : (int) (h->row_start[row + 1] - h->row_start[row]);
-}
-
-const double *griddem_history_row(const griddem_history *h, int row)
-{
-  return (row < 0 || row >= h->nrows) ? h->entries
-                                      : h->entries + (size_t) GRIDDEM_HISTORY_ENTRY(h->values) * h->row_start[row];
-}
-
-const double *griddem_history_find(const griddem_history *h, int row, double partner)
-{
-  const int width = GRIDDEM_HISTORY_ENTRY(h->values), count = griddem_history_count(h, row);
-  const double *entry = griddem_history_row(h, row);
-  for (int k = 0; k < count; k++, entry += width)
-    if (entry[0] == partner) return entry + 1;
-  return NULL;
 }
 
 /* Make *ptr hold at least need elements of elem bytes, with headroom; contents are kept. */
@@ -49,136 +39,201 @@ static int ensure(void **ptr, long *cap, long need, size_t elem)
   return 0;
 }
 
-static int reserve(griddem_history *h, int rows, long entries)
+/* Room in a pool for rows rows (and the end mark) and entries entries; contents are kept. */
+static int pool_reserve(griddem_history_pool *p, int rows, long entries, int values)
 {
-  const size_t width = sizeof(double) * GRIDDEM_HISTORY_ENTRY(h->values);
-  if (ensure((void **) &h->row_start, &h->rows_cap, rows + 1, sizeof(long)) != 0 ||
-      ensure((void **) &h->entries, &h->entries_cap, entries, width) != 0)
+  long rows_cap = p->rows_cap, entries_cap = p->entries_cap;
+  if (ensure((void **) &p->start, &rows_cap, rows + 1, sizeof(long)) != 0) return -1;
+  rows_cap = p->rows_cap;
+  if (ensure((void **) &p->count, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
+  if (ensure((void **) &p->partner, &entries_cap, entries, sizeof(int64_t)) != 0) return -1;
+  entries_cap = p->entries_cap;
+  if (ensure((void **) &p->value, &entries_cap, entries, sizeof(double) * (size_t) (values > 0 ? values : 1)) != 0)
     return -1;
-  if (h->nrows == 0) h->row_start[0] = 0;
+  p->rows_cap = rows_cap, p->entries_cap = entries_cap;
+  if (p->nrows == 0) p->start[0] = p->used;
   return 0;
 }
 
-int griddem_history_reserve(griddem_history *h, int rows, long entries)
+int griddem_history_count(const griddem_history *h, int row)
 {
-  const size_t width = sizeof(double) * GRIDDEM_HISTORY_ENTRY(h->values);
-  if (reserve(h, rows, entries) != 0 ||
-      ensure((void **) &h->next_start, &h->next_rows_cap, rows + 1, sizeof(long)) != 0 ||
-      ensure((void **) &h->next_entries, &h->next_entries_cap, entries, width) != 0)
-    return -1;
-  return 0;
+  return (row < 0 || row >= h->cur.nrows) ? 0 : h->cur.count[row];
 }
 
-double griddem_history_memory(const griddem_history *h)
+const double *griddem_history_find(const griddem_history *h, int row, int64_t partner)
 {
-  double bytes = (double) (h->rows_cap + h->next_rows_cap) * sizeof(long) +
-      (double) (h->entries_cap + h->next_entries_cap) * GRIDDEM_HISTORY_ENTRY(h->values) * sizeof(double);
-  for (int k = 0; k < h->nlogs; k++) bytes += (double) h->logs[k].cap * sizeof(double);
-  return bytes;
+  if (row < 0 || row >= h->cur.nrows) return NULL;
+  const long first = h->cur.start[row], end = first + h->cur.count[row];
+  for (long e = first; e < end; e++)
+    if (h->cur.partner[e] == partner) return h->cur.value + (size_t) h->values * e;
+  return NULL;
 }
 
-static void convert_entries(const double *from, int from_values, double *to, int values, int count)
+void griddem_history_get_row(const griddem_history *h, int row, double *entries)
 {
+  const int nv = h->values, count = griddem_history_count(h, row);
   for (int k = 0; k < count; k++) {
-    const double *a = from + (size_t) (1 + from_values) * k;
-    double *b = to + (size_t) (1 + values) * k;
-    for (int v = 0; v <= values; v++) b[v] = v <= from_values ? a[v] : 0.0;
+    const long e = h->cur.start[row] + k;
+    double *m = entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k;
+    m[0] = (double) h->cur.partner[e];
+    memcpy(m + 1, h->cur.value + (size_t) nv * e, sizeof(double) * (size_t) nv);
   }
 }
 
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values)
 {
-  const long first = h->row_start ? h->row_start[h->nrows] : 0;
-  if (reserve(h, h->nrows + 1, first + count) != 0) return -1;
-  convert_entries(entries, entry_values, h->entries + (size_t) GRIDDEM_HISTORY_ENTRY(h->values) * first,
-                  h->values, count);
-  h->row_start[h->nrows + 1] = first + count;
+  griddem_history_pool *p = &h->cur;
+  const int nv = h->values;
+  if (pool_reserve(p, p->nrows + 1, p->used + count, nv) != 0) return -1;
+  const long first = p->used;
+  for (int k = 0; k < count; k++) {
+    const double *m = entries + (size_t) GRIDDEM_HISTORY_ENTRY(entry_values) * k;
+    p->partner[first + k] = (int64_t) m[0];
+    for (int v = 0; v < nv; v++) p->value[(size_t) nv * (first + k) + v] = v < entry_values ? m[1 + v] : 0.0;
+  }
+  p->start[p->nrows] = first;
+  p->count[p->nrows] = count;
+  p->used = first + count;
+  p->start[p->nrows + 1] = p->used;
   if (count > h->max_count) h->max_count = count;
-  return h->nrows++;
+  return p->nrows++;
+}
+
+int griddem_history_reserve(griddem_history *h, int rows, long entries)
+{
+  return pool_reserve(&h->cur, rows, entries, h->values) != 0 ||
+          pool_reserve(&h->next, rows, entries + (long) GRIDDEM_HISTORY_MARGIN * rows, h->values) != 0
+      ? -1
+      : 0;
+}
+
+static double pool_memory(const griddem_history_pool *p, int values)
+{
+  return (double) p->rows_cap * (sizeof(long) + sizeof(int)) +
+      (double) p->entries_cap * (sizeof(int64_t) + sizeof(double) * (values > 0 ? values : 1));
+}
+
+double griddem_history_memory(const griddem_history *h)
+{
+  double bytes = pool_memory(&h->cur, h->values) + pool_memory(&h->next, h->values);
+  for (int k = 0; k < h->noverflow; k++)
+    bytes += (double) h->overflow[k].cap * (sizeof(int) + sizeof(int64_t) + sizeof(double) * (h->values > 0 ? h->values : 1));
+  return bytes;
 }
 
 int griddem_history_set_values(griddem_history *h, int values)
 {
   if (values == h->values) return 0;
-  const long total = h->row_start ? h->row_start[h->nrows] : 0;
-  double *converted = (double *) malloc(sizeof(double) * (size_t) (GRIDDEM_HISTORY_ENTRY(values) * (total + 1)));
+  griddem_history_pool *p = &h->cur;
+  const long n = p->used;
+  double *converted = (double *) malloc(sizeof(double) * (size_t) ((values > 0 ? values : 1) * (p->entries_cap + 1)));
   if (!converted) return -1;
-  if (h->entries) convert_entries(h->entries, h->values, converted, values, (int) total);
-  free(h->entries);
-  free(h->next_entries);
-  h->next_entries = NULL, h->next_entries_cap = 0;
-  h->entries = converted, h->entries_cap = total + 1;
+  for (long e = 0; e < n; e++)
+    for (int v = 0; v < values; v++) converted[(size_t) values * e + v] = v < h->values ? p->value[(size_t) h->values * e + v] : 0.0;
+  free(p->value);
+  p->value = converted;
+  /* the next pool and the overflow lists are laid out afresh for the new width */
+  pool_free(&h->next);
+  for (int k = 0; k < h->noverflow; k++) {
+    griddem_history_overflow *o = &h->overflow[k];
+    free(o->slot), free(o->partner), free(o->value);
+    memset(o, 0, sizeof(*o));
+  }
   h->values = values;
   return 0;
 }
 
-int griddem_history_begin(griddem_history *h, int nthreads)
+int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
+                          int nlocal)
 {
-  if (nthreads > h->nlogs) {
-    griddem_history_log *p = (griddem_history_log *) realloc(h->logs, sizeof(*p) * (size_t) nthreads);
-    if (!p) return -1;
-    memset(p + h->nlogs, 0, sizeof(*p) * (size_t) (nthreads - h->nlogs));
-    h->logs = p, h->nlogs = nthreads;
+  if (nthreads > h->noverflow) {
+    griddem_history_overflow *o = (griddem_history_overflow *) realloc(h->overflow, sizeof(*o) * (size_t) nthreads);
+    if (!o) return -1;
+    memset(o + h->noverflow, 0, sizeof(*o) * (size_t) (nthreads - h->noverflow));
+    h->overflow = o, h->noverflow = nthreads;
   }
-  for (int k = 0; k < h->nlogs; k++) h->logs[k].n = 0;
-  return 0;
-}
-
-int griddem_history_log_contact(griddem_history_log *log, int values, int a, int b, int b_owned,
-                                const double *v)
-{
-  const int width = 3 + values;
-  if (ensure((void **) &log->records, &log->cap, (log->n + 1) * width, sizeof(double)) != 0) return -1;
-  double *r = log->records + (size_t) width * log->n++;
-  r[0] = a, r[1] = b, r[2] = b_owned;
-  for (int k = 0; k < values; k++) r[3 + k] = v[k];
-  return 0;
-}
-
-int griddem_history_build(griddem_history *h, int nslot, const int *count, const int64_t *tag_of_slot,
-                          const double *parity)
-{
-  const int nv = h->values, width = GRIDDEM_HISTORY_ENTRY(nv);
-  if (ensure((void **) &h->next_start, &h->next_rows_cap, nslot + 1, sizeof(long)) != 0) return -1;
+  for (int k = 0; k < h->noverflow; k++) h->overflow[k].n = 0;
+  griddem_history_pool *p = &h->next;
+  p->nrows = 0, p->used = 0;
+  if (pool_reserve(p, nslot, 0, h->values) != 0) return -1;
   long total = 0;
-  int most = 0;
+  const int nrows = h->cur.nrows, *count = h->cur.count;
   for (int s = 0; s < nslot; s++) {
-    h->next_start[s] = total;
-    total += count[s];
-    if (count[s] > most) most = count[s];
-  }
-  h->next_start[nslot] = total;
-  if (ensure((void **) &h->next_entries, &h->next_entries_cap, total, sizeof(double) * width) != 0)
-    return -1;
-
-  /* fill each row from its start; next_start[s] serves as the cursor, restored after */
-  for (int k = 0; k < h->nlogs; k++) {
-    const griddem_history_log *log = &h->logs[k];
-    for (long m = 0; m < log->n; m++) {
-      const double *r = log->records + (size_t) (3 + nv) * m;
-      const int a = (int) r[0], b = (int) r[1];
-      double *ea = h->next_entries + (size_t) width * h->next_start[a]++;
-      ea[0] = (double) tag_of_slot[b];
-      for (int v = 0; v < nv; v++) ea[1 + v] = r[3 + v];
-      if (r[2] != 0.0) {
-        double *eb = h->next_entries + (size_t) width * h->next_start[b]++;
-        eb[0] = (double) tag_of_slot[a];
-        for (int v = 0; v < nv; v++) eb[1 + v] = parity[v] * r[3 + v];
-      }
+    const int i = order[s];
+    p->start[s] = total;
+    p->count[s] = 0;
+    if (i < nlocal) {
+      const int row = row_of[i];
+      total += (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
     }
   }
-  for (int s = nslot; s > 0; s--) h->next_start[s] = h->next_start[s - 1];
-  h->next_start[0] = 0;
+  p->start[nslot] = total;
+  if (pool_reserve(p, nslot, total, h->values) != 0) return -1;
+  p->nrows = nslot, p->used = total;
+  return 0;
+}
 
-  /* the new rows become the history */
-  long *start = h->row_start;
-  double *entries = h->entries;
-  const long rows_cap = h->rows_cap, entries_cap = h->entries_cap;
-  h->row_start = h->next_start, h->entries = h->next_entries;
-  h->rows_cap = h->next_rows_cap, h->entries_cap = h->next_entries_cap;
-  h->next_start = start, h->next_entries = entries;
-  h->next_rows_cap = rows_cap, h->next_entries_cap = entries_cap;
-  h->nrows = nslot;
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
+                                    const double *v)
+{
+  long cap = o->cap;
+  if (ensure((void **) &o->slot, &cap, o->n + 1, sizeof(int)) != 0) return -1;
+  cap = o->cap;
+  if (ensure((void **) &o->partner, &cap, o->n + 1, sizeof(int64_t)) != 0) return -1;
+  cap = o->cap;
+  if (ensure((void **) &o->value, &cap, o->n + 1, sizeof(double) * (size_t) (values > 0 ? values : 1)) != 0) return -1;
+  o->cap = cap;
+  o->slot[o->n] = slot;
+  o->partner[o->n] = partner;
+  memcpy(o->value + (size_t) values * o->n, v, sizeof(double) * (size_t) values);
+  o->n++;
+  return 0;
+}
+
+/* Lay the next pool's rows and the overflow lists out compactly in the current pool (whose
+ * history the sweep no longer reads), each row's entries first, then its overflow in list order. */
+static int fold_overflow(griddem_history *h)
+{
+  griddem_history_pool *from = &h->next, *to = &h->cur;
+  const int nslot = from->nrows, nv = h->values;
+  to->nrows = 0, to->used = 0;
+  if (pool_reserve(to, nslot, 0, nv) != 0) return -1;
+  for (int s = 0; s < nslot; s++) to->count[s] = from->count[s];
+  for (int k = 0; k < h->noverflow; k++)
+    for (long m = 0; m < h->overflow[k].n; m++) to->count[h->overflow[k].slot[m]]++;
+  long total = 0;
+  for (int s = 0; s < nslot; s++) to->start[s] = total, total += to->count[s];
+  to->start[nslot] = total;
+  if (pool_reserve(to, nslot, total, nv) != 0) return -1;
+  for (int s = 0; s < nslot; s++) {
+    const long a = from->start[s], b = to->start[s];
+    memcpy(to->partner + b, from->partner + a, sizeof(int64_t) * (size_t) from->count[s]);
+    memcpy(to->value + (size_t) nv * b, from->value + (size_t) nv * a, sizeof(double) * (size_t) nv * from->count[s]);
+  }
+  for (int k = 0; k < h->noverflow; k++) {
+    const griddem_history_overflow *o = &h->overflow[k];
+    for (long m = 0; m < o->n; m++) {
+      const long e = to->start[o->slot[m]] + from->count[o->slot[m]]++;
+      to->partner[e] = o->partner[m];
+      memcpy(to->value + (size_t) nv * e, o->value + (size_t) nv * m, sizeof(double) * (size_t) nv);
+    }
+  }
+  to->nrows = nslot, to->used = total;
+  return 0;
+}
+
+int griddem_history_end(griddem_history *h)
+{
+  long overflowed = 0;
+  for (int k = 0; k < h->noverflow; k++) overflowed += h->overflow[k].n;
+  if (overflowed) {
+    if (fold_overflow(h) != 0) return -1;
+  } else {
+    const griddem_history_pool written = h->next;
+    h->next = h->cur, h->cur = written;
+  }
+  int most = 0;
+  for (int s = 0; s < h->cur.nrows; s++) most = h->cur.count[s] > most ? h->cur.count[s] : most;
   h->max_count = most;
   return 0;
 }

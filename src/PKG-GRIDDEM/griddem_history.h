@@ -1,54 +1,70 @@
-/* GRIDDEM contact history: per particle, the partners it touched last step and the history
- * values of each contact (tangential and rolling displacements), in compressed rows. The sweep
- * reads last step's rows and logs each evaluated contact; the log is then sorted into new rows,
- * one per sorted slot, which become the history. Rows are dense and read and written in sorted
- * order, so the history costs memory traffic in proportion to the contacts, not to a fixed
- * number of entries per particle. */
+/* GRIDDEM contact history, the CPU store: per particle, the partners it touched last step (their
+ * tags, as exact integers) and the history values of each contact (tangential and rolling
+ * displacements). A pool holds the entries; a row is a start and a count in it. The sweep reads
+ * last step's pool and writes each evaluated contact once into the next pool, whose rows follow
+ * the sorted slots, each with room for its particle's last count plus a margin; a row that
+ * outgrows its room goes to its thread's overflow list, which the end of the sweep folds in. The
+ * history then costs memory traffic in proportion to the contacts. */
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* One thread's record of the contacts it evaluated: (slot a, slot b, b owned, values) each. */
-typedef struct griddem_history_log {
-  double *records;
-  long n;     /* records */
-  long cap;   /* allocated doubles */
-} griddem_history_log;
+/* Entries: partner tags and values per contact, and rows as (start, count) into them. */
+typedef struct griddem_history_pool {
+  int nrows;
+  long used;          /* entries up to the last row's room */
+  long *start;        /* [nrows]: first entry of each row */
+  int *count;         /* [nrows]: entries of each row */
+  int64_t *partner;   /* [entries]: partner tag */
+  double *value;      /* [entries * values] */
+  long rows_cap, entries_cap;
+} griddem_history_pool;
+
+/* One thread's contacts that did not fit their row's room: (slot, partner, values) each. */
+typedef struct griddem_history_overflow {
+  long n, cap;
+  int *slot;
+  int64_t *partner;
+  double *value;
+} griddem_history_overflow;
 
 typedef struct griddem_history {
-  int values;            /* history values per contact */
-  int nrows;
-  int max_count;         /* most entries in one row (sizes exchange messages) */
-  long *row_start;       /* [nrows + 1]: first entry of each row */
-  double *entries;       /* (partner tag, value_1 .. value_values) per entry */
-  long rows_cap, entries_cap;           /* allocated elements of row_start, entries */
-  /* the sweep's scratch */
-  long *next_start;
-  double *next_entries;
-  long next_rows_cap, next_entries_cap;
-  griddem_history_log *logs;
-  int nlogs;
+  int values;     /* history values per contact */
+  int max_count;  /* most entries in one row (sizes exchange messages) */
+  griddem_history_pool cur;  /* the history */
+  griddem_history_pool next; /* written by the sweep */
+  griddem_history_overflow *overflow;
+  int noverflow;
 } griddem_history;
 
+/* Room a sweep gives a row beyond its particle's last count: new contacts a step. */
+#define GRIDDEM_HISTORY_MARGIN 2
+
+/* A row as a message (how rows travel with their atoms and into restart files): per entry the
+ * partner tag (exact as a double below 2^53) and its values. */
 #define GRIDDEM_HISTORY_ENTRY(values) (1 + (values))
 
 void griddem_history_init(griddem_history *h, int values);
 void griddem_history_free(griddem_history *h);
 
-/* Contacts in row (0 for a row that does not exist, such as -1) and a pointer to its first entry. */
+/* Contacts in row (0 for a row that does not exist, such as -1). */
 int griddem_history_count(const griddem_history *h, int row);
-const double *griddem_history_row(const griddem_history *h, int row);
 
-/* The values of row's entry for partner (a tag, as stored), or NULL if the row has none. */
-const double *griddem_history_find(const griddem_history *h, int row, double partner);
+/* The values of row's entry for partner, or NULL if the row has none. */
+const double *griddem_history_find(const griddem_history *h, int row, int64_t partner);
 
-/* Append a row of count entries written with entry_values values each (converted to h->values:
- * values kept up to the shorter length, the rest zero). Returns its index, or -1 without memory. */
+/* Write row's entries as a message (GRIDDEM_HISTORY_ENTRY(values) doubles each). */
+void griddem_history_get_row(const griddem_history *h, int row, double *entries);
+
+/* Append a row of count message entries written with entry_values values each (converted to
+ * h->values: values kept up to the shorter length, the rest zero). Returns its index, or -1
+ * without memory. */
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values);
 
 /* Make room for rows holding entries contacts in all, now and after the next sweep. 0, or -1. */
@@ -60,16 +76,32 @@ double griddem_history_memory(const griddem_history *h);
 /* Change the values per contact of every row (a model with other sub-models). 0, or -1. */
 int griddem_history_set_values(griddem_history *h, int values);
 
-/* For the sweep: make nthreads logs empty; append one contact of slots a and b to a log, with
- * the values seen from a (b gets the mirrored entry too if b_owned; 0, or -1 without memory);
- * then build the rows of nslot slots from the logs, given each slot's contact count, and make
- * them the history (the row of slot s is row s). tag_of_slot names each slot's particle for its
- * partners; parity turns values seen from a into values seen from b. */
-int griddem_history_begin(griddem_history *h, int nthreads);
-int griddem_history_log_contact(griddem_history_log *log, int values, int a, int b, int b_owned,
-                                const double *v);
-int griddem_history_build(griddem_history *h, int nslot, const int *count, const int64_t *tag_of_slot,
-                          const double *parity);
+/* For the sweep: lay out the next pool for nslot slots, slot s (particle order[s]) getting room
+ * for the last count of row row_of[order[s]] plus the margin if it is owned (below nlocal),
+ * none otherwise, and make nthreads overflow lists empty (0, or -1 without memory); write one
+ * entry of a slot (from the thread's own slots; 0, or -1 without memory); then make the next
+ * pool the history, the row of slot s being row s, with the overflow folded in (0, or -1). */
+int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
+                          int nlocal);
+int griddem_history_end(griddem_history *h);
+
+/* An entry beyond its row's room, kept in the thread's overflow list. 0, or -1 without memory. */
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
+                                    const double *v);
+
+/* CPU only (the Kokkos styles keep their own store), so plainly inline */
+static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
+                                        int64_t partner, const double *v)
+{
+  griddem_history_pool *p = &h->next;
+  const long e = p->start[slot] + p->count[slot];
+  if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, h->values, slot, partner, v);
+  p->partner[e] = partner;
+  double *to = p->value + (size_t) h->values * e;
+  for (int k = 0; k < h->values; k++) to[k] = v[k];
+  p->count[slot]++;
+  return 0;
+}
 
 #ifdef __cplusplus
 }

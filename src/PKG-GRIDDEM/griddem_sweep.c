@@ -22,51 +22,35 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   const int n = b->n;
   if (n > ch->cap) {
     const int cap = n + n / 4 + 16;
-    void **arrays[] = {(void **) &ch->x, (void **) &ch->y, (void **) &ch->z, (void **) &ch->rad,
-                       (void **) &ch->tag};
-    for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); k++)
-      if (grow_aligned(arrays[k], 8, cap) != 0) return -1;
-    if (grow_aligned((void **) &ch->state, sizeof(griddem_slot_state), cap) != 0 ||
+    if (grow_aligned((void **) &ch->pos, 4 * sizeof(double), cap) != 0 ||
+        grow_aligned((void **) &ch->tag, sizeof(int64_t), cap) != 0 ||
         grow_aligned((void **) &ch->sum, sizeof(griddem_slot_sum), cap) != 0 ||
         grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
       return -1;
     ch->cap = cap;
   }
   ch->n = n;
-  ch->frozen_bit = p->frozen_bit;
-  double vmax2 = 0.0;
-  int nonfinite = 0;
-#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(| : nonfinite)
+  ch->p = p;
+#pragma omp parallel for schedule(static)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
-    if (i < p->nlocal) {
-      const double *v = p->v + 3 * (size_t) i;
-      const double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      nonfinite |= !isfinite(v2);
-      vmax2 = v2 > vmax2 ? v2 : vmax2;
-    }
-    ch->x[s] = p->x[3 * i];
-    ch->y[s] = p->x[3 * i + 1];
-    ch->z[s] = p->x[3 * i + 2];
-    ch->rad[s] = p->radius[i];
-    griddem_slot_state *st = &ch->state[s];
-    for (int d = 0; d < 3; d++) st->v[d] = p->v[3 * i + d], st->w[d] = p->omega[3 * i + d];
-    st->mass = p->rmass[i];
-    st->type = p->type[i];
-    st->mask = p->mask[i];
+    double *q = ch->pos + 4 * (size_t) s;
+    q[0] = p->x[3 * (size_t) i];
+    q[1] = p->x[3 * (size_t) i + 1];
+    q[2] = p->x[3 * (size_t) i + 2];
+    q[3] = p->radius[i];
     ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
-    memset(&ch->sum[s], 0, sizeof(griddem_slot_sum));
+    griddem_slot_sum *sum = &ch->sum[s];
+    for (int d = 0; d < 3; d++) sum->f[d] = 0.0, sum->t[d] = 0.0;
     ch->ncontact[s] = 0;
   }
-  ch->vmax2 = vmax2;
-  ch->nonfinite = nonfinite;
   return 0;
 }
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->x), free(ch->y), free(ch->z), free(ch->rad), free(ch->tag);
-  free(ch->state), free(ch->sum), free(ch->ncontact);
+  free(ch->pos), free(ch->tag), free(ch->sum), free(ch->ncontact);
+  free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
 
@@ -100,7 +84,7 @@ typedef struct sweep_context {
 typedef struct sweep_sums {
   double virial[6];
   double energy;
-  griddem_history_log *log;
+  griddem_history_overflow *overflow;
 } sweep_sums;
 
 /* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
@@ -118,23 +102,27 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
     return;
   }
-  const griddem_slot_state *A = &ch->state[a], *B = &ch->state[b];
-  if (cx->excl && griddem_excluded(cx->excl, A->type, A->mask, B->type, B->mask)) return;
+  const griddem_particles *p = ch->p;
+  const int type_a = p->type[ia], type_b = p->type[ib], ma = p->mask[ia], mb = p->mask[ib];
+  if (cx->excl && griddem_excluded(cx->excl, type_a, ma, type_b, mb)) return;
 
-  const griddem_pair_params *law = griddem_model_pair(m, A->type, B->type);
+  const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
+  const double *pa = ch->pos + 4 * (size_t) a, *pb = ch->pos + 4 * (size_t) b;
   const double *stored = m->track_contacts
-      ? griddem_history_find(cx->hist, cx->row_of[ia], (double) ch->tag[b]) : NULL;
+      ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->rad[a], ch->rad[b], stored != NULL))
+  if (m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, pa[3], pb[3], stored != NULL))
     return;
 
   griddem_contact c;
-  c.dx[0] = ch->x[a] - ch->x[b], c.dx[1] = ch->y[a] - ch->y[b], c.dx[2] = ch->z[a] - ch->z[b];
+  c.dx[0] = pa[0] - pb[0], c.dx[1] = pa[1] - pb[1], c.dx[2] = pa[2] - pb[2];
   c.rsq = rsq;
-  c.radi = ch->rad[a], c.radj = ch->rad[b];
-  for (int d = 0; d < 3; d++) c.vr[d] = A->v[d] - B->v[d], c.wi[d] = A->w[d], c.wj[d] = B->w[d];
-  c.meff = griddem_effective_mass(A->mass, B->mass, (A->mask & ch->frozen_bit) != 0,
-                                  (B->mask & ch->frozen_bit) != 0);
+  c.radi = pa[3], c.radj = pb[3];
+  const double *va = p->v + 3 * (size_t) ia, *vb = p->v + 3 * (size_t) ib;
+  const double *wa = p->omega + 3 * (size_t) ia, *wb = p->omega + 3 * (size_t) ib;
+  for (int d = 0; d < 3; d++) c.vr[d] = va[d] - vb[d], c.wi[d] = wa[d], c.wj[d] = wb[d];
+  c.meff = griddem_effective_mass(p->rmass[ia], p->rmass[ib], (ma & p->frozen_bit) != 0,
+                                  (mb & p->frozen_bit) != 0);
   c.dt = cx->dt;
   c.history_update = cx->history_update;
 
@@ -143,8 +131,16 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   double fc[3], ta[3], tb[3];
   const double energy = griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  if (m->track_contacts && griddem_history_log_contact(sums->log, nv, a, b, b_owned, hv) != 0)
-    record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
+  if (m->track_contacts) {
+    /* the contact's entries in the next history: a's as evaluated, b's seen from b */
+    int failed = griddem_history_write(cx->hist, sums->overflow, a, ch->tag[b], hv);
+    if (b_owned) {
+      double hb[GRIDDEM_MAX_HISTORY];
+      for (int v = 0; v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
+      failed |= griddem_history_write(cx->hist, sums->overflow, b, ch->tag[a], hb);
+    }
+    if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
+  }
 
   griddem_slot_sum *sa = &ch->sum[a], *sb = &ch->sum[b];
   for (int d = 0; d < 3; d++) sa->f[d] += fc[d], sa->t[d] += ta[d];
@@ -204,117 +200,199 @@ static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows
   return n;
 }
 
-#define CANDIDATE_BLOCK 64
+/* Candidates that touch, collected for slot s before they are evaluated in order */
+#define HITS_CAP 256
 
-/* Evaluate slot s's touching candidates hits[0 .. *nhit-1] and empty the list. The partners'
- * state and sums are requested from memory first, so their loads overlap. */
-static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, const int *hits, int *nhit)
+typedef struct hit_list {
+  int n;
+  int slot[HITS_CAP];
+} hit_list;
+
+/* Evaluate slot s's touching candidates in the order found and empty the list. The partners'
+ * velocities and sums are requested from memory first, so their loads overlap. */
+static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
 #ifdef __GNUC__
-  for (int q = 0; q < *nhit; q++) {
-    __builtin_prefetch(&ch->state[hits[q]]);
-    __builtin_prefetch(&ch->sum[hits[q]], 1);
+  for (int q = 0; q < hits->n; q++) {
+    __builtin_prefetch(&ch->p->v[3 * (size_t) order[hits->slot[q]]]);
+    __builtin_prefetch(&ch->sum[hits->slot[q]], 1);
   }
 #endif
   const int s_owned = order[s] < cx->nlocal;
-  const double xi = ch->x[s], yi = ch->y[s], zi = ch->z[s];
-  for (int q = 0; q < *nhit; q++) {
-    const int t = hits[q];
+  const double *ps = ch->pos + 4 * (size_t) s;
+  for (int q = 0; q < hits->n; q++) {
+    const int t = hits->slot[q];
     const int t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
-    const double dx = xi - ch->x[t], dy = yi - ch->y[t], dz = zi - ch->z[t];
+    const double *pt = ch->pos + 4 * (size_t) t;
+    const double dx = ps[0] - pt[0], dy = ps[1] - pt[1], dz = ps[2] - pt[2];
     const double rsq = dx * dx + dy * dy + dz * dz;
     if (s_owned) sweep_pair(cx, sums, s, t, rsq);
     else sweep_pair(cx, sums, t, s, rsq);
   }
-  *nhit = 0;
+  hits->n = 0;
 }
 
-/* Pairs (s, t) of the slots s in cell (x,y,z) of class grid k with the slots t > s of its forward
- * stencil (slots of the channels are the class's slots + k->base). */
-static void sweep_cell(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
-                       const stencil_row *rows, int nrows, int x, int y, int z)
+/* Append to slot[n..] the candidates t in [t0, t1) whose sphere (radius + the pull-off reach in
+ * radi) touches the one at (xi, yi, zi): a branch-free test over a contiguous run of packed
+ * positions. The caller ensures room for t1 - t0 more. Returns the new count. */
+static inline int test_run(const double *P, double xi, double yi, double zi, double radi, int t0, int t1,
+                           int *slot, int n)
+{
+  for (int t = t0; t < t1; t++) {
+    const double *pt = P + 4 * (size_t) t;
+    const double dx = xi - pt[0], dy = yi - pt[1], dz = zi - pt[2], rs = radi + pt[3];
+    slot[n] = t;
+    n += dx * dx + dy * dy + dz * dz < rs * rs;
+  }
+  return n;
+}
+
+/* Collect slot s's touching candidates in [t0, t1), evaluating a full list first (a run longer
+ * than the list is taken in parts). */
+static void collect_hits(const sweep_context *cx, sweep_sums *sums, int s, double reach, int t0,
+                         int t1, hit_list *hits)
+{
+  const double *ps = cx->ch->pos + 4 * (size_t) s;
+  while (t0 < t1) {
+    if (hits->n + (t1 - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
+    const int end = t1 - t0 > HITS_CAP ? t0 + HITS_CAP : t1;
+    hits->n = test_run(cx->ch->pos, ps[0], ps[1], ps[2], ps[3] + reach, t0, end, hits->slot, hits->n);
+    t0 = end;
+  }
+}
+
+/* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t > s of their
+ * forward stencil (slots of the channels are the class's slots + k->base). Each stencil row's
+ * cells are found once per cell row; a cell then costs two reads of cell_start per stencil row. */
+static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
+                           const stencil_row *rows, int nrows, int y, int z)
 {
   const griddem_grid *g = k->g;
-  const griddem_channels *ch = cx->ch;
-  const int *start = k->b->cell_start, base = k->base;
-  const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  const long cell = x + nx * y + nxy * z;
-  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
+  const griddem_bins *b = k->b;
+  const int *start = b->cell_start, base = k->base, nx = g->n[0];
+  const long nxy = (long) nx * g->n[1], rowcell = nx * (long) y + nxy * z;
+  const int first = start[rowcell], last = start[rowcell + nx];
+  if (first == last) return;
 
-  /* slot ranges of the stencil rows, shared by the cell's centres */
-  int lo[MAX_ROWS], hi[MAX_ROWS], nrange = 0;
+  /* the stencil rows inside the grid: where the slots of cell x's first and past its last
+     stencil cell begin, offset by x (row 0, the cell's own row, comes first) */
+  const int *lo_at[MAX_ROWS], *hi_at[MAX_ROWS];
+  int dxlo[MAX_ROWS], dxhi[MAX_ROWS], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
   for (int r = 0; r < nrows; r++) {
     const int yy = y + rows[r].dy, zz = z + rows[r].dz;
     if (yy < 0 || yy >= g->n[1] || zz >= g->n[2]) continue;
-    const int x0 = x + rows[r].dxlo < 0 ? 0 : x + rows[r].dxlo;
-    const int x1 = x + rows[r].dxhi >= g->n[0] ? g->n[0] - 1 : x + rows[r].dxhi;
-    const long rowcell = nx * yy + nxy * zz;
-    lo[nrange] = base + start[rowcell + x0];
-    hi[nrange] = base + start[rowcell + x1 + 1];
-    if (hi[nrange] > lo[nrange] || r == 0) nrange++;
+    const int *row = start + nx * (long) yy + nxy * zz;
+    dxlo[nvalid] = rows[r].dxlo, dxhi[nvalid] = rows[r].dxhi;
+    lo_at[nvalid] = row + rows[r].dxlo, hi_at[nvalid] = row + rows[r].dxhi + 1;
+    if (-rows[r].dxlo > xsafe_lo) xsafe_lo = -rows[r].dxlo;
+    if (nx - 1 - rows[r].dxhi < xsafe_hi) xsafe_hi = nx - 1 - rows[r].dxhi;
+    nvalid++;
   }
 
-  int hits[CANDIDATE_BLOCK];
-  const double reach = cx->model->reach_extra;
-  for (int s = base + start[cell]; s < base + start[cell + 1]; s++) {
-    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + reach;
-    int nhit = 0;
-    for (int q = 0; q < nrange; q++) {
-      const int jbegin = q == 0 ? s + 1 : lo[q], jend = hi[q];
-      /* branch-free distance test over runs of candidates; the few that touch are collected */
-      for (int t0 = jbegin; t0 < jend; t0 += CANDIDATE_BLOCK / 2) {
-        const int t1 = t0 + CANDIDATE_BLOCK / 2 < jend ? t0 + CANDIDATE_BLOCK / 2 : jend;
-        for (int t = t0; t < t1; t++) {
-          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
-          const double rs = radi + R[t];
-          hits[nhit] = t;
-          nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
-        }
-        if (nhit > CANDIDATE_BLOCK / 2) sweep_hits(cx, sums, s, hits, &nhit);
+  const double reach = cx->model->reach_extra, *P = cx->ch->pos;
+  hit_list hits;
+  hits.n = 0;
+  int lo[MAX_ROWS], hi[MAX_ROWS];
+  for (int s0 = first; s0 < last;) {
+    const int x = (int) (b->cell[b->order[s0]] - rowcell), end = start[rowcell + x + 1];
+    /* slot ranges of the stencil rows, shared by the cell's centres; row 0 starts after each
+       centre. Only cells at the ends of the row clamp their stencil to the grid */
+    int total = 0;
+    if (x >= xsafe_lo && x <= xsafe_hi)
+      for (int q = 0; q < nvalid; q++) {
+        lo[q] = base + lo_at[q][x], hi[q] = base + hi_at[q][x];
+        total += hi[q] - lo[q];
       }
+    else
+      for (int q = 0; q < nvalid; q++) {
+        const int x0 = x + dxlo[q] < 0 ? 0 : x + dxlo[q];
+        const int x1 = x + dxhi[q] >= nx ? nx - 1 : x + dxhi[q];
+        lo[q] = base + lo_at[q][x0 - dxlo[q]], hi[q] = base + hi_at[q][x1 - dxhi[q]];
+        total += hi[q] - lo[q];
+      }
+    for (int s = base + s0; s < base + end; s++) {
+      if (total <= HITS_CAP) {    /* room for every candidate: no checks in the runs */
+        const double *ps = P + 4 * (size_t) s;
+        const double xi = ps[0], yi = ps[1], zi = ps[2], radi = ps[3] + reach;
+        int n = test_run(P, xi, yi, zi, radi, s + 1, hi[0], hits.slot, 0);
+        for (int q = 1; q < nvalid; q++) n = test_run(P, xi, yi, zi, radi, lo[q], hi[q], hits.slot, n);
+        hits.n = n;
+      } else {
+        collect_hits(cx, sums, s, reach, s + 1, hi[0], &hits);
+        for (int q = 1; q < nvalid; q++) collect_hits(cx, sums, s, reach, lo[q], hi[q], &hits);
+      }
+      if (hits.n) sweep_hits(cx, sums, s, &hits);
     }
-    sweep_hits(cx, sums, s, hits, &nhit);
+    s0 = end;
   }
 }
 
+/* Most rows of a cross-class block: (2 reach + 1)^2 */
+#define MAX_BLOCK_ROWS ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1))
+
 /* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
- * grid l (l holds the larger spheres): every cell of l within reach of the slot's cell, the slot
- * on its own side. */
+ * grid l (l holds the larger spheres): the cells of l that the box of half-edge cut (the longest
+ * contact distance between the two classes) around the slot's centre overlaps, the slot on its
+ * own side. Consecutive slots mostly share that block, whose non-empty row ranges are then found
+ * once. */
 static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
-                         int reach, const int *slots, int n)
+                         double cut, const int *slots, int n)
 {
   const griddem_grid *g = l->g;
-  const griddem_channels *ch = cx->ch;
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  const double *X = ch->x, *Y = ch->y, *Z = ch->z, *R = ch->rad;
-  const double extra = cx->model->reach_extra;
-  int hits[CANDIDATE_BLOCK];
+  const double extra = cx->model->reach_extra, *P = cx->ch->pos;
+  hit_list hits;
+  hits.n = 0;
+  int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
+  int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n; q++) {
     const int s = slots[q];
-    const double xi = X[s], yi = Y[s], zi = Z[s], radi = R[s] + extra;
-    const long c = griddem_cell_of(g, xi, yi, zi);
-    const int x = (int) (c % nx), y = (int) ((c / nx) % g->n[1]), z = (int) (c / nxy);
-    const int x0 = x - reach < 0 ? 0 : x - reach, x1 = x + reach >= g->n[0] ? g->n[0] - 1 : x + reach;
-    int nhit = 0;
-    for (int zz = z - reach; zz <= z + reach; zz++)
-      for (int yy = y - reach; yy <= y + reach; yy++) {
-        if (zz < 0 || zz >= g->n[2] || yy < 0 || yy >= g->n[1]) continue;
-        const long rowcell = nx * yy + nxy * zz;
-        const int jend = l->base + start[rowcell + x1 + 1];
-        for (int t = l->base + start[rowcell + x0]; t < jend; t++) {
-          const double dx = xi - X[t], dy = yi - Y[t], dz = zi - Z[t];
-          const double rs = radi + R[t];
-          hits[nhit] = t;
-          nhit += (dx * dx + dy * dy + dz * dz < rs * rs);
-          if (nhit == CANDIDATE_BLOCK) sweep_hits(cx, sums, s, hits, &nhit);
+    const double *ps = P + 4 * (size_t) s;
+    int b[6];
+    for (int d = 0; d < 3; d++) {
+      b[d] = griddem_axis_cell(ps[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[3 + d] = griddem_axis_cell(ps[d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+    }
+    if (memcmp(b, block, sizeof(b)) != 0) {
+      nrange = total = 0;
+      for (int zz = b[2]; zz <= b[5]; zz++)
+        for (int yy = b[1]; yy <= b[4]; yy++) {
+          const long rowcell = nx * yy + nxy * zz;
+          lo[nrange] = l->base + start[rowcell + b[0]], hi[nrange] = l->base + start[rowcell + b[3] + 1];
+          if (hi[nrange] > lo[nrange]) total += hi[nrange] - lo[nrange], nrange++;
         }
-      }
-    sweep_hits(cx, sums, s, hits, &nhit);
+      memcpy(block, b, sizeof(b));
+    }
+    if (total <= HITS_CAP) {
+      const double xi = ps[0], yi = ps[1], zi = ps[2], radi = ps[3] + extra;
+      int m = 0;
+      for (int r = 0; r < nrange; r++) m = test_run(P, xi, yi, zi, radi, lo[r], hi[r], hits.slot, m);
+      hits.n = m;
+    } else
+      for (int r = 0; r < nrange; r++) collect_hits(cx, sums, s, extra, lo[r], hi[r], &hits);
+    if (hits.n) sweep_hits(cx, sums, s, &hits);
   }
+}
+
+/* Room in the cross-class scratch for n small spheres and nslab slabs. 0, or -1 without memory. */
+static int grow_across(griddem_channels *ch, int n, int nslab)
+{
+  if (n > ch->across_cap) {
+    const int cap = n + n / 4 + 16;
+    if (grow_aligned((void **) &ch->slab, sizeof(int), cap) != 0 ||
+        grow_aligned((void **) &ch->slots, sizeof(int), cap) != 0)
+      return ch->across_cap = 0, -1;
+    ch->across_cap = cap;
+  }
+  if (nslab + 1 > ch->first_cap) {
+    if (grow_aligned((void **) &ch->first, sizeof(int), nslab + 1) != 0) return ch->first_cap = 0, -1;
+    ch->first_cap = nslab + 1;
+  }
+  return 0;
 }
 
 /* Layers of cells per slab for nthreads threads: about four slabs per thread, at least reach
@@ -326,15 +404,15 @@ static int slab_thickness(int nz, int nthreads, int reach)
   return thick < reach ? reach : thick;
 }
 
-/* A thread's empty accumulators, logging into its own history log */
+/* A thread's empty accumulators, with its own history overflow list */
 static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
 {
   sweep_sums sums;
   memset(&sums, 0, sizeof(sums));
 #ifdef _OPENMP
-  if (model->track_contacts) sums.log = &hist->logs[omp_get_thread_num()];
+  if (model->track_contacts) sums.overflow = &hist->overflow[omp_get_thread_num()];
 #else
-  if (model->track_contacts) sums.log = &hist->logs[0];
+  if (model->track_contacts) sums.overflow = &hist->overflow[0];
 #endif
   return sums;
 }
@@ -361,7 +439,9 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 #ifdef _OPENMP
   nthreads = omp_get_max_threads();
 #endif
-  if (model->track_contacts && griddem_history_begin(hist, nthreads) != 0) {
+  int nslot = 0;
+  for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
+  if (model->track_contacts && griddem_history_begin(hist, nthreads, nslot, order, row_of, nlocal) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
@@ -390,12 +470,11 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       for (int q = colour; q < nslab; q += 2) {
         sweep_sums sums = thread_sums(model, hist);
         const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
-        /* occupied cells only, found through their slots: a dilute grid costs nothing extra */
+        /* occupied cell rows only, found through their slots: a dilute grid costs nothing extra */
         for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
-          const long c = b->cell[b->order[s]];
-          sweep_cell(&cx, &sums, k, rows, nrows, (int) (c % g->n[0]), (int) ((c / g->n[0]) % g->n[1]),
-                     (int) (c / nxy));
-          s = b->cell_start[c + 1];
+          const long row = b->cell[b->order[s]] / g->n[0];
+          sweep_cell_row(&cx, &sums, k, rows, nrows, (int) (row % g->n[1]), (int) (row / g->n[1]));
+          s = b->cell_start[(row + 1) * g->n[0]];
         }
         v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
         v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
@@ -413,7 +492,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       const int nk = k->b->n;
       if (nk == 0 || l->b->n == 0) continue;
       const griddem_grid *g = l->g;
-      const int reach = griddem_stencil_reach(g->h, contact_reach(g, k->rmax, l->rmax, model->reach_extra));
+      const double cut = contact_reach(g, k->rmax, l->rmax, model->reach_extra);
+      const int reach = griddem_stencil_reach(g->h, cut);
       if (reach > MAX_REACH) {
         result->fault = GRIDDEM_FAULT_STENCIL;
         return result->fault;
@@ -421,17 +501,16 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       const int thick = slab_thickness(g->n[2], nthreads, reach);
       const int nslab = (g->n[2] + thick - 1) / thick;
       /* the small spheres' slots by slab of the coarse grid (a stable counting sort) */
-      int *slab = (int *) malloc(sizeof(int) * (size_t) nk), *slots = (int *) malloc(sizeof(int) * (size_t) nk);
-      int *first = (int *) calloc((size_t) nslab + 1, sizeof(int));
-      if (!slab || !slots || !first) {
-        free(slab), free(slots), free(first);
+      if (grow_across(ch, nk, nslab) != 0) {
         result->fault = GRIDDEM_FAULT_MEMORY;
         return result->fault;
       }
+      int *slab = ch->slab, *slots = ch->slots, *first = ch->first;
+      memset(first, 0, sizeof(int) * ((size_t) nslab + 1));
       const long nxy = (long) g->n[0] * g->n[1];
       for (int q = 0; q < nk; q++) {
-        const int s = k->base + q;
-        slab[q] = (int) (griddem_cell_of(g, ch->x[s], ch->y[s], ch->z[s]) / nxy) / thick;
+        const double *ps = ch->pos + 4 * (size_t) (k->base + q);
+        slab[q] = (int) (griddem_cell_of(g, ps[0], ps[1], ps[2]) / nxy) / thick;
         first[slab[q] + 1]++;
       }
       for (int q = 0; q < nslab; q++) first[q + 1] += first[q];
@@ -442,26 +521,21 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
         for (int q = colour; q < nslab; q += 3) {
           sweep_sums sums = thread_sums(model, hist);
-          sweep_across(&cx, &sums, l, reach, slots + first[q], first[q + 1] - first[q]);
+          sweep_across(&cx, &sums, l, cut, slots + first[q], first[q + 1] - first[q]);
           v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
           v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
           energy += sums.energy;
         }
       }
-      free(slab), free(slots), free(first);
     }
 
-  int nslot = 0;
-  for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
-  if (model->track_contacts &&
-      griddem_history_build(hist, nslot, ch->ncontact, ch->tag, model->history_parity) != 0)
-    record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
+  if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
   long contacts = 0;
   int most = 0;
   for (int s = 0; s < nslot; s++) {
     const int i = order[s];
-    if (i >= nlocal) continue;
+    if (i >= nlocal || ch->ncontact[s] == 0) continue;    /* no contact, no force */
     for (int d = 0; d < 3; d++) f[3 * i + d] += ch->sum[s].f[d], torque[3 * i + d] += ch->sum[s].t[d];
     contacts += ch->ncontact[s];
     if (ch->ncontact[s] > most) most = ch->ncontact[s];

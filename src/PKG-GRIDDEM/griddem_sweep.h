@@ -29,30 +29,24 @@ typedef struct griddem_particles {
   int frozen_bit;    /* mask & frozen_bit marks a frozen particle (infinite mass); 0: none */
 } griddem_particles;
 
-/* What a contact needs of a particle besides its position and radius, in one cache line: a pair
- * found by the distance test then costs one line per particle, not one per quantity. */
-typedef struct griddem_slot_state {
-  double v[3], w[3], mass;
-  int type, mask;
-} griddem_slot_state;
-
 /* Force and torque summed on a particle during the sweep. */
 typedef struct griddem_slot_sum {
   double f[3], t[3];
 } griddem_slot_sum;
 
-/* The particles in sorted order (the channels): positions and radii as structure of arrays,
- * which the distance test reads in runs, the rest per particle. */
+/* The particles in sorted order (the channels): position and radius packed per slot, which the
+ * distance test reads in runs (one 32-byte record a candidate); a pair that touches reads the
+ * rest (velocities, mass, type, mask) from the particles through the slot's index. Also the
+ * cross-class pass's scratch, kept between steps. */
 typedef struct griddem_channels {
   int n, cap;
-  int frozen_bit;              /* mask & frozen_bit: infinite mass */
-  double *x, *y, *z, *rad;
-  griddem_slot_state *state;
+  const griddem_particles *p;  /* of the last fill */
+  double *pos;                 /* x, y, z, radius per slot */
   griddem_slot_sum *sum;
   int64_t *tag;
   int *ncontact;
-  double vmax2;    /* largest squared speed of an owned particle (found while filling) */
-  int nonfinite;   /* 1: some owned particle has a non-finite velocity */
+  int *slab, *slots, *first;   /* cross-class pass: small spheres by slab of the coarse grid */
+  int across_cap, first_cap;
 } griddem_channels;
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);

@@ -491,12 +491,6 @@ void PairGriddem::compute(int eflag, int vflag)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
 
-  const int bad = griddem_first_nonfinite(nall, x[0]);
-  if (bad >= 0) error_nonfinite("position", bad, x[bad]);
-
-  if (neighbor->ago == 0) find_radius_range();
-  if (rmax == 0.0) return;    // no atoms yet
-
   griddem_step step;
   griddem_particles &part = step.particles;
   part.nlocal = nlocal;
@@ -511,6 +505,15 @@ void PairGriddem::compute(int eflag, int vflag)
   part.type = atom->type;
   part.mask = atom->mask;
   part.frozen_bit = freeze_group_bit;
+
+  // one pass: non-finite positions, the box, the fastest atom, the radius range
+  griddem_scan scan;
+  griddem_engine_scan(&part, &scan);
+  if (scan.first_nonfinite >= 0) error_nonfinite("position", scan.first_nonfinite, x[scan.first_nonfinite]);
+  if (neighbor->ago == 0) set_radius_range(scan.rmin, scan.rmax);
+  if (rmax == 0.0) return;    // no atoms yet
+
+  step.scan = &scan;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
   step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
   step.size_classes = fix->cell_mode == GRIDDEM_CELL_CLASSES || fix->cell_mode == GRIDDEM_CELL_AUTO;

@@ -109,10 +109,11 @@ int main(void)
   CHECK(2 * griddem_stencil_reach(griddem_cell_edge(GRIDDEM_CELL_MULTI, 1.0, 2.0, 0.0), 4.0) + 1 == 3,
         "multi-slot stencil width");
 
-  double bad[9] = {0, 0, 0, 1, 1, 1, 2, NAN, 2};
-  CHECK(griddem_first_nonfinite(3, bad) == 2, "NaN found at index 2");
-  bad[7] = 2.0;
-  CHECK(griddem_first_nonfinite(3, bad) == -1, "no NaN");
+  /* the exact floor the cells are found with, against libm's */
+  const double probes[] = {-2.5, -2.0, -1e-300, -0.0, 0.0, 1e-300, 0.5, 1.0, 3.9999999999999996, -3.0000000000000004, 1e15 + 0.5, -1e15 - 0.5};
+  for (size_t k = 0; k < sizeof(probes) / sizeof(probes[0]); k++)
+    CHECK(griddem_floor_index(probes[k]) == (long) floor(probes[k]), "floor of %.17g: %ld", probes[k],
+          griddem_floor_index(probes[k]));
 
   /* output grids: a box of 4 x 2 x 5 cells from (-1, 0, 10), edges 0.5, 1.5, 0.2 */
   const double lo[3] = {-1.0, 0.0, 10.0}, prd[3] = {2.0, 3.0, 1.0};

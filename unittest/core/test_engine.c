@@ -62,6 +62,21 @@ int main(void)
   v[3] = NAN;
   griddem_engine_step(&e, &s, &r, &coarsened);
   CHECK(e.stats.nonfinite_velocity == 1, "an owned particle's NaN velocity is flagged");
+
+  /* the first pass: the box of every position, speed and radii of the owned particles only, the
+     first non-finite position */
+  v[3] = 0.0;
+  rad[3] = 2.0, rad[1] = 0.25;
+  griddem_scan scan;
+  griddem_engine_scan(&part, &scan);
+  CHECK(scan.first_nonfinite == -1, "positions finite");
+  CHECK(scan.lo[0] == -0.9 && scan.hi[0] == 5.0 && scan.lo[1] == 0.0 && scan.hi[2] == 5.0, "box of all four");
+  CHECK(scan.vmax2 == 1.0 && scan.nonfinite_velocity == 0, "fastest owned speed^2 %g (the ghosts' 2 and 3 left out)",
+        scan.vmax2);
+  CHECK(scan.rmin == 0.25 && scan.rmax == 0.5, "radius range of the owned: %g %g", scan.rmin, scan.rmax);
+  x[7] = NAN, x[11] = INFINITY;
+  griddem_engine_scan(&part, &scan);
+  CHECK(scan.first_nonfinite == 2, "first non-finite position: particle %d", scan.first_nonfinite);
   griddem_engine_free(&e);
   return check_summary();
 }

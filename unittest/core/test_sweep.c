@@ -160,7 +160,8 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     /* history rows hold what the all-pairs evaluation holds for each ordered pair */
     double herr = 0.0, hscale = 0.0;
     for (int i = 0; i < N; i++) {
-      const double *row = griddem_history_row(&hist, row_of[i]);
+      static double row[GRIDDEM_HISTORY_ENTRY(GRIDDEM_MAX_HISTORY) * N];
+      griddem_history_get_row(&hist, row_of[i], row);
       for (int k = 0; k < griddem_history_count(&hist, row_of[i]); k++) {
         const double *e = row + (1 + m->history_size) * k;
         int j = 0;
