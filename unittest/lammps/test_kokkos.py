@@ -730,6 +730,50 @@ def check_synchronisation(wd, data):
                 "%s: one blocking synchronisation a step, two at the %d reneighborings (%d with "
                 "two, most %d)" % (label, builds, steady.count(2), max(steady)))
 
+def check_replanned(wd, data):
+    """A step whose atoms left the grid planned from the last step is planned again from a scan:
+    two atoms of the dense scene (the box opened to z = 20, non-periodic) are moved by `set` to
+    z = 15 and 15.3, ten units above the others, and the run goes on with `pre no` (no
+    reneighboring, so the plan comes from the last step's boxes). The kk styles give the CPU
+    style's forces at the step after the move to 1e-10, the moved pair touching (equal and
+    opposite forces), and that compute synchronised more than once (it was computed again)."""
+    if not os.path.exists(SYNC_COUNTER):
+        t.check(False, "the Kokkos Tools sync counter is at %s (GRIDDEM_SYNC_COUNTER)" % SYNC_COUNTER)
+        return
+    text = (t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) +
+            "change_box all z final 0 20 boundary p p f\nfix grid all griddem\ntimestep 1e-5\n"
+            "fix integrate all nve/sphere\ndump d all custom 13 dump.{name} id fx fy fz\n"
+            "dump_modify d sort id format float %.17g\nthermo 10\nrun 10\n"
+            "set atom 5 x 2.0 y 2.0 z 15.0\nset atom 6 x 2.0 y 2.0 z 15.3\nrun 3 pre no\n")
+    forces = {}
+    log = os.path.join(wd, "syncs.replanned")
+    for name, extra in (("replanned_cpu", ()), ("replanned_kk", kk_args(THREADS[-1]))):
+        if extra:
+            os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
+        try:
+            rc, out = t.run_lmp(text.format(name=name), wd, name="in." + name, extra=extra,
+                                threads=THREADS[-1] if extra else None)
+        finally:
+            for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
+                os.environ.pop(key, None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        snaps = t.read_dumps(os.path.join(wd, "dump." + name)) if rc == 0 else []
+        forces[name.split("_")[1]] = snaps[-1] if len(snaps) == 2 else None
+    if not (forces["cpu"] and forces["kk"]):
+        return
+    worst = t.max_rel_diff(forces["kk"], forces["cpu"], ["fx", "fy", "fz"])
+    names, rows = forces["cpu"]
+    fz = names.index("fz")
+    print("moved pair: fz %.6g and %.6g; kk vs CPU %.2g" % (rows[5][fz], rows[6][fz], worst))
+    t.check(worst <= 1e-10, "kk forces after atoms left the planned grid equal the CPU style's (%.2g)" % worst)
+    t.check(rows[5][fz] < 0.0 and abs(rows[5][fz] + rows[6][fz]) <= 1e-12 * abs(rows[5][fz]),
+            "the moved pair touches: fz %g and %g" % (rows[5][fz], rows[6][fz]))
+    syncs = [int(line.split()[0]) for line in open(log)]
+    # computes: the setup's and 10 steps, then the step of `run 3 pre no` after the move
+    t.check(len(syncs) == 14 and syncs[11] > 1,
+            "the compute after the move was computed again: %s synchronisations" % syncs[11:12])
+
+
 # The suite's sections in the order they run; `test_kokkos.py --only a,b` runs those alone (the
 # GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
 # that grow, migrate and go through restart)
@@ -737,7 +781,7 @@ SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
     check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
-    check_add_delete, check_restart, check_synchronisation, check_search)}
+    check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 
 
 if __name__ == "__main__":
