@@ -20,6 +20,12 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
+GriddemPairLink *LAMMPS_NS::griddem_pair_link(Pair *pair)
+{
+  int dim;
+  return pair ? static_cast<GriddemPairLink *>(pair->extract("griddem", dim)) : nullptr;
+}
+
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kokkos_history(0), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6), precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0),
     stats_current(0), engine(), row_of(nullptr), reserved(0)
@@ -93,7 +99,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   // empty while it makes the new one
   int in_place = 0;
   for (int k = 0; k < modify->nfix; k++) in_place |= modify->fix[k] == nullptr;
-  if (auto pair = dynamic_cast<PairGriddem *>(force->pair)) pair->fix_made(this, in_place);
+  if (auto pair = griddem_pair_link(force->pair)) pair->fix_made(this, in_place);
 }
 
 FixGriddem::~FixGriddem()
@@ -141,7 +147,7 @@ const double *FixGriddem::find_history(int i, double partner) const
 
 void FixGriddem::leave()
 {
-  auto pair = force ? dynamic_cast<PairGriddem *>(force->pair) : nullptr;
+  auto pair = force ? griddem_pair_link(force->pair) : nullptr;
   if (pair) pair->fix_leaving(this);
 }
 
@@ -237,16 +243,16 @@ double FixGriddem::compute_vector(int n)
 {
   if (!stats_current) {
     const char *pair_style = force->pair_style ? force->pair_style : "none";
-    if (!dynamic_cast<PairGriddem *>(force->pair))
+    if (!griddem_pair_link(force->pair))
       error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} is not a griddem pair style",
                  id, pair_style);
     error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} has run none with it yet",
                id, pair_style);
   }
   // counted when asked: only the Kokkos styles leave it so, and their pair ran this step (the
-  // values are current), so force->pair is the GriddemOccupancySource that can count it
+  // values are current), so force->pair is the style that can count it
   if ((n == 0 || n == 1) && engine.stats.occupied_cells < 0)
-    dynamic_cast<GriddemOccupancySource &>(*force->pair).count_occupancy(engine.stats);
+    griddem_pair_link(force->pair)->count_occupancy(engine.stats);
   const griddem_engine_stats &s = engine.stats;
   double value = 0.0, mine = 0.0;
   MPI_Op op = MPI_MAX;

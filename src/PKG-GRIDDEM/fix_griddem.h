@@ -14,6 +14,7 @@ FixStyle(griddem,FixGriddem);
 
 #include "fix.h"
 #include "griddem_engine.h"
+#include "griddem_pair_link.h"
 
 namespace LAMMPS_NS {
 
@@ -22,15 +23,6 @@ enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
 // team per block of cells with their neighbourhood staged in scratch memory; auto: teams on a GPU
 enum { GRIDDEM_SEARCH_AUTO, GRIDDEM_SEARCH_THREAD, GRIDDEM_SEARCH_TEAM };
 
-/* A pair style whose grid counts its occupied cells only when they are asked for (the Kokkos
-   styles: a pass over every cell that most steps do not need); it reports them as -1. */
-class GriddemOccupancySource {
- public:
-  virtual void count_occupancy(griddem_engine_stats &stats) = 0;
-
- protected:
-  ~GriddemOccupancySource() = default;    // not deleted through this interface
-};
 
 class FixGriddem : public Fix {
  public:
@@ -57,7 +49,7 @@ class FixGriddem : public Fix {
   int run_step(griddem_step &step, griddem_sweep_result &result, int &coarsened);
   const griddem_engine_stats &stats() const { return engine.stats; }
   // a step that ran outside the engine (the Kokkos styles) reports its statistics here, the
-  // occupancy as -1 where force->pair is a GriddemOccupancySource that counts it when asked
+  // occupancy as -1 where the pair style counts it when asked (GriddemPairLink)
   void set_stats(const griddem_engine_stats &s)
   {
     engine.stats = s;

@@ -168,13 +168,19 @@ void PairGriddem::create_default_fix(int remake)
   auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
   if (existing && ((remake && existing->made_by_pair) ||
                    (model.track_contacts &&
-                    (existing->contacts == 0 || existing->kokkos_history != (wanted != "griddem")))))
+                    (existing->contacts == 0 || existing->kokkos_history != kokkos_history()))))
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
   auto made = dynamic_cast<FixGriddem *>(
       modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0")));
   made->made_by_pair = 1;
+}
+
+void *PairGriddem::extract(const char *name, int &dim)
+{
+  dim = 0;
+  return strcmp(name, "griddem") == 0 ? static_cast<GriddemPairLink *>(this) : nullptr;
 }
 
 void PairGriddem::fix_made(FixGriddem *made, int in_place)
@@ -312,7 +318,7 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
                "(griddem/.../kk); the CPU styles have one", style, fix->id,
                fix->search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
-  if (model.track_contacts && fix->kokkos_history != (history_fix_style() != "griddem"))
+  if (model.track_contacts && fix->kokkos_history != kokkos_history())
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
                history_fix_style(), fix->id, fix->kokkos_history ? "griddem/kk" : "griddem");

@@ -9,6 +9,7 @@
 #define LMP_PAIR_GRIDDEM_H
 
 #include "griddem_engine.h"
+#include "griddem_pair_link.h"
 #include "griddem_submodels.h"
 #include "pair.h"
 
@@ -17,7 +18,7 @@
 
 namespace LAMMPS_NS {
 
-class PairGriddem : public Pair {
+class PairGriddem : public Pair, public GriddemPairLink {
  public:
   PairGriddem(class LAMMPS *);
   ~PairGriddem() override;
@@ -25,12 +26,13 @@ class PairGriddem : public Pair {
   void init_style() override;
   double init_one(int, int) override;
   double single(int, int, int, int, double, double, double, double &) override;
+  // "griddem": this style's GriddemPairLink, for fix griddem
+  void *extract(const char *, int &) override;
 
-  // The contact history lives as long as this pair style (see pair_griddem.cpp). A fix griddem
-  // tells it when it is made (in_place: in the slot of the fix of its ID, which Modify has just
-  // deleted) and when it goes.
-  void fix_made(class FixGriddem *made, int in_place);
-  void fix_leaving(class FixGriddem *leaving);
+  void fix_made(class FixGriddem *made, int in_place) override;
+  void fix_leaving(class FixGriddem *leaving) override;
+  // the CPU engine counts the occupancy every step: nothing to count when asked
+  void count_occupancy(griddem_engine_stats &) override {}
 
  protected:
   griddem_model model;                         // what the engine evaluates
@@ -52,8 +54,10 @@ class PairGriddem : public Pair {
   // settings, pair_coeff or restart on
   void allocate();
   void create_default_fix(int remake = 0);
-  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant
+  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant, and
+  // whether that is fix griddem/kk (FixGriddem::kokkos_history)
   virtual std::string history_fix_style() const { return "griddem"; }
+  virtual int kokkos_history() const { return 0; }
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // take the history layout of s (the first spec sets it, later ones must match; types: for

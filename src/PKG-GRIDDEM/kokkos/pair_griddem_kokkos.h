@@ -645,7 +645,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
 };
 
 template <class DeviceType, class Base>
-class PairGriddemKokkos : public Base, public GriddemOccupancySource {
+class PairGriddemKokkos : public Base {
  public:
   typedef DeviceType device_type;
   typedef ArrayTypes<DeviceType> AT;
@@ -710,6 +710,7 @@ class PairGriddemKokkos : public Base, public GriddemOccupancySource {
   DAT::tdual_virial_array k_vatom;
 
   std::string history_fix_style() const override;
+  int kokkos_history() const override { return 1; }
   void upload_tables();
   void check_scan(const GriddemKKScanValue &sc);
   void plan_classes(GriddemKKGrids &grids);

@@ -1,0 +1,35 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package: the one interface between fix griddem and the griddem pair styles.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_GRIDDEM_PAIR_LINK_H
+#define LMP_GRIDDEM_PAIR_LINK_H
+
+#include "griddem_engine.h"
+
+namespace LAMMPS_NS {
+
+/* What fix griddem asks of the griddem pair style: every griddem style is one, and gives it by
+   name, Pair::extract("griddem") (griddem_pair_link). */
+class GriddemPairLink {
+ public:
+  // The contact history lives as long as the pair style (see pair_griddem.cpp). A fix griddem
+  // tells it when it is made (in_place: in the slot of the fix of its ID, which Modify has just
+  // deleted) and when it goes.
+  virtual void fix_made(class FixGriddem *made, int in_place) = 0;
+  virtual void fix_leaving(class FixGriddem *leaving) = 0;
+  // the occupied cells and the most centres in one, of the last step's grid, where the style
+  // reported them as -1 (the Kokkos styles count them only when asked: a pass over every cell
+  // that most steps do not need)
+  virtual void count_occupancy(griddem_engine_stats &stats) = 0;
+
+ protected:
+  ~GriddemPairLink() = default;    // not deleted through this interface
+};
+
+// force->pair's link, or nullptr where it is not a griddem pair style
+GriddemPairLink *griddem_pair_link(class Pair *pair);
+
+}    // namespace LAMMPS_NS
+
+#endif
