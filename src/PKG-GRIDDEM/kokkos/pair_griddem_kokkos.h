@@ -657,7 +657,7 @@ class PairGriddemKokkos : public Base {
   double memory_usage() override;
   void count_occupancy(griddem_engine_stats &stats) override;
   // public only because CUDA's extended lambdas may not live in a protected member function
-  void scan(const GriddemKKGrids &grids, bool class_boxes);
+  void scan(const GriddemKKGrids &grids, bool atoms, bool class_boxes);
   template <typename Real> void bin_and_sweep(const GriddemKKGrids &grids, double slack);
   template <typename Real> void bin(const GriddemKKGrids &grids);
   template <typename Real, bool Classic>

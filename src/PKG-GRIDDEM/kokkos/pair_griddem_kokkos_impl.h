@@ -159,7 +159,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     double margin = 0.0;
     if (planned) {
       plan_classes(grids);
-      scan(grids, grids.ncls > 1);    // read with the rest, below
+      scan(grids, true, grids.ncls > 1);    // read with the rest, below
       boxes = last_boxes;
       // an atom moves less than an exact-mode cell in a step (the NN4DEM rule); twice that and
       // the last step's fastest atom's move, for the atoms that speed up
@@ -167,7 +167,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       margin = 2.0 * (h_nn4dem + last_speed * this->update->dt);
     } else {
       // 1. scan: read before binning, as a reneighboring step sets the radius range from it
-      scan(grids, false);
+      scan(grids, true, false);
       Kokkos::deep_copy(h_report, d_report);
       const GriddemKKScanValue &sc = h_report().scan;
       check_scan(sc);
@@ -178,7 +178,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       if (this->rmax == 0.0) return;    // no atoms yet
       plan_classes(grids);
       if (grids.ncls > 1) {
-        scan(grids, true);
+        scan(grids, false, true);
         Kokkos::deep_copy(h_report, d_report);
       }
     }
@@ -247,27 +247,32 @@ void PairGriddemKokkos<DeviceType, Base>::check_scan(const GriddemKKScanValue &s
   }
 }
 
-/* 1. the scan into the report, and with class_boxes the boxes of grids' size classes */
+/* 1. the scan into the report (atoms), the boxes of grids' size classes (class_boxes) */
 
 template <class DeviceType, class Base>
-void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool class_boxes)
+void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool atoms,
+                                               bool class_boxes)
 {
   AtomKokkos *atomKK = this->atomKK;
   const int nall = this->atom->nlocal + this->atom->nghost;
   GriddemKKStepReport *report = d_report.data();    // addresses on the device, not dereferenced
-  GriddemKKScan<DeviceType> scan;
-  scan.x = atomKK->k_x.template view<DeviceType>();
-  scan.v = atomKK->k_v.template view<DeviceType>();
-  scan.radius = atomKK->k_radius.template view<DeviceType>();
-  scan.nlocal = this->atom->nlocal;
-  Kokkos::parallel_reduce(
-      "griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan,
-      Kokkos::View<GriddemKKScanValue, DeviceType, Kokkos::MemoryUnmanaged>(&report->scan));
+  auto x = atomKK->k_x.template view<DeviceType>();
+  auto radius = atomKK->k_radius.template view<DeviceType>();
+  if (atoms) {
+    GriddemKKScan<DeviceType> scan;
+    scan.x = x;
+    scan.v = atomKK->k_v.template view<DeviceType>();
+    scan.radius = radius;
+    scan.nlocal = this->atom->nlocal;
+    Kokkos::parallel_reduce(
+        "griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan,
+        Kokkos::View<GriddemKKScanValue, DeviceType, Kokkos::MemoryUnmanaged>(&report->scan));
+  }
   if (!class_boxes) return;
   GriddemKKClassScan<DeviceType> class_scan;
   class_scan.value_count = GriddemKKClassScan<DeviceType>::per_class * grids.ncls;
-  class_scan.x = scan.x;
-  class_scan.radius = scan.radius;
+  class_scan.x = x;
+  class_scan.radius = radius;
   class_scan.grids = grids;
   Kokkos::parallel_reduce(
       "griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall), class_scan,
