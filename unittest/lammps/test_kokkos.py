@@ -687,6 +687,24 @@ SYNC_COUNTER = os.environ.get("GRIDDEM_SYNC_COUNTER") or os.path.join(
     os.path.dirname(os.path.abspath(t.LMP)), "unittest", "kokkos_tools", "griddem_sync_counter.so")
 
 
+def sync_counter_found():
+    """Whether the sync counter library is there; a failed check where it is not."""
+    found = os.path.exists(SYNC_COUNTER)
+    t.check(found, "the Kokkos Tools sync counter is at %s (GRIDDEM_SYNC_COUNTER)" % SYNC_COUNTER)
+    return found
+
+
+def run_counted(wd, name, text, log):
+    """The script with -sf kk on THREADS[-1] threads under the sync counter, which writes each
+    compute's synchronisations and allocations to log: (exit code, output)."""
+    os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
+    try:
+        return t.run_lmp(text, wd, name="in." + name, extra=kk_args(THREADS[-1]), threads=THREADS[-1])
+    finally:
+        for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
+            del os.environ[key]
+
+
 def check_synchronisation(wd, data):
     """One blocking synchronisation a step between reneighborings, two at a reneighboring, more
     only where a View grew: the Kokkos Tools library unittest/kokkos_tools/sync_counter.c
@@ -695,8 +713,7 @@ def check_synchronisation(wd, data):
     after the setup, every compute that allocates nothing makes one; reneighboring whenever an
     atom moved half the skin, such computes make at most two, and at most as many make two as
     LAMMPS built neighbor lists."""
-    if not os.path.exists(SYNC_COUNTER):
-        t.check(False, "the Kokkos Tools sync counter is at %s (GRIDDEM_SYNC_COUNTER)" % SYNC_COUNTER)
+    if not sync_counter_found():
         return
     for label, neigh in (("never", "neigh_modify every 1000 delay 0 check no"),
                          ("often", "neighbor 0.02 bin\nneigh_modify every 1 delay 0 check yes")):
@@ -704,13 +721,7 @@ def check_synchronisation(wd, data):
         text = t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) + (
             "fix grid all griddem\n%s\ntimestep 1e-5\nfix integrate all nve/sphere\n"
             "thermo 50\nrun 200\n" % neigh)
-        os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
-        try:
-            rc, out = t.run_lmp(text, wd, name="in.syncs_" + label, extra=kk_args(THREADS[-1]),
-                                threads=THREADS[-1])
-        finally:
-            for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
-                del os.environ[key]
+        rc, out = run_counted(wd, "syncs_" + label, text, log)
         t.check(rc == 0 and os.path.exists(log), "%s: runs with the sync counter (exit %d): %s"
                 % (label, rc, t.errors(out)[:1]))
         if rc != 0 or not os.path.exists(log):
@@ -737,8 +748,7 @@ def check_replanned(wd, data):
     reneighboring, so the plan comes from the last step's boxes). The kk styles give the CPU
     style's forces at the step after the move to 1e-10, the moved pair touching (equal and
     opposite forces), and that compute synchronised more than once (it was computed again)."""
-    if not os.path.exists(SYNC_COUNTER):
-        t.check(False, "the Kokkos Tools sync counter is at %s (GRIDDEM_SYNC_COUNTER)" % SYNC_COUNTER)
+    if not sync_counter_found():
         return
     text = (t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) +
             "change_box all z final 0 20 boundary p p f\nfix grid all griddem\ntimestep 1e-5\n"
@@ -747,15 +757,11 @@ def check_replanned(wd, data):
             "set atom 5 x 2.0 y 2.0 z 15.0\nset atom 6 x 2.0 y 2.0 z 15.3\nrun 3 pre no\n")
     forces = {}
     log = os.path.join(wd, "syncs.replanned")
-    for name, extra in (("replanned_cpu", ()), ("replanned_kk", kk_args(THREADS[-1]))):
-        if extra:
-            os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
-        try:
-            rc, out = t.run_lmp(text.format(name=name), wd, name="in." + name, extra=extra,
-                                threads=THREADS[-1] if extra else None)
-        finally:
-            for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
-                os.environ.pop(key, None)
+    for name in ("replanned_cpu", "replanned_kk"):
+        if name.endswith("kk"):
+            rc, out = run_counted(wd, name, text.format(name=name), log)
+        else:
+            rc, out = t.run_lmp(text.format(name=name), wd, name="in." + name)
         t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
         snaps = t.read_dumps(os.path.join(wd, "dump." + name)) if rc == 0 else []
         forces[name.split("_")[1]] = snaps[-1] if len(snaps) == 2 else None

@@ -170,6 +170,9 @@ struct GriddemKKClassBoxes {
   double lo[GRIDDEM_MAX_CLASSES][3], hi[GRIDDEM_MAX_CLASSES][3];
 };
 
+// values a class takes in GriddemKKClassScan's reduction: count, lo[3], hi[3]
+constexpr int griddem_kk_class_values = 7;
+
 /* The boxes as an array reduction of 7 values a class present (count, lo[3], hi[3]): Kokkos keeps
    such a value in memory, where a struct for GRIDDEM_MAX_CLASSES classes filled the registers of
    a GPU thread and spilled (255 registers, 368 bytes of spill stores on sm_90). */
@@ -177,7 +180,7 @@ template <class DeviceType> struct GriddemKKClassScan {
   typedef DeviceType device_type;
   typedef double value_type[];
   typedef ArrayTypes<DeviceType> AT;
-  static constexpr int per_class = 7;
+  static constexpr int per_class = griddem_kk_class_values;
   size_t value_count;    // per_class * grids.ncls
   typename AT::t_x_array_randomread x;
   typename AT::t_float_1d_randomread radius;
@@ -229,7 +232,7 @@ enum {
 /* What one step's kernels leave for the host, read in one copy after the sweep. */
 struct GriddemKKStepReport {
   GriddemKKScanValue scan;
-  double class_boxes[7 * GRIDDEM_MAX_CLASSES];    // GriddemKKClassScan's (per_class = 7)
+  double class_boxes[griddem_kk_class_values * GRIDDEM_MAX_CLASSES];    // GriddemKKClassScan's
   long coincident;    // the first pair of coincident centres (local indices i << 32 | j), or
                       // LONG_MAX: none
   GriddemKKSweepValue sums;
@@ -248,7 +251,7 @@ inline GriddemKKClassBoxes griddem_kk_boxes(const GriddemKKStepReport &report, i
     return boxes;
   }
   for (int c = 0; c < ncls; c++) {
-    const double *box = report.class_boxes + 7 * c;
+    const double *box = report.class_boxes + griddem_kk_class_values * c;
     boxes.count[c] = (int) box[0];
     for (int d = 0; d < 3; d++) boxes.lo[c][d] = box[1 + d], boxes.hi[c][d] = box[4 + d];
   }
@@ -466,7 +469,7 @@ template <class DeviceType, typename Real> struct GriddemKKFindTeams {
   int first_block[GRIDDEM_MAX_CLASSES + 1];    // blocks of the classes before
   int most_rows;                               // of a window: (2 reach + 1)^2 at most
 
-  static int blocks_along_x(int nx) { return (nx + width - 1) / width; }
+  KOKKOS_INLINE_FUNCTION static int blocks_along_x(int nx) { return (nx + width - 1) / width; }
   size_t team_shmem_size(int) const
   {
     return scratch_ints::shmem_size(most_rows) + scratch_floats::shmem_size(4 * budget);
@@ -478,7 +481,7 @@ template <class DeviceType, typename Real> struct GriddemKKFindTeams {
     int ci = 0;
     while (first_block[ci + 1] <= b) ci++;
     const GriddemKKGrid &g = find.grids.g[ci];
-    const int nbx = (g.n[0] + width - 1) / width, local = b - first_block[ci];
+    const int nbx = blocks_along_x(g.n[0]), local = b - first_block[ci];
     const int bx = local % nbx, y = (local / nbx) % g.n[1], z = local / (nbx * g.n[1]);
     const int x0 = bx * width, x1 = Kokkos::min(x0 + width, g.n[0]) - 1, r = reach[ci];
     GriddemKKWindow w;
@@ -713,6 +716,11 @@ class PairGriddemKokkos : public Base {
   int kokkos_history() const override { return 1; }
   void upload_tables();
   void check_scan(const GriddemKKScanValue &sc);
+  // fix griddem's cell mode takes a grid per size class (auto, classes), not one grid
+  bool class_grids() const
+  {
+    return this->fix->cell_mode == GRIDDEM_CELL_AUTO || this->fix->cell_mode == GRIDDEM_CELL_CLASSES;
+  }
   void plan_classes(GriddemKKGrids &grids);
   void fit_grids(GriddemKKGrids &grids, const GriddemKKClassBoxes &boxes, double margin);
   void close_step(const GriddemKKGrids &grids, const GriddemKKStepReport &report);

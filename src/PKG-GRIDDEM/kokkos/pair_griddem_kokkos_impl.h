@@ -181,8 +181,8 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
         scan(grids, false, true);
         Kokkos::deep_copy(h_report, d_report);
       }
+      boxes = griddem_kk_boxes(h_report(), grids.ncls, nall);
     }
-    if (!planned) boxes = griddem_kk_boxes(h_report(), grids.ncls, nall);
 
     // 2. grids
     fit_grids(grids, boxes, margin);
@@ -197,8 +197,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     // one grid of a given edge: refused where the CPU style's stencil would be (the largest
     // pair's search distance over more than GRIDDEM_MAX_REACH edges), rather than searched over
     // (2 x reach + 1)^3 cells per atom
-    if (!(this->fix->cell_mode == GRIDDEM_CELL_AUTO ||
-          this->fix->cell_mode == GRIDDEM_CELL_CLASSES) &&
+    if (!class_grids() &&
         griddem_stencil_reach(grids.g[0].h, 2.0 * this->rmax + this->model.reach_extra + slack) >
             GRIDDEM_MAX_REACH)
       this->error_stencil_reach(grids.g[0].h);
@@ -286,9 +285,7 @@ void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::plan_classes(GriddemKKGrids &grids)
 {
-  const int mode = this->fix->cell_mode;
-  const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
-  grids.ncls = classes ? griddem_class_count(this->rmin, this->rmax) : 1;
+  grids.ncls = class_grids() ? griddem_class_count(this->rmin, this->rmax) : 1;
   griddem_class_bounds(this->rmax, grids.ncls, grids.upper);
 }
 
@@ -302,7 +299,7 @@ void PairGriddemKokkos<DeviceType, Base>::fit_grids(GriddemKKGrids &grids,
                                                     double margin)
 {
   const int mode = this->fix->cell_mode;
-  const int classes = mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES;
+  const bool classes = class_grids();
   const double *boxlo = this->domain->boxlo;
   long total = 0;
   for (int c = 0; c < grids.ncls; c++) {
@@ -381,14 +378,13 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   const int nall = nlocal + this->atom->nghost;
   auto &chan = channels(Real());
 
-  // Views grow only; made once even for a process without atoms (the list layout writes
-  // the end of its last list, entry nall)
+  // Views grow only; made once even for a process without atoms
   if (nall > nmax_atoms || !nmax_atoms) {
     nmax_atoms = MAX(MAX(nall, 1), (int) (1.2 * nmax_atoms));
     d_cell = Kokkos::View<int *, DeviceType>("griddem/kk:cell", nmax_atoms);
     d_order = Kokkos::View<int *, DeviceType>("griddem/kk:order", nmax_atoms);
     d_slot_cell = Kokkos::View<int *, DeviceType>("griddem/kk:slot_cell", nmax_atoms);
-    d_list_first = Kokkos::View<int *, DeviceType>("griddem/kk:list_first", nmax_atoms + 1);
+    d_list_first = Kokkos::View<int *, DeviceType>("griddem/kk:list_first", nmax_atoms);
     d_list_count = Kokkos::View<int *, DeviceType>("griddem/kk:list_count", nmax_atoms);
     Kokkos::resize(d_last, nmax_atoms);    // kept: the next layout's guide
     d_tm = Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType>("griddem/kk:tm", nmax_atoms);
