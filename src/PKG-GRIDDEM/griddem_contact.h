@@ -61,6 +61,28 @@ GRIDDEM_INLINE double griddem_effective_mass(double mi, double mj, int frozen_i,
   return mi * mj / (mi + mj);
 }
 
+/* The inputs of the contact of i with j, set as every caller sets them (the CPU sweep, single()
+ * and the Kokkos kernels): separation dx = x_i - x_j and its squared length rsq, radii, velocities
+ * v and spins w of each, masses (frozen: held by fix freeze), the step, and whether the history
+ * advances. */
+GRIDDEM_INLINE void griddem_contact_setup(griddem_contact *c, const double *dx, double rsq, double radi,
+                                          double radj, const double *vi, const double *vj, const double *wi,
+                                          const double *wj, double mi, double mj, int frozen_i, int frozen_j,
+                                          double dt, int history_update)
+{
+  for (int d = 0; d < 3; d++) {
+    c->dx[d] = dx[d];
+    c->vr[d] = vi[d] - vj[d];
+    c->wi[d] = wi[d], c->wj[d] = wj[d];
+    c->fr[d] = 0.0; /* set by a rolling model only */
+  }
+  c->rsq = rsq;
+  c->radi = radi, c->radj = radj;
+  c->meff = griddem_effective_mass(mi, mj, frozen_i, frozen_j);
+  c->dt = dt;
+  c->history_update = history_update;
+}
+
 /* Whether atoms at squared distance rsq interact; touched: they did on the previous step. */
 GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rsq, double radi,
                                          double radj, int touched)

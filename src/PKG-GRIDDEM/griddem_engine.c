@@ -5,10 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-void griddem_engine_init(griddem_engine *e, int history_values)
+void griddem_engine_init(griddem_engine *e)
 {
   memset(e, 0, sizeof(*e));
-  griddem_history_init(&e->hist, history_values);
 }
 
 void griddem_engine_free(griddem_engine *e)
@@ -16,7 +15,6 @@ void griddem_engine_free(griddem_engine *e)
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
   free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->reach_cell), free(e->active);
   griddem_channels_free(&e->channels);
-  griddem_history_free(&e->hist);
   memset(e, 0, sizeof(*e));
 }
 
@@ -241,7 +239,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     return result->fault;
   }
   griddem_sweep(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
-                        s->dt, s->history_update, &e->hist, s->row_of, s->f, s->torque, s->vatom,
+                        s->dt, s->history_update, s->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
   /* the history's row of slot k is k; owned particles left out have none */
   if (s->model->track_contacts && idle_bit)
@@ -267,11 +265,6 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   return result->fault;
 }
 
-int griddem_engine_reserve(griddem_engine *e, int n, int contacts)
-{
-  return griddem_history_reserve(&e->hist, n, (long) n * contacts);
-}
-
 double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
@@ -279,45 +272,5 @@ double griddem_engine_memory(const griddem_engine *e)
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_sum) + sizeof(int64_t) + sizeof(int)) +
-      (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int) +
-      griddem_history_memory(&e->hist);
-}
-
-int griddem_engine_history_values(const griddem_engine *e)
-{
-  return e->hist.values;
-}
-
-int griddem_engine_set_history_values(griddem_engine *e, int values)
-{
-  return griddem_history_set_values(&e->hist, values);
-}
-
-int griddem_engine_row_length(const griddem_engine *e, int row)
-{
-  return GRIDDEM_ROW_MESSAGE_LENGTH(griddem_history_count(&e->hist, row), e->hist.values);
-}
-
-int griddem_engine_max_row_length(const griddem_engine *e)
-{
-  return GRIDDEM_ROW_MESSAGE_LENGTH(e->hist.max_count, e->hist.values);
-}
-
-int griddem_engine_get_row(const griddem_engine *e, int row, double *buf)
-{
-  const int count = griddem_history_count(&e->hist, row);
-  const int n = count * GRIDDEM_HISTORY_ENTRY(e->hist.values);
-  buf[0] = count;
-  griddem_history_get_row(&e->hist, row, buf + 1);
-  return n + 1;
-}
-
-int griddem_engine_put_row(griddem_engine *e, const double *buf, int values)
-{
-  return griddem_history_add_row(&e->hist, (int) buf[0], buf + 1, values);
-}
-
-const double *griddem_engine_find(const griddem_engine *e, int row, int64_t partner)
-{
-  return griddem_history_find(&e->hist, row, partner);
+      (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);
 }

@@ -1,7 +1,7 @@
-/* The GRIDDEM engine: what persists between steps (grid, bins, channels, contact history) behind
- * a narrow face. A step bins the particles, sweeps the stencil and leaves each owned particle
- * pointing at its new history row; rows are read and written whole for migration and restart.
- * The host code (LAMMPS glue) keeps only the per-particle row index. */
+/* The GRIDDEM engine: what a CPU pair style keeps between steps (grids, bins, channels, scratch)
+ * behind a narrow face. A step bins the particles, sweeps the stencil and leaves each owned
+ * particle pointing at its new row of the contact history it is given (griddem_history.h, which
+ * fix griddem keeps: the history lives as long as the atoms, the engine as long as the pair). */
 #ifndef GRIDDEM_ENGINE_H
 #define GRIDDEM_ENGINE_H
 
@@ -59,7 +59,6 @@ typedef struct griddem_engine {
   griddem_grid grid[GRIDDEM_MAX_CLASSES]; /* one per size class, largest spheres first */
   griddem_bins bins[GRIDDEM_MAX_CLASSES];
   griddem_channels channels;
-  griddem_history hist;
   griddem_engine_stats stats;
   /* size classes' scratch: particles grouped by class, their positions and tags, the channels'
    * order of particles */
@@ -102,13 +101,14 @@ typedef struct griddem_step {
   const griddem_scan *scan; /* this step's griddem_engine_scan of the particles; NULL: the step scans */
   double dt;
   int history_update;      /* 1: advance history values */
+  griddem_history *hist;   /* the contact history (NULL where the model tracks no contacts) */
   int *row_of;             /* per particle: its history row (-1: none); updated for owned ones */
   double *f, *torque;      /* added into, 3 per owned particle */
   double *vatom;           /* NULL, or 6 per owned particle, added into */
   int want_virial;
 } griddem_step;
 
-void griddem_engine_init(griddem_engine *e, int history_values);
+void griddem_engine_init(griddem_engine *e);
 void griddem_engine_free(griddem_engine *e);
 
 /* One step: bin, sweep, adopt the new history rows. Returns result->fault; 1 in *coarsened if
@@ -121,61 +121,8 @@ void griddem_engine_free(griddem_engine *e);
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened);
 
-/* Reserve history storage for n particles with contacts each. 0, or -1 without memory. */
-int griddem_engine_reserve(griddem_engine *e, int n, int contacts);
-
 /* Bytes the engine holds. */
 double griddem_engine_memory(const griddem_engine *e);
-
-/* History values per contact; changing it converts the stored rows (0, or -1 without memory). */
-int griddem_engine_history_values(const griddem_engine *e);
-int griddem_engine_set_history_values(griddem_engine *e, int values);
-
-/* A row as a message: count, then (partner tag, values...) per contact; count contacts of
- * `values` values make a message of this many doubles. */
-#define GRIDDEM_ROW_MESSAGE_LENGTH(count, values) (1 + (count) * GRIDDEM_HISTORY_ENTRY(values))
-
-/* fix griddem's per-atom restart record: its length in doubles (counting itself: LAMMPS's
- * readers of per-atom restart data step over a record by it), the history values per contact,
- * then the row message. The CPU and Kokkos fixes write and read this one format. */
-#define GRIDDEM_RESTART_HEADER 2
-
-/* Frame a row message of message_length doubles written at record + GRIDDEM_RESTART_HEADER;
- * returns the record's length. */
-GRIDDEM_INLINE int griddem_restart_frame(double *record, int values, int message_length)
-{
-  record[0] = GRIDDEM_RESTART_HEADER + message_length;
-  record[1] = values;
-  return GRIDDEM_RESTART_HEADER + message_length;
-}
-
-/* The nth of an atom's per-atom restart records (each led by its length). */
-GRIDDEM_INLINE const double *griddem_restart_record(const double *records, int nth)
-{
-  int m = 0;
-  for (int k = 0; k < nth; k++) m += (int) records[m];
-  return records + m;
-}
-
-/* A record's history values per contact, and its row message. */
-GRIDDEM_INLINE int griddem_restart_values(const double *record)
-{
-  return (int) record[1];
-}
-GRIDDEM_INLINE const double *griddem_restart_message(const double *record)
-{
-  return record + GRIDDEM_RESTART_HEADER;
-}
-
-int griddem_engine_row_length(const griddem_engine *e, int row);   /* doubles of the message */
-int griddem_engine_max_row_length(const griddem_engine *e);        /* longest message of any row */
-int griddem_engine_get_row(const griddem_engine *e, int row, double *buf); /* returns the length */
-/* Append a row from a message written with `values` values per contact (converted to the
- * engine's); returns its index, or -1 without memory. */
-int griddem_engine_put_row(griddem_engine *e, const double *buf, int values);
-
-/* Stored history values of row's contact with partner, or NULL. */
-const double *griddem_engine_find(const griddem_engine *e, int row, int64_t partner);
 
 #ifdef __cplusplus
 }

@@ -70,7 +70,7 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
   }
   g->h = h;
   g->hinv = 1.0 / h;
-  for (int d = 0; d < 3; d++) g->lo[d] = anchor[d] + (double) g->k0[d] * h;
+  for (int d = 0; d < 3; d++) g->lo[d] = griddem_cell_face(anchor[d], h, g->k0[d]);
   g->ncell = total;
   return coarsened;
 }

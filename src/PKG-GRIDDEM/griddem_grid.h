@@ -136,6 +136,13 @@ GRIDDEM_INLINE int griddem_axis_cell(double x, double anchor, double hinv, long 
   return c < 0 ? 0 : (c >= n ? n - 1 : (int) c);
 }
 
+/* The face k of a grid along one axis (faces at anchor + k h): the lower corner of the CPU grid
+ * (k = k0) and of a Kokkos cell (k = k0 + its index) alike. */
+GRIDDEM_INLINE double griddem_cell_face(double anchor, double h, long k)
+{
+  return anchor + (double) k * h;
+}
+
 /* Cell of a point in a box [lo, lo + prd) split into n[d] cells along each axis (x fastest), as
  * output grids are laid out; points outside go to the nearest cell. */
 long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], const double *x);

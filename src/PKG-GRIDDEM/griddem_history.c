@@ -63,10 +63,8 @@ int griddem_history_count(const griddem_history *h, int row)
 const double *griddem_history_find(const griddem_history *h, int row, int64_t partner)
 {
   if (row < 0 || row >= h->cur.nrows) return NULL;
-  const long first = h->cur.start[row], end = first + h->cur.count[row];
-  for (long e = first; e < end; e++)
-    if (h->cur.partner[e] == partner) return h->cur.value + (size_t) h->values * e;
-  return NULL;
+  const long e = griddem_history_entry(h->cur.partner, h->cur.start[row], h->cur.count[row], partner);
+  return e < 0 ? NULL : h->cur.value + (size_t) h->values * e;
 }
 
 void griddem_history_get_row(const griddem_history *h, int row, double *entries)
@@ -97,6 +95,28 @@ int griddem_history_add_row(griddem_history *h, int count, const double *entries
   p->start[p->nrows + 1] = p->used;
   if (count > h->max_count) h->max_count = count;
   return p->nrows++;
+}
+
+int griddem_history_message_length(const griddem_history *h, int row)
+{
+  return GRIDDEM_ROW_MESSAGE_LENGTH(griddem_history_count(h, row), h->values);
+}
+
+int griddem_history_longest_message(const griddem_history *h)
+{
+  return GRIDDEM_ROW_MESSAGE_LENGTH(h->max_count, h->values);
+}
+
+int griddem_history_get_message(const griddem_history *h, int row, double *message)
+{
+  message[0] = griddem_history_count(h, row);
+  griddem_history_get_row(h, row, message + 1);
+  return griddem_history_message_length(h, row);
+}
+
+int griddem_history_put_message(griddem_history *h, const double *message, int values)
+{
+  return griddem_history_add_row(h, (int) message[0], message + 1, values);
 }
 
 int griddem_history_reserve(griddem_history *h, int rows, long entries)

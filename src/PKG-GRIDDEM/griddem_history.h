@@ -1,12 +1,18 @@
-/* GRIDDEM contact history, the CPU store: per particle, the partners it touched last step (their
- * tags, as exact integers) and the history values of each contact (tangential and rolling
- * displacements). A pool holds the entries; a row is a start and a count in it. The sweep reads
+/* GRIDDEM contact history: per particle, the partners it touched last step (their tags, as exact
+ * integers) and the history values of each contact (tangential and rolling displacements). A pool
+ * holds the entries; a row is a start and a count in it. That layout, how an entry is found and
+ * written, and the row message that carries a row between processes and into restart files are
+ * shared with the Kokkos store (fix griddem/kk), whose pools live on the device.
+ *
+ * The CPU store: the sweep reads
  * last step's pool and writes each evaluated contact once into the next pool, whose rows follow
  * the sorted slots, each with room for its particle's last count plus a margin; a row that
  * outgrows its room goes to its thread's overflow list, which the end of the sweep folds in. The
  * history then costs memory traffic in proportion to the contacts. */
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
+
+#include "griddem_portable.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -46,9 +52,59 @@ typedef struct griddem_history {
 /* Room a sweep gives a row beyond its particle's last count: new contacts a step. */
 #define GRIDDEM_HISTORY_MARGIN 2
 
-/* A row as a message (how rows travel with their atoms and into restart files): per entry the
- * partner tag (exact as a double below 2^53) and its values. */
+/* The entry of partner tag in a row (count entries from first) of a pool's partner tags, or -1:
+ * the one history find of the CPU sweep, single() and the Kokkos kernels. */
+GRIDDEM_INLINE long griddem_history_entry(const int64_t *partner, long first, int count, int64_t tag)
+{
+  for (long e = first; e < first + count; e++)
+    if (partner[e] == tag) return e;
+  return -1;
+}
+
+/* Write entry e of a pool: the partner tag and its values (values per contact). */
+GRIDDEM_INLINE void griddem_history_put(int64_t *partner, double *value, int values, long e, int64_t tag,
+                                        const double *v)
+{
+  partner[e] = tag;
+  for (int k = 0; k < values; k++) value[(size_t) values * e + k] = v[k];
+}
+
+/* A row as a message (how rows travel with their atoms and into restart files): the count, then
+ * per entry the partner tag (exact as a double below 2^53) and its values. */
 #define GRIDDEM_HISTORY_ENTRY(values) (1 + (values))
+#define GRIDDEM_ROW_MESSAGE_LENGTH(count, values) (1 + (count) * GRIDDEM_HISTORY_ENTRY(values))
+
+/* fix griddem's per-atom restart record: its length in doubles (counting itself: LAMMPS's
+ * readers of per-atom restart data step over a record by it), the history values per contact,
+ * then the row message. The CPU and Kokkos stores write and read this one format. */
+#define GRIDDEM_RESTART_HEADER 2
+
+/* Frame a row message of message_length doubles written at record + GRIDDEM_RESTART_HEADER;
+ * returns the record's length. */
+GRIDDEM_INLINE int griddem_restart_frame(double *record, int values, int message_length)
+{
+  record[0] = GRIDDEM_RESTART_HEADER + message_length;
+  record[1] = values;
+  return GRIDDEM_RESTART_HEADER + message_length;
+}
+
+/* The nth of an atom's per-atom restart records (each led by its length). */
+GRIDDEM_INLINE const double *griddem_restart_record(const double *records, int nth)
+{
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += (int) records[m];
+  return records + m;
+}
+
+/* A record's history values per contact, and its row message. */
+GRIDDEM_INLINE int griddem_restart_values(const double *record)
+{
+  return (int) record[1];
+}
+GRIDDEM_INLINE const double *griddem_restart_message(const double *record)
+{
+  return record + GRIDDEM_RESTART_HEADER;
+}
 
 void griddem_history_init(griddem_history *h, int values);
 void griddem_history_free(griddem_history *h);
@@ -66,6 +122,14 @@ void griddem_history_get_row(const griddem_history *h, int row, double *entries)
  * h->values: values kept up to the shorter length, the rest zero). Returns its index, or -1
  * without memory. */
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values);
+
+/* Rows as whole messages: the doubles of row's message, of the longest row's; write row's
+ * message (returns its length); append a row from a message written with `values` values per
+ * contact (its index, or -1 without memory). */
+int griddem_history_message_length(const griddem_history *h, int row);
+int griddem_history_longest_message(const griddem_history *h);
+int griddem_history_get_message(const griddem_history *h, int row, double *message);
+int griddem_history_put_message(griddem_history *h, const double *message, int values);
 
 /* Make room for rows holding entries contacts in all, now and after the next sweep. 0, or -1. */
 int griddem_history_reserve(griddem_history *h, int rows, long entries);
@@ -89,16 +153,14 @@ int griddem_history_end(griddem_history *h);
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
                                     const double *v);
 
-/* CPU only (the Kokkos styles keep their own store), so plainly inline */
+/* The CPU sweep's write: the next entry of slot's row, or its thread's overflow list. */
 static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
                                         int64_t partner, const double *v)
 {
   griddem_history_pool *p = &h->next;
   const long e = p->start[slot] + p->count[slot];
   if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, h->values, slot, partner, v);
-  p->partner[e] = partner;
-  double *to = p->value + (size_t) h->values * e;
-  for (int k = 0; k < h->values; k++) to[k] = v[k];
+  griddem_history_put(p->partner, p->value, h->values, e, partner, v);
   p->count[slot]++;
   return 0;
 }

@@ -115,16 +115,10 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
     return;
 
   griddem_contact c;
-  c.dx[0] = pa[0] - pb[0], c.dx[1] = pa[1] - pb[1], c.dx[2] = pa[2] - pb[2];
-  c.rsq = rsq;
-  c.radi = pa[3], c.radj = pb[3];
-  const double *va = p->v + 3 * (size_t) ia, *vb = p->v + 3 * (size_t) ib;
-  const double *wa = p->omega + 3 * (size_t) ia, *wb = p->omega + 3 * (size_t) ib;
-  for (int d = 0; d < 3; d++) c.vr[d] = va[d] - vb[d], c.wi[d] = wa[d], c.wj[d] = wb[d];
-  c.meff = griddem_effective_mass(p->rmass[ia], p->rmass[ib], (ma & p->frozen_bit) != 0,
-                                  (mb & p->frozen_bit) != 0);
-  c.dt = cx->dt;
-  c.history_update = cx->history_update;
+  const double dx[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+  griddem_contact_setup(&c, dx, rsq, pa[3], pb[3], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
+                        p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
+                        (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
 
   double hv[GRIDDEM_MAX_HISTORY];
   for (int v = 0; v < nv; v++) hv[v] = stored ? stored[v] : 0.0;

@@ -35,7 +35,7 @@ static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
+    cpu_rows(nullptr), coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -44,6 +44,7 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
   // twisting torque (0: no twisting model), separation vector
   single_extra = 12;
   svector = new double[single_extra];
+  griddem_engine_init(&engine);
 }
 
 PairGriddem::~PairGriddem()
@@ -59,6 +60,7 @@ PairGriddem::~PairGriddem()
       history->drop_history();
   }
   delete[] svector;
+  griddem_engine_free(&engine);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -168,13 +170,18 @@ void PairGriddem::create_default_fix(int remake)
   auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
   if (existing && ((remake && existing->made_by_pair) ||
                    (model.track_contacts &&
-                    (existing->contacts == 0 || existing->kokkos_history != kokkos_history()))))
+                    (existing->contacts == 0 || existing->kokkos_history() != kokkos_history()))))
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
   auto made = dynamic_cast<FixGriddem *>(
       modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0")));
   made->made_by_pair = 1;
+}
+
+double PairGriddem::memory_usage()
+{
+  return Pair::memory_usage() + griddem_engine_memory(&engine);
 }
 
 void *PairGriddem::extract(const char *name, int &dim)
@@ -204,6 +211,7 @@ void PairGriddem::fix_leaving(FixGriddem *leaving)
   if (leaving != fix) return;
   park_history(*leaving);
   fix = nullptr;
+  cpu_rows = nullptr;
 }
 
 void PairGriddem::park_history(FixGriddem &from)
@@ -318,10 +326,11 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
                "(griddem/.../kk); the CPU styles have one", style, fix->id,
                fix->search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
-  if (model.track_contacts && fix->kokkos_history != kokkos_history())
+  if (model.track_contacts && fix->kokkos_history() != kokkos_history())
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
-               history_fix_style(), fix->id, fix->kokkos_history ? "griddem/kk" : "griddem");
+               history_fix_style(), fix->id, fix->kokkos_history() ? "griddem/kk" : "griddem");
+  cpu_rows = model.track_contacts && !kokkos_history() ? dynamic_cast<FixGriddemCPU *>(fix) : nullptr;
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);
   fix->set_values(model.history_size);
 
@@ -530,7 +539,8 @@ void PairGriddem::compute(int eflag, int vflag)
   step.excl = &exclusions;
   step.dt = update->dt;
   step.history_update = update->setupflag ? 0 : 1;
-  step.row_of = nullptr;    // the fix's
+  step.hist = cpu_rows ? cpu_rows->history() : nullptr;
+  step.row_of = cpu_rows ? cpu_rows->row_of_atom() : nullptr;
   step.f = atom->f[0];
   step.torque = atom->torque[0];
   step.vatom = vflag_atom ? vatom[0] : nullptr;
@@ -538,7 +548,9 @@ void PairGriddem::compute(int eflag, int vflag)
 
   griddem_sweep_result result;
   int coarsened = 0;
-  fix->run_step(step, result, coarsened);
+  griddem_engine_step(&engine, &step, &result, &coarsened);
+  fix->set_stats(engine.stats);
+  if (cpu_rows) cpu_rows->rows_written();
   if (coarsened && !coarsened_warned) {
     coarsened_warned = 1;
     error->warning(FLERR, "Pair style {}: cell edge enlarged from {} to {} so that the grid over this process's atoms stays within {} cells",
@@ -568,7 +580,7 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   int owner_is_i = 1;
   if (model.track_contacts && (i < atom->nlocal || j < atom->nlocal)) {
     owner_is_i = i < atom->nlocal;
-    stored = fix->find_history(owner_is_i ? i : j, (double) atom->tag[owner_is_i ? j : i]);
+    stored = fix->find_history(owner_is_i ? i : j, atom->tag[owner_is_i ? j : i]);
     for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : model.history_parity[m] * stored[m];
   }
   const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);
@@ -576,20 +588,12 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   if (!griddem_contact_touch(law, rsq, radius[i], radius[j], stored != nullptr)) return 0.0;
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega;
-  griddem_contact c;
-  for (int d = 0; d < 3; d++) {
-    c.dx[d] = x[i][d] - x[j][d];
-    c.vr[d] = v[i][d] - v[j][d];
-    c.wi[d] = omega[i][d], c.wj[d] = omega[j][d];
-  }
-  c.rsq = rsq;
-  c.radi = radius[i], c.radj = radius[j];
+  const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
   const int *mask = atom->mask;
-  c.meff = griddem_effective_mass(atom->rmass[i], atom->rmass[j], (mask[i] & freeze_group_bit) != 0,
-                                  (mask[j] & freeze_group_bit) != 0);
-  c.dt = update->dt;
-  c.history_update = 0;
-  c.fr[0] = c.fr[1] = c.fr[2] = 0.0;    // set by a rolling model only
+  griddem_contact c;
+  griddem_contact_setup(&c, dx, rsq, radius[i], radius[j], v[i], v[j], omega[i], omega[j], atom->rmass[i],
+                        atom->rmass[j], (mask[i] & freeze_group_bit) != 0, (mask[j] & freeze_group_bit) != 0,
+                        update->dt, 0);
 
   double f[3], ti[3], tj[3];
   griddem_contact_eval(law, &c, hv, f, ti, tj);

@@ -1,6 +1,7 @@
 /* -*- c++ -*- ----------------------------------------------------------
-   GRIDDEM package: what every griddem pair style shares. Each step it hands owned and ghost
-   atoms to the grid engine that fix griddem owns (no neighbor list). A derived style turns its
+   GRIDDEM package: what every griddem pair style shares. Each step the CPU styles hand owned
+   and ghost atoms to their grid engine (no neighbor list), which sweeps the contact history
+   that fix griddem keeps. A derived style turns its
    arguments into one sub-model spec per type pair (griddem_submodels.h); this class mixes,
    checks and converts them into the law the engine evaluates.
 ------------------------------------------------------------------------- */
@@ -28,6 +29,7 @@ class PairGriddem : public Pair, public GriddemPairLink {
   double single(int, int, int, int, double, double, double, double &) override;
   // "griddem": this style's GriddemPairLink, for fix griddem
   void *extract(const char *, int &) override;
+  double memory_usage() override;
 
   void fix_made(class FixGriddem *made, int in_place) override;
   void fix_leaving(class FixGriddem *leaving) override;
@@ -42,6 +44,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   int layout_set;                              // history layout fixed by a first spec
   int single_hooke_layout;                     // single() reports as gran/hooke/history
   class FixGriddem *fix;    // the fix of the last init_style: it holds the history
+  class FixGriddemCPU *cpu_rows;    // that fix's CPU store, which the engine sweeps (nullptr:
+                                    // a model without history, or a Kokkos style)
+  griddem_engine engine;    // the CPU styles' grids, bins and channels
   int coarsened_warned;
   double rmin, rmax;            // smallest and largest radius of all atoms, refreshed on reneighbor
 
@@ -55,7 +60,7 @@ class PairGriddem : public Pair, public GriddemPairLink {
   void allocate();
   void create_default_fix(int remake = 0);
   // the fix style that holds this style's contact history: "griddem", or a Kokkos variant, and
-  // whether that is fix griddem/kk (FixGriddem::kokkos_history)
+  // whether that is fix griddem/kk (FixGriddem::kokkos_history())
   virtual std::string history_fix_style() const { return "griddem"; }
   virtual int kokkos_history() const { return 0; }
   // give the type pairs of two LAMMPS type ranges spec s

@@ -308,7 +308,9 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   int row_of[N];
   for (int i = 0; i < N; i++) row_of[i] = -1;
   griddem_engine e;
-  griddem_engine_init(&e, m.history_size);
+  griddem_engine_init(&e);
+  griddem_history hist;
+  griddem_history_init(&hist, m.history_size);
   griddem_step st;
   memset(&st, 0, sizeof(st));
   const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
@@ -317,7 +319,7 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
   st.cell_edge = griddem_cell_edge(size_classes ? GRIDDEM_CELL_CLASSES : GRIDDEM_CELL_MULTI, st.rmin, st.rmax, 0.0);
   st.max_cells = 1L << 26, st.model = &m, st.excl = &excl, st.dt = 1e-4, st.history_update = 1;
-  st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
+  st.hist = &hist, st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
   char what[256];
   snprintf(what, sizeof(what), "%s%s%s, %d threads", law, size_classes ? ", classes" : "", idle ? ", idle" : "", threads);
   for (int step = 0; step < 3; step++) {
@@ -337,7 +339,7 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
     for (int k = 0; k < 6; k++) verr = fmax(verr, fabs(res.virial[k] - vr[k]));
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) {
-        const double *h = griddem_engine_find(&e, row_of[i], (double) tag[j]);
+        const double *h = griddem_history_find(&hist, row_of[i], tag[j]);
         for (int q = 0; h && q < m.history_size; q++) {
           const double ref = dense[GRIDDEM_MAX_HISTORY * ((size_t) i * N + j) + q];
           herr = fmax(herr, fabs(h[q] - ref)), hscale = fmax(hscale, fabs(ref));
@@ -369,6 +371,7 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   }
   for (int i = 0; i < N; i++) mask[i] = 1;
   griddem_engine_free(&e);
+  griddem_history_free(&hist);
 }
 
 int main(void)

@@ -24,7 +24,6 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
   atomKK = (AtomKokkos *) atom;
   execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
   datamask_read = datamask_modify = EMPTY_MASK;
-  kokkos_history = 1;
 
   for (int p = 0; p < 2; p++) {
     k_partner[p] = tdual_partners("griddem/kk:partner", 0);
@@ -39,8 +38,6 @@ template <class DeviceType> FixGriddemKokkos<DeviceType>::~FixGriddemKokkos()
   if (copymode) return;
   leave();    // while the rows are still here
 }
-
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::init() {}
 
 /* one name for CPU and Kokkos runs, so that restart files match either; here, not in the
    constructor, since Modify names a fix made through a suffix after constructing it */
@@ -181,17 +178,14 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
 }
 
 template <class DeviceType>
-const double *FixGriddemKokkos<DeviceType>::find_history(int i, double partner) const
+const double *FixGriddemKokkos<DeviceType>::find_history(int i, tagint partner)
 {
-  auto self = const_cast<FixGriddemKokkos<DeviceType> *>(this);
-  self->sync_host();
-  const int first = k_first[cur].h_view(i);
-  for (int e = first; e < first + k_count[cur].h_view(i); e++)
-    if ((double) k_partner[cur].h_view(e) == partner) {
-      for (int k = 0; k < nv; k++) found[k] = k_value[cur].h_view((long) e * nv + k);
-      return found;
-    }
-  return nullptr;
+  sync_host();
+  const long e = griddem_history_entry(k_partner[cur].h_view.data(), k_first[cur].h_view(i),
+                                       k_count[cur].h_view(i), partner);
+  if (e < 0) return nullptr;
+  for (int k = 0; k < nv; k++) found[k] = k_value[cur].h_view(e * nv + k);
+  return found;
 }
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_arrays(int i)
@@ -212,19 +206,33 @@ void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
   modify_host();
 }
 
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_exchange(int i, double *buf)
+template <class DeviceType> int FixGriddemKokkos<DeviceType>::get_message(int i, double *message)
 {
   sync_host();
   const int n = k_count[cur].h_view(i), first = k_first[cur].h_view(i);
-  buf[0] = n;
+  message[0] = n;
   for (int e = first, m = 1; e < first + n; e++) {
-    buf[m++] = (double) k_partner[cur].h_view(e);
-    for (int k = 0; k < nv; k++) buf[m++] = k_value[cur].h_view((long) e * nv + k);
+    message[m++] = (double) k_partner[cur].h_view(e);
+    for (int k = 0; k < nv; k++) message[m++] = k_value[cur].h_view((long) e * nv + k);
   }
   return GRIDDEM_ROW_MESSAGE_LENGTH(n, nv);
 }
 
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, const double *message)
+template <class DeviceType> int FixGriddemKokkos<DeviceType>::message_length(int i)
+{
+  sync_host();
+  return GRIDDEM_ROW_MESSAGE_LENGTH(k_count[cur].h_view(i), nv);
+}
+
+template <class DeviceType> int FixGriddemKokkos<DeviceType>::longest_message()
+{
+  return GRIDDEM_ROW_MESSAGE_LENGTH(longest, nv);
+}
+
+/* a received or restarted row is appended to the pool; the next sweep compacts it */
+
+template <class DeviceType>
+void FixGriddemKokkos<DeviceType>::put_message(int i, const double *message)
 {
   const int count = static_cast<int>(message[0]);
   sync_host();
@@ -232,53 +240,22 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::put_row(int i, con
   sync_host();    // the side a resize did not keep
   k_first[cur].h_view(i) = (int) used;
   k_count[cur].h_view(i) = count;
-  for (int e = 0, m = 1; e < count; e++) {
-    k_partner[cur].h_view(used + e) = (tagint) message[m++];
-    for (int k = 0; k < nv; k++) k_value[cur].h_view((used + e) * nv + k) = message[m++];
+  for (int e = 0; e < count; e++) {
+    const double *entry = message + 1 + (long) e * GRIDDEM_HISTORY_ENTRY(nv);
+    griddem_history_put(k_partner[cur].h_view.data(), k_value[cur].h_view.data(), nv, used + e,
+                        (int64_t) entry[0], entry + 1);
   }
   used += count;
   modify_host();
   longest = MAX(longest, count);
   update_maxexchange();
-  return GRIDDEM_ROW_MESSAGE_LENGTH(count, nv);
-}
-
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::unpack_exchange(int nlocal, double *buf)
-{
-  return put_row(nlocal, buf);
-}
-
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::pack_restart(int i, double *buf)
-{
-  return griddem_restart_frame(buf, nv, pack_exchange(i, buf + GRIDDEM_RESTART_HEADER));
-}
-
-template <class DeviceType> void FixGriddemKokkos<DeviceType>::unpack_restart(int nlocal, int nth)
-{
-  const double *record = griddem_restart_record(atom->extra[nlocal], nth);
-  const int record_values = griddem_restart_values(record);
-  if (record_values != nv) set_values(record_values);
-  put_row(nlocal, griddem_restart_message(record));
-}
-
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::size_restart(int nlocal)
-{
-  sync_host();
-  return GRIDDEM_RESTART_HEADER + GRIDDEM_ROW_MESSAGE_LENGTH(k_count[cur].h_view(nlocal), nv);
-}
-
-template <class DeviceType> int FixGriddemKokkos<DeviceType>::maxsize_restart()
-{
-  int mine = GRIDDEM_RESTART_HEADER + GRIDDEM_ROW_MESSAGE_LENGTH(longest, nv), most;
-  MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, world);
-  return most;
 }
 
 template <class DeviceType> double FixGriddemKokkos<DeviceType>::memory_usage()
 {
   double bytes = 0.0;
   for (int p = 0; p < 2; p++)
-    bytes += (double) k_partner[p].extent(0) * sizeof(tagint) +
+    bytes += (double) k_partner[p].extent(0) * sizeof(int64_t) +
         (double) k_value[p].extent(0) * sizeof(double) +
         (double) (k_first[p].extent(0) + k_count[p].extent(0)) * sizeof(int);
   return bytes;
@@ -409,10 +386,8 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
           const long e0 = base + offset;
           first(i) = (int) e0;
           count(i) = n;
-          for (long e = e0; e < e0 + n; e++) {
-            partner(e) = (tagint) buf(m++);
-            for (int k = 0; k < nvalues; k++) value(e * nvalues + k) = buf(m++);
-          }
+          for (long e = e0; e < e0 + n; e++, m += GRIDDEM_HISTORY_ENTRY(nvalues))
+            griddem_history_put(partner.data(), value.data(), nvalues, e, (int64_t) buf(m), &buf(m + 1));
         }
         offset += n;
       });

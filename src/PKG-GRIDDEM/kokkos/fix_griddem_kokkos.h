@@ -1,7 +1,7 @@
 /* -*- c++ -*- ----------------------------------------------------------
    GRIDDEM package, Kokkos: fix griddem/kk, the contact history of the griddem kk pair styles.
 
-   Compressed rows, as the CPU fix's: a pool of entries (partner tags in one array, their history
+   Compressed rows in the layout of the CPU store (griddem_history.h): a pool of entries (partner tags in one array, their history
    values in another) and, per atom, the first entry of its row and the row's length. So memory
    follows the contacts present, not the most contacts of one atom times the atoms (a chute has
    ~0.5 contacts per atom and up to ~10 for one; a large sphere among small ones, hundreds).
@@ -27,7 +27,7 @@ FixStyle(griddem/kk/host,FixGriddemKokkos<LMPHostType>);
 #ifndef LMP_FIX_GRIDDEM_KOKKOS_H
 #define LMP_FIX_GRIDDEM_KOKKOS_H
 
-#include "fix_griddem.h"
+#include "fix_griddem_face.h"
 #include "kokkos_base.h"
 #include "griddem_contact.h"
 #include "kokkos_type.h"
@@ -38,27 +38,20 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
  public:
   typedef DeviceType device_type;
   // on LAMMPS's device whatever DeviceType is, as DAT's DualViews: atoms are sorted there
-  typedef Kokkos::DualView<tagint *, LMPDeviceType> tdual_partners;
+  typedef Kokkos::DualView<int64_t *, LMPDeviceType> tdual_partners;
   typedef Kokkos::DualView<double *, LMPDeviceType> tdual_values;
   typedef DAT::tdual_int_1d tdual_index;
-  typedef Kokkos::View<tagint *, DeviceType> t_partners;
+  typedef Kokkos::View<int64_t *, DeviceType> t_partners;
   typedef Kokkos::View<double *, DeviceType> t_values;
   typedef Kokkos::View<int *, DeviceType> t_index;
 
   FixGriddemKokkos(class LAMMPS *, int, char **);
   ~FixGriddemKokkos() override;
   void post_constructor() override;
-  void init() override;
 
   void grow_arrays(int) override;
   void copy_arrays(int, int, int) override;
   void set_arrays(int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
-  int pack_restart(int, double *) override;
-  void unpack_restart(int, int) override;
-  int size_restart(int) override;
-  int maxsize_restart() override;
   double memory_usage() override;
 
   void sort_kokkos(Kokkos::BinSort<KeyViewType, BinOp> &Sorter) override;
@@ -68,8 +61,14 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void unpack_exchange_kokkos(DAT::tdual_xfloat_2d &k_buf, DAT::tdual_int_1d &k_indices, int nrecv,
                               int nrecv1, int nextrarecv1, ExecutionSpace space) override;
 
+  int kokkos_history() const override { return 1; }
+  int history_values() const override { return nv; }
   void set_values(int values) override;
-  const double *find_history(int i, double partner) const override;
+  const double *find_history(int i, tagint partner) override;
+  int get_message(int i, double *message) override;
+  int message_length(int i) override;
+  int longest_message() override;
+  void put_message(int i, const double *message) override;
 
   // For the pair's sweep, on its device: the rows of the last step (read), and the rows the
   // sweep writes (first_out, count_out), in room for at least `entries` that `reserve_out`
@@ -83,7 +82,6 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void reserve_out(long entries);
   long out_room() const;
   void commit(long entries, int longest_row);
-  int values_per_contact() const { return nv; }
 
  private:
   tdual_partners k_partner[2];    // the pools; [cur]: the current rows
@@ -94,7 +92,7 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   long used;        // entries of pool cur in use (rows, and holes left by atoms that left)
   int nv;           // history values per contact
   int longest;      // most entries of one row
-  mutable double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
+  double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
   void sync_host();
   void modify_host();
   // make pool p's arrays current on DeviceType / mark them written there
@@ -109,8 +107,6 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   }
   // room for `entries` in pool p, its first `keep` entries kept
   void reserve_pool(int p, long entries, long keep);
-  // append a row message (count, then partner and values per entry) as atom i's row
-  int put_row(int i, const double *message);
   void update_maxexchange();
 };
 

@@ -131,7 +131,7 @@ struct GriddemKKGrid {
   // lower face along d of cell c
   KOKKOS_INLINE_FUNCTION double corner(int d, int c) const
   {
-    return anchor[d] + (double) (k0[d] + c) * h;
+    return griddem_cell_face(anchor[d], h, k0[d] + c);
   }
 };
 
@@ -562,12 +562,9 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   }
 
   // the entry of partner p in atom i's last row, or -1
-  KOKKOS_INLINE_FUNCTION int find(int i, tagint p) const
+  KOKKOS_INLINE_FUNCTION long find(int i, int64_t p) const
   {
-    const int first = rows.first(i), last = first + rows.count(i);
-    for (int e = first; e < last; e++)
-      if (rows.partner(e) == p) return e;
-    return -1;
+    return griddem_history_entry(rows.partner.data(), rows.first(i), rows.count(i), p);
   }
 
   // history values per contact the kernel holds: loops over nhist with constant bounds let a
@@ -596,34 +593,26 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       const double dx = sep[0], dy = sep[1], dz = sep[2];
       const int jtype = this->tm(u, 0), jmask = this->tm(u, 1);
       const griddem_pair_params *law = &params(itype * (this->ntypes + 1) + jtype);
-      const tagint partner = track ? tag(this->order(u)) : 0;
-      const int found = track ? find(i, partner) : -1;
+      const int64_t partner = track ? tag(this->order(u)) : 0;
+      const long found = track ? find(i, partner) : -1;
       if (this->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, found >= 0)) continue;
 
       griddem_contact c;
-      c.dx[0] = dx, c.dx[1] = dy, c.dx[2] = dz;
-      c.rsq = rsq;
-      c.radi = radi, c.radj = radj;
-      for (int d = 0; d < 3; d++) {
-        c.vr[d] = state(s, d) - state(u, d);
-        c.wi[d] = state(s, 3 + d), c.wj[d] = state(u, 3 + d);
-      }
-      c.meff = griddem_effective_mass(mi, state(u, 6), (imask & frozen_bit) != 0,
-                                      (jmask & frozen_bit) != 0);
-      c.dt = dt;
-      c.history_update = history_update;
-      c.fr[0] = c.fr[1] = c.fr[2] = 0.0;
+      const double vi[3] = {state(s, 0), state(s, 1), state(s, 2)}, wi[3] = {state(s, 3), state(s, 4), state(s, 5)};
+      const double vj[3] = {state(u, 0), state(u, 1), state(u, 2)}, wj[3] = {state(u, 3), state(u, 4), state(u, 5)};
+      griddem_contact_setup(&c, sep, rsq, radi, radj, vi, vj, wi, wj, mi, state(u, 6), (imask & frozen_bit) != 0,
+                            (jmask & frozen_bit) != 0, dt, history_update);
       double hist[nhist];
       for (int h = 0; h < nhist; h++)
-        hist[h] = (found >= 0 && h < nv) ? rows.value((long) found * nv + h) : 0.0;
+        hist[h] = (found >= 0 && h < nv) ? rows.value(found * nv + h) : 0.0;
       double fc[3], ti[3], tj[3];
       const double uel = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj)
                                  : griddem_contact_eval(law, &c, hist, fc, ti, tj);
-      if (track) {
-        const int o = out + stored++;
+      if (track) {    // griddem_history_put's layout, its loop bound constant (hist stays in registers)
+        const long o = out + stored++;
         rows.partner_out(o) = partner;
         for (int h = 0; h < nhist; h++)
-          if (h < nv) rows.value_out((long) o * nv + h) = hist[h];
+          if (h < nv) rows.value_out(o * nv + h) = hist[h];
       }
       for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
       energy += 0.5 * uel;

@@ -12,7 +12,7 @@
 #include "atom_masks.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_griddem.h"
+#include "fix_griddem_face.h"
 #include "force.h"
 #include "griddem_grid.h"
 #include "memory_kokkos.h"
@@ -579,7 +579,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.dt = this->update->dt;
   sweep.history_update = this->update->setupflag ? 0 : 1;
   sweep.track = track;
-  sweep.nv = track ? history->values_per_contact() : 0;
+  sweep.nv = track ? history->history_values() : 0;
   sweep.state = chan.state;
   sweep.tag = atomKK->k_tag.template view<DeviceType>();
   sweep.params = d_params;

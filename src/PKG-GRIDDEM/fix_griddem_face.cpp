@@ -1,0 +1,202 @@
+/* ----------------------------------------------------------------------
+   GRIDDEM package: what every fix griddem is (fix_griddem_face.h): its options, the grid diagnostics,
+   and the per-atom contact history as row messages through the store's face, so that exchange
+   and restart files are one format whichever store holds the rows.
+------------------------------------------------------------------------- */
+
+#include "fix_griddem_face.h"
+
+#include "atom.h"
+#include "error.h"
+#include "force.h"
+#include "modify.h"
+#include "pair.h"
+
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+GriddemPairLink *LAMMPS_NS::griddem_pair_link(Pair *pair)
+{
+  int dim;
+  return pair ? static_cast<GriddemPairLink *>(pair->extract("griddem", dim)) : nullptr;
+}
+
+FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6),
+    precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0), stats_current(0),
+    step_stats()
+{
+  int iarg = 3;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "cell") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem cell", error);
+      if (strcmp(arg[iarg + 1], "auto") == 0)
+        cell_mode = GRIDDEM_CELL_AUTO;
+      else if (strcmp(arg[iarg + 1], "exact") == 0)
+        cell_mode = GRIDDEM_CELL_EXACT;
+      else if (strcmp(arg[iarg + 1], "multi") == 0)
+        cell_mode = GRIDDEM_CELL_MULTI;
+      else if (strcmp(arg[iarg + 1], "classes") == 0)
+        cell_mode = GRIDDEM_CELL_CLASSES;
+      else {
+        cell_mode = GRIDDEM_CELL_FIXED;
+        cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+        if (cell_edge <= 0.0)
+          error->all(FLERR, "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not {}",
+                     arg[iarg + 1]);
+      }
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "contacts") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem contacts", error);
+      contacts = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (contacts < 0 || contacts > 10000)
+        error->all(FLERR, "Fix griddem contacts must be between 0 and 10000, not {}", contacts);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "precision") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem precision", error);
+      if (strcmp(arg[iarg + 1], "double") == 0)
+        precision = GRIDDEM_PRECISION_DOUBLE;
+      else if (strcmp(arg[iarg + 1], "single") == 0)
+        precision = GRIDDEM_PRECISION_SINGLE;
+      else
+        error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "search") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem search", error);
+      if (strcmp(arg[iarg + 1], "auto") == 0)
+        search = GRIDDEM_SEARCH_AUTO;
+      else if (strcmp(arg[iarg + 1], "thread") == 0)
+        search = GRIDDEM_SEARCH_THREAD;
+      else if (strcmp(arg[iarg + 1], "team") == 0)
+        search = GRIDDEM_SEARCH_TEAM;
+      else
+        error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else
+      error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
+  }
+  vector_flag = 1;
+  size_vector = 7;
+  global_freq = 1;
+  extvector = 0;
+  restart_peratom = 1;
+  create_attribute = 1;        // atoms made later (create_atoms, fix pour) start with no contacts
+  maxexchange_dynamic = 1;     // an atom's row is as long as its contacts: sized after each step
+
+  // the store's own constructor sizes its per-atom arrays before any callback comes
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+
+  // Modify replaces a fix of the same ID in place: it deletes the old one and leaves its slot
+  // empty while it makes the new one
+  int in_place = 0;
+  for (int k = 0; k < modify->nfix; k++) in_place |= modify->fix[k] == nullptr;
+  if (auto pair = griddem_pair_link(force->pair)) pair->fix_made(this, in_place);
+}
+
+FixGriddem::~FixGriddem()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+}
+
+int FixGriddem::setmask()
+{
+  return 0;
+}
+
+void FixGriddem::leave()
+{
+  auto pair = force ? griddem_pair_link(force->pair) : nullptr;
+  if (pair) pair->fix_leaving(this);
+}
+
+void FixGriddem::put_history(int i, const double *record)
+{
+  set_values(griddem_restart_values(record));
+  put_message(i, griddem_restart_message(record));
+}
+
+void FixGriddem::drop_history()
+{
+  for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
+  stats_current = 0;
+}
+
+// exchange and restart carry the row as a message
+
+int FixGriddem::pack_exchange(int i, double *buf)
+{
+  return get_message(i, buf);
+}
+
+int FixGriddem::unpack_exchange(int nlocal, double *buf)
+{
+  put_message(nlocal, buf);
+  return message_length(nlocal);
+}
+
+int FixGriddem::pack_restart(int i, double *buf)
+{
+  // the values per contact go with the row, so a run with other sub-models can read it
+  return griddem_restart_frame(buf, history_values(), get_message(i, buf + GRIDDEM_RESTART_HEADER));
+}
+
+void FixGriddem::unpack_restart(int nlocal, int nth)
+{
+  const double *record = griddem_restart_record(atom->extra[nlocal], nth);
+  // take the file's layout (the pair style, made later, converts it if its sub-models differ)
+  const int record_values = griddem_restart_values(record);
+  if (record_values != history_values()) set_values(record_values);
+  put_message(nlocal, griddem_restart_message(record));
+}
+
+int FixGriddem::size_restart(int nlocal)
+{
+  return GRIDDEM_RESTART_HEADER + message_length(nlocal);
+}
+
+// the longest record of any atom on any process (the file header states one size for all)
+
+int FixGriddem::maxsize_restart()
+{
+  int mine = GRIDDEM_RESTART_HEADER + longest_message(), most;
+  MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, world);
+  return most;
+}
+
+/* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,
+   4 cell edge, 5 contacts (pairs), 6 most contacts of one atom, 7 elastic energy in contacts */
+
+double FixGriddem::compute_vector(int n)
+{
+  if (!stats_current) {
+    const char *pair_style = force->pair_style ? force->pair_style : "none";
+    if (!griddem_pair_link(force->pair))
+      error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} is not a griddem pair style",
+                 id, pair_style);
+    error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} has run none with it yet",
+               id, pair_style);
+  }
+  // counted when asked: only the Kokkos styles leave it so, and their pair ran this step (the
+  // values are current), so force->pair is the style that can count it
+  if ((n == 0 || n == 1) && step_stats.occupied_cells < 0)
+    griddem_pair_link(force->pair)->count_occupancy(step_stats);
+  const griddem_engine_stats &s = step_stats;
+  double value = 0.0, mine = 0.0;
+  MPI_Op op = MPI_MAX;
+  switch (n) {
+    case 0: mine = (double) s.occupied_cells, op = MPI_SUM; break;
+    case 1: mine = s.max_occupancy; break;
+    case 2: mine = s.max_cells_moved; break;
+    case 3: mine = s.cell_edge; break;
+    case 4: mine = 0.5 * (double) s.contacts, op = MPI_SUM; break;    // each seen from both atoms
+    case 5: mine = s.max_contacts; break;
+    case 6: mine = s.elastic_energy, op = MPI_SUM; break;
+  }
+  MPI_Allreduce(&mine, &value, 1, MPI_DOUBLE, op, world);
+  return value;
+}

@@ -1,0 +1,92 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   GRIDDEM package: what every fix griddem is (options, diagnostics, the contact-history store's
+   face); the styles are fix_griddem.h (the CPU store) and kokkos/fix_griddem_kokkos.h.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_FIX_GRIDDEM_FACE_H
+#define LMP_FIX_GRIDDEM_FACE_H
+
+#include "fix.h"
+#include "griddem_engine.h"
+#include "griddem_pair_link.h"
+
+namespace LAMMPS_NS {
+
+enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
+// the Kokkos styles' search: a thread per atom reading its candidates from device memory, or a
+// team per block of cells with their neighbourhood staged in scratch memory; auto: teams on a GPU
+enum { GRIDDEM_SEARCH_AUTO, GRIDDEM_SEARCH_THREAD, GRIDDEM_SEARCH_TEAM };
+
+
+/* What every fix griddem is: the grid options, the grid diagnostics (a global vector) and the
+   face of the contact-history store that the griddem pair styles read and write. The store keeps
+   per atom the row of its contacts; rows migrate with their atoms and go into restart files as
+   row messages (griddem_history.h), one format for both stores: FixGriddemCPU (fix griddem, a
+   griddem_history in host memory, which the CPU styles' engine sweeps; fix_griddem.h) and FixGriddemKokkos (fix
+   griddem/kk, pools on the Kokkos device, which the kk kernels sweep). */
+class FixGriddem : public Fix {
+ public:
+  FixGriddem(class LAMMPS *, int, char **);
+  ~FixGriddem() override;
+  int setmask() override;
+
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+  double compute_vector(int) override;
+
+  // the store's face
+  // 1: the rows live on the Kokkos device (fix griddem/kk), for the kk pair styles
+  virtual int kokkos_history() const = 0;
+  virtual int history_values() const = 0;
+  // a new layout of values per contact: each stored row keeps its values up to the shorter length
+  virtual void set_values(int values) = 0;
+  // stored history values of atom i's contact with the atom tagged partner, or nullptr
+  virtual const double *find_history(int i, tagint partner) = 0;
+  // atom i's row as a message, returning its length in doubles; the length it has; the longest
+  // of any atom of this process
+  virtual int get_message(int i, double *message) = 0;
+  virtual int message_length(int i) = 0;
+  virtual int longest_message() = 0;
+  // atom i takes the row of a message with history_values() values per contact
+  virtual void put_message(int i, const double *message) = 0;
+
+  // atom i takes the row of a record laid out as pack_restart writes it
+  void put_history(int i, const double *record);
+  // every atom's row emptied; the grid values are refused until a griddem pair style's next step
+  void drop_history();
+
+  // the statistics of a griddem pair style's last step with this fix, its occupancy as -1
+  // where the pair style counts it when asked (GriddemPairLink)
+  const griddem_engine_stats &stats() const { return step_stats; }
+  void set_stats(const griddem_engine_stats &s)
+  {
+    step_stats = s;
+    stats_current = 1;
+  }
+
+  // grid options (keywords cell and contacts)
+  int cell_mode;        // enum griddem_cell_mode
+  double cell_edge;     // for GRIDDEM_CELL_FIXED
+  int contacts;         // expected contacts per atom (initial history storage); 0: no history
+  int precision;        // of the sorted particle data (the Kokkos styles); GRIDDEM_PRECISION_*
+  int search;           // the Kokkos styles' search; GRIDDEM_SEARCH_*
+
+  int made_by_pair;     // 1: the pair style's own fix, deleted with the pair style
+
+ protected:
+  // tells the pair style this fix goes, while its rows can still be read: called by the
+  // destructor of the most derived class
+  void leave();
+
+ private:
+  int stats_current;    // step_stats are of a griddem pair style's step with this fix
+  griddem_engine_stats step_stats;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
