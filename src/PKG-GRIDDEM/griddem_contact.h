@@ -74,7 +74,6 @@ GRIDDEM_INLINE void griddem_contact_setup(griddem_contact *c, const double *dx, 
     c->dx[d] = dx[d];
     c->vr[d] = vi[d] - vj[d];
     c->wi[d] = wi[d], c->wj[d] = wj[d];
-    c->fr[d] = 0.0; /* set by a rolling model only */
   }
   c->rsq = rsq;
   c->radi = radi, c->radj = radj;

@@ -594,6 +594,7 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   griddem_contact_setup(&c, dx, rsq, radius[i], radius[j], v[i], v[j], omega[i], omega[j], atom->rmass[i],
                         atom->rmass[j], (mask[i] & freeze_group_bit) != 0, (mask[j] & freeze_group_bit) != 0,
                         update->dt, 0);
+  c.fr[0] = c.fr[1] = c.fr[2] = 0.0;    // set by a rolling model only, reported by all
 
   double f[3], ti[3], tj[3];
   griddem_contact_eval(law, &c, hv, f, ti, tj);
