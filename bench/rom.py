@@ -3,7 +3,7 @@
 
     /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
-    /usr/bin/python3 bench/rom.py --scene hopper [--seg 5000] [--train-feed R,R,R,R/R,R,R,R/...]
+    /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
 
 Scene pile (examples/rom-pile, the default): the outlet width is the control.
@@ -134,7 +134,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lmp", default=os.path.join(ROOT, "build", "lmp"))
     ap.add_argument("--scene", choices=("pile", "hopper"), default="pile")
-    ap.add_argument("--seg", type=int, default=5000, help="hopper: steps per feed-rate segment")
+    ap.add_argument("--seg", type=int, default=1500, help="hopper: steps per feed-rate segment")
     ap.add_argument("--train-feed", default="0.05,0.2,0.1,0/0.15,0,0.2,0.05/0,0.1,0.05,0.2",
                     help="hopper: the training runs' feed-rate histories (segments by commas, runs by /)")
     ap.add_argument("--test-feed", default="0.12,0.03,0.18,0.08", help="hopper: the test's feed-rate history")
