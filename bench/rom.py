@@ -1,8 +1,12 @@
 #!/usr/bin/python3
-"""Adaptive reduced-order DEM against resolved DEM on the rom-pile scene, in one job.
+"""Adaptive reduced-order DEM against resolved DEM, in one job.
 
     /usr/bin/python3 bench/rom.py [--lmp build/lmp] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
+    /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
+                                  [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
+
+Scene pile (examples/rom-pile, the default): the outlet width is the control.
 
 Runs (in bench/work-rom/W<W>H<H>[I<inlet>], kept between calls: training runs and the model are reused
 when present) the resolved training runs at the outlet widths --train, fits the ridge model
@@ -11,10 +15,16 @@ appends one JSON line to bench/results/rom.jsonl: date, machine, scene, atoms, l
 speed-up (and the same from the runs' CPU times), the mean fraction of kinematic atoms (the reduction), surface-height accuracy,
 velocity-field and granular-temperature errors (examples/rom-pile/compare.py defines them), and
 with --noise-seed the same accuracies of a resolved run with another seed (the noise floor);
---plot draws examples/rom-pile/plot_rom.py's figure."""
+--plot draws examples/rom-pile/plot_rom.py's figure.
+
+Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
+(in.build, pile.restart in bench/work-rom/hopper) and every run starts from it; the control is the
+feed rate, a history of --seg-step segments; training runs at the --train-feed histories, the test
+at --test-feed (a history not trained)."""
 import argparse
 import json
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -22,6 +32,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
+HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 sys.path.insert(0, EXAMPLE)
 sys.path.insert(0, HERE)
 
@@ -40,26 +51,56 @@ def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
     return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--lmp", default=os.path.join(ROOT, "build", "lmp"))
-    ap.add_argument("--W", type=int, default=20, help="container width (even)")
-    ap.add_argument("--H", type=int, default=26, help="box top above the plate (H+6 even)")
-    ap.add_argument("--fill", type=float, default=9, help="initial pile height")
-    ap.add_argument("--inlet", type=float, help="width of the feed region (default W - 2)")
-    ap.add_argument("--steps", type=int, default=30000)
-    ap.add_argument("--train", default="3,4,5,6", help="outlet widths of the training runs")
-    ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
-    ap.add_argument("--eps", type=float, default=0.1)
-    ap.add_argument("--every", type=int, default=10)
-    ap.add_argument("--block", type=float, default=0.0, help="fix griddem/rom keyword block (0: atom by atom)")
-    ap.add_argument("--walls", default="rom_dynamic", help="group of the walls in the reduced run (all: the force "
-                    "rule watches kinematic atoms at walls)")
-    ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
-    ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
-    ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
-    a = ap.parse_args()
-    lmp = os.path.abspath(a.lmp)
+def run_lammps(lmp, wd, inp, tag, variables):
+    """Runs an input of examples/rom-hopper in wd; returns the CPU time it took."""
+    args = [lmp, "-in", os.path.join(HOPPER, inp), "-var", "scene", os.path.join(HOPPER, "in.hopper-scene"),
+            "-log", "log." + tag, "-echo", "none", "-screen", "none"]
+    for k, v in variables.items():
+        args += ["-var", k] + (v if isinstance(v, list) else [str(v)])
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(args, cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def hopper_runs(a, lmp):
+    """The hopper study's runs: (work folder, resolved tag, reduced tag, noise tag or None, CPU times,
+    scene name). Built pile, training runs and model are reused when present."""
+    wd = os.path.join(HERE, "work-rom", "hopper")
+    os.makedirs(wd, exist_ok=True)
+    if not os.path.exists(os.path.join(wd, "pile.restart")):
+        run_lammps(lmp, wd, "in.build", "build", {})
+    specs = []
+    for history in a.train_feed.split("/"):
+        tag = "train.f%s.s%d" % (history.replace(",", "_"), a.seg)
+        rates = history.split(",")
+        with open(os.path.join(wd, "ctl.%s.txt" % tag), "w") as f:
+            f.write("# until_step feed_rate\n")
+            f.writelines("%d %s\n" % ((k + 1) * a.seg, r) for k, r in enumerate(rates))
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % tag)):
+            run_lammps(lmp, wd, "in.feed", tag, dict(rate=rates, seg=a.seg, tag=tag))
+        specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
+    model = "rom.%s.s%d.model" % (a.train_feed.replace(",", "_").replace("/", "-"), a.seg)
+    if not os.path.exists(os.path.join(wd, model)):
+        subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=wd, check=True,
+                       stdout=subprocess.DEVNULL)
+    test = a.test_feed.split(",")
+    name = "f%s" % a.test_feed.replace(",", "_")
+    res, rom = "test.%s.resolved" % name, "test.%s.rom.e%g.n%d" % (name, a.eps, a.every)
+    cpu_res = run_lammps(lmp, wd, "in.feed", res, dict(rate=test, seg=a.seg, tag=res))
+    cpu_rom = run_lammps(lmp, wd, "in.feed", rom, dict(rate=test, seg=a.seg, tag=rom, mode="rom", model=model,
+                                                       eps=a.eps, v0=a.v0, every=a.every))
+    noise = None
+    if a.noise_seed is not None:
+        noise = "test.%s.resolved.seed%d" % (name, a.noise_seed)
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % noise)):    # its timing is not used
+            run_lammps(lmp, wd, "in.feed", noise, dict(rate=test, seg=a.seg, tag=noise, seed=a.noise_seed))
+    scene = "rom-hopper seg %d train %s test %s" % (a.seg, a.train_feed, a.test_feed)
+    return wd, res, rom, noise, cpu_res, cpu_rom, scene
+
+
+def pile_runs(a, lmp):
+    """The pile study's runs, as hopper_runs returns them."""
     scene = dict(W=a.W, H=a.H, fill=a.fill)
     if a.inlet is not None:
         scene["inlet"] = a.inlet
@@ -85,6 +126,37 @@ def main():
         noise = "test.w%g.resolved.seed%d" % (a.test, a.noise_seed)
         if not os.path.exists(os.path.join(wd, "cg.%s.txt" % noise)):    # its timing is not used
             run_pile(lmp, wd, scene, a.steps, a.test, noise, ["-var", "seed", str(a.noise_seed)])
+    name = "rom-pile W%d H%d fill %g inlet %g" % (a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet)
+    return wd, res, rom, noise, cpu_res, cpu_rom, name
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lmp", default=os.path.join(ROOT, "build", "lmp"))
+    ap.add_argument("--scene", choices=("pile", "hopper"), default="pile")
+    ap.add_argument("--seg", type=int, default=1500, help="hopper: steps per feed-rate segment")
+    ap.add_argument("--train-feed", default="0.05,0.2,0.1,0/0.15,0,0.2,0.05/0,0.1,0.05,0.2",
+                    help="hopper: the training runs' feed-rate histories (segments by commas, runs by /)")
+    ap.add_argument("--test-feed", default="0.12,0.03,0.18,0.08", help="hopper: the test's feed-rate history")
+    ap.add_argument("--v0", type=float, default=0.36, help="hopper: velocity scale of the threshold")
+    ap.add_argument("--W", type=int, default=20, help="container width (even)")
+    ap.add_argument("--H", type=int, default=26, help="box top above the plate (H+6 even)")
+    ap.add_argument("--fill", type=float, default=9, help="initial pile height")
+    ap.add_argument("--inlet", type=float, help="width of the feed region (default W - 2)")
+    ap.add_argument("--steps", type=int, default=30000)
+    ap.add_argument("--train", default="3,4,5,6", help="outlet widths of the training runs")
+    ap.add_argument("--test", type=float, default=4.5, help="outlet width of the test")
+    ap.add_argument("--eps", type=float, default=0.1)
+    ap.add_argument("--every", type=int, default=10)
+    ap.add_argument("--block", type=float, default=0.0, help="fix griddem/rom keyword block (0: atom by atom)")
+    ap.add_argument("--walls", default="rom_dynamic", help="group of the walls in the reduced run (all: the force "
+                    "rule watches kinematic atoms at walls)")
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
+    ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
+    ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
+    a = ap.parse_args()
+    lmp = os.path.abspath(a.lmp)
+    wd, res, rom, noise, cpu_res, cpu_rom, scene = (hopper_runs if a.scene == "hopper" else pile_runs)(a, lmp)
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
@@ -103,11 +175,14 @@ def main():
         subprocess.run([sys.executable, os.path.join(EXAMPLE, "plot_rom.py"), res, rom] + ([noise] if noise else []) +
                        [os.path.abspath(os.path.join(here, a.plot))], check=True)
     os.chdir(here)
-    _, steps, atoms = benchlib.loop_time(open(os.path.join(wd, "log." + res)).read(), res)
+    log = open(os.path.join(wd, "log." + res)).read()
+    _, _, atoms = benchlib.loop_time(log, res)
+    steps = sum(int(n) for n in re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps", log))
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
-                scene="rom-pile W%d H%d fill %g inlet %g" % (a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet),
-                natoms=atoms, steps=steps,
-                train=a.train, test=a.test, eps=a.eps, every=a.every, block=a.block, walls=a.walls, ranks=1, threads=1,
+                scene=scene, natoms=atoms, steps=steps,
+                **(dict(train=a.train, test=a.test, block=a.block, walls=a.walls) if a.scene == "pile" else
+                   dict(v0=a.v0)),
+                eps=a.eps, every=a.every, ranks=1, threads=1,
                 **{k: round(v, 4) for k, v in c.items() if isinstance(v, float)})
     print(json.dumps(line))
     with open(a.out, "a") as f:

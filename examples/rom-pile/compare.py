@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Resolved against reduced-order run of the same scene:
     compare.py RESOLVED_TAG ROM_TAG      (reads cg.TAG.txt and log.TAG)
-- speed-up: LAMMPS loop time of the resolved run / of the reduced run;
+- speed-up: LAMMPS loop time of the resolved run / of the reduced run (summed over the runs of a
+  log: a run in segments, examples/rom-hopper, has several);
 - surface height: per voxel column (x), the mass-equivalent fill height of the container
   h = (mass above the plate, z > 0, per unit area) / (rho_bulk), rho_bulk = 0.6 (the same for both
   runs, so the error is independent of it); accuracy = 1 - mean over frames (second half of the
@@ -24,7 +25,7 @@ RHO_BULK = 0.6
 def loop_time(tag):
     with open("log." + tag) as f:
         times = re.findall(r"Loop time of ([0-9.eE+-]+) on", f.read())
-    return float(times[-1])
+    return sum(float(t) for t in times)
 
 
 def heights(frame):

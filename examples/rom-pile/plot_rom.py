@@ -3,7 +3,7 @@
 
     plot_rom.py RESOLVED_TAG ROM_TAG [NOISE_TAG] OUT.png
 
-Top: the last snapshots (atoms.TAG.txt), resolved and reduced, the reduced one coloured kinematic
+Top: the last snapshots (atoms.TAG.txt: id x z kinematic [diameter]), resolved and reduced, the reduced one coloured kinematic
 (blue) / dynamic (red). Bottom left: surface-height accuracy of each frame against the resolved
 run (and of a resolved run with another seed, NOISE_TAG: the chaotic noise floor). Bottom right:
 the kinematic fraction after each classification (thermo of log.ROM_TAG)."""
@@ -39,7 +39,9 @@ def main():
         ax = fig.add_subplot(2, 2, 1 + col)
         step, a = last_snapshot("atoms.%s.txt" % tag)
         colour = np.where(a[:, 3] > 0.5, "tab:blue", "tab:red")
-        ax.scatter(a[:, 1], a[:, 2], s=6, c=colour, linewidths=0)
+        # a fifth column holds diameters: markers of about the spheres' size (a panel is ~4.5 in)
+        size = (4.5 * 72 / np.ptp(a[:, 1]) * a[:, 4]) ** 2 if a.shape[1] > 4 else 6
+        ax.scatter(a[:, 1], a[:, 2], s=size, c=colour, linewidths=0)
         nkin = int((a[:, 3] > 0.5).sum())
         ax.set_title("%s, step %d: %d atoms%s" % (title, step, len(a),
                                                    ", %d kinematic (blue)" % nkin if col else ""))

@@ -2,7 +2,12 @@
 """Ridge regression of the voxel velocity field on the voxel density field and the controls,
 from resolved runs' coarse-grained fields (dump grid of compute griddem/cg density vx vy vz).
 
-    train_rom.py OUT.model DUMP:CONTROL[,CONTROL...] [DUMP:CONTROL ...]
+    train_rom.py OUT.model DUMP:CONTROLS [DUMP:CONTROLS ...]
+
+CONTROLS: the run's control values, CONTROL[,CONTROL...] (constant), or @FILE for controls that
+change during the run: FILE has rows "UNTIL_STEP CONTROL [CONTROL...]", in increasing
+UNTIL_STEP; a frame at step s takes the first row with s <= UNTIL_STEP (the values in effect
+during step s, when its fields were dumped).
 
 Features per frame: the densities of all voxels and the controls, each standardised over the
 training frames (a spread below 5% of the median spread counts as that: a voxel the training
@@ -20,13 +25,25 @@ from romtools import read_grid_dump, write_model
 STD_FLOOR = 0.05    # of the median feature spread: the smallest spread a feature is scaled by
 
 
+def control_values(controls, step):
+    """The controls in effect at a step: constant (comma-separated) or from an @FILE schedule."""
+    if not controls.startswith("@"):
+        return [float(v) for v in controls.split(",")]
+    with open(controls[1:]) as f:
+        for line in f:
+            w = line.split()
+            if w and not w[0].startswith("#") and step <= int(w[0]):
+                return [float(v) for v in w[1:]]
+    raise SystemExit("%s: no control row for step %d" % (controls[1:], step))
+
+
 def load(specs):
     runs, n, box = [], None, None
     for spec in specs:
         path, controls = spec.rsplit(":", 1)
-        c = [float(v) for v in controls.split(",")]
         X, Y = [], []
         for step, b, nn, cols in read_grid_dump(path):
+            c = control_values(controls, step)
             if n is None:
                 n, box = nn, b
             if nn != n or not np.allclose(b, box):

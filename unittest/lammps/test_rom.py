@@ -19,7 +19,8 @@
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
 - the field and density as grid data (dump grid) on 1 and 2 processes;
 - a resolved region keeps its atoms dynamic, also as its bound moves; a missing one is refused;
-- train_rom.py recovers an exact linear map (synthetic fields): every weight to 1e-3."""
+- train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
+  schedule file): every weight to 1e-3."""
 import math
 import os
 import sys
@@ -386,18 +387,25 @@ def training():
     A = [[rng.uniform(-1, 1) for _ in range(m + 1)] for _ in range(3 * m)]   # density + control
     b = [rng.uniform(-1, 1) for _ in range(3 * m)]
     specs = []
-    for run, w in enumerate((1.0, 2.0, 3.0)):
+    # the third run's control changes during the run (a schedule file: until step 100 it is 0.5,
+    # until 200 2.5, then 1.5); a frame at step 100 still has 0.5
+    schedule = os.path.join(WD, "syn_schedule.txt")
+    with open(schedule, "w") as f:
+        f.write("# until_step control\n100 0.5\n200 2.5\n290 1.5\n")
+    for run, control in enumerate((1.0, 2.0, None)):
         path = os.path.join(WD, "syn%d.txt" % run)
         with open(path, "w") as f:
             for frame in range(30):
+                step = frame * 10
+                w = control if control is not None else (0.5 if step <= 100 else 2.5 if step <= 200 else 1.5)
                 rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
                 vel = [b[r] + sum(A[r][k] * rho[k] for k in range(m)) + A[r][m] * w for r in range(3 * m)]
-                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % (frame * 10))
+                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % step)
                 f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
                 f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
                 for v in range(m):
                     f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
-        specs.append("%s:%g" % (path, w))
+        specs.append("%s:%s" % (path, "%g" % control if control is not None else "@" + schedule))
     here = os.path.dirname(os.path.abspath(__file__))
     script = os.path.join(os.path.dirname(os.path.dirname(here)), "examples", "rom-pile", "train_rom.py")
     import subprocess
@@ -418,7 +426,8 @@ def training():
     W = [[float(x) for x in words[k + 3 + r * ncol:k + 3 + (r + 1) * ncol]] for r in range(nrow)]
     worst = max(max(abs(W[r][0] - b[r]), max(abs(W[r][1 + c] - A[r][c]) for c in range(m + 1)))
                 for r in range(nrow))
-    t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map (worst weight error %.2g)" % worst)
+    t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map, controls constant and scheduled (worst "
+            "weight error %.2g)" % worst)
 
 
 def model_step():
