@@ -14,7 +14,8 @@ a step waits for the device once between reneighborings (section synchronisation
 
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
-instead of OpenMP threads and 1 and 2 ranks. `--only laws,growth,...` runs the named sections
+instead of OpenMP threads and 1 and 2 ranks; a build whose only host back end is Serial (lmp -h:
+"KOKKOS package API: Serial") runs on 1 thread and 1 and 2 ranks. `--only laws,growth,...` runs the named sections
 (SECTIONS, at the end) alone."""
 import os
 import re
@@ -35,16 +36,20 @@ RANKS = (1,) if GPUS else (1, 2)
 THREADS = (1,) if GPUS else (1, 2)
 
 
-def installed_packages():
-    """Package names in the 'Installed packages:' section of lmp -h."""
+def lmp_help():
+    """lmp -h's text."""
     try:
-        out = subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                             universal_newlines=True, timeout=120).stdout
+        return subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              universal_newlines=True, timeout=120).stdout
     except OSError as e:
         print("cannot run %s: %s" % (t.LMP, e))
         sys.exit(1)
+
+
+def installed_packages(text):
+    """Package names in the 'Installed packages:' section of lmp -h."""
     packages, inside = set(), False
-    for line in out.splitlines():
+    for line in text.splitlines():
         if line.startswith("Installed packages:"):
             inside = True
             continue
@@ -55,6 +60,12 @@ def installed_packages():
                 continue
             packages.update(line.split())
     return packages
+
+
+def kokkos_backends(text):
+    """The Kokkos back ends lmp -h names ("KOKKOS package API: OpenMP Serial")."""
+    found = re.search(r"^KOKKOS package API:(.*)$", text, re.M)
+    return set(found.group(1).split()) if found else set()
 
 
 def kk_args(threads):
@@ -142,11 +153,18 @@ HISTORY = LAWS[5]
 
 
 def main():
-    packages = installed_packages()
+    global THREADS
+    text = lmp_help()
+    packages = installed_packages(text)
     if "KOKKOS" not in packages:
         print("SKIPPED: %s has no KOKKOS package (installed: %s); configure with -DPKG_KOKKOS=on "
               "(README, 'Building with KOKKOS') and set GRIDDEM_LMP to that lmp" % (t.LMP, " ".join(sorted(packages))))
         sys.exit(SKIP)
+    backends = kokkos_backends(text)
+    if not GPUS and not backends & {"OpenMP", "Threads"}:
+        THREADS = (1,)    # Kokkos refuses more threads without a threading back end
+    print("Kokkos back ends: %s; threads %s, ranks %s" % (" ".join(sorted(backends)) or "?",
+                                                        ",".join(map(str, THREADS)), ",".join(map(str, RANKS))))
 
     only = sys.argv[sys.argv.index("--only") + 1].split(",") if "--only" in sys.argv else list(SECTIONS)
     unknown = [name for name in only if name not in SECTIONS]
