@@ -25,7 +25,7 @@ RHEOLOGY = os.path.join(HERE, "..", "rheology")
 sys.path.insert(0, HERE)
 sys.path.insert(0, RHEOLOGY)
 import deposit as D  # noqa: E402
-from continuum import HeldMu, MuIFlow  # noqa: E402
+from continuum import FollowingBox, HeldMu, MuIFlow  # noqa: E402
 
 WORK = os.path.join(HERE, "work")
 W = 4.4            # periodic depth of in.collapse
@@ -117,16 +117,17 @@ def learned_mu():
     return HeldMu(mu_reg, mu_reg.params["I_max"]), ens
 
 
-def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2):
+def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False):
     """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
     height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
     largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
-    mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling)."""
+    mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling).
+    The solver follows the grains (continuum.FollowingBox) unless full_box."""
     L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
     per_bin = int(round(1.0 / h))
     nx = int(round(Lx / h)) // per_bin * per_bin
     ny = int(math.ceil((H0 + 2.0) / h))
-    f = MuIFlow(nx, ny, h, mu, phi0)
+    f = (MuIFlow if full_box else FollowingBox)(nx, ny, h, mu, phi0)
     f.set_column(L0, H0)
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
@@ -156,7 +157,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
         f.step(min(f.stable_dt(dt_max=dt_max), next_out - f.t), passes)
         steps += 1
     thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
-    return dict(h=h, dt_max=dt_max, passes=passes, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+    return dict(h=h, dt_max=dt_max, passes=passes, full_box=full_box, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
                 wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
