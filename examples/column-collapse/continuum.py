@@ -35,7 +35,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import cho_solve_banded, cholesky_banded
 from scipy.ndimage import map_coordinates
-from scipy.sparse.linalg import splu
+from scipy.sparse.linalg import LinearOperator, cg, splu
 
 
 class GramSystem:
@@ -49,6 +49,7 @@ class GramSystem:
 
     def __init__(self, blocks, order=None):
         self.blocks = [sp.csr_matrix(E) for E in blocks]
+        self.transposes = [E.T.tocsr() for E in self.blocks]
         self.n = self.blocks[0].shape[1]
         self.order = order
         if order is None:
@@ -77,6 +78,19 @@ class GramSystem:
         # only the band's structural nonzeros (about a tenth of its slots) are rows of the map
         self.slots, slot = np.unique((self.bw + r - c) * self.n + c, return_inverse=True)
         self.assemble = sp.csr_matrix((v, (slot, w)), shape=(self.slots.size, offset))
+
+    def apply(self, weights):
+        """x -> A(weights) x, from the blocks (no assembly)."""
+        pairs = [(E, ET, w) for E, ET, w in zip(self.blocks, self.transposes, weights)]
+        return LinearOperator((self.n, self.n), matvec=lambda x: sum(ET @ (w * (E @ x)) for E, ET, w in pairs),
+                             dtype=float)
+
+    def refine(self, weights, b, x0, near, rtol=1e-10, maxiter=20):
+        """x = A(weights)^-1 b by conjugate gradients preconditioned with near (a solver of a nearby
+        A), from x0; None when they do not reach rtol |b| within maxiter iterations."""
+        x, info = cg(self.apply(weights), b, x0=x0, tol=rtol, atol=0.0, maxiter=maxiter,
+                     M=LinearOperator((self.n, self.n), matvec=near, dtype=float))
+        return x if info == 0 else None
 
     def factor(self, weights):
         """A solver x = A(weights)^-1 b; weights: one array per block, in the blocks' order."""
@@ -162,6 +176,7 @@ class MuIFlow(GrainFields):
         self._number_unknowns()
         self._operators()
         self.U = np.zeros(self.nu + self.nv)
+        self.factored = self.refined = 0        # viscous systems factored, and solved by CG instead
 
     # ------------------------------------------------------------ indexing and operators
     def _number_unknowns(self):
@@ -372,12 +387,21 @@ class MuIFlow(GrainFields):
         force_p = h * h * (self.Grad @ self.p.ravel())          # -grad p^n times the cell area
         rhs = M * (Uadv / dt + self.g) + force_p
         solve_pressure = self.pressure_system.factor([1.0 / rho_f, self.gauge])
-        U = self.U
+        U, solve_viscous, Ustar = self.U, None, None
         for _ in range(passes):
             gc, gn = self.strain_rates(U)
             wc = 2 * self.viscosity(c, self.p.ravel(), gc) * h * h
             wn = self.viscosity(c_node, p_node, gn) * self.node_area
-            Ustar = self.viscous_system.factor([wc, wc, wn, M / dt])(rhs)
+            weights = [wc, wc, wn, M / dt]
+            # a further pass changes the viscosity a little: its system is solved by CG preconditioned
+            # with the last factorization (a few banded solves), and factored only when CG stalls
+            if solve_viscous is not None:
+                Ustar = self.viscous_system.refine(weights, rhs, Ustar, solve_viscous)
+                self.refined += Ustar is not None
+            if Ustar is None or solve_viscous is None:
+                solve_viscous = self.viscous_system.factor(weights)
+                Ustar = solve_viscous(rhs)
+                self.factored += 1
             dp = solve_pressure(-(self.Div @ Ustar) / dt)
             U = Ustar + dt * (self.Grad @ dp) / rho_f
         self.U = U
