@@ -30,6 +30,7 @@ from continuum import FollowingBox, HeldMu, MuIFlow  # noqa: E402
 WORK = os.path.join(HERE, "work")
 W = 4.4            # periodic depth of in.collapse
 DUMP_EVERY = 0.5
+SERIES_SPHERES = 1800  # the aspect-ratio series; other column sizes show the size effect
 DT = 0.001         # DEM time step (in.collapse's default: contact time / 23)
 
 
@@ -168,7 +169,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lmp", default=default_lmp())
     ap.add_argument("--aspect", default="0.5,1,2,3")
-    ap.add_argument("--spheres", type=int, default=1800)
+    ap.add_argument("--spheres", type=int, default=SERIES_SPHERES, help="spheres per column (the fits and the "
+                    "speed-ups take the %d-sphere series; other sizes are drawn apart)" % SERIES_SPHERES)
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
     ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
     ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
@@ -232,8 +234,13 @@ def power_fit(a, y):
     return float(math.exp(coef[0])), float(coef[1]), float(math.sqrt(cov[1, 1]))
 
 
+def series(out):
+    """The cases of the aspect-ratio series (SERIES_SPHERES spheres), by a."""
+    return sorted([c for c in out["cases"] if c["dem"]["spheres_requested"] == SERIES_SPHERES], key=lambda c: c["dem"]["a"])
+
+
 def summarise(out):
-    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    cases = series(out)
     a = np.array([c["dem"]["a"] for c in cases])
     summ = dict(a=a.tolist())
     for who in ("dem", "continuum"):
@@ -268,7 +275,8 @@ def plot(out, path=HERE):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    cases = series(out)
+    others = [c for c in out["cases"] if c not in cases]
     summ = out["summary"]
     a = np.array(summ["a"])
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
@@ -278,6 +286,11 @@ def plot(out, path=HERE):
             a1.plot(summ[who]["a"], summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
                     ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
             a2.plot(summ[who]["a"], summ[who]["H0_over_hf"], st, label=who)
+    for c in others:                     # the same material in a larger column: the size effect
+        d = c["dem"]
+        lab = "DEM, %d spheres (L0 = %.0f d)" % (d["spheres"], d["L0"])
+        a1.plot([d["a"]], [(d["runout"] - d["L0"]) / d["L0"]], "r^", label=lab)
+        a2.plot([d["a"]], [d["H0"] / d["final_height"]], "r^", label=lab)
     aa = np.linspace(a.min(), a.max(), 50)
     if "dem" in summ and "runout_fit" in summ["dem"]:
         k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9
@@ -295,8 +308,9 @@ def plot(out, path=HERE):
         ax.set_xscale("log"); ax.set_yscale("log"); ax.set_xlabel("a = H0 / L0"); ax.set_ylabel(lab)
         ax.legend(fontsize=7)
     fig.tight_layout(); fig.savefig(os.path.join(path, "runout.png"), dpi=70)
-    fig, axes = plt.subplots(len(cases), 2, figsize=(10, 2.3 * len(cases)), squeeze=False)
-    for (ax, bx), c in zip(axes, cases):
+    rows = cases + others
+    fig, axes = plt.subplots(len(rows), 2, figsize=(10, 2.3 * len(rows)), squeeze=False)
+    for (ax, bx), c in zip(axes, rows):
         d = c["dem"]
         ax.plot(d["x"], d["profile"], "k-", label="DEM")
         bx.plot(d["t"], d["front"], "k-", label="DEM")
@@ -304,7 +318,7 @@ def plot(out, path=HERE):
             ax.plot(c["continuum"]["x"], c["continuum"]["profile"], "b--", label="continuum")
             bx.plot(c["continuum"]["t"], c["continuum"]["front"], "b--", label="continuum")
         ax.set_xlim(0, max(d["runout"], c.get("continuum", d)["runout"]) * 1.15)
-        ax.set_ylabel("h (a = %.2f)" % d["a"]); bx.set_ylabel("front")
+        ax.set_ylabel("h (a = %.2f, N %d)" % (d["a"], d["spheres"]), fontsize=8); bx.set_ylabel("front")
         ax.legend(fontsize=7)
     axes[-1][0].set_xlabel("x (final deposit)"); axes[-1][1].set_xlabel("t")
     fig.tight_layout(); fig.savefig(os.path.join(path, "profiles.png"), dpi=60)

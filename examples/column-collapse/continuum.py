@@ -443,7 +443,7 @@ class MuIFlow(GrainFields):
 class FollowingBox(GrainFields):
     """MuIFlow on the rows of an nx x ny closed box (walls at x = 0 and nx h, base, top) that the
     grains occupy: the solver runs on the cells [0, nx) x [0, my), whose top (a free-slip wall, as
-    the box's) stays margin_min to margin + 2 quantum rows above the highest row with c > threshold.
+    the box's) stays margin_min to margin + 2 quantum - 2 rows above the highest row with c > threshold.
     Above it the air is at rest (velocity 0) and the cells keep their c (at most threshold: a smear
     that numerical diffusion carries up, frozen, so sum(c) stays conserved to round-off) and p.
     Why: a collapse ends as a layer a third of the column's height, but the banded solves cost
@@ -467,12 +467,12 @@ class FollowingBox(GrainFields):
     def _rows(self):
         """The box's height: margin rows above the highest row with c > threshold, rounded up to a
         multiple of quantum (at most ny); the current height is kept while it is at least margin_min
-        rows above that row and less than 2 quantum above its new height."""
+        rows above that row and less than quantum above its new height."""
         occupied = (self.c > self.threshold).any(axis=0)
         last = int(np.nonzero(occupied)[0].max()) + 1 if occupied.any() else 1
         target = min(self.ny, -(-(last + self.margin) // self.quantum) * self.quantum)
         current = self.box[1]
-        return current if last + self.margin_min <= current < target + 2 * self.quantum else target
+        return current if last + self.margin_min <= current < target + self.quantum else target
 
     def enter(self):
         """Pick the box's height and load the fields into its solver."""

@@ -13,7 +13,7 @@ the DEM input (in.collapse). Each number has its own reason:
   residual of A(w) x = b, with A assembled directly as sum E^T diag(w) E, is below 1e-9 of |b| for
   a wide and a tall box; a system whose weights changed by up to 20 % solved by conjugate gradients
   preconditioned with the first one's factors equals its direct solve to 1e-8;
-- the solver on a box that follows the grains (FollowingBox, its top 8-10 cells above the highest
+- the solver on a box that follows the grains (FollowingBox, its top 4-8 rows above the highest
   grains) conserves the grain area to round-off as its top comes down under the collapsing column, and
   its front stays within 0.1 d of the whole box's (the air above the box top carries no grains);
 - HeldMu holds mu at I_max above it (no extrapolation);
