@@ -174,6 +174,7 @@ def main():
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
     ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
     ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
+    ap.add_argument("--full-box", action="store_true", help="continuum: solve on the whole box (no FollowingBox)")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
@@ -195,7 +196,7 @@ def main():
                                               dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes)
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes, full_box=a.full_box)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
