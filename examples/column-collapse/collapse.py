@@ -25,11 +25,12 @@ RHEOLOGY = os.path.join(HERE, "..", "rheology")
 sys.path.insert(0, HERE)
 sys.path.insert(0, RHEOLOGY)
 import deposit as D  # noqa: E402
-from continuum import HeldMu, MuIFlow  # noqa: E402
+from continuum import FollowingBox, HeldMu, MuIFlow  # noqa: E402
 
 WORK = os.path.join(HERE, "work")
 W = 4.4            # periodic depth of in.collapse
 DUMP_EVERY = 0.5
+SERIES_SPHERES = 1800  # the aspect-ratio series; other column sizes show the size effect
 DT = 0.001         # DEM time step (in.collapse's default: contact time / 23)
 
 
@@ -117,16 +118,17 @@ def learned_mu():
     return HeldMu(mu_reg, mu_reg.params["I_max"]), ens
 
 
-def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2):
+def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False):
     """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
     height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
     largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
-    mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling)."""
+    mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling).
+    The solver follows the grains (continuum.FollowingBox) unless full_box."""
     L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
     per_bin = int(round(1.0 / h))
     nx = int(round(Lx / h)) // per_bin * per_bin
     ny = int(math.ceil((H0 + 2.0) / h))
-    f = MuIFlow(nx, ny, h, mu, phi0)
+    f = (MuIFlow if full_box else FollowingBox)(nx, ny, h, mu, phi0)
     f.set_column(L0, H0)
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
@@ -156,7 +158,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
         f.step(min(f.stable_dt(dt_max=dt_max), next_out - f.t), passes)
         steps += 1
     thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
-    return dict(h=h, dt_max=dt_max, passes=passes, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+    return dict(h=h, dt_max=dt_max, passes=passes, full_box=full_box, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
                 wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
@@ -167,10 +169,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lmp", default=default_lmp())
     ap.add_argument("--aspect", default="0.5,1,2,3")
-    ap.add_argument("--spheres", type=int, default=1800)
+    ap.add_argument("--spheres", type=int, default=SERIES_SPHERES, help="spheres per column (the fits and the "
+                    "speed-ups take the %d-sphere series; other sizes are drawn apart)" % SERIES_SPHERES)
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
     ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
     ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
+    ap.add_argument("--full-box", action="store_true", help="continuum: solve on the whole box (no FollowingBox)")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
@@ -192,7 +196,7 @@ def main():
                                               dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes)
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes, full_box=a.full_box)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
@@ -231,8 +235,13 @@ def power_fit(a, y):
     return float(math.exp(coef[0])), float(coef[1]), float(math.sqrt(cov[1, 1]))
 
 
+def series(out):
+    """The cases of the aspect-ratio series (SERIES_SPHERES spheres), by a."""
+    return sorted([c for c in out["cases"] if c["dem"]["spheres_requested"] == SERIES_SPHERES], key=lambda c: c["dem"]["a"])
+
+
 def summarise(out):
-    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    cases = series(out)
     a = np.array([c["dem"]["a"] for c in cases])
     summ = dict(a=a.tolist())
     for who in ("dem", "continuum"):
@@ -267,7 +276,8 @@ def plot(out, path=HERE):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    cases = sorted(out["cases"], key=lambda c: c["dem"]["a"])
+    cases = series(out)
+    others = [c for c in out["cases"] if c not in cases]
     summ = out["summary"]
     a = np.array(summ["a"])
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
@@ -277,6 +287,11 @@ def plot(out, path=HERE):
             a1.plot(summ[who]["a"], summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
                     ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
             a2.plot(summ[who]["a"], summ[who]["H0_over_hf"], st, label=who)
+    for c in others:                     # the same material in a larger column: the size effect
+        d = c["dem"]
+        lab = "DEM, %d spheres (L0 = %.0f d)" % (d["spheres"], d["L0"])
+        a1.plot([d["a"]], [(d["runout"] - d["L0"]) / d["L0"]], "r^", label=lab)
+        a2.plot([d["a"]], [d["H0"] / d["final_height"]], "r^", label=lab)
     aa = np.linspace(a.min(), a.max(), 50)
     if "dem" in summ and "runout_fit" in summ["dem"]:
         k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9
@@ -294,8 +309,9 @@ def plot(out, path=HERE):
         ax.set_xscale("log"); ax.set_yscale("log"); ax.set_xlabel("a = H0 / L0"); ax.set_ylabel(lab)
         ax.legend(fontsize=7)
     fig.tight_layout(); fig.savefig(os.path.join(path, "runout.png"), dpi=70)
-    fig, axes = plt.subplots(len(cases), 2, figsize=(10, 2.3 * len(cases)), squeeze=False)
-    for (ax, bx), c in zip(axes, cases):
+    rows = cases + others
+    fig, axes = plt.subplots(len(rows), 2, figsize=(10, 2.3 * len(rows)), squeeze=False)
+    for (ax, bx), c in zip(axes, rows):
         d = c["dem"]
         ax.plot(d["x"], d["profile"], "k-", label="DEM")
         bx.plot(d["t"], d["front"], "k-", label="DEM")
@@ -303,7 +319,7 @@ def plot(out, path=HERE):
             ax.plot(c["continuum"]["x"], c["continuum"]["profile"], "b--", label="continuum")
             bx.plot(c["continuum"]["t"], c["continuum"]["front"], "b--", label="continuum")
         ax.set_xlim(0, max(d["runout"], c.get("continuum", d)["runout"]) * 1.15)
-        ax.set_ylabel("h (a = %.2f)" % d["a"]); bx.set_ylabel("front")
+        ax.set_ylabel("h (a = %.2f, N %d)" % (d["a"], d["spheres"]), fontsize=8); bx.set_ylabel("front")
         ax.legend(fontsize=7)
     axes[-1][0].set_xlabel("x (final deposit)"); axes[-1][1].set_xlabel("t")
     fig.tight_layout(); fig.savefig(os.path.join(path, "profiles.png"), dpi=60)
