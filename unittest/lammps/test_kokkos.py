@@ -427,9 +427,9 @@ def check_virial(wd, data):
               "timestep 1e-5\nfix integrate all nve/sphere\nrun 3\n")
     cols = ["c_s[%d]" % k for k in range(1, 7)]
     per_atom = []
-    for extra in ([], kk_args(2)):
+    for extra in ([], kk_args(THREADS[-1])):
         rc, out = t.run_lmp(t.PERIODIC_SPHERES.format(data=data, pair=LAWS[3][1], coeffs=LAWS[3][3]) + stress,
-                            wd, name="in.stress", extra=extra, threads=2)
+                            wd, name="in.stress", extra=extra, threads=THREADS[-1])
         t.check(rc == 0, "stress/atom run (exit %d)" % rc)
         per_atom.append(t.read_dumps(os.path.join(wd, "dump.st")))
     t.check(len(per_atom[0]) == len(per_atom[1]) == 4, "stress/atom dumped at steps 0 to 3")
