@@ -13,6 +13,8 @@
 #include "pair.h"
 
 #include <cstring>
+#include <initializer_list>
+#include <utility>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
@@ -24,6 +26,14 @@ GriddemPairLink *LAMMPS_NS::griddem_pair_link(Pair *pair)
   return pair ? static_cast<GriddemPairLink *>(pair->extract("griddem", dim)) : nullptr;
 }
 
+// the value word names among the choices, or -1
+static int choice(const char *word, std::initializer_list<std::pair<const char *, int>> choices)
+{
+  for (const auto &c : choices)
+    if (strcmp(word, c.first) == 0) return c.second;
+  return -1;
+}
+
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6),
     precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0), stats_current(0),
@@ -33,15 +43,9 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   while (iarg < narg) {
     if (strcmp(arg[iarg], "cell") == 0) {
       if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem cell", error);
-      if (strcmp(arg[iarg + 1], "auto") == 0)
-        cell_mode = GRIDDEM_CELL_AUTO;
-      else if (strcmp(arg[iarg + 1], "exact") == 0)
-        cell_mode = GRIDDEM_CELL_EXACT;
-      else if (strcmp(arg[iarg + 1], "multi") == 0)
-        cell_mode = GRIDDEM_CELL_MULTI;
-      else if (strcmp(arg[iarg + 1], "classes") == 0)
-        cell_mode = GRIDDEM_CELL_CLASSES;
-      else {
+      cell_mode = choice(arg[iarg + 1], {{"auto", GRIDDEM_CELL_AUTO}, {"exact", GRIDDEM_CELL_EXACT},
+                                         {"multi", GRIDDEM_CELL_MULTI}, {"classes", GRIDDEM_CELL_CLASSES}});
+      if (cell_mode < 0) {
         cell_mode = GRIDDEM_CELL_FIXED;
         cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
         if (cell_edge <= 0.0)
@@ -57,23 +61,14 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
       iarg += 2;
     } else if (strcmp(arg[iarg], "precision") == 0) {
       if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem precision", error);
-      if (strcmp(arg[iarg + 1], "double") == 0)
-        precision = GRIDDEM_PRECISION_DOUBLE;
-      else if (strcmp(arg[iarg + 1], "single") == 0)
-        precision = GRIDDEM_PRECISION_SINGLE;
-      else
-        error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
+      precision = choice(arg[iarg + 1], {{"double", GRIDDEM_PRECISION_DOUBLE}, {"single", GRIDDEM_PRECISION_SINGLE}});
+      if (precision < 0) error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
       iarg += 2;
     } else if (strcmp(arg[iarg], "search") == 0) {
       if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem search", error);
-      if (strcmp(arg[iarg + 1], "auto") == 0)
-        search = GRIDDEM_SEARCH_AUTO;
-      else if (strcmp(arg[iarg + 1], "thread") == 0)
-        search = GRIDDEM_SEARCH_THREAD;
-      else if (strcmp(arg[iarg + 1], "team") == 0)
-        search = GRIDDEM_SEARCH_TEAM;
-      else
-        error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
+      search = choice(arg[iarg + 1], {{"auto", GRIDDEM_SEARCH_AUTO}, {"thread", GRIDDEM_SEARCH_THREAD},
+                                      {"team", GRIDDEM_SEARCH_TEAM}});
+      if (search < 0) error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
       iarg += 2;
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
