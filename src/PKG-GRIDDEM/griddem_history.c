@@ -70,12 +70,9 @@ const double *griddem_history_find(const griddem_history *h, int row, int64_t pa
 void griddem_history_get_row(const griddem_history *h, int row, double *entries)
 {
   const int nv = h->values, count = griddem_history_count(h, row);
-  for (int k = 0; k < count; k++) {
-    const long e = h->cur.start[row] + k;
-    double *m = entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k;
-    m[0] = (double) h->cur.partner[e];
-    memcpy(m + 1, h->cur.value + (size_t) nv * e, sizeof(double) * (size_t) nv);
-  }
+  for (int k = 0; k < count; k++)
+    griddem_history_get(h->cur.partner, h->cur.value, nv, h->cur.start[row] + k,
+                        entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k);
 }
 
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values)
@@ -204,9 +201,7 @@ int griddem_history_overflow_append(griddem_history_overflow *o, int values, int
   if (ensure((void **) &o->value, &cap, o->n + 1, sizeof(double) * (size_t) (values > 0 ? values : 1)) != 0) return -1;
   o->cap = cap;
   o->slot[o->n] = slot;
-  o->partner[o->n] = partner;
-  memcpy(o->value + (size_t) values * o->n, v, sizeof(double) * (size_t) values);
-  o->n++;
+  griddem_history_put(o->partner, o->value, values, o->n++, partner, v);
   return 0;
 }
 
@@ -234,8 +229,7 @@ static int fold_overflow(griddem_history *h)
     const griddem_history_overflow *o = &h->overflow[k];
     for (long m = 0; m < o->n; m++) {
       const long e = to->start[o->slot[m]] + from->count[o->slot[m]]++;
-      to->partner[e] = o->partner[m];
-      memcpy(to->value + (size_t) nv * e, o->value + (size_t) nv * m, sizeof(double) * (size_t) nv);
+      griddem_history_put(to->partner, to->value, nv, e, o->partner[m], o->value + (size_t) nv * m);
     }
   }
   to->nrows = nslot, to->used = total;

@@ -69,6 +69,15 @@ GRIDDEM_INLINE void griddem_history_put(int64_t *partner, double *value, int val
   for (int k = 0; k < values; k++) value[(size_t) values * e + k] = v[k];
 }
 
+/* Entry e of a pool as a message entry (GRIDDEM_HISTORY_ENTRY(values) doubles at m, below): the
+ * partner tag, then its values; the reverse of griddem_history_put from m + 1. */
+GRIDDEM_INLINE void griddem_history_get(const int64_t *partner, const double *value, int values, long e,
+                                        double *m)
+{
+  m[0] = (double) partner[e];
+  for (int k = 0; k < values; k++) m[1 + k] = value[(size_t) values * e + k];
+}
+
 /* A row as a message (how rows travel with their atoms and into restart files): the count, then
  * per entry the partner tag (exact as a double below 2^53) and its values. */
 #define GRIDDEM_HISTORY_ENTRY(values) (1 + (values))

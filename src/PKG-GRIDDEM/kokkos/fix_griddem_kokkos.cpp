@@ -211,10 +211,9 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::get_message(int i,
   sync_host();
   const int n = k_count[cur].h_view(i), first = k_first[cur].h_view(i);
   message[0] = n;
-  for (int e = first, m = 1; e < first + n; e++) {
-    message[m++] = (double) k_partner[cur].h_view(e);
-    for (int k = 0; k < nv; k++) message[m++] = k_value[cur].h_view((long) e * nv + k);
-  }
+  for (int k = 0; k < n; k++)
+    griddem_history_get(k_partner[cur].h_view.data(), k_value[cur].h_view.data(), nv, first + k,
+                        message + 1 + (long) k * GRIDDEM_HISTORY_ENTRY(nv));
   return GRIDDEM_ROW_MESSAGE_LENGTH(n, nv);
 }
 
@@ -310,10 +309,8 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
           int m = nsend + offset;
           buf(s) = d_ubuf(m).d;
           buf(m++) = n;
-          for (int e = first(i); e < first(i) + n; e++) {
-            buf(m++) = (double) partner(e);
-            for (int k = 0; k < nvalues; k++) buf(m++) = value((long) e * nvalues + k);
-          }
+          for (int e = first(i); e < first(i) + n; e++, m += GRIDDEM_HISTORY_ENTRY(nvalues))
+            griddem_history_get(partner.data(), value.data(), nvalues, e, &buf(m));
         }
         offset += GRIDDEM_ROW_MESSAGE_LENGTH(n, nvalues);
       },
