@@ -29,10 +29,10 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0),
+    Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0),
     v0(-1.0), overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
-    force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
+    fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
     counts()
 {
@@ -84,6 +84,8 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   kinematic_bit = group->bitmask[igroup_kin];
   const int igroup_dyn = group->find_or_create((std::string(id) + "_dynamic").c_str());
   dynamic_bit = group->bitmask[igroup_dyn];
+  const int igroup_lag = group->find_or_create((std::string(id) + "_lagging").c_str());
+  lagging_bit = group->bitmask[igroup_lag];
 
   peratom_flag = 1;
   size_peratom_cols = 0;
@@ -291,6 +293,9 @@ void FixGriddemRom::init()
     auto gvec = (const double *) ifix->extract("gvec", dim);
     if (gvec) gravities.emplace_back(ifix->groupbit, gvec);
   }
+  // no atom lags until the reach test of this run's setup: the pair's setup step sees every
+  // kinematic atom, wherever the script has moved atoms since the last run
+  for (int i = 0; i < atom->nlocal; i++) atom->mask[i] &= ~lagging_bit;
 }
 
 void FixGriddemRom::setup(int)
@@ -336,9 +341,17 @@ void FixGriddemRom::initial_integrate(int)
       for (int d = 0; d < 3; d++) x[i][d] += dt * v[i][d];
 }
 
+/* Atoms appear only at reneighboring (fix pour, create_atoms): a new atom could land within reach
+   of a lagging one, so the reach test runs before the pair sees it. */
 void FixGriddemRom::post_neighbor()
 {
-  fill_nearlist();
+  int mine = fresh ? 1 : 0, any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+  if (any) {
+    mark_near();
+    counts[10] += 1;
+  } else
+    fill_nearlist();
 }
 
 void FixGriddemRom::fill_nearlist()
@@ -387,7 +400,7 @@ void FixGriddemRom::release_by_force()
     if (sqrt(fm2) * scale > threshold * rmass[i]) {
       if (track[i][4] == 0.0)
         for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
-      mask[i] = (mask[i] & ~kinematic_bit) | dynamic_bit;
+      mask[i] = (mask[i] & ~(kinematic_bit | lagging_bit)) | dynamic_bit;
       for (int d = 0; d < 3; d++) track[i][d] = x[i][d];
       track[i][3] = track[i][4] = 0.0;
       released++;
@@ -423,7 +436,7 @@ void FixGriddemRom::mark_near()
 {
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   double **x = atom->x, **v = atom->v;
-  const int *mask = atom->mask;
+  int *mask = atom->mask;
   std::vector<int> kinematic(nall), near(nlocal);
   std::vector<double> budget(nlocal);
   for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
@@ -440,8 +453,12 @@ void FixGriddemRom::mark_near()
     track[i][3] = budget[i];
     track[i][4] = near[i] && kinematic[i];
     nnear += track[i][4];
-    if (kinematic[i] && !near[i]) umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
+    const bool lagging = kinematic[i] && !near[i];
+    mask[i] = lagging ? (mask[i] | lagging_bit) : (mask[i] & ~lagging_bit);
+    if (lagging) umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
   }
+  comm->forward_comm(this);    // the ghosts' lagging bits: the pair leaves lagging atoms out
+  fresh = false;
   MPI_Allreduce(&umax, &umax_far, 1, MPI_DOUBLE, MPI_MAX, world);
   double mine[2] = {nnear, nkin}, all[2];
   MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
@@ -575,7 +592,7 @@ void FixGriddemRom::classify()
       }
       umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
     } else
-      mask[i] = (mask[i] & ~kinematic_bit) | dynamic_bit;
+      mask[i] = (mask[i] & ~(kinematic_bit | lagging_bit)) | dynamic_bit;
   }
   comm->forward_comm(this);
 
@@ -622,12 +639,14 @@ void FixGriddemRom::copy_arrays(int i, int j, int)
   for (int k = 0; k < 5; k++) track[j][k] = track[i][k];
 }
 
-/* A new atom (fix pour, create_atoms) is dynamic, with budget 0: the reach test runs again at the
-   step's end. */
+/* A new atom (fix pour, create_atoms) is dynamic, with budget 0; it is not lagging, and the reach
+   test runs again before the pair's next call (post_neighbor). */
 void FixGriddemRom::set_arrays(int i)
 {
   int *mask = atom->mask;
+  mask[i] &= ~lagging_bit;
   mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
+  fresh = true;
   for (int d = 0; d < 3; d++) track[i][d] = atom->x[i][d];
   track[i][3] = track[i][4] = 0.0;
   state[i] = 0.0;
@@ -647,7 +666,8 @@ int FixGriddemRom::unpack_exchange(int i, double *buf)
 
 int FixGriddemRom::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  for (int i = 0; i < n; i++) buf[i] = (atom->mask[list_[i]] & kinematic_bit) ? 1.0 : 0.0;
+  const int *mask = atom->mask;
+  for (int i = 0; i < n; i++) buf[i] = ((mask[list_[i]] & kinematic_bit) ? 1 : 0) + ((mask[list_[i]] & lagging_bit) ? 2 : 0);
   return n;
 }
 
@@ -656,7 +676,9 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
   int *mask = atom->mask;
   for (int i = 0; i < n; i++) {
     const int j = first + i;
-    mask[j] = buf[i] != 0.0 ? (mask[j] | kinematic_bit) & ~dynamic_bit : (mask[j] & ~kinematic_bit) | dynamic_bit;
+    const int state = (int) buf[i];
+    mask[j] = (state & 1) ? (mask[j] | kinematic_bit) & ~dynamic_bit : (mask[j] & ~kinematic_bit) | dynamic_bit;
+    mask[j] = (state & 2) ? (mask[j] | lagging_bit) : (mask[j] & ~lagging_bit);
   }
 }
 
@@ -676,6 +698,7 @@ void *FixGriddemRom::extract(const char *name, int &dim)
 {
   dim = 0;
   if (strcmp(name, "kinematic_bit") == 0) return &kinematic_bit;
+  if (strcmp(name, "lagging_bit") == 0) return &lagging_bit;
   return nullptr;
 }
 

@@ -54,6 +54,7 @@ class FixGriddemRom : public Fix {
 
   int kinematic_bit;    // group bit of the kinematic atoms (group ID_kinematic)
   int dynamic_bit;      // group bit of all other atoms (group ID_dynamic), for the integrator
+  int lagging_bit;      // group bit of the kinematic atoms no dynamic atom can reach (ID_lagging)
 
  private:
   griddem_rom_grid grid;
@@ -75,6 +76,7 @@ class FixGriddemRom : public Fix {
   bigint next_model;           // the step of the next classification
   double umax_far;             // largest speed of a lagging kinematic atom (all processes)
   double nfar;                 // number of lagging kinematic atoms (all processes)
+  bool fresh;                  // atoms were created on this process since its last reach test
   bool force_each_step;        // a fix other than gravity acts on kinematic atoms: test forces each step
   double **track;              // per atom: x at last_model (3), budget, near (1: moves each step)
   std::vector<int> nearlist;   // owned kinematic atoms that move each step (rebuilt at reneighboring)

@@ -13,7 +13,7 @@ void griddem_engine_init(griddem_engine *e)
 void griddem_engine_free(griddem_engine *e)
 {
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
-  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->reach_cell), free(e->active);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc);
   griddem_channels_free(&e->channels);
   memset(e, 0, sizeof(*e));
 }
@@ -74,13 +74,12 @@ static int grow_work(griddem_engine *e, int n)
 {
   if (n <= e->work_cap) return 0;
   const int cap = n + n / 4 + 16;
-  free(e->member), free(e->order), free(e->xc), free(e->keyc), free(e->reach_cell);
+  free(e->member), free(e->order), free(e->xc), free(e->keyc);
   e->member = (int *) malloc(sizeof(int) * (size_t) cap);
   e->order = (int *) malloc(sizeof(int) * (size_t) cap);
   e->xc = (double *) malloc(sizeof(double) * 3 * (size_t) cap);
   e->keyc = (int64_t *) malloc(sizeof(int64_t) * (size_t) cap);
-  e->reach_cell = (long *) malloc(sizeof(long) * (size_t) cap);
-  e->work_cap = (e->member && e->order && e->xc && e->keyc && e->reach_cell) ? cap : 0;
+  e->work_cap = (e->member && e->order && e->xc && e->keyc) ? cap : 0;
   return e->work_cap ? 0 : -1;
 }
 
@@ -99,65 +98,18 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
-/* Set every cell within one cell of a set cell (a 3^3 dilation, one axis after the other). */
-static void dilate_cells(unsigned char *a, const int n[3])
-{
-  const long stride[3] = {1, n[0], (long) n[0] * n[1]};
-  for (int d = 0; d < 3; d++) {
-    const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
-    for (long u = 0; u < n[d1]; u++)
-      for (long w = 0; w < n[d2]; w++) {
-        unsigned char *line = a + u * stride[d1] + w * stride[d2], prev = 0;
-        for (long k = 0; k < n[d]; k++) {
-          const unsigned char cur = line[k * stride[d]], next = k + 1 < n[d] ? line[(k + 1) * stride[d]] : 0;
-          line[k * stride[d]] = prev | cur | next;
-          prev = cur;
-        }
-      }
-  }
-}
-
-/* Particles carrying idle_bit interact only with particles that lack it (pairs of two are
- * excluded: fix griddem/rom's kinematic particles), so one that no particle without the bit can
- * reach is left out of the grid and its cell drops out of the sweep. Marks, on a grid whose edge
- * is at least the longest contact distance, every cell within one cell of a particle without the
- * bit (e->reach_cell: each particle's cell there): a particle with the bit is needed only if its
- * cell is marked. 0, or -1 without memory. */
-static int mark_active_reach(griddem_engine *e, const griddem_step *s, int idle_bit)
-{
-  const griddem_particles *p = &s->particles;
-  griddem_grid *g = &e->reach_grid;
-  griddem_grid_cover(g, s->anchor, p->nall, p->x, 2.0 * s->rmax + s->model->reach_extra,
-                     GRIDDEM_CLASS_MAX_CELLS(p->nall));
-  if (g->ncell > e->active_cap) {
-    free(e->active);
-    e->active = (unsigned char *) malloc((size_t) g->ncell);
-    e->active_cap = e->active ? g->ncell : 0;
-    if (!e->active) return -1;
-  }
-  memset(e->active, 0, (size_t) g->ncell);
-  for (int i = 0; i < p->nall; i++) {
-    const double *x = p->x + 3 * (size_t) i;
-    e->reach_cell[i] = griddem_cell_of(g, x[0], x[1], x[2]);
-    if (!(p->mask[i] & idle_bit)) e->active[e->reach_cell[i]] = 1;
-  }
-  dilate_cells(e->active, g->n);
-  return 0;
-}
-
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
  * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; order: the
  * particle of each slot, classes one after the other from the largest spheres. Left out: ghosts
- * out of reach of every owned particle, and particles with idle_bit (0: none) out of reach of
- * every particle without it (the scan saw the speed of every owned particle).
+ * out of reach of every owned particle, and particles with apart_bit (0: none), which touch nothing
+ * this step (the scan saw the speed of every owned particle).
  * Returns the number of slots, or -1 without memory. */
-static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, griddem_class_grid *cls,
+static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit, griddem_class_grid *cls,
                         int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
   if (grow_work(e, n) != 0) return -1;
-  if (idle_bit && mark_active_reach(e, s, idle_bit) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
   griddem_class_bounds(s->rmax, ncls, upper);
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
@@ -174,8 +126,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int idle_bit, 
   int base[GRIDDEM_MAX_CLASSES + 1] = {0};
   for (int i = 0; i < n; i++) {
     int c = -1;
-    const int idle = idle_bit && (p->mask[i] & idle_bit) && !e->active[e->reach_cell[i]];
-    if (!idle && within_reach(p, i, lo, hi, reach)) {
+    if (!(p->mask[i] & apart_bit) && within_reach(p, i, lo, hi, reach)) {
       c = griddem_class_of(p->radius[i], upper, ncls);
       base[c + 1]++;
     }
@@ -217,11 +168,11 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   griddem_bins all; /* the channels' order of particles */
   memset(&all, 0, sizeof(all));
   all.n = p->nall;
-  const int idle_bit = s->excl ? s->excl->both_bit : 0;
+  const int apart_bit = s->excl ? s->excl->apart_bit : 0;
   griddem_scan own_scan;
   const griddem_scan *scan = s->scan;
   if (!scan) griddem_engine_scan(p, &own_scan), scan = &own_scan;
-  if (e->nclass == 1 && !idle_bit) {
+  if (e->nclass == 1 && !apart_bit) {
     /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
     *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
                              : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
@@ -230,7 +181,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
     all.order = e->bins[0].order;
   } else {
-    all.n = bin_gathered(e, s, idle_bit, cls, coarsened);
+    all.n = bin_gathered(e, s, apart_bit, cls, coarsened);
     if (all.n < 0) result->fault = GRIDDEM_FAULT_MEMORY;
     all.order = e->order;
   }
@@ -242,7 +193,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
                         s->dt, s->history_update, s->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
   /* the history's row of slot k is k; owned particles left out have none */
-  if (s->model->track_contacts && idle_bit)
+  if (s->model->track_contacts && apart_bit)
     for (int i = 0; i < p->nlocal; i++) s->row_of[i] = -1;
   if (s->model->track_contacts)
     for (int k = 0; k < all.n; k++)
@@ -268,7 +219,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
 double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
-  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t) + sizeof(long)) + (double) e->active_cap;
+  double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_sum) + sizeof(int64_t) + sizeof(int)) +

@@ -66,11 +66,6 @@ typedef struct griddem_engine {
   double *xc;
   int64_t *keyc;
   int work_cap;
-  /* particles that need no contacts (exclusions' both_bit): cells within reach of the others */
-  griddem_grid reach_grid;
-  unsigned char *active;
-  long *reach_cell;
-  long active_cap;
 } griddem_engine;
 
 /* The engine's first pass: one sweep over the particles finds what the step needs to know before
@@ -115,9 +110,8 @@ void griddem_engine_free(griddem_engine *e);
  * the one grid's cell edge had to grow (then e->stats.cell_edge is the edge used; size classes
  * grow the cells of a sparse class silently, a choice of speed only). With size classes, radius
  * ratios rmax/rmin below 4 keep one grid (the one-grid path, cell_edge), each further factor 4
- * adds a class, up to GRIDDEM_MAX_CLASSES. Particles with the exclusions' both_bit that no
- * particle without it can reach are not binned (their pairs are all excluded): their owned rows
- * become -1 and only their speed is checked. */
+ * adds a class, up to GRIDDEM_MAX_CLASSES. Particles with the exclusions' apart_bit (in no pair
+ * this step) are not binned: their owned rows become -1 and only their speed is checked. */
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened);
 

@@ -1,5 +1,6 @@
 /* Pairs that must not interact (LAMMPS neigh_modify exclude type / group, and fix griddem/rom's
- * kinematic particles), and the test both the CPU sweep and the Kokkos search make of a pair. */
+ * kinematic and lagging particles), and the test both the CPU sweep and the Kokkos search make of a
+ * pair. */
 #ifndef GRIDDEM_EXCLUSIONS_H
 #define GRIDDEM_EXCLUSIONS_H
 
@@ -16,12 +17,15 @@ typedef struct griddem_exclusions {
   const int *group_bits;          /* [2*ngroup_pairs]: (bit1, bit2) per excluded pair of groups */
   int both_bit;                   /* pairs whose two masks both have this bit (fix griddem/rom's
                                    * kinematic particles); 0: none */
+  int apart_bit;                  /* pairs where either mask has this bit: particles that can touch
+                                   * nothing this step (fix griddem/rom's lagging particles, which
+                                   * its reach test keeps out of every contact); 0: none */
 } griddem_exclusions;
 
 /* Whether particles of types ta, tb and group masks ma, mb must not interact. */
 GRIDDEM_INLINE int griddem_excluded(const griddem_exclusions *e, int ta, int ma, int tb, int mb)
 {
-  if (ma & mb & e->both_bit) return 1;
+  if ((ma & mb & e->both_bit) || ((ma | mb) & e->apart_bit)) return 1;
   if (e->type_pair && e->type_pair[ta * (e->ntypes + 1) + tb]) return 1;
   for (int k = 0; k < e->ngroup_pairs; k++) {
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];

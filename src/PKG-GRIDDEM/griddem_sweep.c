@@ -426,7 +426,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model,
-                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit)) ? excl : NULL,
+                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
                             dt, history_update, hist, row_of, vatom, want_virial, result};
   memset(result, 0, sizeof(*result));
   int nthreads = 1;

@@ -395,14 +395,18 @@ void PairGriddem::setup_exclusions()
   exclusions.ntypes = atom->ntypes;
   exclusions.ngroup_pairs = neighbor->nex_group;
   exclusions.group_bits = excluded_groups.data();
-  // fix griddem/rom: pairs of two kinematic atoms (both in the fix's kinematic group) are skipped
-  exclusions.both_bit = 0;
+  // fix griddem/rom: pairs of two kinematic atoms (both in the fix's kinematic group) are skipped,
+  // and lagging atoms (its reach test keeps every other atom out of their contact distance) are in
+  // no pair: they leave the grid
+  exclusions.both_bit = exclusions.apart_bit = 0;
   auto roms = modify->get_fix_by_style("^griddem/rom$");
   if (roms.size() > 1) error->all(FLERR, "Only one fix griddem/rom may be defined");
   if (!roms.empty()) {
     int nbit = 0;
-    auto bit = (int *) roms.front()->extract("kinematic_bit", nbit);
-    if (bit) exclusions.both_bit = *bit;
+    auto kinematic = (int *) roms.front()->extract("kinematic_bit", nbit);
+    auto lagging = (int *) roms.front()->extract("lagging_bit", nbit);
+    if (kinematic) exclusions.both_bit = *kinematic;
+    if (lagging) exclusions.apart_bit = *lagging;
   }
 }
 

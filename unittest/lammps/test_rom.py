@@ -591,6 +591,35 @@ run 10
         t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
 
 
+def newcomer():
+    """An atom inserted (fix deposit) overlapping a lagging kinematic atom by 0.1 feels it in its
+    first step: the reach test runs when atoms appear, so the lagging atom is in the grid again.
+    Both at rest, no gravity: the contact force is kn delta = 2000 x 0.1 = 200 along x."""
+    model = os.path.join(WD, "still.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(0.0, 0.0, 0.0))
+    text = resting_spheres((3.0, 3.0, 3.0)) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 10
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[9]
+thermo 10
+run 20
+region spot block 3.9 3.9000001 2.9999999 3.0000001 2.9999999 3.0000001 units box
+fix newcomer all deposit 1 1 100 4417 region spot units box
+dump d all custom 1 newcomer.dump id x fx
+dump_modify d format float %.17g sort id
+run 3
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.newcomer")
+    kin, near = t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[9]")
+    t.check(kin[1] == 1 and near[1] == 0, "atom 1 kinematic and lagging before the insertion (near %s)" % near[1])
+    snaps = [atoms for _, atoms in t.read_dumps(os.path.join(WD, "newcomer.dump"))]
+    first = min(k for k, atoms in enumerate(snaps) if 2 in atoms)
+    x2, fx2 = snaps[first][2][0], snaps[first][2][1]
+    expected = 2000.0 * (1.0 - (x2 - 3.0))
+    t.check(abs(fx2 - expected) <= 1e-9 * expected and abs(expected - 200.0) < 1e-3,
+            "the new atom is pushed by the lagging one in its first step (snapshot %d): fx %.12g, kn delta %.12g" % (first, fx2, expected))
+
+
 def rejoin():
     """A lagging kinematic atom released by a field jump rejoins DEM where the field has carried
     it and with the velocity the model predicted: field vx = 0.3 + c, c switching from 0 to 1 at
@@ -616,6 +645,7 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 
 model_checks()
+newcomer()
 rejoin()
 keyword_checks()
 model_step()
