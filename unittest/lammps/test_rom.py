@@ -24,7 +24,9 @@
   an atom outside the placed frame stays dynamic; the force block predicts bias + control weight
   + the sum of the voxel densities (the mass inside the frame over the voxel volume); a moving
   model without origin, origin without a moving model, a 'frame' line in version 1, a force block
-  of the wrong size and an origin that moves along a periodic axis are refused naming them;
+  of the wrong size and an origin that moves along a periodic axis are refused naming them; the
+  density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
+  numpy binning of the dumped atoms in the frame (its training data);
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
   schedule file): every weight to 1e-3."""
 import math
@@ -662,6 +664,55 @@ run 0
         t.check(rc != 0 and expected in out, "refused naming it (%r)%s" % (expected, "" if rc else ": " + out[-300:]))
 
 
+def frame_binning():
+    """30 spheres at random in a box periodic along y; a moving frame 4 x 1 x 3 voxels over
+    x -1..3 (relative), y 0..6, z 0..3, origin x = 1.7: the fix's density field at its first
+    classification (dump grid) against train_blade.py's bin_frame of the dumped positions."""
+    n, frame = (4, 1, 3), (-1.0, 3.0, 0.0, 6.0, 0.0, 3.0)
+    model = os.path.join(WD, "binning.model")
+    t.write_rom_model(model, n, frame, version=2, frame="moving")
+    text = HEAD.format(bnd="f p f") + """
+create_atoms 1 random 30 7741 NULL overlap 0.3
+set type 1 diameter 0.3
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix rom all griddem/rom model {m} eps 1 v0 1 every 5 origin 1.7 0 0
+fix integrate rom_dynamic nve/sphere
+dump a all custom 5 binning.atoms id x z vx vz mass
+dump_modify a format float %.17g
+dump g all grid 5 binning.grid f_rom:field:density
+dump_modify g format float %.17g
+run 5
+""".format(m=model)
+    t.run_ok(text, WD, name="in.binning")
+    # train_blade.py needs numpy: the system interpreter's, as train_rom.py in training()
+    import subprocess
+    blade = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                         "examples", "rom-blade")
+    script = """
+import sys
+sys.path.insert(0, %r)
+from train_blade import bin_frame, read_snapshots
+from romtools import read_grid_dump
+atoms = dict(read_snapshots(%r))[5]
+fix = read_grid_dump(%r)[-1][3]["density"]
+rho = bin_frame(atoms["x"] - 1.7, atoms["z"], atoms["vx"], atoms["vz"], atoms["mass"], %r, %r)[0]
+inside = ((atoms["x"] - 1.7 >= -1) & (atoms["x"] - 1.7 < 3) & (atoms["z"] < 3)).sum()
+print(len(fix), max(abs(fix - rho)), inside)
+""" % (blade, os.path.join(WD, "binning.atoms"), os.path.join(WD, "binning.grid"), n, frame)
+    proc = subprocess.run(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True)
+    t.check(proc.returncode == 0, "train_blade.py's binning runs: " + proc.stdout[-300:])
+    if proc.returncode != 0:
+        return
+    nfix, worst, inside = proc.stdout.split()[-3:]
+    nfix, worst, inside = int(nfix), float(worst), int(inside)
+    t.check(nfix == 12 and worst <= 1e-12 and 5 <= inside < 30,
+            "moving frame: the fix's density equals train_blade.py's binning (%d of 30 atoms inside; worst "
+            "difference %.3g)" % (inside, worst))
+
+
 def rejoin():
     """A lagging kinematic atom released by a field jump rejoins DEM where the field has carried
     it and with the velocity the model predicted: field vx = 0.3 + c, c switching from 0 to 1 at
@@ -688,6 +739,7 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 model_checks()
 moving_frame()
+frame_binning()
 rejoin()
 keyword_checks()
 model_step()
