@@ -301,9 +301,7 @@ void FixGriddemRom::place_grid()
   if (!moving) return;
   for (int d = 0; d < 3; d++)
     if (origin_vars[d] >= 0) origin[d] = input->variable->compute_equal(origin_vars[d]);
-  const int periodic[3] = {grid.periodic[0], grid.periodic[1], grid.periodic[2]};
-  griddem_rom_place(&frame_grid, origin, &grid);
-  for (int d = 0; d < 3; d++) grid.periodic[d] = periodic[d];
+  griddem_rom_place(&frame_grid, origin, &grid);    // frame_grid has the box's periodicity (init)
 }
 
 void FixGriddemRom::init()

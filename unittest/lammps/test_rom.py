@@ -24,7 +24,8 @@
   an atom outside the placed frame stays dynamic; the force block predicts bias + control weight
   + the sum of the voxel densities (the mass inside the frame over the voxel volume); a moving
   model without origin, origin without a moving model, a 'frame' line in version 1, a force block
-  of the wrong size and an origin that moves along a periodic axis are refused naming them; the
+  of the wrong size, an origin that moves along a periodic axis and an origin variable that is
+  missing or not equal-style are refused naming them; the
   density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
   numpy binning of the dumped atoms in the frame (its training data);
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
@@ -650,10 +651,13 @@ run 10
              (fixed, "origin v_o 0 0", "f f f", "keyword origin needs a model with a moving frame"),
              (v1frame, "origin v_o 0 0", "f f f", "line 'frame' (word 14) needs format version 2"),
              (badforce, "origin v_o 0 0", "f f f", "force has 3 rows and 4 columns; expected 3 and 5"),
-             (periodic, "origin v_o 0 v_o", "f f p", "keyword origin moves the frame along the periodic axis z")]
+             (periodic, "origin v_o 0 v_o", "f f p", "keyword origin moves the frame along the periodic axis z"),
+             (model, "origin v_nothing 0 0", "f f f", "origin variable nothing does not exist"),
+             (model, "origin v_a 0 0", "f f f", "origin variable a is not equal-style")]
     for path, kw, bnd, expected in cases:
         text = HEAD.format(bnd=bnd) + PAIR + """
 variable o equal 1
+variable a atom x
 variable c equal 2.0
 fix rom all griddem/rom model {m} eps 1 v0 1 every 5 control v_c {kw}
 fix integrate rom_dynamic nve/sphere
