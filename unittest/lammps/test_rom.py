@@ -600,44 +600,50 @@ run 10
         t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
 
 
-def moving_frame():
+def moving_frame(nprocs=1):
     """Frame box x 0..3 (3 voxels of 1), y, z 0..6 (one voxel), moving with the origin
     o = 1 + 0.01 step along x; field vx = 0.1 (frame x of the voxel centre): linear between the
-    first and last centres, so u = 0.1 (x - o) there. Atom 1 rests at x = 3: at the first
-    classification (step 5) u = 0.1 (3 - 1.05) = 0.195; at step 10 it is at 3 + 0.195 5 dt and
-    u = 0.1 (x - 1.10). Atom 2 at x = 5.5 is outside the placed frame (1.05..4.05): dynamic. Force
+    first and last centres, so u = 0.1 (x - o) there. Atom 1 rests at x = 2.5: at the first
+    classification (step 5) u = 0.1 (2.5 - 1.05) = 0.145; at step 10 it is at 2.5 + 0.145 5 dt
+    and u = 0.1 (x - 1.10). Atom 2 at x = 5.5 is outside the placed frame (1.05..4.05): dynamic. Force
     block: x = 1 + 0.5 c (c = 2), y = 2, z = 3 + sum of densities = 3 + (pi / 6) / 36 (atom 1's mass
-    over the voxel volume 1 x 6 x 6: cloud-in-cell keeps the mass)."""
+    over the voxel volume 1 x 6 x 6: cloud-in-cell keeps the mass). On 2 processes the two atoms
+    are on different ones (x split at 3) and every value is the same; the refusals run once."""
     frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
     ncol = 1 + 3 + 1
     force = [[1.0, 0, 0, 0, 0.5], [2.0, 0, 0, 0, 0], [3.0, 1, 1, 1, 0]]
     model = os.path.join(WD, "frame.model")
     t.write_rom_model(model, (3, 1, 1), frame, version=2, frame="moving", controls=1,
                       vx_of_voxel=lambda m: 0.1 * (m + 0.5), force=force)
-    text = resting_spheres((3.0, 3.0, 3.0), (5.5, 3.0, 3.0)) + PAIR + """
+    text = resting_spheres((2.5, 3.0, 3.0), (5.5, 3.0, 3.0)).replace(
+        "region box", "processors %d 1 1\nregion box" % nprocs) + PAIR + """
 variable o equal 1+0.01*step
 variable c equal 2.0
 fix rom all griddem/rom model {m} eps 1 v0 1 every 5 control v_c origin v_o 0 0
 fix integrate rom_dynamic nve/sphere
-dump d all custom 5 frame.dump id x vx f_rom
+dump d all custom 5 frame{n}.dump id x vx f_rom
 dump_modify d format float %.17g sort id
 thermo_style custom step f_rom[14] f_rom[15] f_rom[16]
 thermo_modify format float %.17g
 thermo 5
 run 10
-""".format(m=model)
-    out = t.run_ok(text, WD, name="in.frame")
-    snaps = t.read_dumps(os.path.join(WD, "frame.dump"))
+""".format(m=model, n=nprocs)
+    out = t.run_ok(text, WD, nprocs=nprocs, name="in.frame%d" % nprocs)
+    snaps = t.read_dumps(os.path.join(WD, "frame%d.dump" % nprocs))
+    label = "%d process(es): " % nprocs
     s5, s10 = snaps[1][1], snaps[2][1]
-    t.check(s5[1][2] == 1.0 and abs(s5[1][1] - 0.195) <= 1e-14,
-            "step 5: kinematic, vx = 0.1 (3 - 1.05) = 0.195 (%.17g)" % s5[1][1])
-    x10 = 3.0 + 0.195 * 5 * 0.001
+    t.check(s5[1][2] == 1.0 and abs(s5[1][1] - 0.145) <= 1e-14,
+            label + "step 5: kinematic, vx = 0.1 (2.5 - 1.05) = 0.145 (%.17g)" % s5[1][1])
+    x10 = 2.5 + 0.145 * 5 * 0.001
     t.check(abs(s10[1][0] - x10) <= 1e-14 and abs(s10[1][1] - 0.1 * (x10 - 1.10)) <= 1e-14,
-            "step 10: at %.15g, vx = 0.1 (x - 1.10) (%.17g)" % (s10[1][0], s10[1][1]))
-    t.check(s5[2][2] == 0.0 and s10[2][2] == 0.0 and s10[2][0] == 5.5, "the atom outside the frame stays dynamic")
+            label + "step 10: at %.15g, vx = 0.1 (x - 1.10) (%.17g)" % (s10[1][0], s10[1][1]))
+    t.check(s5[2][2] == 0.0 and s10[2][2] == 0.0 and s10[2][0] == 5.5,
+            label + "the atom outside the frame stays dynamic")
     fx, fy, fz = (t.thermo_values(out, "f_rom[%d]" % k)[-1] for k in (14, 15, 16))
     t.check(fx == 2.0 and fy == 2.0 and abs(fz - (3.0 + (math.pi / 6.0) / 36.0)) <= 1e-14,
-            "predicted force (%.17g %.17g %.17g) = (2, 2, 3 + (pi/6)/36)" % (fx, fy, fz))
+            label + "predicted force (%.17g %.17g %.17g) = (2, 2, 3 + (pi/6)/36)" % (fx, fy, fz))
+    if nprocs > 1:
+        return
     # refusals
     fixed = os.path.join(WD, "fixed_c1.model")
     t.write_rom_model(fixed, (3, 3, 3), BOX, controls=1)
@@ -743,6 +749,7 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 model_checks()
 moving_frame()
+moving_frame(2)
 frame_binning()
 rejoin()
 keyword_checks()
