@@ -206,7 +206,8 @@ def main():
                     "rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
     ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
-    ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
+    ap.add_argument("--plot", help="write the figure (examples/rom-pile/plot_rom.py; blade: "
+                    "examples/rom-blade/plot_blade.py) to this path")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     if a.v0 is None:
