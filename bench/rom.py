@@ -5,6 +5,8 @@
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
+    /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P]
+                                  [--eps 0.3] [--v0 0.45] [--every 50]
 
 Scene pile (examples/rom-pile, the default): the outlet width is the control.
 
@@ -20,7 +22,14 @@ with --noise-seed the same accuracies of a resolved run with another seed (the n
 Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
 (in.build, pile.restart in bench/work-rom/hopper) and every run starts from it; the control is the
 feed rate, a history of --seg-step segments; training runs at the --train-feed histories, the test
-at --test-feed (a history not trained)."""
+at --test-feed (a history not trained).
+
+Scene blade (examples/rom-blade, 5,200 polydisperse spheres): the bed is built once (in.build,
+bed.restart in bench/work-rom/blade); a blade is lowered to its bottom at z = Z, pushed at speed P
+and raised (a trajectory Z:P); the controls are its velocity, the model's grid moves with it
+(train_blade.py). Training at --train-traj, the test at --test-traj (not trained). Adds the
+blade-force accuracies: 1 - time-mean |F - F_resolved| / time-mean |F_resolved| of the force the
+reduced run measures on the blade and of the force its model predicts (examples/rom-blade/blade_force.py)."""
 import argparse
 import json
 import os
@@ -33,11 +42,15 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
 HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
+BLADE = os.path.join(ROOT, "examples", "rom-blade")
 sys.path.insert(0, EXAMPLE)
 sys.path.insert(0, HERE)
 
 import benchlib  # noqa: E402
 from compare import compare  # noqa: E402
+
+sys.path.insert(0, BLADE)
+from blade_force import force_accuracy  # noqa: E402
 
 
 def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
@@ -51,9 +64,9 @@ def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
     return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
-def run_lammps(lmp, wd, inp, tag, variables):
-    """Runs an input of examples/rom-hopper in wd; returns the CPU time it took."""
-    args = [lmp, "-in", os.path.join(HOPPER, inp), "-var", "scene", os.path.join(HOPPER, "in.hopper-scene"),
+def run_lammps(lmp, wd, inp, tag, variables, example=HOPPER, scene="in.hopper-scene"):
+    """Runs an input of an example folder (rom-hopper, rom-blade) in wd; returns the CPU time it took."""
+    args = [lmp, "-in", os.path.join(example, inp), "-var", "scene", os.path.join(example, scene),
             "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in variables.items():
         args += ["-var", k] + (v if isinstance(v, list) else [str(v)])
@@ -61,6 +74,42 @@ def run_lammps(lmp, wd, inp, tag, variables):
     subprocess.run(args, cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def blade_runs(a, lmp):
+    """The blade study's runs, as hopper_runs returns them."""
+    wd = os.path.join(HERE, "work-rom", "blade")
+    os.makedirs(wd, exist_ok=True)
+
+    def run(inp, tag, variables):
+        return run_lammps(lmp, wd, inp, tag, variables, BLADE, "in.blade-scene")
+
+    if not os.path.exists(os.path.join(wd, "bed.restart")):
+        run("in.build", "build", {})
+    tags = []
+    for traj in a.train_traj.split(","):
+        zlow, push = traj.split(":")
+        tag = "train.z%s.p%s" % (zlow, push)
+        if not os.path.exists(os.path.join(wd, "force.%s.txt" % tag)):
+            run("in.blade", tag, dict(zlow=zlow, push=push, tag=tag, adump=100))
+        tags.append(tag)
+    model = "rom.%s.model" % a.train_traj.replace(":", "_").replace(",", "-")
+    if not os.path.exists(os.path.join(wd, model)):
+        subprocess.run([sys.executable, os.path.join(BLADE, "train_blade.py"), model] + tags, cwd=wd, check=True,
+                       stdout=subprocess.DEVNULL)
+    zlow, push = a.test_traj.split(":")
+    name = "z%s.p%s" % (zlow, push)
+    res, rom = "test.%s.resolved" % name, "test.%s.rom.e%g.n%d" % (name, a.eps, a.every)
+    cpu_res = run("in.blade", res, dict(zlow=zlow, push=push, tag=res))
+    cpu_rom = run("in.blade", rom, dict(zlow=zlow, push=push, tag=rom, mode="rom", model=model, eps=a.eps,
+                                        v0=a.v0, every=a.every))
+    noise = None
+    if a.noise_seed is not None:
+        noise = "test.%s.resolved.seed%d" % (name, a.noise_seed)
+        if not os.path.exists(os.path.join(wd, "cg.%s.txt" % noise)):    # its timing is not used
+            run("in.blade", noise, dict(zlow=zlow, push=push, tag=noise, seed=a.noise_seed))
+    scene = "rom-blade train %s test %s" % (a.train_traj, a.test_traj)
+    return wd, res, rom, noise, cpu_res, cpu_rom, scene
 
 
 def hopper_runs(a, lmp):
@@ -133,12 +182,16 @@ def pile_runs(a, lmp):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lmp", default=os.path.join(ROOT, "build", "lmp"))
-    ap.add_argument("--scene", choices=("pile", "hopper"), default="pile")
+    ap.add_argument("--scene", choices=("pile", "hopper", "blade"), default="pile")
     ap.add_argument("--seg", type=int, default=1500, help="hopper: steps per feed-rate segment")
     ap.add_argument("--train-feed", default="0.05,0.2,0.1,0/0.15,0,0.2,0.05/0,0.1,0.05,0.2",
                     help="hopper: the training runs' feed-rate histories (segments by commas, runs by /)")
     ap.add_argument("--test-feed", default="0.12,0.03,0.18,0.08", help="hopper: the test's feed-rate history")
-    ap.add_argument("--v0", type=float, default=0.36, help="hopper: velocity scale of the threshold")
+    ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
+    ap.add_argument("--train-traj", default="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2",
+                    help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
+                    "push speed)")
+    ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
     ap.add_argument("--W", type=int, default=20, help="container width (even)")
     ap.add_argument("--H", type=int, default=26, help="box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="initial pile height")
@@ -153,10 +206,14 @@ def main():
                     "rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
     ap.add_argument("--noise-seed", type=int, help="also run the test resolved with this seed: the noise floor")
-    ap.add_argument("--plot", help="write examples/rom-pile/plot_rom.py's figure to this path")
+    ap.add_argument("--plot", help="write the figure (examples/rom-pile/plot_rom.py; blade: "
+                    "examples/rom-blade/plot_blade.py) to this path")
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
-    wd, res, rom, noise, cpu_res, cpu_rom, scene = (hopper_runs if a.scene == "hopper" else pile_runs)(a, lmp)
+    if a.v0 is None:
+        a.v0 = 0.45 if a.scene == "blade" else 0.36
+    runs = dict(pile=pile_runs, hopper=hopper_runs, blade=blade_runs)[a.scene]
+    wd, res, rom, noise, cpu_res, cpu_rom, scene = runs(a, lmp)
     here = os.getcwd()
     os.chdir(wd)
     c = compare(res, rom)
@@ -171,8 +228,13 @@ def main():
         if "temperature_error" in n:
             c["noise_temperature_error"] = n["temperature_error"]
             c["temperature_error_over_floor"] = c["temperature_error"] / n["temperature_error"]
+    if a.scene == "blade":
+        c.update(**force_accuracy(res, rom, "measured"), **force_accuracy(res, rom, "predicted"))
+        if noise:
+            c["noise_force_accuracy"] = force_accuracy(res, noise, "measured")["force_accuracy_measured"]
     if a.plot:
-        subprocess.run([sys.executable, os.path.join(EXAMPLE, "plot_rom.py"), res, rom] + ([noise] if noise else []) +
+        plot = os.path.join(BLADE, "plot_blade.py") if a.scene == "blade" else os.path.join(EXAMPLE, "plot_rom.py")
+        subprocess.run([sys.executable, plot, res, rom] + ([noise] if noise else []) +
                        [os.path.abspath(os.path.join(here, a.plot))], check=True)
     os.chdir(here)
     log = open(os.path.join(wd, "log." + res)).read()

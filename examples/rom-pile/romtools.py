@@ -1,5 +1,5 @@
 """Reading LAMMPS `dump grid` text files (one process: cells in x-fastest order) and the
-griddem/rom model file format (version 1, doc/fix_griddem_rom.md)."""
+griddem/rom model file format (versions 1 and 2, doc/fix_griddem_rom.md)."""
 import numpy as np
 
 
@@ -34,21 +34,30 @@ def read_grid_dump(path):
     return frames
 
 
-def write_model(path, n, box, lam, weights, note=""):
+def write_model(path, n, box, lam, weights, note="", frame=None, force=None):
     """weights: array [3 nvoxel, 1 + nvoxel + ncontrol] (row 3 m + d, columns bias, densities,
-    controls)."""
+    controls). frame: 'moving' for a box relative to fix griddem/rom's keyword origin; force:
+    array [3, 1 + nvoxel + ncontrol], the force on a tool from the same features. Either one
+    makes the file format version 2."""
     nvox = n[0] * n[1] * n[2]
     nrow, ncol = weights.shape
     assert nrow == 3 * nvox
+    assert force is None or force.shape == (3, ncol)
     with open(path, "w") as f:
         f.write("# griddem/rom model (fix griddem/rom, doc/fix_griddem_rom.md)\n")
         for line in note.splitlines():
             f.write("# " + line + "\n")
-        f.write("griddem/rom 1\n")
+        f.write("griddem/rom %d\n" % (1 if frame is None and force is None else 2))
         f.write("grid %d %d %d\n" % tuple(n))
         f.write("box %s\n" % " ".join("%.17g" % b for b in box))
+        if frame is not None:
+            f.write("frame %s\n" % frame)
         f.write("controls %d\n" % (ncol - 1 - nvox))
         f.write("lambda %.6g\n" % lam)
         f.write("weights %d %d\n" % (nrow, ncol))
         for row in weights:
             f.write(" ".join("%.10g" % w for w in row) + "\n")
+        if force is not None:
+            f.write("force 3 %d\n" % ncol)
+            for row in force:
+                f.write(" ".join("%.10g" % w for w in row) + "\n")

@@ -79,6 +79,14 @@ def main():
         raise SystemExit(__doc__)
     out, specs = sys.argv[1], sys.argv[2:]
     runs, n, box = load(specs)
+    W, note = fit_validated(runs, "velocity")
+    write_model(out, n, box, W[1], W[0], "trained by train_rom.py on %s\n%s" % (" ".join(specs), note))
+    print(note)
+
+
+def fit_validated(runs, what):
+    """Ridge fit of runs [(name, X, Y)] with lambda chosen by leave-one-run-out validation from a
+    logarithmic grid; returns ((weights, lambda), a note on the fit)."""
     lams = 10.0 ** np.arange(-3, 5.01, 0.5)
     scores = []
     for lam in lams:
@@ -88,18 +96,16 @@ def main():
             Yt = np.vstack([r[2] for j, r in enumerate(runs) if j != k])
             err.append(np.mean((predict(fit(Xt, Yt, lam), Xv) - Yv) ** 2))
         scores.append(np.mean(err))
-        print("lambda %-10.4g leave-one-run-out rms velocity error %.5f" % (lam, np.sqrt(scores[-1])))
+        print("lambda %-10.4g leave-one-run-out rms %s error %.5f" % (lam, what, np.sqrt(scores[-1])))
     best = lams[int(np.argmin(scores))]
     X = np.vstack([r[1] for r in runs])
     Y = np.vstack([r[2] for r in runs])
     W = fit(X, Y, best)
     train_rms = np.sqrt(np.mean((predict(W, X) - Y) ** 2))
     zero_rms = np.sqrt(np.mean(Y ** 2))
-    note = ("trained by train_rom.py on %d frames of %s\nlambda %.4g (standardised features) by "
-            "leave-one-run-out validation: rms %.5f; training rms %.5f; rms of the velocities %.5f"
-            % (len(X), " ".join(specs), best, np.sqrt(min(scores)), train_rms, zero_rms))
-    write_model(out, n, box, best, W, note)
-    print(note)
+    note = ("%s: %d frames; lambda %.4g (standardised features) by leave-one-run-out validation: rms %.5f; "
+            "training rms %.5f; rms of the data %.5f" % (what, len(X), best, np.sqrt(min(scores)), train_rms, zero_rms))
+    return (W, best), note
 
 
 if __name__ == "__main__":

@@ -29,8 +29,9 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), ncontrol(0), lambda(0.0), eps(-1.0),
-    v0(-1.0), overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
+    Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
+    origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), lambda(0.0), eps(-1.0),
+    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -38,6 +39,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
 {
   std::string model_file;
   int every = 0;
+  bool origin_given = false;
   int iarg = 3;
   while (iarg < narg) {
     const std::string word = arg[iarg];
@@ -45,6 +47,16 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
       iarg++;
       while (iarg < narg && utils::strmatch(arg[iarg], "^v_")) control_names.emplace_back(arg[iarg++] + 2);
       if (control_names.empty()) error->all(FLERR, "Fix griddem/rom: keyword control needs v_name arguments");
+      continue;
+    }
+    if (word == "origin") {
+      if (iarg + 4 > narg) error->all(FLERR, "Fix griddem/rom: keyword origin needs 3 values (v_name or a number)");
+      for (int d = 0; d < 3; d++) {
+        if (utils::strmatch(arg[iarg + 1 + d], "^v_")) origin_names[d] = arg[iarg + 1 + d] + 2;
+        else origin[d] = utils::numeric(FLERR, arg[iarg + 1 + d], false, lmp);
+      }
+      origin_given = true;
+      iarg += 4;
       continue;
     }
     if (iarg + 2 > narg) error->all(FLERR, "Fix griddem/rom: keyword {} needs a value", word);
@@ -76,6 +88,12 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   period = model_step = every;
 
   read_model(model_file.c_str());
+  if (moving && !origin_given)
+    error->all(FLERR, "Fix griddem/rom: model {} has a moving frame (line 'frame moving'): keyword origin is "
+               "required", model_file);
+  if (origin_given && !moving)
+    error->all(FLERR, "Fix griddem/rom: keyword origin needs a model with a moving frame (line 'frame moving'); "
+               "model {} has its box in the simulation box", model_file);
   if ((int) control_names.size() != ncontrol)
     error->all(FLERR, "Fix griddem/rom: model {} has {} controls, the fix names {} (keyword control)",
                model_file, ncontrol, control_names.size());
@@ -91,7 +109,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 13;
+  size_vector = 16;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
@@ -122,20 +140,24 @@ int FixGriddemRom::setmask()
   return INITIAL_INTEGRATE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
 }
 
-/* The model file (format version 1; doc/fix_griddem_rom.md): '#' starts a comment; then
-     griddem/rom 1
+/* The model file (format version 1 or 2; doc/fix_griddem_rom.md): '#' starts a comment; then
+     griddem/rom VERSION
      grid NX NY NZ
      box XLO XHI YLO YHI ZLO ZHI
+     frame moving             (version 2, optional: the box is relative to keyword origin)
      controls NC
      lambda L
      weights NROW NCOL        (NROW = 3 NX NY NZ, NCOL = 1 + NX NY NZ + NC)
    and NROW x NCOL numbers: row 3 m + d gives velocity component d of voxel m = i + NX (j + NY k)
-   as bias + sum_m' w density(m') + sum_c w control(c). Read on rank 0; every mismatch is an
-   error that names it. */
+   as bias + sum_m' w density(m') + sum_c w control(c); then optionally (version 2)
+     force 3 NCOL
+   and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features. Read on rank 0;
+   every mismatch is an error that names it. */
 void FixGriddemRom::read_model(const char *file)
 {
   std::string msg;
-  std::vector<double> head(13, 0.0);
+  // version, grid (3), box (6), controls, lambda, weights' size, moving, force rows
+  std::vector<double> head(15, 0.0);
   if (comm->me == 0) {
     std::ifstream in(file);
     std::vector<std::string> tok;
@@ -173,10 +195,18 @@ void FixGriddemRom::read_model(const char *file)
         msg = fmt::format("model file {}: '{}' (word {}) is not a finite number", file, tok[p], p + 1);
       p++;
     };
+    // an optional line of version 2, named by its first word
+    auto optional = [&](const char *key) -> bool {
+      if (!msg.empty() || p >= tok.size() || tok[p] != key) return false;
+      if (head[0] < 2)
+        msg = fmt::format("model file {}: line '{}' (word {}) needs format version 2, the file has version 1",
+                          file, key, p + 1);
+      return msg.empty();
+    };
     if (expect("griddem/rom", 1)) {
       number(head[0]);
-      if (msg.empty() && head[0] != GRIDDEM_ROM_VERSION)
-        msg = fmt::format("model file {}: format version {} is not supported (this build reads version {})",
+      if (msg.empty() && head[0] != 1 && head[0] != GRIDDEM_ROM_VERSION)
+        msg = fmt::format("model file {}: format version {} is not supported (this build reads versions 1 to {})",
                           file, tok[p - 1], GRIDDEM_ROM_VERSION);
     }
     if (expect("grid", 3))
@@ -192,6 +222,12 @@ void FixGriddemRom::read_model(const char *file)
       for (int d = 0; d < 3; d++)
         if (!(head[5 + 2 * d] > head[4 + 2 * d]))
           msg = fmt::format("model file {}: box bounds along axis {} are not increasing", file, d);
+    if (optional("frame") && expect("frame", 1)) {
+      if (tok[p] != "moving")
+        msg = fmt::format("model file {}: 'frame {}' (word {}): the only frame is 'moving'", file, tok[p], p + 1);
+      p++;
+      head[13] = 1.0;
+    }
     if (expect("controls", 1)) number(head[10]);
     if (msg.empty() && (head[10] < 0 || head[10] != std::floor(head[10])))
       msg = fmt::format("model file {}: number of controls {} is not a count", file, head[10]);
@@ -209,7 +245,7 @@ void FixGriddemRom::read_model(const char *file)
       msg = fmt::format("model file {}: weights has {} columns; grid size {} {} {} and {} controls "
                         "need 1 + {} + {} = {}", file, ncol, head[1], head[2], head[3], head[10],
                         nvox, head[10], 1 + nvox + head[10]);
-    if (msg.empty() && tok.size() - p != (size_t) (nrow * ncol))
+    if (msg.empty() && tok.size() - p < (size_t) (nrow * ncol))
       msg = fmt::format("model file {}: {} weight values, expected {} x {} = {}", file, tok.size() - p,
                         nrow, ncol, nrow * ncol);
     if (msg.empty()) {
@@ -217,26 +253,57 @@ void FixGriddemRom::read_model(const char *file)
       for (auto &w : weights) number(w);
     }
     head[12] = nrow * ncol;
+    if (msg.empty() && p < tok.size()) {
+      double frow = 0, fcol = 0;
+      if (optional("force") && expect("force", 2)) {
+        number(frow);
+        number(fcol);
+      }
+      if (msg.empty() && (frow != 3 || fcol != ncol))
+        msg = fmt::format("model file {}: force has {} rows and {} columns; expected 3 and {} (as weights)", file,
+                          frow, fcol, ncol);
+      if (msg.empty() && tok.size() - p != (size_t) (3 * ncol))
+        msg = fmt::format("model file {}: {} force values, expected 3 x {} = {}", file, tok.size() - p, ncol,
+                          3 * ncol);
+      if (msg.empty()) {
+        force_weights.resize((size_t) (3 * ncol));
+        for (auto &w : force_weights) number(w);
+      }
+      head[14] = 3;
+    }
   }
   int len = msg.size();
   MPI_Bcast(&len, 1, MPI_INT, 0, world);
   msg.resize(len);
   MPI_Bcast(&msg[0], len, MPI_CHAR, 0, world);
   if (len) error->all(FLERR, "Fix griddem/rom: {}", msg);
-  MPI_Bcast(head.data(), 13, MPI_DOUBLE, 0, world);
+  MPI_Bcast(head.data(), head.size(), MPI_DOUBLE, 0, world);
   for (int d = 0; d < 3; d++) {
-    grid.n[d] = (int) head[1 + d];
-    grid.lo[d] = head[4 + 2 * d];
-    grid.hi[d] = head[5 + 2 * d];
+    frame_grid.n[d] = (int) head[1 + d];
+    frame_grid.lo[d] = head[4 + 2 * d];
+    frame_grid.hi[d] = head[5 + 2 * d];
   }
+  grid = frame_grid;
+  moving = head[13] != 0.0;
   ncontrol = (int) head[10];
   lambda = head[11];
   weights.resize((size_t) head[12]);
   MPI_Bcast(weights.data(), weights.size(), MPI_DOUBLE, 0, world);
   const int nvox = griddem_rom_nvoxel(&grid);
+  force_weights.resize((size_t) head[14] * (1 + nvox + ncontrol));
+  MPI_Bcast(force_weights.data(), force_weights.size(), MPI_DOUBLE, 0, world);
   density.assign(nvox, 0.0);
   feature.assign(1 + nvox + ncontrol, 0.0);
   field.assign(3 * nvox, 0.0);
+}
+
+/* The voxels in the simulation box: the model's box, shifted by the frame's origin where it moves. */
+void FixGriddemRom::place_grid()
+{
+  if (!moving) return;
+  for (int d = 0; d < 3; d++)
+    if (origin_vars[d] >= 0) origin[d] = input->variable->compute_equal(origin_vars[d]);
+  griddem_rom_place(&frame_grid, origin, &grid);    // frame_grid has the box's periodicity (init)
 }
 
 void FixGriddemRom::init()
@@ -245,13 +312,31 @@ void FixGriddemRom::init()
     error->all(FLERR, "Fix griddem/rom needs a griddem pair style (it skips kinematic-kinematic "
                "pairs through the pair's exclusions); pair style is {}",
                force->pair ? force->pair_style : "none");
+  // a model box in the simulation box equals it; a moving frame may be any box, but along a
+  // periodic axis it is the box's period, and it does not move there
   for (int d = 0; d < 3; d++) {
-    grid.periodic[d] = domain->periodicity[d];
+    frame_grid.periodic[d] = grid.periodic[d] = domain->periodicity[d];
     const double len = domain->boxhi[d] - domain->boxlo[d];
-    if (fabs(grid.lo[d] - domain->boxlo[d]) > 1e-9 * len || fabs(grid.hi[d] - domain->boxhi[d]) > 1e-9 * len)
-      error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}",
-                 grid.lo[d], grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d]);
+    if (moving && !domain->periodicity[d]) continue;
+    if (moving && (!origin_names[d].empty() || origin[d] != 0.0))
+      error->all(FLERR, "Fix griddem/rom: keyword origin moves the frame along the periodic axis {}; "
+                 "give 0 there", "xyz"[d]);
+    if (fabs(frame_grid.lo[d] - domain->boxlo[d]) > 1e-9 * len ||
+        fabs(frame_grid.hi[d] - domain->boxhi[d]) > 1e-9 * len)
+      error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}{}",
+                 frame_grid.lo[d], frame_grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d],
+                 moving ? " (a moving frame spans the box along a periodic axis)" : "");
   }
+  for (int d = 0; d < 3; d++) {
+    origin_vars[d] = -1;
+    if (origin_names[d].empty()) continue;
+    origin_vars[d] = input->variable->find(origin_names[d].c_str());
+    if (origin_vars[d] < 0)
+      error->all(FLERR, "Fix griddem/rom: origin variable {} does not exist", origin_names[d]);
+    if (!input->variable->equalstyle(origin_vars[d]))
+      error->all(FLERR, "Fix griddem/rom: origin variable {} is not equal-style", origin_names[d]);
+  }
+  place_grid();
   resolved = nullptr;
   if (!resolved_id.empty()) {
     resolved = domain->get_region_by_id(resolved_id);
@@ -517,6 +602,7 @@ void FixGriddemRom::classify()
   const double *radius = atom->radius, *rmass = atom->rmass;
   int *mask = atom->mask;
 
+  place_grid();
   std::vector<int> use(nlocal);
   for (int i = 0; i < nlocal; i++) use[i] = (mask[i] & groupbit) ? 1 : 0;
   std::vector<double> local(nvox, 0.0);
@@ -526,6 +612,8 @@ void FixGriddemRom::classify()
   for (int m = 0; m < nvox; m++) feature[1 + m] = density[m];
   for (int c = 0; c < ncontrol; c++) feature[1 + nvox + c] = input->variable->compute_equal(control_vars[c]);
   griddem_rom_predict(3 * nvox, 1 + nvox + ncontrol, weights.data(), feature.data(), field.data());
+  if (!force_weights.empty())
+    griddem_rom_predict(3, 1 + nvox + ncontrol, force_weights.data(), feature.data(), force_predicted);
   fill_grid();
 
   const double threshold = eps * v0;
@@ -688,10 +776,11 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
    9: kinematic atoms moving at DEM's step (within reach of a dynamic atom) after the last reach
    test; 10: the model step in DEM steps; 11: reach tests between model steps (the skin rule);
    12: atoms that qualified but were kept dynamic by their voxel; 13: seconds this process spent
-   at the end of steps (classification, reach test, catch-up). 2-8, 11-13 summed over the run. */
+   at the end of steps (classification, reach test, catch-up). 2-8, 11-13 summed over the run.
+   14-16: the force the model's block 'force' predicts at the last classification (0 without). */
 double FixGriddemRom::compute_vector(int n)
 {
-  return counts[n];
+  return n < 13 ? counts[n] : force_predicted[n - 13];
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)

@@ -57,10 +57,17 @@ class FixGriddemRom : public Fix {
   int lagging_bit;      // group bit of the kinematic atoms no dynamic atom can reach (ID_lagging)
 
  private:
-  griddem_rom_grid grid;
+  griddem_rom_grid grid;          // the voxels in the simulation box (frame_grid placed at the origin)
+  griddem_rom_grid frame_grid;    // the model file's box (relative to the origin where moving)
+  bool moving;                    // model line 'frame moving': its box is relative to keyword origin
+  std::string origin_names[3];    // keyword origin: equal-style variable names ("" where constant)
+  int origin_vars[3];
+  double origin[3];               // the frame's origin now (constants from keyword origin)
   int ncontrol;
   double lambda;
   std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol]
+  std::vector<double> force_weights;    // model block 'force': [3][1 + nvoxel + ncontrol], or empty
+  double force_predicted[3];            // the force block's prediction at the last classification
   std::vector<std::string> control_names;
   std::vector<int> control_vars;
   double eps, v0, overlap_max;
@@ -93,9 +100,10 @@ class FixGriddemRom : public Fix {
   double ***grid_values[4];    // vx vy vz density of the last classification
   griddem_grid check_grid;    // the contact checks' grid and bins (scratch kept between calls)
   griddem_bins check_bins;
-  double counts[13];    // see compute_vector
+  double counts[13];    // see compute_vector (entries 14-16: force_predicted)
 
   void read_model(const char *file);
+  void place_grid();
   void classify();
   void release_by_force();
   void catch_up();

@@ -12,6 +12,15 @@ int griddem_rom_nvoxel(const griddem_rom_grid *g)
   return g->n[0] * g->n[1] * g->n[2];
 }
 
+void griddem_rom_place(const griddem_rom_grid *frame, const double origin[3], griddem_rom_grid *placed)
+{
+  *placed = *frame;
+  for (int d = 0; d < 3; d++) {
+    placed->lo[d] = frame->lo[d] + origin[d];
+    placed->hi[d] = frame->hi[d] + origin[d];
+  }
+}
+
 int griddem_rom_inside(const griddem_rom_grid *g, const double x[3])
 {
   for (int d = 0; d < 3; d++)

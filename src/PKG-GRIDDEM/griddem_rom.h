@@ -13,13 +13,19 @@
 extern "C" {
 #endif
 
-#define GRIDDEM_ROM_VERSION 1
+/* the model file's format: version 1 (box = simulation box, velocity rows), version 2 adds the
+ * optional lines 'frame moving' and 'force' (doc/fix_griddem_rom.md) */
+#define GRIDDEM_ROM_VERSION 2
 
 typedef struct griddem_rom_grid {
   int n[3];
   double lo[3], hi[3];
   int periodic[3];
 } griddem_rom_grid;
+
+/* The grid of a model whose box is given in a frame that moves (model line 'frame moving'): the
+ * frame's box shifted by origin, the frame's origin in the simulation box. */
+void griddem_rom_place(const griddem_rom_grid *frame, const double origin[3], griddem_rom_grid *placed);
 
 /* Number of voxels. */
 int griddem_rom_nvoxel(const griddem_rom_grid *g);

@@ -2,7 +2,8 @@
  * inside the box (and skips the others), interpolation reproduces a linear velocity field away
  * from the boundary voxels and a uniform one everywhere, and the prediction is the plain
  * matrix-vector product; the classification's contact checks and the reach test of lagging
- * kinematic atoms equal brute-force searches; the voxel of a point. */
+ * kinematic atoms equal brute-force searches; the voxel of a point; a grid placed at a moving
+ * origin sees a shifted point set exactly as the frame's grid sees the unshifted one. */
 #include "check.h"
 #include "griddem_rom.h"
 
@@ -166,8 +167,48 @@ static void check_near(double spread)
   griddem_bins_free(&b);
 }
 
+/* Points p + origin on the placed grid: the same voxels, weights and deposit as p on the frame's
+ * grid (the origin's shift is exactly representable: multiples of 1/8), and p + origin is outside
+ * the placed box where p is outside the frame's. */
+static void check_place(void)
+{
+  const double origin[3] = {2.375, 0.0, -1.125};
+  griddem_rom_grid placed;
+  griddem_rom_place(&G, origin, &placed);
+  CHECK(placed.lo[0] == 1.375 && placed.hi[0] == 5.375 && placed.lo[2] == 0.875 && placed.hi[2] == 5.875 &&
+            placed.n[0] == 4 && placed.periodic[1] == 1,
+        "placed box = the frame's box + origin, same voxels and periodicity");
+  double x[3 * 50], xs[3 * 50], mass[50], d0[60] = {0}, d1[60] = {0};
+  int same = 1;
+  for (int i = 0; i < 50; i++) {
+    for (int d = 0; d < 3; d++) {
+      /* on a 1/64 lattice: p + origin is exact */
+      x[3 * i + d] = G.lo[d] + floor(check_uniform() * (G.hi[d] - G.lo[d]) * 64.0) / 64.0;
+      xs[3 * i + d] = x[3 * i + d] + origin[d];
+    }
+    mass[i] = 1.0;
+    int v0[8], v1[8];
+    double w0[8], w1[8];
+    griddem_rom_weights(&G, &x[3 * i], v0, w0);
+    griddem_rom_weights(&placed, &xs[3 * i], v1, w1);
+    for (int c = 0; c < 8; c++) same &= v0[c] == v1[c] && fabs(w0[c] - w1[c]) <= 1e-14;
+    same &= griddem_rom_voxel(&G, &x[3 * i]) == griddem_rom_voxel(&placed, &xs[3 * i]);
+  }
+  CHECK(same, "voxels, weights and voxel of shifted points equal the frame's");
+  griddem_rom_deposit(&G, 50, x, 3, mass, NULL, d0);
+  griddem_rom_deposit(&placed, 50, xs, 3, mass, NULL, d1);
+  double diff = 0.0;
+  for (int m = 0; m < 60; m++) diff = fmax(diff, fabs(d0[m] - d1[m]));
+  CHECK(diff <= 1e-12, "deposit of shifted points equals the frame's (largest difference %g)", diff);
+  CHECK(griddem_rom_inside(&placed, (const double[3]){5.0, 0.5, 1.0}) &&
+            !griddem_rom_inside(&placed, (const double[3]){1.0, 0.5, 3.0}) &&
+            !griddem_rom_inside(&G, (const double[3]){5.0, 0.5, 1.0}),
+        "inside follows the placed box");
+}
+
 int main(void)
 {
+  check_place();
   check_weights_and_deposit();
   check_interpolation();
   check_predict();

@@ -194,18 +194,29 @@ def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0
 
 
 def write_rom_model(path, n, box, controls=0, bias=(0.0, 0.0, 0.0), version=1, nrow=None, ncol=None,
-                control_weight=None):
-    """A model whose field is the uniform bias (plus control_weight * control 1 on vx)."""
+                    control_weight=None, frame=None, vx_of_voxel=None, force=None):
+    """A model whose field is the uniform bias (plus control_weight * control 1 on vx; plus
+    vx_of_voxel(m) on vx of voxel m). frame: a 'frame' line's word (version 2: 'moving'); force:
+    3 rows of the 'force' block (version 2)."""
     nvox = n[0] * n[1] * n[2]
     nrow = 3 * nvox if nrow is None else nrow
     ncol = 1 + nvox + controls if ncol is None else ncol
     with open(path, "w") as f:
-        f.write("# test model\ngriddem/rom %s\ngrid %d %d %d\nbox %s\ncontrols %d\nlambda 0.001\n"
-                % (version, n[0], n[1], n[2], " ".join("%.17g" % b for b in box), controls))
+        f.write("# test model\ngriddem/rom %s\ngrid %d %d %d\nbox %s\n"
+                % (version, n[0], n[1], n[2], " ".join("%.17g" % b for b in box)))
+        if frame is not None:
+            f.write("frame %s\n" % frame)
+        f.write("controls %d\nlambda 0.001\n" % controls)
         f.write("weights %d %d\n" % (nrow, ncol))
         for r in range(nrow):
             row = [0.0] * ncol
             row[0] = bias[r % 3]
+            if vx_of_voxel is not None and r % 3 == 0:
+                row[0] += vx_of_voxel(r // 3)
             if control_weight is not None and r % 3 == 0:
                 row[ncol - 1] = control_weight
             f.write(" ".join("%.17g" % w for w in row) + "\n")
+        if force is not None:
+            f.write("force %d %d\n" % (len(force), len(force[0])))
+            for row in force:
+                f.write(" ".join("%.17g" % w for w in row) + "\n")

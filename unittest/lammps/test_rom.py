@@ -19,6 +19,15 @@
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
 - the field and density as grid data (dump grid) on 1 and 2 processes;
 - a resolved region keeps its atoms dynamic, also as its bound moves; a missing one is refused;
+- a moving frame (model line 'frame moving', keyword origin): a field linear in the frame's x is
+  sampled at the atom's position less the origin, a variable that moves, at each classification;
+  an atom outside the placed frame stays dynamic; the force block predicts bias + control weight
+  + the sum of the voxel densities (the mass inside the frame over the voxel volume); a moving
+  model without origin, origin without a moving model, a 'frame' line in version 1, a force block
+  of the wrong size, an origin that moves along a periodic axis and an origin variable that is
+  missing or not equal-style are refused naming them; the
+  density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
+  numpy binning of the dumped atoms in the frame (its training data);
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
   schedule file): every weight to 1e-3."""
 import math
@@ -79,7 +88,7 @@ def model_checks():
     good = os.path.join(WD, "good.model")
     t.write_rom_model(good, (3, 3, 3), BOX, controls=1)
     cases = [
-        ("version", dict(version=2), "format version 2"),
+        ("version", dict(version=3), "format version 3"),
         ("grid size", dict(nrow=3 * 26), "grid size 3 3 3"),
         ("columns", dict(ncol=1 + 27), "grid size 3 3 3 and 1 controls"),
         ("controls", dict(controls=2), "has 2 controls, the fix names 1"),
@@ -620,6 +629,129 @@ run 3
             "the new atom is pushed by the lagging one in its first step (snapshot %d): fx %.12g, kn delta %.12g" % (first, fx2, expected))
 
 
+def moving_frame(nprocs=1):
+    """Frame box x 0..3 (3 voxels of 1), y, z 0..6 (one voxel), moving with the origin
+    o = 1 + 0.01 step along x; field vx = 0.1 (frame x of the voxel centre): linear between the
+    first and last centres, so u = 0.1 (x - o) there. Atom 1 rests at x = 2.5: at the first
+    classification (step 5) u = 0.1 (2.5 - 1.05) = 0.145; at step 10 it is at 2.5 + 0.145 5 dt
+    and u = 0.1 (x - 1.10). Atom 2 at x = 5.5 is outside the placed frame (1.05..4.05): dynamic. Force
+    block: x = 1 + 0.5 c (c = 2), y = 2, z = 3 + sum of densities = 3 + (pi / 6) / 36 (atom 1's mass
+    over the voxel volume 1 x 6 x 6: cloud-in-cell keeps the mass). On 2 processes the two atoms
+    are on different ones (x split at 3) and every value is the same; the refusals run once."""
+    frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
+    ncol = 1 + 3 + 1
+    force = [[1.0, 0, 0, 0, 0.5], [2.0, 0, 0, 0, 0], [3.0, 1, 1, 1, 0]]
+    model = os.path.join(WD, "frame.model")
+    t.write_rom_model(model, (3, 1, 1), frame, version=2, frame="moving", controls=1,
+                      vx_of_voxel=lambda m: 0.1 * (m + 0.5), force=force)
+    text = resting_spheres((2.5, 3.0, 3.0), (5.5, 3.0, 3.0)).replace(
+        "region box", "processors %d 1 1\nregion box" % nprocs) + PAIR + """
+variable o equal 1+0.01*step
+variable c equal 2.0
+fix rom all griddem/rom model {m} eps 1 v0 1 every 5 control v_c origin v_o 0 0
+fix integrate rom_dynamic nve/sphere
+dump d all custom 5 frame{n}.dump id x vx f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step f_rom[14] f_rom[15] f_rom[16]
+thermo_modify format float %.17g
+thermo 5
+run 10
+""".format(m=model, n=nprocs)
+    out = t.run_ok(text, WD, nprocs=nprocs, name="in.frame%d" % nprocs)
+    snaps = t.read_dumps(os.path.join(WD, "frame%d.dump" % nprocs))
+    label = "%d process(es): " % nprocs
+    s5, s10 = snaps[1][1], snaps[2][1]
+    t.check(s5[1][2] == 1.0 and abs(s5[1][1] - 0.145) <= 1e-14,
+            label + "step 5: kinematic, vx = 0.1 (2.5 - 1.05) = 0.145 (%.17g)" % s5[1][1])
+    x10 = 2.5 + 0.145 * 5 * 0.001
+    t.check(abs(s10[1][0] - x10) <= 1e-14 and abs(s10[1][1] - 0.1 * (x10 - 1.10)) <= 1e-14,
+            label + "step 10: at %.15g, vx = 0.1 (x - 1.10) (%.17g)" % (s10[1][0], s10[1][1]))
+    t.check(s5[2][2] == 0.0 and s10[2][2] == 0.0 and s10[2][0] == 5.5,
+            label + "the atom outside the frame stays dynamic")
+    fx, fy, fz = (t.thermo_values(out, "f_rom[%d]" % k)[-1] for k in (14, 15, 16))
+    t.check(fx == 2.0 and fy == 2.0 and abs(fz - (3.0 + (math.pi / 6.0) / 36.0)) <= 1e-14,
+            label + "predicted force (%.17g %.17g %.17g) = (2, 2, 3 + (pi/6)/36)" % (fx, fy, fz))
+    if nprocs > 1:
+        return
+    # refusals
+    fixed = os.path.join(WD, "fixed_c1.model")
+    t.write_rom_model(fixed, (3, 3, 3), BOX, controls=1)
+    v1frame = os.path.join(WD, "v1frame.model")
+    t.write_rom_model(v1frame, (3, 1, 1), frame, version=1, frame="moving", controls=1)
+    badforce = os.path.join(WD, "badforce.model")
+    t.write_rom_model(badforce, (3, 1, 1), frame, version=2, frame="moving", controls=1, force=[r[:4] for r in force])
+    periodic = os.path.join(WD, "periodic.model")
+    t.write_rom_model(periodic, (3, 1, 1), frame, version=2, frame="moving", controls=1)
+    cases = [(model, "", "f f f", "has a moving frame (line 'frame moving'): keyword origin is required"),
+             (fixed, "origin v_o 0 0", "f f f", "keyword origin needs a model with a moving frame"),
+             (v1frame, "origin v_o 0 0", "f f f", "line 'frame' (word 14) needs format version 2"),
+             (badforce, "origin v_o 0 0", "f f f", "force has 3 rows and 4 columns; expected 3 and 5"),
+             (periodic, "origin v_o 0 v_o", "f f p", "keyword origin moves the frame along the periodic axis z"),
+             (model, "origin v_nothing 0 0", "f f f", "origin variable nothing does not exist"),
+             (model, "origin v_a 0 0", "f f f", "origin variable a is not equal-style")]
+    for path, kw, bnd, expected in cases:
+        text = HEAD.format(bnd=bnd) + PAIR + """
+variable o equal 1
+variable a atom x
+variable c equal 2.0
+fix rom all griddem/rom model {m} eps 1 v0 1 every 5 control v_c {kw}
+fix integrate rom_dynamic nve/sphere
+run 0
+""".format(m=path, kw=kw)
+        name = "in.frame_bad_%s" % os.path.basename(path).split(".")[0] + kw.replace(" ", "_")
+        rc, out = t.run_lmp(text, WD, name=name)
+        t.check(rc != 0 and expected in out, "refused naming it (%r)%s" % (expected, "" if rc else ": " + out[-300:]))
+
+
+def frame_binning():
+    """30 spheres at random in a box periodic along y; a moving frame 4 x 1 x 3 voxels over
+    x -1..3 (relative), y 0..6, z 0..3, origin x = 1.7: the fix's density field at its first
+    classification (dump grid) against train_blade.py's bin_frame of the dumped positions."""
+    n, frame = (4, 1, 3), (-1.0, 3.0, 0.0, 6.0, 0.0, 3.0)
+    model = os.path.join(WD, "binning.model")
+    t.write_rom_model(model, n, frame, version=2, frame="moving")
+    text = HEAD.format(bnd="f p f") + """
+create_atoms 1 random 30 7741 NULL overlap 0.3
+set type 1 diameter 0.3
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+fix rom all griddem/rom model {m} eps 1 v0 1 every 5 origin 1.7 0 0
+fix integrate rom_dynamic nve/sphere
+dump a all custom 5 binning.atoms id x z vx vz mass
+dump_modify a format float %.17g
+dump g all grid 5 binning.grid f_rom:field:density
+dump_modify g format float %.17g
+run 5
+""".format(m=model)
+    t.run_ok(text, WD, name="in.binning")
+    # train_blade.py needs numpy: the system interpreter's, as train_rom.py in training()
+    import subprocess
+    blade = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                         "examples", "rom-blade")
+    script = """
+import sys
+sys.path.insert(0, %r)
+from train_blade import bin_frame, read_snapshots
+from romtools import read_grid_dump
+atoms = dict(read_snapshots(%r))[5]
+fix = read_grid_dump(%r)[-1][3]["density"]
+rho = bin_frame(atoms["x"] - 1.7, atoms["z"], atoms["vx"], atoms["vz"], atoms["mass"], %r, %r)[0]
+inside = ((atoms["x"] - 1.7 >= -1) & (atoms["x"] - 1.7 < 3) & (atoms["z"] < 3)).sum()
+print(len(fix), max(abs(fix - rho)), inside)
+""" % (blade, os.path.join(WD, "binning.atoms"), os.path.join(WD, "binning.grid"), n, frame)
+    proc = subprocess.run(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True)
+    t.check(proc.returncode == 0, "train_blade.py's binning runs: " + proc.stdout[-300:])
+    if proc.returncode != 0:
+        return
+    nfix, worst, inside = proc.stdout.split()[-3:]
+    nfix, worst, inside = int(nfix), float(worst), int(inside)
+    t.check(nfix == 12 and worst <= 1e-12 and 5 <= inside < 30,
+            "moving frame: the fix's density equals train_blade.py's binning (%d of 30 atoms inside; worst "
+            "difference %.3g)" % (inside, worst))
+
+
 def rejoin():
     """A lagging kinematic atom released by a field jump rejoins DEM where the field has carried
     it and with the velocity the model predicted: field vx = 0.3 + c, c switching from 0 to 1 at
@@ -646,6 +778,9 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 model_checks()
 newcomer()
+moving_frame()
+moving_frame(2)
+frame_binning()
 rejoin()
 keyword_checks()
 model_step()
