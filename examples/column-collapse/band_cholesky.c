@@ -1,9 +1,9 @@
 /* Cholesky factorization A = L L^T of a symmetric positive definite band matrix and the solve
  * A x = b, for continuum.py (loaded with ctypes). Storage: lower band, column-major, lda = b + 1:
  * ab[j (b + 1) + (i - j)] = A(i, j) for j <= i <= j + b, b = the half bandwidth.
- * Why not LAPACK's dpbtrf: with the reference BLAS of a plain Debian system its blocked steps run at
- * about 0.6 GFlop/s on the continuum's bands (b = 30-120); the right-looking loop below is one
- * contiguous update of length <= b per pair of columns, which the compiler vectorizes. */
+ * Why not LAPACK's dpbtrf: with the reference BLAS of a plain Debian system it takes 4-6x longer on
+ * the continuum's bands (b = 37-119, the README); the right-looking loop below is one contiguous
+ * update of length <= b per pair of columns, which the compiler vectorizes. */
 #include <math.h>
 
 /* x86-64: a second copy of each routine for AVX2/FMA (x86-64-v3), picked when the library is loaded

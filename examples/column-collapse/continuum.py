@@ -27,10 +27,11 @@ next step.
 
 Why NumPy with one C kernel: both linear systems are banded once the unknowns are ordered along the
 box's longer side (bandwidth about twice the shorter side); their Cholesky factorization and solves,
-most of a step's time, are band_cholesky.c (O(n b^2); 2.5-3.5x faster than LAPACK's dpbtrf with the
-reference BLAS of this system), the rest of a step is a few dozen vectorised NumPy operations (see the
-README for the measured times)."""
+most of a step's time, are band_cholesky.c (O(n b^2); 4-6x faster than LAPACK's dpbtrf with the
+reference BLAS of a plain Debian system), the rest of a step is a few dozen vectorised NumPy
+operations (see the README for the measured times)."""
 import ctypes
+import functools
 import math
 import os
 
@@ -42,22 +43,20 @@ from scipy.sparse.linalg import splu
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def band_cholesky(_lib=[]):
+@functools.lru_cache(maxsize=None)
+def band_cholesky():
     """band_cholesky.c (built by ./tools/build as build/libgriddem_band_cholesky.so; another path in
     GRIDDEM_BAND_CHOLESKY), loaded once."""
-    if not _lib:
-        path = os.environ.get("GRIDDEM_BAND_CHOLESKY",
-                              os.path.join(HERE, "..", "..", "build", "libgriddem_band_cholesky.so"))
-        if not os.path.exists(path):
-            raise FileNotFoundError("%s not found: build it with ./tools/build (or set GRIDDEM_BAND_CHOLESKY)" % path)
-        lib = ctypes.CDLL(path)
-        band = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
-        lib.band_cholesky.argtypes = [ctypes.c_int, ctypes.c_int, band]
-        lib.band_cholesky.restype = ctypes.c_int
-        lib.band_solve.argtypes = [ctypes.c_int, ctypes.c_int, band, band]
-        lib.band_solve.restype = None
-        _lib.append(lib)
-    return _lib[0]
+    path = os.environ.get("GRIDDEM_BAND_CHOLESKY", os.path.join(HERE, "..", "..", "build", "libgriddem_band_cholesky.so"))
+    if not os.path.exists(path):
+        raise FileNotFoundError("%s not found: build it with ./tools/build (or set GRIDDEM_BAND_CHOLESKY)" % path)
+    lib = ctypes.CDLL(path)
+    band = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
+    lib.band_cholesky.argtypes = [ctypes.c_int, ctypes.c_int, band]
+    lib.band_cholesky.restype = ctypes.c_int
+    lib.band_solve.argtypes = [ctypes.c_int, ctypes.c_int, band, band]
+    lib.band_solve.restype = None
+    return lib
 
 
 class GramSystem:
