@@ -118,12 +118,16 @@ def learned_mu():
     return HeldMu(mu_reg, mu_reg.params["I_max"]), ens
 
 
-def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False):
+def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False,
+                  dt_rest=0.5, rest_fraction=1e-2):
     """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
     height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
     largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
     mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling).
-    The solver follows the grains (continuum.FollowingBox) unless full_box."""
+    The solver follows the grains (continuum.FollowingBox) unless full_box. The step is at most dt_max,
+    and at most dt_rest once the kinetic energy (read every DUMP_EVERY) has fallen below rest_fraction
+    of its peak: dt_max is set by the start of the flow (the lagged viscosity of a column at rest), and
+    the deposit's creep afterwards moves a few hundredths of d in tens of time units."""
     L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
     per_bin = int(round(1.0 / h))
     nx = int(round(Lx / h)) // per_bin * per_bin
@@ -137,6 +141,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     times, fronts, heights = [], [], []
     next_out, steps = 0.0, 0
     I_seen, held, cells = 0.0, 0, 0
+    ke_peak, step_max = 0.0, dt_max
     xc = (np.arange(nx // per_bin) + 0.5) * per_bin * h
     while True:
         if f.t >= next_out - 1e-9:
@@ -151,14 +156,18 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
             if on_output is not None:
                 on_output(f)
             # stopped: kinetic energy per unit grain volume below ke_stop of the initial potential energy
-            if f.t > 5.0 and f.kinetic_energy() < ke_stop * pe0:
+            ke = f.kinetic_energy()
+            if f.t > 5.0 and ke < ke_stop * pe0:
                 break
+            ke_peak = max(ke_peak, ke)
+            if ke < rest_fraction * ke_peak:
+                step_max = max(dt_max, dt_rest)
         if f.t >= t_end:
             break
-        f.step(min(f.stable_dt(dt_max=dt_max), next_out - f.t), passes)
+        f.step(min(f.stable_dt(dt_max=step_max), next_out - f.t), passes)
         steps += 1
     thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
-    return dict(h=h, dt_max=dt_max, passes=passes, full_box=full_box, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+    return dict(h=h, dt_max=dt_max, dt_rest=dt_rest, rest_fraction=rest_fraction, passes=passes, full_box=full_box, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
                 wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
@@ -173,6 +182,8 @@ def main():
                     "speed-ups take the %d-sphere series; other sizes are drawn apart)" % SERIES_SPHERES)
     ap.add_argument("--h", type=float, default=0.5, help="continuum cell size (d)")
     ap.add_argument("--dt-max", type=float, default=0.05, help="continuum: largest time step")
+    ap.add_argument("--dt-rest", type=float, default=0.5, help="continuum: largest time step once the kinetic "
+                    "energy is below 1 %% of its peak (the deposit's creep)")
     ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
     ap.add_argument("--full-box", action="store_true", help="continuum: solve on the whole box (no FollowingBox)")
     ap.add_argument("--no-continuum", action="store_true")
@@ -196,7 +207,7 @@ def main():
                                               dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, passes=a.passes, full_box=a.full_box)
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, dt_rest=a.dt_rest, passes=a.passes, full_box=a.full_box)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],

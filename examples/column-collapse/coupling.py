@@ -15,7 +15,7 @@ asked for after it. Only cells at least one grain layer deep (p >= phi rho_s g d
 surface p -> 0 and I -> infinity by construction, not by the flow.
 
     /usr/bin/python3 coupling.py [--lmp PATH] [--factors 1.5,2,3] [--first 1] [--others 0.5,2,3]
-                                 [--tol 0.015] [--policy sample] [--I-cap 1.0] [--h 1.0] [--dt-max 0.1]
+                                 [--tol 0.015] [--policy sample] [--I-cap 1.0] [--h 1.0] [--dt-max 0.05]
 
 Start set: the recorded RVEs of ../rheology at I = 0.001, 0.003 (the expensive low-I plateau),
 0.01, 0.0548 and 0.3 (its adaptive loop's start). The first collapse (DEM column of collapse.py's
@@ -25,6 +25,7 @@ import argparse
 import json
 import math
 import os
+import resource
 import sys
 import time
 
@@ -141,7 +142,7 @@ def main():
     ap.add_argument("--policy", default="sample", choices=("sample", "hold"))
     ap.add_argument("--I-cap", type=float, default=1.0)
     ap.add_argument("--h", type=float, default=1.0)
-    ap.add_argument("--dt-max", type=float, default=0.1)
+    ap.add_argument("--dt-max", type=float, default=0.05)
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
     with open(os.path.join(CL.RHEOLOGY, "rve_points.json")) as f:
@@ -168,8 +169,10 @@ def main():
                 while rheo.update(I) is not None:
                     pass
 
-            t0 = time.time()
+            t0, children0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
             con = CL.run_continuum(dem, rheo, h=a.h, on_output=on_output, dt_max=a.dt_max)
+            children = resource.getrusage(resource.RUSAGE_CHILDREN)
+            rve_cpu = max(0.0, children.ru_utime + children.ru_stime - children0.ru_utime - children0.ru_stime)
             held_note = "held above the final sampled I = %.3g" % rheo.Ihi
             new = rheo.runs[n_before:]
             rec["collapses"].append(dict(a=dem["a"], a_target=asp, new_rves=new, n_new=len(new),
@@ -178,14 +181,16 @@ def main():
                                          n_cached=sum(r.get("source") == "work/ cache" for r in new),
                                          sampled_range=[rheo.Ilo, rheo.Ihi], runout=con["runout"],
                                          dem_runout=dem["runout"], final_height=con["final_height"],
-                                         wall_s=round(time.time() - t0, 1),
+                                         wall_s=round(time.time() - t0, 1), cpu_s=con["cpu_s"],
+                                         rve_cpu_s=round(rve_cpu, 1),
                                          rve_wall_s=round(sum(r["wall_s"] for r in new), 1),
                                          I_max_seen=con["I_max_seen"], held_cells=con["held_cells"],
                                          deep_grain_cells=con["deep_grain_cells"], held_note=held_note))
-            print("factor %g, a %.2f: %d new RVEs %s, run-out %.2f (DEM %.2f), wall %.0f s (RVEs %.0f s), "
-                  "largest I of the deep grain cells %.3g (%s)"
+            print("factor %g, a %.2f: %d new RVEs %s, run-out %.2f (DEM %.2f), wall %.0f s (RVEs %.0f s), CPU: "
+                  "continuum and refits %.1f s, RVEs %.1f s; largest I of the deep grain cells %.3g (%s)"
                   % (fac, dem["a"], len(new), [round(r["I"], 4) for r in new], con["runout"], dem["runout"],
-                     time.time() - t0, rec["collapses"][-1]["rve_wall_s"], con["I_max_seen"], held_note),
+                     time.time() - t0, rec["collapses"][-1]["rve_wall_s"], con["cpu_s"], rve_cpu,
+                     con["I_max_seen"], held_note),
                   flush=True)
         rec["points"] = [dict(I=p["I"], mu=p["mu"], dmu=p["dmu"], Irequested=p["Irequested"]) for p in rheo.points]
         out["factors"].append(rec)
