@@ -19,8 +19,8 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rom-pile"))
-from compare import height_accuracy_series, kinematic_series  # noqa: E402
-from romtools import read_grid_dump  # noqa: E402
+from compare import kinematic_series  # noqa: E402
+from plot_rom import accuracy_panel, run_tags  # noqa: E402
 from blade_force import read_force  # noqa: E402
 from train_blade import read_snapshots, read_table  # noqa: E402
 
@@ -28,11 +28,7 @@ STEP = 7500
 
 
 def main():
-    args = sys.argv[1:]
-    if len(args) not in (3, 4):
-        raise SystemExit(__doc__)
-    res_tag, rom_tag, out = args[0], args[1], args[-1]
-    noise_tag = args[2] if len(args) == 4 else None
+    res_tag, rom_tag, noise_tag, out = run_tags(sys.argv[1:], __doc__)
     fig = plt.figure(figsize=(12, 11))
     for row, (tag, title) in enumerate(((res_tag, "resolved"), (rom_tag, "reduced"))):
         ax = fig.add_subplot(4, 1, 1 + row)
@@ -47,18 +43,7 @@ def main():
         ax.set_aspect("equal")
         ax.set_title("%s, step %d: %d spheres%s" % (title, STEP, len(d),
                                                      ", %d kinematic (blue)" % kin.sum() if row else ""))
-    res = read_grid_dump("cg.%s.txt" % res_tag)
-    ax = fig.add_subplot(4, 2, 5)
-    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
-    ax.plot(steps, acc, label="reduced vs resolved")
-    if noise_tag:
-        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
-        ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
-    ax.axhline(0.65, color="grey", lw=0.5)
-    ax.set_xlabel("step")
-    ax.set_ylabel("surface-height accuracy")
-    ax.set_ylim(0.6, 1.0)
-    ax.legend(loc="lower left")
+    accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left")
     ax = fig.add_subplot(4, 2, 6)
     for column, label in ((4, "kinematic"), (5, "kinematic within reach (move every step)")):
         steps, frac = kinematic_series(rom_tag, column)

@@ -28,12 +28,32 @@ def last_snapshot(path):
     return int(lines[k + 1]), np.array([[float(v) for v in line.split()] for line in lines[k + 9:k + 9 + n]])
 
 
-def main():
-    args = sys.argv[1:]
+def accuracy_panel(ax, res_tag, rom_tag, noise_tag, bar, bottom, legend_at):
+    """Surface-height accuracy of each frame (cg.TAG.txt) of the reduced run against the resolved
+    one, of a resolved run with another seed (NOISE_TAG, the noise floor; None: not drawn), and
+    the goal's bar."""
+    res = read_grid_dump("cg.%s.txt" % res_tag)
+    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
+    ax.plot(steps, acc, label="reduced vs resolved")
+    if noise_tag:
+        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
+        ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
+    ax.axhline(bar, color="grey", lw=0.5)
+    ax.set_xlabel("step")
+    ax.set_ylabel("surface-height accuracy")
+    ax.set_ylim(bottom, 1.0)
+    ax.legend(loc=legend_at)
+
+
+def run_tags(args, usage):
+    """RESOLVED_TAG ROM_TAG [NOISE_TAG] OUT.png from the command line: (res, rom, noise or None, out)."""
     if len(args) not in (3, 4):
-        raise SystemExit(__doc__)
-    res_tag, rom_tag, out = args[0], args[1], args[-1]
-    noise_tag = args[2] if len(args) == 4 else None
+        raise SystemExit(usage)
+    return args[0], args[1], args[2] if len(args) == 4 else None, args[-1]
+
+
+def main():
+    res_tag, rom_tag, noise_tag, out = run_tags(sys.argv[1:], __doc__)
     fig = plt.figure(figsize=(10, 8))
     for col, (tag, title) in enumerate(((res_tag, "resolved"), (rom_tag, "reduced"))):
         ax = fig.add_subplot(2, 2, 1 + col)
@@ -48,18 +68,7 @@ def main():
         ax.set_aspect("equal")
         ax.set_xlabel("x / d")
         ax.set_ylabel("z / d")
-    res = read_grid_dump("cg.%s.txt" % res_tag)
-    ax = fig.add_subplot(2, 2, 3)
-    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
-    ax.plot(steps, acc, label="reduced vs resolved")
-    if noise_tag:
-        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
-        ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
-    ax.axhline(0.9, color="grey", lw=0.5)
-    ax.set_xlabel("step")
-    ax.set_ylabel("surface-height accuracy")
-    ax.set_ylim(0.5, 1.0)
-    ax.legend(loc="lower right")
+    accuracy_panel(fig.add_subplot(2, 2, 3), res_tag, rom_tag, noise_tag, 0.9, 0.5, "lower right")
     ax = fig.add_subplot(2, 2, 4)
     steps, frac = kinematic_series(rom_tag)
     ax.plot(steps, frac)
