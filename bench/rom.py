@@ -53,15 +53,20 @@ sys.path.insert(0, BLADE)
 from blade_force import force_accuracy  # noqa: E402
 
 
+def cpu_time_of(args, wd):
+    """Runs LAMMPS (args) in wd on one thread; returns the CPU time it took."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(args, cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
 def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
     args = [lmp, "-in", os.path.join(EXAMPLE, "in.rom-pile"), "-var", "w", str(w), "-var", "steps", str(steps),
             "-var", "tag", tag, "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in scene.items():
         args += ["-var", k, str(v)]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(args + list(extra), cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+    return cpu_time_of(args + list(extra), wd)
 
 
 def run_lammps(lmp, wd, inp, tag, variables, example=HOPPER, scene="in.hopper-scene"):
@@ -70,10 +75,7 @@ def run_lammps(lmp, wd, inp, tag, variables, example=HOPPER, scene="in.hopper-sc
             "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in variables.items():
         args += ["-var", k] + (v if isinstance(v, list) else [str(v)])
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(args, cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+    return cpu_time_of(args, wd)
 
 
 def blade_runs(a, lmp):
