@@ -28,7 +28,6 @@ class FixGriddemCPU : public FixGriddem {
   void set_arrays(int) override;
   double memory_usage() override;
 
-  int kokkos_history() const override { return 0; }
   int history_values() const override { return rows.values; }
   void set_values(int values) override;
   const double *find_history(int i, tagint partner) override;

@@ -38,9 +38,8 @@ class FixGriddem : public Fix {
   int maxsize_restart() override;
   double compute_vector(int) override;
 
-  // the store's face
-  // 1: the rows live on the Kokkos device (fix griddem/kk), for the kk pair styles
-  virtual int kokkos_history() const = 0;
+  // the store's face (its rows live on the Kokkos device where the fix is kokkosable: fix
+  // griddem/kk, for the kk pair styles)
   virtual int history_values() const = 0;
   // a new layout of values per contact: each stored row keeps its values up to the shorter length
   virtual void set_values(int values) = 0;

@@ -170,7 +170,7 @@ void PairGriddem::create_default_fix(int remake)
   auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
   if (existing && ((remake && existing->made_by_pair) ||
                    (model.track_contacts &&
-                    (existing->contacts == 0 || existing->kokkos_history() != kokkos_history()))))
+                    (existing->contacts == 0 || existing->kokkosable != kokkosable))))
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
@@ -326,11 +326,11 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
                "(griddem/.../kk); the CPU styles have one", style, fix->id,
                fix->search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
-  if (model.track_contacts && fix->kokkos_history() != kokkos_history())
+  if (model.track_contacts && fix->kokkosable != kokkosable)
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
-               history_fix_style(), fix->id, fix->kokkos_history() ? "griddem/kk" : "griddem");
-  cpu_rows = model.track_contacts && !kokkos_history() ? dynamic_cast<FixGriddemCPU *>(fix) : nullptr;
+               history_fix_style(), fix->id, fix->kokkosable ? "griddem/kk" : "griddem");
+  cpu_rows = model.track_contacts && !kokkosable ? dynamic_cast<FixGriddemCPU *>(fix) : nullptr;
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);
   fix->set_values(model.history_size);
 

@@ -59,10 +59,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // settings, pair_coeff or restart on
   void allocate();
   void create_default_fix(int remake = 0);
-  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant, and
-  // whether that is fix griddem/kk (FixGriddem::kokkos_history())
+  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant (a
+  // kokkosable pair style keeps it in a kokkosable fix, fix griddem/kk)
   virtual std::string history_fix_style() const { return "griddem"; }
-  virtual int kokkos_history() const { return 0; }
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // take the history layout of s (the first spec sets it, later ones must match; types: for

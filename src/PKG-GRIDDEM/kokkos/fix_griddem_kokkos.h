@@ -61,7 +61,6 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   void unpack_exchange_kokkos(DAT::tdual_xfloat_2d &k_buf, DAT::tdual_int_1d &k_indices, int nrecv,
                               int nrecv1, int nextrarecv1, ExecutionSpace space) override;
 
-  int kokkos_history() const override { return 1; }
   int history_values() const override { return nv; }
   void set_values(int values) override;
   const double *find_history(int i, tagint partner) override;

@@ -702,7 +702,6 @@ class PairGriddemKokkos : public Base {
   DAT::tdual_virial_array k_vatom;
 
   std::string history_fix_style() const override;
-  int kokkos_history() const override { return 1; }
   void upload_tables();
   void check_scan(const GriddemKKScanValue &sc);
   // fix griddem's cell mode takes a grid per size class (auto, classes), not one grid
