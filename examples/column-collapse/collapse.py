@@ -119,12 +119,14 @@ def learned_mu():
 
 
 def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False,
-                  dt_rest=0.5, rest_fraction=1e-2):
+                  dt_rest=0.5, rest_fraction=1e-2, margin_x=16):
     """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
     height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
     largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
     mu.I_max, the highest sampled I (held there), and on_output(flow) is called (the on-the-fly coupling).
-    The solver follows the grains (continuum.FollowingBox) unless full_box. The step is at most dt_max,
+    The solver follows the grains (continuum.FollowingBox: its top, and its length to margin_x cells
+    beyond the front, open to the air beyond; margin_x None: the whole length) unless full_box.
+    The step is at most dt_max,
     and at most dt_rest once the kinetic energy (read every DUMP_EVERY) has fallen below rest_fraction
     of its peak: dt_max is set by the start of the flow (the lagged viscosity of a column at rest), and
     the deposit's creep afterwards moves a few hundredths of d in tens of time units."""
@@ -132,7 +134,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     per_bin = int(round(1.0 / h))
     nx = int(round(Lx / h)) // per_bin * per_bin
     ny = int(math.ceil((H0 + 2.0) / h))
-    f = (MuIFlow if full_box else FollowingBox)(nx, ny, h, mu, phi0)
+    f = MuIFlow(nx, ny, h, mu, phi0) if full_box else FollowingBox(nx, ny, h, mu, phi0, margin_x=margin_x)
     f.set_column(L0, H0)
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
@@ -167,7 +169,8 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
         f.step(min(f.stable_dt(dt_max=step_max), next_out - f.t), passes)
         steps += 1
     thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
-    return dict(h=h, dt_max=dt_max, dt_rest=dt_rest, rest_fraction=rest_fraction, passes=passes, full_box=full_box, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+    return dict(h=h, dt_max=dt_max, dt_rest=dt_rest, rest_fraction=rest_fraction, passes=passes, full_box=full_box,
+                margin_x=None if full_box else margin_x, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
                 wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
@@ -186,6 +189,8 @@ def main():
                     "energy is below 1 %% of its peak (the deposit's creep)")
     ap.add_argument("--passes", type=int, default=2, help="continuum: Picard passes per step")
     ap.add_argument("--full-box", action="store_true", help="continuum: solve on the whole box (no FollowingBox)")
+    ap.add_argument("--margin-x", type=int, default=16, help="continuum: the solver's box ends this many cells "
+                    "beyond the front, open to the air beyond (0: the box's whole length, closed)")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
@@ -207,7 +212,8 @@ def main():
                                               dem["final_height"], dem["stopped_at"], dem["loop_s"], dem["loop_cpu_s"]), flush=True)
         case = dict(dem=dem)
         if mu is not None:
-            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, dt_rest=a.dt_rest, passes=a.passes, full_box=a.full_box)
+            con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, dt_rest=a.dt_rest, passes=a.passes, full_box=a.full_box,
+                                 margin_x=a.margin_x or None)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],

@@ -12,8 +12,9 @@ particle density rho_s, gravity g.
 
 Grid: MAC (staggered), square cells of side h; u on x-faces, v on y-faces, p and c at centres, the
 shear rate du/dy + dv/dx and its viscosity at cell corners (nodes). Boundaries: no slip at the base
-(y = 0), free slip at the top and at the side walls (x = 0 is the column's symmetry plane), or
-periodic in x (the inclined-layer check).
+(y = 0), free slip at the top and at the side walls (x = 0 is the column's symmetry plane), the
+side x = nx h open to air at rest instead (a given pressure, no viscous stress), or periodic in x
+(the inclined-layer check).
 
 Step (first order in time): semi-Lagrangian advection of the velocity; the viscous step implicit
 with the viscosity of the previous state (a symmetric positive definite sparse solve: the force is
@@ -176,14 +177,22 @@ class GrainFields:
 
 
 class MuIFlow(GrainFields):
-    """nx x ny cells of side h. mu: function of I (arrays). periodic_x: else walls at x = 0, nx h."""
+    """nx x ny cells of side h. mu: function of I (arrays). periodic_x: else walls at x = 0, nx h.
+    open_pressure (ny values): the side x = nx h is open instead, to air at rest whose pressure at
+    each row is open_pressure (a ghost column of cells with that p and no viscous stress; no grains
+    cross it, so a caller keeps them away: FollowingBox)."""
 
     def __init__(self, nx, ny, h, mu, phi, gravity=(0.0, -1.0), periodic_x=False, rho_s=1.0, d=1.0,
-                 air_density=0.01, air_viscosity=0.01, eta_max=1e4):
+                 air_density=0.01, air_viscosity=0.01, eta_max=1e4, open_pressure=None):
         super().__init__(nx, ny, h, phi, gravity, rho_s, air_density)
         self.mu, self.d = mu, d
         self.eta_air, self.eta_max = air_viscosity, eta_max
         self.periodic = periodic_x
+        if open_pressure is not None and periodic_x:
+            raise ValueError("open_pressure: a periodic box has no side to open")
+        if open_pressure is not None and len(open_pressure) != ny:
+            raise ValueError("open_pressure: %d values for %d rows" % (len(open_pressure), ny))
+        self.open_pressure = None if open_pressure is None else np.asarray(open_pressure, float)
         self._number_unknowns()
         self._operators()
         self.U = np.zeros(self.nu + self.nv)
@@ -196,7 +205,8 @@ class MuIFlow(GrainFields):
             uid[:nx] = np.arange(nx * ny).reshape(nx, ny)
             uid[nx] = uid[0]
         else:
-            uid[1:nx] = np.arange((nx - 1) * ny).reshape(nx - 1, ny)
+            last = nx + 1 if self.open_pressure is not None else nx
+            uid[1:last] = np.arange((last - 1) * ny).reshape(last - 1, ny)
         self.nu = int(uid.max()) + 1
         vid = -np.ones((nx, ny + 1), int)
         vid[:, 1:ny] = self.nu + np.arange(nx * (ny - 1)).reshape(nx, ny - 1)
@@ -242,10 +252,11 @@ class MuIFlow(GrainFields):
         node = (Ni * (ny + 1) + Nj).ravel()
         Ni, Nj = Ni.ravel(), Nj.ravel()
         ent = []
-        mid = (Nj >= 1) & (Nj <= ny - 1)
+        sheared = Ni < nx if self.open_pressure is not None else np.ones_like(Ni, bool)   # open side: no shear
+        mid = (Nj >= 1) & (Nj <= ny - 1) & sheared
         ent.append((node[mid], self.uid[Ni[mid], Nj[mid]], np.full(mid.sum(), 1 / h)))
         ent.append((node[mid], self.uid[Ni[mid], Nj[mid] - 1], np.full(mid.sum(), -1 / h)))
-        base = Nj == 0                                          # no slip: ghost u = -u
+        base = (Nj == 0) & sheared                              # no slip: ghost u = -u
         ent.append((node[base], self.uid[Ni[base], 0], np.full(base.sum(), 2 / h)))
         inner = (Nj <= ny - 1) & ((Ni >= 1) & (Ni <= nx - 1) if not self.periodic else np.ones_like(Ni, bool))
         left = (Ni[inner] - 1) % nx
@@ -284,7 +295,8 @@ class MuIFlow(GrainFields):
             keep = uI < nx
             uI, uJ = uI[keep], uJ[keep]
         ent.append((self.uid[uI, uJ], ((uI - 1) % nx) * ny + uJ, np.full(uI.size, 0.5)))
-        ent.append((self.uid[uI, uJ], (uI % nx) * ny + uJ, np.full(uI.size, 0.5)))
+        ent.append((self.uid[uI, uJ], (uI % nx if self.periodic else np.minimum(uI, nx - 1)) * ny + uJ,
+                    np.full(uI.size, 0.5)))                     # the open side's face: its cell's density
         vI, vJ = np.nonzero(self.vid >= 0)
         ent.append((self.vid[vI, vJ], vI * ny + vJ - 1, np.full(vI.size, 0.5)))
         ent.append((self.vid[vI, vJ], vI * ny + vJ, np.full(vI.size, 0.5)))
@@ -294,7 +306,12 @@ class MuIFlow(GrainFields):
         # pressure gauge: p = 0 in the top-left cell (air); the closed-box Poisson matrix is singular
         # (constants), and a compatible right-hand side sums to 0, so this row fixes p there to 0
         self.gauge = np.zeros(nx * ny)
-        self.gauge[ny - 1] = 1.0 / (self.rho_g * h * h)
+        if self.open_pressure is None:          # open: dp = 0 in the ghost cells fixes the constant
+            self.gauge[ny - 1] = 1.0 / (self.rho_g * h * h)
+            self.open_force = 0.0
+        else:                                   # -grad p at the open faces takes the ghost cells' p
+            self.open_force = np.zeros(n)
+            self.open_force[self.uid[nx]] = -h * self.open_pressure
         # viscous step: M/dt + Exx^T W_c Exx + Eyy^T W_c Eyy + Gxy^T W_n Gxy; projection:
         # Div diag(1/rho_f) Div^T + gauge
         self.viscous_system = GramSystem([self.Exx, self.Eyy, self.Gxy, sp.identity(n)], self.order_u)
@@ -380,6 +397,8 @@ class MuIFlow(GrainFields):
                       cy[:, 2:-1] - 0.5 * (1 + nv) * sy[:, 1:]) * nv
         if self.periodic:
             fx[nx] = fx[0]
+        else:
+            fx[nx] = 0.0                                       # a wall, or the open side (air only)
         self.c = c - (fx[1:] - fx[:-1]) - (fy[:, 1:] - fy[:, :-1])
 
     def step(self, dt, passes=2):
@@ -394,7 +413,7 @@ class MuIFlow(GrainFields):
         p_node = self.C2N_p @ self.p.ravel()
         c_node = np.clip(self.C2N @ c, 0, 1)
         Uadv = self.advect_velocity(dt)
-        force_p = h * h * (self.Grad @ self.p.ravel())          # -grad p^n times the cell area
+        force_p = h * h * (self.Grad @ self.p.ravel()) + self.open_force   # -grad p^n times the cell area
         rhs = M * (Uadv / dt + self.g) + force_p
         solve_pressure = self.pressure_system.factor([1.0 / rho_f, self.gauge])
         U = self.U
@@ -444,27 +463,37 @@ class MuIFlow(GrainFields):
 
 
 class FollowingBox(GrainFields):
-    """MuIFlow on the rows of an nx x ny closed box (walls at x = 0 and nx h, base, top) that the
-    grains occupy: the solver runs on the cells [0, nx) x [0, my), whose top (a free-slip wall, as
-    the box's) stays margin_min to margin + 2 quantum - 2 rows above the highest row with c > threshold.
-    Above it the air is at rest (velocity 0) and the cells keep their c (at most threshold: a smear
-    that numerical diffusion carries up, frozen, so sum(c) stays conserved to round-off) and p.
-    Why: a collapse ends as a layer a third of the column's height, but the banded solves cost
-    O(n b^2) with b about twice the box's rows; the solver of each height is built once (heights are
-    multiples of quantum rows, so a collapse meets a few of them). The box's length is not cut: walls
-    that follow the front (tried: 4 or 12 cells beyond the last column with c > 1e-3) shortened the
-    run-out at a = 3 by 6 % and 1.7 % (the README)."""
+    """MuIFlow on the part of an nx x ny closed box (walls at x = 0 and nx h, base, top) that the
+    grains occupy: the solver runs on the cells [0, mx) x [0, my).
+    - Its top, a free-slip wall as the box's, stays margin_min to margin + 2 quantum - 2 rows above
+      the highest row with c > threshold, and comes down as the column collapses.
+    - With margin_x, its length follows the front too: mx grows (never shrinks) to keep at least
+      margin_x columns beyond the last column with c > threshold (margin_x + quantum_x to
+      margin_x + 2 quantum_x - 1 after it grows), and until it reaches nx
+      its side x = mx h is open to the air at rest beyond (MuIFlow's open_pressure), so the air that
+      the front pushes ahead can leave. (A wall there instead squeezes that air: walls 4 or 12 cells
+      beyond the front shortened the run-out at a = 3 by 6 % and 1.7 %, the README.)
+    Outside the solver's cells the air is at rest (velocity 0) and the cells keep their c (at most
+    threshold: a smear that numerical diffusion carries out, frozen, so sum(c) stays conserved to
+    round-off) and p.
+    Why: a collapse ends as a layer a third of the column's height and starts as a column a fraction
+    of the box long, but the banded solves cost O(n b^2) with b about twice the box's shorter side;
+    the solver of each size is built once (sizes are multiples of quantum rows and quantum_x columns,
+    so a collapse meets a few dozen of them)."""
 
-    def __init__(self, nx, ny, h, mu, phi, margin=8, margin_min=4, quantum=4, threshold=1e-3, **flow_args):
+    def __init__(self, nx, ny, h, mu, phi, margin=8, margin_min=4, quantum=4, threshold=1e-3, margin_x=None,
+                 quantum_x=8, **flow_args):
         flow_args.pop("periodic_x", None)
+        flow_args.pop("open_pressure", None)
         super().__init__(nx, ny, h, phi, flow_args.get("gravity", (0.0, -1.0)), flow_args.get("rho_s", 1.0),
                          flow_args.get("air_density", 0.01))
         self.mu, self.phi, self.flow_args = mu, phi, flow_args
         self.margin, self.margin_min, self.quantum, self.threshold = margin, margin_min, quantum, threshold
+        self.margin_x, self.quantum_x = margin_x, quantum_x
         self.u = np.zeros((nx + 1, ny))
         self.v = np.zeros((nx, ny + 1))
         self.solvers = {}
-        self.box = (nx, 0)
+        self.box = (0 if margin_x is not None else nx, 0)
         self.flow = None
 
     def _rows(self):
@@ -477,11 +506,23 @@ class FollowingBox(GrainFields):
         current = self.box[1]
         return current if last + self.margin_min <= current < target + self.quantum else target
 
+    def _columns(self):
+        """The box's length: at least margin_x columns beyond the last column with c > threshold,
+        rounded up to a multiple of quantum_x (at most nx); it never shrinks."""
+        if self.margin_x is None:
+            return self.nx
+        occupied = (self.c > self.threshold).any(axis=1)
+        last = int(np.nonzero(occupied)[0].max()) + 1 if occupied.any() else 1
+        if last + self.margin_x <= self.box[0]:
+            return self.box[0]
+        return min(self.nx, -(-(last + self.margin_x + self.quantum_x) // self.quantum_x) * self.quantum_x)
+
     def enter(self):
-        """Pick the box's height and load the fields into its solver."""
-        mx, my = self.box = (self.nx, self._rows())
+        """Pick the box's size and load the fields into its solver."""
+        mx, my = self.box = (self._columns(), self._rows())
         if self.box not in self.solvers:
-            self.solvers[self.box] = MuIFlow(mx, my, self.h, self.mu, self.phi, **self.flow_args)
+            side = self.p[mx, :my].copy() if mx < self.nx else None     # the air at rest beyond
+            self.solvers[self.box] = MuIFlow(mx, my, self.h, self.mu, self.phi, open_pressure=side, **self.flow_args)
         f = self.flow = self.solvers[self.box]
         f.mu, f.t = self.mu, self.t
         f.c, f.p = self.c[:mx, :my].copy(), self.p[:mx, :my].copy()

@@ -6,7 +6,9 @@ the DEM input (in.collapse). Each number has its own reason:
   10 cells (the scheme is second order in space: measured 4.8e-3 -> 1.2e-3);
 - a grain layer at rest on a flat base stays at rest, and its pressure is the weight above: the base
   cell's p = rho_g g (H - h/2) + rho_air g A (the pressure equation with the same face densities as
-  gravity balances it exactly);
+  gravity balances it exactly); the same with the side x = nx h open to a layer at rest beyond (its
+  ghost cells' pressure is the weight above them), whose open faces are unknowns; an open side of
+  the wrong length, or on a periodic box, is refused (ValueError naming it);
 - the free surface conserves mass: a collapsing column keeps sum(c) h^2 = L0 H0 (its initial grain
   area) to round-off, with 0 <= c <= 1 within 1e-9, and its front advances (it does collapse);
 - the banded solves (GramSystem; unknowns ordered along the box's longer side) solve the system: the
@@ -16,6 +18,8 @@ the DEM input (in.collapse). Each number has its own reason:
 - the solver on a box that follows the grains (FollowingBox, its top 4-8 rows above the highest
   grains) conserves the grain area to round-off as its top comes down under the collapsing column, and
   its front stays within 0.1 d of the whole box's (the air above the box top carries no grains);
+  so does a box whose length follows the front too, open to the air beyond (no grains cross its
+  open side, and the air ahead of the front leaves through it as it moves on in the whole box);
 - HeldMu holds mu at I_max above it (no extrapolation);
 - deposit.front: on a linear profile h = 3 - x the farthest x with h >= 1 is 2, interpolated;
 - the on-the-fly coupling (coupling.AdaptiveRheology, with a stand-in for the RVE): cells above the
@@ -75,6 +79,23 @@ def rest_checks():
     t.check(abs(f.p[0, 0] / expect - 1) < 1e-9, "layer at rest: base pressure %.12g, weight above %.12g"
             % (f.p[0, 0], expect))
     t.check(np.abs(f.U).max() < 1e-9, "layer at rest stays at rest: largest velocity %.2e" % np.abs(f.U).max())
+    # the same layer open at x = nx h to a layer at rest beyond (the ghost cells' p is its weight above)
+    side = C.GrainFields(1, int((H + A) / h), h, phi)
+    side.set_layer(H)
+    f = C.MuIFlow(4, int((H + A) / h), h, LC.mu_jop, phi, open_pressure=side.p[0])
+    f.set_layer(H)
+    for _ in range(20):
+        f.step(0.1)
+    t.check(f.nu == 4 * f.ny and abs(f.p[0, 0] / expect - 1) < 1e-9 and np.abs(f.U).max() < 1e-9,
+            "layer at rest, open side: %d u unknowns (the open faces' included), base pressure %.12g, largest "
+            "velocity %.2e" % (f.nu, f.p[0, 0], np.abs(f.U).max()))
+    for bad, why in (((np.zeros(3), False), "3 values for 16 rows"), ((side.p[0], True), "periodic box")):
+        try:
+            C.MuIFlow(4, int((H + A) / h), h, LC.mu_jop, phi, open_pressure=bad[0], periodic_x=bad[1])
+            said = ""
+        except ValueError as e:
+            said = str(e)
+        t.check(why in said, "open_pressure refused: %s" % said)
 
 
 def mass_checks():
@@ -132,20 +153,27 @@ def following_box_checks():
     h, L0, H0, nx, ny = 1.0, 6.0, 12.0, 30, 24
     mu = C.HeldMu(LC.mu_jop, 0.3)
     whole, follow = C.MuIFlow(nx, ny, h, mu, 0.6), C.FollowingBox(nx, ny, h, mu, 0.6, quantum=1)
-    for f in (whole, follow):
+    # and one whose length follows the front too, open to the air beyond
+    along = C.FollowingBox(nx, ny, h, mu, 0.6, quantum=1, margin_x=4, quantum_x=2)
+    for f in (whole, follow, along):
         f.set_column(L0, H0)
-    area0, boxes = follow.c.sum(), set()
+    area0, boxes, lengths = follow.c.sum(), set(), set()
     while follow.t < 10.0:
         dt = whole.stable_dt()
-        whole.step(dt)
-        follow.step(dt)
+        for f in (whole, follow, along):
+            f.step(dt)
         boxes.add(follow.box)
+        lengths.add(along.box[0])
     x = (np.arange(nx) + 0.5) * h
-    fw, ff = D.front(x, whole.thickness()), D.front(x, follow.thickness())
+    fw, ff, fa = (D.front(x, f.thickness()) for f in (whole, follow, along))
     t.check(len(boxes) > 1 and max(b[1] for b in boxes) < ny and abs(follow.c.sum() / area0 - 1) < 1e-12,
             "following box: tops %s of %d rows, grain area %.15g -> %.15g"
             % (sorted({b[1] for b in boxes}), ny, area0, follow.c.sum()))
     t.check(abs(ff - fw) < 0.1 and ff > L0 + 2.0, "following box front %.3f, whole box %.3f" % (ff, fw))
+    t.check(len(lengths) > 1 and min(lengths) < nx and abs(along.c.sum() / area0 - 1) < 1e-12
+            and along.c.min() >= 0.0 and abs(fa - fw) < 0.1,
+            "box following the front (open side): lengths %s of %d columns, grain area %.15g -> %.15g, "
+            "front %.3f (whole box %.3f)" % (sorted(lengths), nx, area0, along.c.sum(), fa, fw))
 
 
 def python_checks():
