@@ -86,7 +86,7 @@ def state_checks(wd, out):
     1e-6 within the first window (measured 5e-13), while the same state without its contact history
     (a fix griddem of another ID) differs there by 1.3e-2 (measured). So: the state's phi and lz
     equal the saving run's, the first window's mu agrees to 1e-6, and the results agree within 3
-    combined block errors (two runs of the same flow)."""
+    combined block errors (two runs of the same flow). A state of another N is refused."""
     rc, again = rve(wd, SMALL + ["-var", "state", "state.restart"])
     t.check(rc == 0 and "compressed: Pzz" not in again, "RVE from the state ran without compressing (exit %d): %s"
             % (rc, again[-1500:]))
@@ -97,6 +97,9 @@ def state_checks(wd, out):
     t.check(saved == read, "state read back: %s, written: %s" % (read, saved))
     w1 = [float(re.search(r"window 1: strain \S+ mu (\S+)", x).group(1)) for x in (out, again)]
     t.check(abs(w1[1] / w1[0] - 1) < 1e-6, "first window mu from the state %.15g, compressing run %.15g" % tuple(w1[::-1]))
+    rcn, wrong = rve(wd, SMALL[:2] + ["301"] + SMALL[3:] + ["-var", "state", "state.restart"])    # N 301
+    t.check(rcn != 0 and "holds 300 spheres, N is 301" in wrong, "a state of another N is refused (exit %d): %s"
+            % (rcn, wrong[-300:]))
     a, b = L.parse_rve(out), L.parse_rve(again)
     t.check(abs(a["mu"] - b["mu"]) < 3 * math.hypot(a["dmu"], b["dmu"]),
             "mu from the state %.4f +- %.4f, compressing run %.4f +- %.4f" % (b["mu"], b["dmu"], a["mu"], a["dmu"]))
