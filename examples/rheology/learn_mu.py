@@ -17,6 +17,7 @@ call) is taken from there instead of being rerun when work/ has no cache of it. 
 are DEM runs (cached in work/ too); --thetas '' skips them, so that with --recorded nothing runs
 DEM. A DEM run with no lmp at --lmp stops the script with a message that says so."""
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -72,9 +73,38 @@ def rve_log_info(text):
     return info
 
 
-def run_rve(lmp, I, extra=(), workdir=None, recorded=()):
+IN_RVE = os.path.join(HERE, "in.rve")
+# in.rve's variables that act after the compression phase only: they do not enter the compressed state
+SHEAR_ONLY = ("I", "gains", "gdotg", "emaxr", "wstrain", "tol", "ptol", "minwin", "maxwin", "nblock", "phimin", "tag")
+
+
+def rve_settings(extra=()):
+    """in.rve's index variables: its defaults, overridden by the -var NAME VALUE pairs of extra."""
+    with open(IN_RVE) as f:
+        settings = dict(re.findall(r"^variable\s+(\S+)\s+index\s+(\S+)", f.read(), re.M))
+    extra = list(extra)
+    for k, word in enumerate(extra[:-2]):
+        if word == "-var":
+            settings[extra[k + 1]] = extra[k + 2]
+    return settings
+
+
+def state_path(statedir, extra=()):
+    """The compressed state (in.rve -var save) for the settings that shape it: its name lists them,
+    and ends with a hash of in.rve's text, so different settings or an edited in.rve never share one."""
+    settings = rve_settings(extra)
+    with open(IN_RVE, "rb") as f:
+        digest = hashlib.sha1(f.read()).hexdigest()[:10]
+    words = ["%s%s" % (k, re.sub(r"[^A-Za-z0-9.+-]", "-", v)) for k, v in sorted(settings.items())
+             if k not in SHEAR_ONLY]
+    return os.path.join(statedir, "compressed_%s_%s.restart" % ("_".join(words), digest))
+
+
+def run_rve(lmp, I, extra=(), workdir=None, recorded=(), statedir=None):
     """One RVE at requested inertial number I (cached in work/rve_<I>/result.json; else taken from
-    recorded, a list of earlier results, when one has the same requested I)."""
+    recorded, a list of earlier results, when one has the same requested I). The compressed state
+    is shared: the first RVE of a parameter set writes it to statedir (default: the folder above
+    workdir), the others start from it and skip the compression (result key "state": written or read)."""
     workdir = workdir or os.path.join(WORK, "rve_%.5g" % I)
     cache = os.path.join(workdir, "result.json")
     if os.path.exists(cache):
@@ -91,19 +121,27 @@ def run_rve(lmp, I, extra=(), workdir=None, recorded=()):
             return dict(r, source="recorded")
     need_lmp(lmp, "the RVE at I=%g (neither in work/ nor recorded)" % I)
     os.makedirs(workdir, exist_ok=True)
+    state = state_path(statedir or os.path.dirname(os.path.abspath(workdir)), extra)
+    written = "%s.%d.tmp" % (state, os.getpid())       # renamed once the RVE has succeeded
+    start = ["-var", "state", state] if os.path.exists(state) else ["-var", "save", written]
     t0 = time.time()
-    cmd = [lmp, "-in", os.path.join(HERE, "in.rve"), "-var", "I", "%.6g" % I, "-log", "log.lammps",
-           "-echo", "none"] + list(extra)
+    cmd = [lmp, "-in", IN_RVE, "-var", "I", "%.6g" % I, "-log", "log.lammps",
+           "-echo", "none"] + start + list(extra)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     proc = subprocess.run(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True, env=env)
+    res = parse_rve(proc.stdout)
+    if (FAILED in proc.stdout or proc.returncode != 0 or res is None) and os.path.exists(written):
+        os.remove(written)
     if FAILED in proc.stdout:
         raise RuntimeError("RVE at I=%g: %s" % (I, [l for l in proc.stdout.splitlines() if FAILED in l][0]))
-    res = parse_rve(proc.stdout)
     if proc.returncode != 0 or res is None:
         raise RuntimeError("RVE at I=%g failed (exit %d):\n%s" % (I, proc.returncode, proc.stdout[-2000:]))
     res["Irequested"] = I
     res["steady"] = "no steady state" not in proc.stdout
+    res["state"] = "read" if start[1] == "state" else "written"
+    if res["state"] == "written":
+        os.replace(written, state)
     with open(os.path.join(workdir, "log.lammps")) as f:
         res.update(rve_log_info(f.read()))
     res["wall_s"] = round(time.time() - t0, 1)

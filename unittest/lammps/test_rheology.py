@@ -10,6 +10,11 @@ learn_mu.py. Each number has its own reason:
   published frictional DEM and experiments stay below mu_2 ~ tan 33 deg = 0.65), and a frictionless
   RVE (xmu 0) resists shear less than the frictional one;
 - a control that cannot hold (a negative gain) stops with the documented message and exit 2;
+- the compressed state (-var save / -var state) continues the compressing run's trajectory
+  (state_checks), and run_rve shares one per parameter set (shared_state_checks);
+- at I = 1 the control, whose cap and gain grow with the shear rate, holds Pzz at P and the
+  measured I is the requested one (high_I_checks; with the fixed cap of 0.05/time it measured 0.57
+  with blocks at Pzz 14-16);
 - the strain to steady state that learn_mu.py records (rve_log_info) is a whole number of windows
   between minwin and maxwin, and the total adds the blocks; run_rve reuses a recorded point of the
   same requested I (--recorded) without running the binary;
@@ -52,6 +57,8 @@ import layer_solver as S
 # a small, short RVE: 300 spheres at I = 0.2, steady test after 1 window of 0.25 strain, 3 blocks
 SMALL = ["-var", "N", "300", "-var", "I", "0.2", "-var", "wstrain", "0.25", "-var", "minwin", "1",
          "-var", "maxwin", "3", "-var", "nblock", "3"]
+# the same spheres at I = 1: 0.5-strain windows (up to 10: the packing dilates for about 4 strains), 3 blocks
+HIGH = ["-var", "N", "300", "-var", "I", "1.0", "-var", "maxwin", "10", "-var", "nblock", "3"]
 AFTER = """
 compute sa all stress/atom Tdef
 compute ssum all reduce sum c_sa[1] c_sa[2] c_sa[3] c_sa[5]
@@ -71,9 +78,66 @@ def rve(wd, extra, after=""):
     return p.returncode, p.stdout
 
 
+def state_checks(wd, out):
+    """The RVE of lammps_checks wrote its compressed state (-var save): an RVE started from it
+    (-var state) skips the compression and continues the same trajectory. Not bit for bit: read_restart
+    maps the positions through lamda coordinates (changes of 1 ulp, 1.8e-15 here) and the first
+    forces then differ by up to 1e-11 relative (measured); the dynamics amplifies that, but not to
+    1e-6 within the first window (measured 5e-13), while the same state without its contact history
+    (a fix griddem of another ID) differs there by 1.3e-2 (measured). So: the state's phi and lz
+    equal the saving run's, the first window's mu agrees to 1e-6, and the results agree within 3
+    combined block errors (two runs of the same flow). A state of another N is refused."""
+    rc, again = rve(wd, SMALL + ["-var", "state", "state.restart"])
+    t.check(rc == 0 and "compressed: Pzz" not in again, "RVE from the state ran without compressing (exit %d): %s"
+            % (rc, again[-1500:]))
+    if rc != 0:
+        return
+    saved = re.search(r"compressed: Pzz \S+ target \S+, (phi \S+), (lz \S+)", out).groups()
+    read = re.search(r"compressed state read from state.restart: (phi \S+), (lz \S+)", again).groups()
+    t.check(saved == read, "state read back: %s, written: %s" % (read, saved))
+    w1 = [float(re.search(r"window 1: strain \S+ mu (\S+)", x).group(1)) for x in (out, again)]
+    t.check(abs(w1[1] / w1[0] - 1) < 1e-6, "first window mu from the state %.15g, compressing run %.15g" % tuple(w1[::-1]))
+    rcn, wrong = rve(wd, SMALL[:2] + ["301"] + SMALL[3:] + ["-var", "state", "state.restart"])    # N 301
+    t.check(rcn != 0 and "holds 300 spheres, N is 301" in wrong, "a state of another N is refused (exit %d): %s"
+            % (rcn, wrong[-300:]))
+    a, b = L.parse_rve(out), L.parse_rve(again)
+    t.check(abs(a["mu"] - b["mu"]) < 3 * math.hypot(a["dmu"], b["dmu"]),
+            "mu from the state %.4f +- %.4f, compressing run %.4f +- %.4f" % (b["mu"], b["dmu"], a["mu"], a["dmu"]))
+
+
+def high_I_checks(wd):
+    """At I = 1 the spheres dilate from phi 0.58 to about 0.42 within a few strains: the control's
+    cap and gain grow with the shear rate so that Pzz is held at P and the measured I is the
+    requested one (a cap of 0.05/time held Pzz at 2-7 P for the whole run: measured I 0.4 for 0.9)."""
+    rc, out = rve(wd, HIGH + ["-var", "state", "state.restart"])
+    res = L.parse_rve(out)
+    blocks = [float(x) for x in re.findall(r"block \d+: .* Pzz (\S+)", out)]
+    t.check(rc == 0 and res is not None and abs(res["I"] / 1.0 - 1) < 0.1,
+            "measured I within 10%% of the requested 1.0 (exit %d): %s" % (rc, res or out[-1500:]))
+    t.check(len(blocks) == 3 and all(abs(b / 5.0 - 1) < 0.10 for b in blocks) and abs(sum(blocks) / 15.0 - 1) < 0.05,
+            "at I = 1 block mean Pzz within 10%% of 5.0, their mean within 5%%: %s" % blocks)
+
+
+def shared_state_checks():
+    """learn_mu.run_rve keeps one compressed state per parameter set next to its RVE folders: the
+    first RVE writes it, the next (another I) reads it; settings of the compression name another
+    file, shear-only settings (I, window lengths, the shearing control) the same one."""
+    top = t.workdir()
+    small = SMALL[:3] + SMALL[6:]                              # without -var I 0.2
+    runs = [L.run_rve(t.LMP, I, extra=small, workdir=os.path.join(top, "rve_%g" % I)) for I in (0.2, 0.3)]
+    files = sorted(f for f in os.listdir(top) if f.endswith(".restart"))
+    t.check([r["state"] for r in runs] == ["written", "read"] and files == [os.path.basename(L.state_path(top, small))],
+            "first RVE wrote the state, the second read it: %s, files %s" % ([r["state"] for r in runs], files))
+    t.check(abs(runs[1]["I"] / 0.3 - 1) < 0.1, "RVE from the shared state measured I %.4g for 0.3" % runs[1]["I"])
+    same = L.state_path(top, small + ["-var", "wstrain", "0.5", "-var", "gdotg", "2.0", "-var", "ptol", "0.1"])
+    other = [L.state_path(top, small + ["-var", k, v]) for k, v in (("P", "4.0"), ("seed", "7"), ("xmu", "0.0"))]
+    t.check(same == L.state_path(top, small) and len(set(other + [same])) == 4,
+            "state named by the compression settings only: %s" % [os.path.basename(x) for x in [same] + other])
+
+
 def lammps_checks():
     wd = t.workdir()
-    rc, out = rve(wd, SMALL, AFTER)
+    rc, out = rve(wd, SMALL + ["-var", "save", "state.restart"], AFTER)
     t.check(rc == 0, "small RVE ran (exit %d): %s" % (rc, out[-1500:]))
     if rc != 0:
         return
@@ -100,6 +164,8 @@ def lammps_checks():
     for k, name in enumerate(["xx", "yy", "zz", "xz"]):
         t.check(abs(press[k] + ssum[k] / vol) <= 1e-9 * max(abs(press[k]), 1e-3),
                 "P%s: compute pressure %.12g, per-atom sum %.12g" % (name, press[k], -ssum[k] / vol))
+    state_checks(wd, out)
+    high_I_checks(wd)
     # frictionless spheres resist less
     rc0, out0 = rve(t.workdir(), SMALL + ["-var", "xmu", "0.0"])
     r0 = L.parse_rve(out0)
@@ -198,4 +264,5 @@ if __name__ == "__main__":
     python_checks()
     solver_checks()
     lammps_checks()
+    shared_state_checks()
     t.finish()
