@@ -9,18 +9,18 @@ mu at its value at the highest sampled I; both are reported (largest I met, cell
 New RVEs sit on a log grid I_ref f^k (I_ref = 0.3, f = the sampling factor): an unsure I is
 snapped to the nearest grid point and each grid point is run at most once, so f sets how finely
 the solver may ask. The sampled range is that of the measured I of the RVEs: an RVE whose measured
-I misses the requested one by more than 10 % (in.rve's pressure control caps the dilation rate, so
-at high shear rates Pzz overshoots and I falls short) is reported and not used, and no higher I is
-asked for after it. Only cells at least one grain layer deep (p >= phi rho_s g d) count: at the free
+I misses the requested one by more than 10 % (a pressure control that did not hold P) is reported
+and not used, and no higher I is asked for after it. Only cells at least one grain layer deep (p >= phi rho_s g d) count: at the free
 surface p -> 0 and I -> infinity by construction, not by the flow.
 
     /usr/bin/python3 coupling.py [--lmp PATH] [--factors 1.5,2,3] [--first 1] [--others 0.5,2,3]
                                  [--tol 0.015] [--policy sample] [--I-cap 1.0] [--h 1.0] [--dt-max 0.05]
 
 Start set: the recorded RVEs of ../rheology at I = 0.001, 0.003 (the expensive low-I plateau),
-0.01, 0.0548 and 0.3 (its adaptive loop's start). The first collapse (DEM column of collapse.py's
-cache, work/) trains the ensemble; the other aspect ratios reuse it and report their new RVEs.
-Writes coupling.json."""
+0.01, 0.0548 and 0.3 (its adaptive loop's start), and the RVEs' compressed state
+(learn_mu.prepare_state), both paid once for all collapses. The first collapse (DEM column of
+collapse.py's cache, work/) trains the ensemble; the other aspect ratios reuse it and report their
+new RVEs. Writes coupling.json."""
 import argparse
 import json
 import math
@@ -149,6 +149,8 @@ def main():
         recorded = json.load(f)
     start = [r for r in recorded if any(abs(math.log(r["Irequested"] / I)) < 1e-3 for I in START)]
     rve_dir = os.path.join(CL.WORK, "rve")
+    state, state_cpu = L.prepare_state(lmp, rve_dir)
+    print("compressed state of the RVEs: %s (%.1f s of CPU now, once for all collapses)" % (state, state_cpu), flush=True)
 
     def run(I):
         r = L.run_rve(lmp, I, workdir=os.path.join(rve_dir, "rve_%.5g" % I), recorded=recorded)
@@ -156,7 +158,8 @@ def main():
                                                           r.get("wall_s")), flush=True)
         return r
 
-    out = dict(tol=a.tol, policy=a.policy, I_cap=a.I_cap, h=a.h, dt_max=a.dt_max, start=list(START), factors=[])
+    out = dict(tol=a.tol, policy=a.policy, I_cap=a.I_cap, h=a.h, dt_max=a.dt_max, start=list(START),
+               state_cpu_s=round(state_cpu, 1), factors=[])
     for fac in [float(x) for x in a.factors.split(",")]:
         rheo = AdaptiveRheology(run, start, fac, a.tol, a.policy, a.I_cap)
         rec = dict(factor=fac, collapses=[])

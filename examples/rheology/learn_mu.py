@@ -22,6 +22,7 @@ import json
 import math
 import os
 import re
+import resource
 import subprocess
 import sys
 import time
@@ -100,6 +101,31 @@ def state_path(statedir, extra=()):
     return os.path.join(statedir, "compressed_%s_%s.restart" % ("_".join(words), digest))
 
 
+def prepare_state(lmp, statedir, extra=()):
+    """The compressed state of these settings in statedir, written now (in.rve -var save
+    -var compress_only) unless it exists: (its path, the CPU seconds that took, 0 when it existed).
+    A caller that runs RVEs on the fly prepares it ahead, so the one compression is paid with the
+    start set rather than by whichever RVE comes first."""
+    state = state_path(statedir, extra)
+    if os.path.exists(state):
+        return state, 0.0
+    need_lmp(lmp, "the compressed state of the RVEs")
+    os.makedirs(statedir, exist_ok=True)
+    written = "%s.%d.tmp" % (state, os.getpid())
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run([lmp, "-in", IN_RVE, "-var", "save", written, "-var", "compress_only", "1", "-log", "none",
+                           "-echo", "none"] + list(extra), cwd=statedir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode != 0 or "compressed state written" not in proc.stdout or not os.path.exists(written):
+        if os.path.exists(written):
+            os.remove(written)
+        raise RuntimeError("the compressed state (in.rve -var save) failed (exit %d):\n%s"
+                           % (proc.returncode, proc.stdout[-2000:]))
+    os.replace(written, state)
+    return state, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
 def run_rve(lmp, I, extra=(), workdir=None, recorded=(), statedir=None):
     """One RVE at requested inertial number I (cached in work/rve_<I>/result.json; else taken from
     recorded, a list of earlier results, when one has the same requested I). The compressed state
@@ -154,9 +180,8 @@ def run_rve(lmp, I, extra=(), workdir=None, recorded=(), statedir=None):
 
 # ---------------------------------------------------------------- ensemble of small MLPs
 class MLP:
-    """1 input (scaled log I) -> H tanh units -> 2 outputs (scaled mu, phi), trained by Adam on a
-    squared error weighted by 1/(error^2 + floor^2); targets perturbed by their error bars (each
-    member sees its own noisy copy, so the spread carries the data noise as well as the fit's)."""
+    """1 input (scaled log I) -> H tanh units -> 2 outputs (scaled mu, phi): one member of an
+    Ensemble, trained with the others by train_members."""
 
     def __init__(self, hidden, seed):
         rng = np.random.default_rng(seed)
@@ -170,28 +195,39 @@ class MLP:
         h = np.tanh(x[:, None] @ self.W1 + self.b1)
         return h, h @ self.W2 + self.b2
 
-    def fit(self, x, y, w, iters=3000, lr=0.01, decay=1e-4):
-        params = [self.W1, self.b1, self.W2, self.b2]
-        m = [np.zeros_like(p) for p in params]
-        v = [np.zeros_like(p) for p in params]
-        b1, b2, eps = 0.9, 0.999, 1e-8
-        for t in range(1, iters + 1):
-            h, out = self.forward(x)
-            r = (out - y) * w / len(x)                     # d(loss)/d(out), loss = sum w r^2 / 2n
-            gW2 = h.T @ r + decay * self.W2
-            gb2 = r.sum(0)
-            dh = (r @ self.W2.T) * (1 - h * h)
-            gW1 = x[:, None].T @ dh + decay * self.W1
-            gb1 = dh.sum(0)
-            for k, (p, g) in enumerate(zip(params, [gW1, gb1, gW2, gb2])):
-                m[k] = b1 * m[k] + (1 - b1) * g
-                v[k] = b2 * v[k] + (1 - b2) * g * g
-                p -= lr * (m[k] / (1 - b1 ** t)) / (np.sqrt(v[k] / (1 - b2 ** t)) + eps)
-        return self
+
+def train_members(nets, x, ys, w, iters=3000, lr=0.01, decay=1e-4):
+    """Adam on each member's squared error weighted by w (loss = sum w r^2 / 2n), member k on its own
+    targets ys[k]. The members are independent; they are trained as one stack of arrays (a leading
+    member axis) because a refit during a coupled run waits for them, and small NumPy operations
+    cost their call, not their size."""
+    W1, b1, W2, b2 = (np.array([getattr(n, name) for n in nets]) for name in ("W1", "b1", "W2", "b2"))
+    params = [W1, b1, W2, b2]
+    m = [np.zeros_like(p) for p in params]
+    v = [np.zeros_like(p) for p in params]
+    beta1, beta2, eps = 0.9, 0.999, 1e-8
+    xs = x[None, :, None]                                  # (1, n, 1)
+    for t in range(1, iters + 1):
+        h = np.tanh(xs * W1 + b1[:, None, :])              # (members, n, H)
+        out = h @ W2 + b2[:, None, :]
+        r = (out - ys) * w / len(x)                        # d(loss)/d(out)
+        gW2 = h.transpose(0, 2, 1) @ r + decay * W2
+        gb2 = r.sum(1)
+        dh = (r @ W2.transpose(0, 2, 1)) * (1 - h * h)
+        gW1 = (xs * dh).sum(1, keepdims=True) + decay * W1
+        gb1 = dh.sum(1)
+        for k, (p, g) in enumerate(zip(params, [gW1, gb1, gW2, gb2])):
+            m[k] = beta1 * m[k] + (1 - beta1) * g
+            v[k] = beta2 * v[k] + (1 - beta2) * g * g
+            p -= lr * (m[k] / (1 - beta1 ** t)) / (np.sqrt(v[k] / (1 - beta2 ** t)) + eps)
+    for k, n in enumerate(nets):
+        n.W1, n.b1, n.W2, n.b2 = W1[k], b1[k], W2[k], b2[k]
 
 
 class Ensemble:
-    """members MLPs on x = log10 I scaled to [-1, 1] over [Ilo, Ihi]; mu and phi scaled by the data."""
+    """members MLPs on x = log10 I scaled to [-1, 1] over [Ilo, Ihi]; mu and phi scaled by the data.
+    Each member sees its own copy of the targets perturbed by their error bars, so the spread carries
+    the data noise as well as the fit's; the weights are 1/(error^2 + floor^2)."""
 
     def __init__(self, Ilo, Ihi, members=8, hidden=6, seed=12345):
         self.a, self.b = math.log10(Ilo), math.log10(Ihi)
@@ -207,12 +243,9 @@ class Ensemble:
         self.mean, self.scale = Y.mean(0), np.maximum(Y.std(0), 0.02)
         w = 1.0 / ((E / self.scale) ** 2 + (floor / self.scale) ** 2)
         w = w / w.mean(0)
-        self.nets = []
-        for k in range(self.members):
-            net = MLP(self.hidden, self.seed + k)
-            noisy = Y + E * net.rng.normal(size=Y.shape)
-            net.fit(self.x(I), (noisy - self.mean) / self.scale, w)
-            self.nets.append(net)
+        self.nets = [MLP(self.hidden, self.seed + k) for k in range(self.members)]
+        ys = np.array([(Y + E * n.rng.normal(size=Y.shape) - self.mean) / self.scale for n in self.nets])
+        train_members(self.nets, self.x(I), ys, w)
         return self
 
     def predict(self, I, extrapolate=False):

@@ -11,7 +11,8 @@ learn_mu.py. Each number has its own reason:
   RVE (xmu 0) resists shear less than the frictional one;
 - a control that cannot hold (a negative gain) stops with the documented message and exit 2;
 - the compressed state (-var save / -var state) continues the compressing run's trajectory
-  (state_checks), and run_rve shares one per parameter set (shared_state_checks);
+  (state_checks), and run_rve shares one per parameter set (shared_state_checks), which
+  prepare_state writes ahead once (-var compress_only) and reports when LAMMPS fails;
 - at I = 1 the control, whose cap and gain grow with the shear rate, holds Pzz at P and the
   measured I is the requested one (high_I_checks; with the fixed cap of 0.05/time it measured 0.57
   with blocks at Pzz 14-16);
@@ -133,6 +134,21 @@ def shared_state_checks():
     other = [L.state_path(top, small + ["-var", k, v]) for k, v in (("P", "4.0"), ("seed", "7"), ("xmu", "0.0"))]
     t.check(same == L.state_path(top, small) and len(set(other + [same])) == 4,
             "state named by the compression settings only: %s" % [os.path.basename(x) for x in [same] + other])
+    # prepared ahead (learn_mu.prepare_state): written once, then found; the RVE after it reads it
+    ahead = t.workdir()
+    made, again = L.prepare_state(t.LMP, ahead, small), L.prepare_state(t.LMP, ahead, small)
+    rve_after = L.run_rve(t.LMP, 0.2, extra=small, workdir=os.path.join(ahead, "rve_0.2"))
+    t.check(made[0] == again[0] == L.state_path(ahead, small) and os.path.exists(made[0]) and made[1] > 0
+            and again[1] == 0.0 and rve_after["state"] == "read",
+            "state prepared ahead (%.2f s of CPU), found the second time (%.1f s), read by the RVE after it: %s"
+            % (made[1], again[1], rve_after["state"]))
+    try:
+        L.prepare_state("/bin/false", t.workdir(), small)
+        said = ""
+    except RuntimeError as e:
+        said = str(e)
+    t.check("compressed state (in.rve -var save) failed (exit 1)" in said, "a failed compression is reported: %s"
+            % said.splitlines()[0] if said else "nothing raised")
 
 
 def lammps_checks():
