@@ -352,7 +352,8 @@ def regularise(I_grid, mu_grid, I_c):
         if not extrapolate and np.any(I > I_max * (1 + 1e-9)):
             raise ValueError("I = %.4g is above the sampled range (up to %.4g): the regularised mu(I) is not "
                              "extrapolated there" % (float(np.max(I)), I_max))
-        low = np.sqrt(alpha / np.log(A / np.minimum(I, I_c)))
+        with np.errstate(divide="ignore"):        # I = 0 (no shear): A / I = inf gives the limit mu = 0
+            low = np.sqrt(alpha / np.log(A / np.minimum(I, I_c)))
         high = np.interp(np.log(np.maximum(I, I_c)), lg, mono)
         return np.where(I < I_c, low, high)
     mu.params = dict(I_c=I_c, mu_c=mu_c, dmu_c=dmu_c, alpha=alpha, A=A, I_max=I_max)

@@ -227,6 +227,9 @@ def python_checks():
     slope_low = (float(mu(0.01 * (1 - h))) - float(mu(0.01 * (1 - 2 * h)))) / (0.01 * h)
     t.check(abs(slope_low / c["dmu_c"] - 1) < 1e-3, "slope below I_c %.6g equals dmu_c %.6g" % (slope_low, c["dmu_c"]))
     t.check(float(mu(1e-300)) < 0.5 * c["mu_c"], "Barker-Gray tail tends to 0")
+    with np.errstate(all="raise"):                  # a cell at rest (I = 0): the limit, without a warning
+        at_rest = float(mu(0.0))
+    t.check(at_rest == 0.0, "regularised mu(0) = %s, the tail's limit" % at_rest)
     # invert and Bagnold
     I45 = L.invert(mu, 0.45)
     t.check(abs(float(mu(I45)) - 0.45) < 1e-9, "invert: mu(I) = 0.45 at I = %s" % I45)
