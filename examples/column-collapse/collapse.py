@@ -69,7 +69,9 @@ def run_dem(lmp, a, spheres, extra=(), tag=""):
     if os.path.exists(res_path):
         with open(res_path) as f:
             res = json.load(f)
-        res["loop_s"], res["loop_cpu_s"] = lammps_times(os.path.join(wd, "log.lammps"))
+        log = os.path.join(wd, "log.lammps")
+        if os.path.exists(log):         # (a record kept without its log keeps the times it recorded)
+            res["loop_s"], res["loop_cpu_s"] = lammps_times(log)
         return res
     os.makedirs(wd, exist_ok=True)
     t0 = time.time()
@@ -131,8 +133,15 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     of its peak: dt_max is set by the start of the flow (the lagged viscosity of a column at rest), and
     the deposit's creep afterwards moves a few hundredths of d in tens of time units."""
     L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
-    per_bin = int(round(1.0 / h))
+    # the deposit rule's columns of 1 d: per_bin cells each (h <= 1), or each cell split into
+    # per_cell of them (h a whole number of d)
+    per_bin, per_cell = max(1, int(round(1.0 / h))), max(1, int(round(h)))
+    if abs(h * per_bin / per_cell - 1) > 1e-9:
+        raise ValueError("h = %g d: the cells must tile columns of 1 d (h = 1/k or k d)" % h)
     nx = int(round(Lx / h)) // per_bin * per_bin
+
+    def thickness_in_columns():
+        return D.smooth(np.repeat(f.thickness(), per_cell).reshape(-1, per_bin).mean(axis=1))
     ny = int(math.ceil((H0 + 2.0) / h))
     f = MuIFlow(nx, ny, h, mu, phi0) if full_box else FollowingBox(nx, ny, h, mu, phi0, margin_x=margin_x)
     f.set_column(L0, H0)
@@ -144,10 +153,10 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     next_out, steps = 0.0, 0
     I_seen, held, cells = 0.0, 0, 0
     ke_peak, step_max = 0.0, dt_max
-    xc = (np.arange(nx // per_bin) + 0.5) * per_bin * h
+    xc = np.arange(nx * per_cell // per_bin) + 0.5
     while True:
         if f.t >= next_out - 1e-9:
-            thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
+            thick = thickness_in_columns()
             times.append(f.t); fronts.append(D.front(xc, thick)); heights.append(float(thick.max()))
             next_out += DUMP_EVERY
             I_cells = f.grain_inertial_numbers()
@@ -168,7 +177,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
             break
         f.step(min(f.stable_dt(dt_max=step_max), next_out - f.t), passes)
         steps += 1
-    thick = D.smooth(f.thickness().reshape(-1, per_bin).mean(axis=1))
+    thick = thickness_in_columns()
     return dict(h=h, dt_max=dt_max, dt_rest=dt_rest, rest_fraction=rest_fraction, passes=passes, full_box=full_box,
                 margin_x=None if full_box else margin_x, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
@@ -252,13 +261,21 @@ def power_fit(a, y):
     return float(math.exp(coef[0])), float(coef[1]), float(math.sqrt(cov[1, 1]))
 
 
-def series(out):
-    """The cases of the aspect-ratio series (SERIES_SPHERES spheres), by a."""
-    return sorted([c for c in out["cases"] if c["dem"]["spheres_requested"] == SERIES_SPHERES], key=lambda c: c["dem"]["a"])
+def series(out, spheres=SERIES_SPHERES):
+    """The cases of the aspect-ratio series of columns of about that many spheres, by a."""
+    return sorted([c for c in out["cases"] if c["dem"]["spheres_requested"] == spheres], key=lambda c: c["dem"]["a"])
 
 
 def summarise(out):
-    cases = series(out)
+    """Fits and differences of the series (out["summary"]), and the same for each other column size
+    (out["summary_by_size"][N])."""
+    out["summary"] = summary_of(series(out))
+    sizes = sorted({c["dem"]["spheres_requested"] for c in out["cases"]} - {SERIES_SPHERES})
+    out["summary_by_size"] = {str(n): summary_of(series(out, n)) for n in sizes}
+    return out["summary"]
+
+
+def summary_of(cases):
     a = np.array([c["dem"]["a"] for c in cases])
     summ = dict(a=a.tolist())
     for who in ("dem", "continuum"):
@@ -285,7 +302,6 @@ def summarise(out):
         summ["speedup_loop"] = [c["dem"]["loop_s"] / c["continuum"]["wall_s"] for c in both]
         if all("loop_cpu_s" in c["dem"] and "cpu_s" in c["continuum"] for c in both):
             summ["speedup_cpu"] = [c["dem"]["loop_cpu_s"] / c["continuum"]["cpu_s"] for c in both]
-    out["summary"] = summ
     return summ
 
 
@@ -304,11 +320,12 @@ def plot(out, path=HERE):
             a1.plot(summ[who]["a"], summ[who]["dL_over_L0"], st, label="%s%s" % (who, "" if k is None else
                     ": %.2f a^(%.2f +- %.2f)" % (k, n, dn)))
             a2.plot(summ[who]["a"], summ[who]["H0_over_hf"], st, label=who)
-    for c in others:                     # the same material in a larger column: the size effect
-        d = c["dem"]
-        lab = "DEM, %d spheres (L0 = %.0f d)" % (d["spheres"], d["L0"])
-        a1.plot([d["a"]], [(d["runout"] - d["L0"]) / d["L0"]], "r^", label=lab)
-        a2.plot([d["a"]], [d["H0"] / d["final_height"]], "r^", label=lab)
+    for n, s in out.get("summary_by_size", {}).items():     # the same material in larger columns: the size effect
+        for who, st in (("dem", "r^"), ("continuum", "mv")):
+            if who in s:
+                lab = "%s, about %s spheres" % (who, n)
+                a1.plot(s[who]["a"], s[who]["dL_over_L0"], st, label=lab)
+                a2.plot(s[who]["a"], s[who]["H0_over_hf"], st, label=lab)
     aa = np.linspace(a.min(), a.max(), 50)
     if "dem" in summ and "runout_fit" in summ["dem"]:
         k0 = summ["dem"]["dL_over_L0"][0] / a[0] ** 0.9

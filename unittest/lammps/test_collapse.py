@@ -21,7 +21,10 @@ the DEM input (in.collapse). Each number has its own reason:
   so does a box whose length follows the front too, open to the air beyond (no grains cross its
   open side, and the air ahead of the front leaves through it as it moves on in the whole box);
 - HeldMu holds mu at I_max above it (no extrapolation);
-- deposit.front: on a linear profile h = 3 - x the farthest x with h >= 1 is 2, interpolated;
+- deposit.front: on a linear profile h = 3 - x the farthest x with h >= 1 is 2, interpolated; the
+  released column 8 d wide and 6 d high, on cells of 0.5, 1 and 2 d (collapse.run_continuum bins
+  them in columns of 1 d), is 6 d high with its front at 9 d (the 3-column average: 2 d at 8.5,
+  0 at 9.5); cells of 0.7 d, which tile no columns of 1 d, are refused;
 - the on-the-fly coupling (coupling.AdaptiveRheology, with a stand-in for the RVE): cells above the
   sampled range (0.3) ask for the next grid point 0.3 f (f = 2: 0.6), run once, after which the
   sampled range ends there and I_cap (1.0) stops the next (1.2); with policy "hold" nothing runs;
@@ -182,6 +185,21 @@ def python_checks():
     t.check(np.allclose(v, [0.41, 0.43, 0.43]), "HeldMu holds mu(I_max) above I_max: %s" % v)
     x = np.arange(6) + 0.5
     t.check(abs(D.front(x, 3.0 - x) - 2.0) < 1e-12, "front of h = 3 - x: %s" % D.front(x, 3.0 - x))
+    # the deposit rule's columns of 1 d from cells of 0.5, 1 and 2 d: a column 8 d wide, 6 d high
+    # tiles all three grids exactly, so the released column's thickness and front are the same; its
+    # 3-column average reads 2 d at x = 8.5 and 0 at 9.5, so the front (h = 1 d) is at 9
+    import collapse as CL
+    dem = dict(L0=8.0, H0=6.0, phi0=0.6, Lx=40.0, stopped_at=1e-9)
+    starts = [CL.run_continuum(dem, C.HeldMu(LC.mu_jop, 0.3), h=h) for h in (0.5, 1.0, 2.0)]
+    t.check(all(abs(r["front"][0] - 9.0) < 1e-12 and abs(r["height"][0] - 6.0) < 1e-12 for r in starts),
+            "released column's front and height from cells of 0.5, 1, 2 d: %s"
+            % [(r["front"][0], r["height"][0]) for r in starts])
+    try:
+        CL.run_continuum(dem, C.HeldMu(LC.mu_jop, 0.3), h=0.7)
+        said = ""
+    except ValueError as e:
+        said = str(e)
+    t.check("h = 0.7 d" in said, "cells that do not tile 1 d columns refused: %s" % said)
 
 
 def coupling_checks():
