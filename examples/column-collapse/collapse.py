@@ -121,7 +121,7 @@ def learned_mu():
 
 
 def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_max=0.05, passes=2, full_box=False,
-                  dt_rest=0.5, rest_fraction=1e-2, margin_x=16):
+                  dt_rest=0.5, rest_fraction=1e-2, margin_x=16, air_density=0.01, air_viscosity=0.01, box_extra=0.0):
     """The continuum on the DEM's measured column (L0, H0, phi0), the same box length; front and
     height by the DEM's rule (thickness binned in columns of 1 d) every DUMP_EVERY; there also the
     largest I of the deep grain cells (MuIFlow.grain_inertial_numbers) and how many were above
@@ -131,8 +131,10 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     The step is at most dt_max,
     and at most dt_rest once the kinetic energy (read every DUMP_EVERY) has fallen below rest_fraction
     of its peak: dt_max is set by the start of the flow (the lagged viscosity of a column at rest), and
-    the deposit's creep afterwards moves a few hundredths of d in tens of time units."""
-    L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"]
+    the deposit's creep afterwards moves a few hundredths of d in tens of time units. The air (density
+    relative to the grains' bulk density, viscosity) stands for the DEM's vacuum; box_extra lengthens
+    the box beyond the DEM's (the margin study of the README)."""
+    L0, H0, phi0, Lx = dem["L0"], dem["H0"], dem["phi0"], dem["Lx"] + box_extra
     # the deposit rule's columns of 1 d: per_bin cells each (h <= 1), or each cell split into
     # per_cell of them (h a whole number of d)
     per_bin, per_cell = max(1, int(round(1.0 / h))), max(1, int(round(h)))
@@ -143,7 +145,8 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     def thickness_in_columns():
         return D.smooth(np.repeat(f.thickness(), per_cell).reshape(-1, per_bin).mean(axis=1))
     ny = int(math.ceil((H0 + 2.0) / h))
-    f = MuIFlow(nx, ny, h, mu, phi0) if full_box else FollowingBox(nx, ny, h, mu, phi0, margin_x=margin_x)
+    air = dict(air_density=air_density, air_viscosity=air_viscosity)
+    f = MuIFlow(nx, ny, h, mu, phi0, **air) if full_box else FollowingBox(nx, ny, h, mu, phi0, margin_x=margin_x, **air)
     f.set_column(L0, H0)
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
@@ -179,7 +182,8 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
         steps += 1
     thick = thickness_in_columns()
     return dict(h=h, dt_max=dt_max, dt_rest=dt_rest, rest_fraction=rest_fraction, passes=passes, full_box=full_box,
-                margin_x=None if full_box else margin_x, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
+                margin_x=None if full_box else margin_x, air_density=air_density, air_viscosity=air_viscosity,
+                box_extra=box_extra, nx=nx, ny=ny, t=times, front=fronts, height=heights, runout=fronts[-1],
                 final_height=heights[-1], x=xc.tolist(), profile=thick.tolist(), steps=steps,
                 wall_s=round(time.time() - t0, 1), cpu_s=round(time.process_time() - cpu0, 1), mass_rel_change=float(f.c.sum() / mass0 - 1),
                 c_min=float(f.c.min()), c_max=float(f.c.max()), I_max_seen=I_seen, held_cells=held,
@@ -200,6 +204,10 @@ def main():
     ap.add_argument("--full-box", action="store_true", help="continuum: solve on the whole box (no FollowingBox)")
     ap.add_argument("--margin-x", type=int, default=16, help="continuum: the solver's box ends this many cells "
                     "beyond the front, open to the air beyond (0: the box's whole length, closed)")
+    ap.add_argument("--air-density", type=float, default=0.01, help="continuum: the air's density, relative to "
+                    "the grains' bulk density")
+    ap.add_argument("--air-viscosity", type=float, default=0.01, help="continuum: the air's viscosity")
+    ap.add_argument("--box-extra", type=float, default=0.0, help="continuum: lengthen the box by this many d")
     ap.add_argument("--no-continuum", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
@@ -222,7 +230,8 @@ def main():
         case = dict(dem=dem)
         if mu is not None:
             con = run_continuum(dem, mu, h=a.h, dt_max=a.dt_max, dt_rest=a.dt_rest, passes=a.passes, full_box=a.full_box,
-                                 margin_x=a.margin_x or None)
+                                 margin_x=a.margin_x or None, air_density=a.air_density,
+                                 air_viscosity=a.air_viscosity, box_extra=a.box_extra)
             print("   continuum h %.2f: run-out %.2f (dL/L0 %.2f) final height %.2f, %d steps, wall %.0f s (CPU %.0f s), "
                   "mass change %.1e, largest I (deep grain cells) %.3g, %d of %d cell samples held at I_max"
                   % (con["h"], con["runout"], (con["runout"] - dem["L0"]) / dem["L0"], con["final_height"],
