@@ -141,13 +141,13 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
     if abs(h * per_bin / per_cell - 1) > 1e-9:
         raise ValueError("h = %g d: the cells must tile columns of 1 d (h = 1/k or k d)" % h)
     nx = int(round(Lx / h)) // per_bin * per_bin
-
-    def thickness_in_columns():
-        return D.smooth(np.repeat(f.thickness(), per_cell).reshape(-1, per_bin).mean(axis=1))
     ny = int(math.ceil((H0 + 2.0) / h))
     air = dict(air_density=air_density, air_viscosity=air_viscosity)
     f = MuIFlow(nx, ny, h, mu, phi0, **air) if full_box else FollowingBox(nx, ny, h, mu, phi0, margin_x=margin_x, **air)
     f.set_column(L0, H0)
+
+    def thickness_in_columns():
+        return D.smooth(np.repeat(f.thickness(), per_cell).reshape(-1, per_bin).mean(axis=1))
     pe0 = float(np.sum(f.c * phi0 * ((np.arange(ny) + 0.5) * h)[None, :]) * h * h)
     mass0 = float(f.c.sum())
     t_end = t_end or dem["stopped_at"]
