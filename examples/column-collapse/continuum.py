@@ -496,12 +496,16 @@ class FollowingBox(GrainFields):
         self.box = (0 if margin_x is not None else nx, 0)
         self.flow = None
 
+    def _occupied_end(self, axis):
+        """One past the last column (axis 1) or row (axis 0) holding a cell with c > threshold; 1 if none."""
+        occupied = (self.c > self.threshold).any(axis=axis)
+        return int(np.nonzero(occupied)[0].max()) + 1 if occupied.any() else 1
+
     def _rows(self):
         """The box's height: margin rows above the highest row with c > threshold, rounded up to a
         multiple of quantum (at most ny); the current height is kept while it is at least margin_min
         rows above that row and less than quantum above its new height."""
-        occupied = (self.c > self.threshold).any(axis=0)
-        last = int(np.nonzero(occupied)[0].max()) + 1 if occupied.any() else 1
+        last = self._occupied_end(axis=0)
         target = min(self.ny, -(-(last + self.margin) // self.quantum) * self.quantum)
         current = self.box[1]
         return current if last + self.margin_min <= current < target + self.quantum else target
@@ -511,8 +515,7 @@ class FollowingBox(GrainFields):
         rounded up to a multiple of quantum_x (at most nx); it never shrinks."""
         if self.margin_x is None:
             return self.nx
-        occupied = (self.c > self.threshold).any(axis=1)
-        last = int(np.nonzero(occupied)[0].max()) + 1 if occupied.any() else 1
+        last = self._occupied_end(axis=1)
         if last + self.margin_x <= self.box[0]:
             return self.box[0]
         return min(self.nx, -(-(last + self.margin_x + self.quantum_x) // self.quantum_x) * self.quantum_x)
