@@ -38,24 +38,29 @@ run 0
 BIG = "create_atoms 2 single 5 5 -10.1 units box"
 WARNING = (r"WARNING: Pair style griddem/hooke/history: fix \S+ cell multi tests ([0-9.e+]+) candidate pairs per atom, "
            r"([0-9.e+]+) times the ([0-9.e+]+) of cell auto, and holds up to (\d+) centres in one cell")
-WD = t.workdir()
+def main():
+    WD = t.workdir()
 
-for nprocs in (1, 2):
-    out = t.run_ok(SCENE.format(big=BIG, fix="fix grid all griddem cell multi"), WD, nprocs, name="in.multi%d" % nprocs)
-    found = re.findall(WARNING, out)
-    n = sum(int(m) for m in re.findall(r"Created (\d+) atoms", out))
-    t.check(len(found) == 1, "np %d: cell multi at 1:100 warns once over two runs: %d warnings" % (nprocs, len(found)))
-    if found:
-        here, ratio, auto, most = float(found[0][0]), float(found[0][1]), float(found[0][2]), int(found[0][3])
-        t.check(n == 4852 and here == (n - 1) / 2.0 * nprocs,
-                "np %d: multi tests (N - 1)/2 candidates per atom on each process, N = %d: %g" % (nprocs, n, here))
-        t.check(most == n, "np %d: all %d centres in one cell: %d" % (nprocs, n, most))
-        t.check(ratio > 8.0 and auto < 50.0 and abs(ratio - here / auto) < 1e-3 * ratio,
-                "np %d: auto tests %g per atom, %g times fewer" % (nprocs, auto, ratio))
-    t.check("use cell auto" in out, "np %d: the warning names the mode to use" % nprocs)
+    for nprocs in (1, 2):
+        out = t.run_ok(SCENE.format(big=BIG, fix="fix grid all griddem cell multi"), WD, nprocs, name="in.multi%d" % nprocs)
+        found = re.findall(WARNING, out)
+        n = sum(int(m) for m in re.findall(r"Created (\d+) atoms", out))
+        t.check(len(found) == 1, "np %d: cell multi at 1:100 warns once over two runs: %d warnings" % (nprocs, len(found)))
+        if found:
+            here, ratio, auto, most = float(found[0][0]), float(found[0][1]), float(found[0][2]), int(found[0][3])
+            t.check(n == 4852 and here == (n - 1) / 2.0 * nprocs,
+                    "np %d: multi tests (N - 1)/2 candidates per atom on each process, N = %d: %g" % (nprocs, n, here))
+            t.check(most == n, "np %d: all %d centres in one cell: %d" % (nprocs, n, most))
+            t.check(ratio > 8.0 and auto < 50.0 and abs(ratio - here / auto) < 1e-3 * ratio,
+                    "np %d: auto tests %g per atom, %g times fewer" % (nprocs, auto, ratio))
+        t.check("use cell auto" in out, "np %d: the warning names the mode to use" % nprocs)
 
-    out = t.run_ok(SCENE.format(big=BIG, fix=""), WD, nprocs, name="in.auto%d" % nprocs)
-    t.check("candidate pairs per atom" not in out, "np %d: the default says nothing" % nprocs)
-    out = t.run_ok(SCENE.format(big="", fix="fix grid all griddem cell multi"), WD, nprocs, name="in.mono%d" % nprocs)
-    t.check("candidate pairs per atom" not in out, "np %d: multi without the large sphere says nothing" % nprocs)
-t.finish()
+        out = t.run_ok(SCENE.format(big=BIG, fix=""), WD, nprocs, name="in.auto%d" % nprocs)
+        t.check("candidate pairs per atom" not in out, "np %d: the default says nothing" % nprocs)
+        out = t.run_ok(SCENE.format(big="", fix="fix grid all griddem cell multi"), WD, nprocs, name="in.mono%d" % nprocs)
+        t.check("candidate pairs per atom" not in out, "np %d: multi without the large sphere says nothing" % nprocs)
+    t.finish()
+
+
+if __name__ == "__main__":
+    main()
