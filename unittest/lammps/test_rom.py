@@ -4,6 +4,8 @@
   an error naming it; words after the weights or the force block, binary bytes (at the start and
   in a row of weights) and a weights block cut short: refused naming the line and what was expected
   there, bytes other than printable ASCII as \\xNN;
+- the counters f_rom[2], [3], [4], [7] (made kinematic, released by hits, by overlaps,
+  classifications) on a scene counted by hand over two runs;
 - eps = 0: no atom becomes kinematic and the run is the plain run, digit for digit;
 - a uniform predicted field U (weights: bias only): a resting atom (|v - U| = |U| <= eps v0)
   becomes kinematic, its velocity is U exactly and it moves by U dt per step although gravity
@@ -165,6 +167,47 @@ def model_file_messages():
         f.write(text)
     refused(path, "at its end (line 87): 'weights 81 29' (line 7) needs 81 x 29 = 2349 values, found 2320",
             "a weights block cut short")
+
+
+def counters():
+    """f_rom[2], [3], [4], [7] (made kinematic, released by a hit, released by an overlap,
+    classifications) on a scene counted by hand: zero field, eps v0 = 0.5, every 5, two runs of 5
+    steps (a classification at the end of each; the counters add up over the fix's runs).
+    Run 1: atoms 1, 2, 3, 4 rest alone and are made kinematic; atom 6 rests against atom 7 (outside
+    the fix's group), which slides past it at 1 (overlap 0.01): 6 is not made kinematic, and not
+    counted as released, since it was not kinematic. Made 4, hits 0, overlaps 0, 1 classification.
+    Between the runs: atom 5 (outside the group) is set against kinematic atom 1 (overlap 0.01),
+    sliding past it at 1 (5 steps of friction leave it above 0.5); kinematic atoms 2 and 3 are set
+    to overlap by 0.1 (> 0.1 min(ri, rj) = 0.05; no force acts between kinematic atoms to part them);
+    atoms 6 and 7 are parted and stopped.
+    Run 2: 1 is released by a hit, 2 and 3 by their overlap, 4 stays kinematic (not made again),
+    6 is made kinematic. Made 5, hits 1, overlaps 2, 2 classifications; kinematic now 4 and 6."""
+    model = os.path.join(WD, "rest_counts.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    text = resting_spheres((1.5, 1.5, 1.5), (4.5, 1.5, 1.5), (4.5, 4.5, 1.5), (1.5, 4.5, 4.5), (1.5, 4.5, 1.5),
+                           (4.5, 4.5, 4.5), (4.5, 4.5, 3.51)) + PAIR + """
+group romable id 1 2 3 4 6
+set atom 7 vx 1.0
+fix rom romable griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[2] f_rom[3] f_rom[4] f_rom[6] f_rom[7]
+thermo 5
+run 5
+set atom 5 x 2.49 y 1.5 z 1.5 vx 0.0 vy 1.0 vz 0.0
+set atom 3 x 4.5 y 2.4 z 1.5
+set atom 7 x 4.5 y 1.5 z 4.5 vx 0.0
+set atom 6 vx 0.0 vy 0.0 vz 0.0
+run 5
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.counters")
+    columns = ("f_rom[1]", "f_rom[2]", "f_rom[3]", "f_rom[4]", "f_rom[6]", "f_rom[7]")
+    names = ("kinematic", "made", "hits", "overlaps", "released by a force", "classifications")
+    got = [t.thermo_values(out, c) for c in columns]
+    # thermo rows: steps 0 and 5 (run 1), 5 and 10 (run 2)
+    for label, row, expected in (("run 1", 1, (4, 4, 0, 0, 0, 1)), ("run 2", 3, (2, 5, 1, 2, 0, 2))):
+        for name, values, want in zip(names, got, expected):
+            t.check(len(values) == 4 and values[row] == want,
+                    "counters, %s: %s %s, counted by hand %d" % (label, name, values[row:row + 1], want))
 
 
 def eps_zero():
@@ -833,6 +876,7 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 model_checks()
 model_file_messages()
+counters()
 newcomer()
 moving_frame()
 moving_frame(2)
