@@ -106,7 +106,7 @@ void procs2grid2d(int nprocs, int nx, int ny, int &px, int &py)
 ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), nslot(0), list(nullptr), grid3d(nullptr), ghost_sum(nullptr),
     channels(nullptr), gc_buf1(nullptr), gc_buf2(nullptr), fft(nullptr), to_fft(nullptr),
-    from_fft(nullptr), nmax(0), virial_every_step(0), virial(nullptr)
+    from_fft(nullptr), nmax(0), virial(nullptr)
 {
 #ifndef GRIDDEM_CG_HAVE_FFT
   error->all(FLERR, "Compute griddem/cg requires the KSPACE package (its FFT3d and Remap)");
@@ -170,10 +170,9 @@ void ComputeGriddemCg::init()
   }
   if (slot[VIRIAL] >= 0 && !force->pair)
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
-  // fix ave/grid (LAMMPS 4Feb2025) schedules grid computes only at the start of its windows, so
-  // the per-atom virial would be missing on its other samples: with one defined, ask for it on
-  // every step from the first invocation on
-  virial_every_step = slot[VIRIAL] >= 0 && !modify->get_fix_by_style("^ave/grid").empty();
+  averages.clear();
+  if (slot[VIRIAL] >= 0) averages = modify->get_fix_by_style("^ave/grid");
+  asked_until.assign(averages.size(), -1);
 }
 
 void ComputeGriddemCg::init_list(int, NeighList *ptr)
@@ -311,6 +310,23 @@ void ComputeGriddemCg::convolve(int s)
 #endif
 }
 
+/* Fix ave/grid (LAMMPS 4Feb2025) in grid mode tells the computes with invocation times only its
+   first sample step (when made, and after a minimize), never the later ones, so the per-atom virial
+   would not be tallied on them. Its samples fall on multiples of its nevery (nfreq is one), each at
+   most nfreq after the one before: on every invocation, ask for the per-atom virial on those
+   multiples up to nfreq ahead. Between windows (nrepeat x nevery < nfreq) this asks for more steps
+   than it samples; the fix keeps nrepeat to itself. */
+void ComputeGriddemCg::ask_for_virial()
+{
+  const bigint now = update->ntimestep;
+  for (size_t n = 0; n < averages.size(); n++) {
+    const bigint every = averages[n]->nevery, until = now + averages[n]->pergrid_freq;
+    for (bigint step = (std::max(now, asked_until[n]) / every + 1) * every; step <= until; step += every)
+      addstep(step);
+    asked_until[n] = until;
+  }
+}
+
 /* Per-atom virial of the pair style and of fixes that add to the virial (as compute stress/atom);
    with newton, ghost atoms' shares go back to their owners. */
 void ComputeGriddemCg::gather_virial()
@@ -373,8 +389,10 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
-  if (virial_every_step) addstep(update->ntimestep + 1);
-  if (slot[VIRIAL] >= 0) gather_virial();
+  if (slot[VIRIAL] >= 0) {
+    ask_for_virial();
+    gather_virial();
+  }
   if (slot[CONTACTS] >= 0) count_contacts();
 
   const double *boxlo = domain->boxlo, *prd = domain->prd;
