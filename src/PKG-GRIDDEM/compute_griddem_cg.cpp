@@ -312,10 +312,10 @@ void ComputeGriddemCg::convolve(int s)
 
 /* Fix ave/grid (LAMMPS 4Feb2025) in grid mode tells the computes with invocation times only its
    first sample step (when made, and after a minimize), never the later ones, so the per-atom virial
-   would not be tallied on them. Its samples fall on multiples of its nevery (nfreq is one), each at
-   most nfreq after the one before: on every invocation, ask for the per-atom virial on those
-   multiples up to nfreq ahead. Between windows (nrepeat x nevery < nfreq) this asks for more steps
-   than it samples; the fix keeps nrepeat to itself. */
+   would not be tallied on them. Its samples fall on multiples of its nevery (its nfreq is a multiple
+   of nevery), each at most nfreq after the one before: on every invocation, ask for the per-atom
+   virial on those multiples up to nfreq ahead. Between windows (nrepeat x nevery < nfreq) this asks
+   for steps it does not sample: the fix keeps nrepeat to itself. */
 void ComputeGriddemCg::ask_for_virial()
 {
   const bigint now = update->ntimestep;
