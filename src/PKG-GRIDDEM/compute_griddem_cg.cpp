@@ -172,7 +172,6 @@ void ComputeGriddemCg::init()
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
   averages.clear();
   if (slot[VIRIAL] >= 0) averages = modify->get_fix_by_style("^ave/grid");
-  asked_until.assign(averages.size(), -1);
 }
 
 void ComputeGriddemCg::init_list(int, NeighList *ptr)
@@ -313,17 +312,18 @@ void ComputeGriddemCg::convolve(int s)
 /* Fix ave/grid (LAMMPS 4Feb2025) in grid mode tells the computes with invocation times only its
    first sample step (when made, and after a minimize), never the later ones, so the per-atom virial
    would not be tallied on them. Its samples fall on multiples of its nevery (its nfreq is a multiple
-   of nevery), each at most nfreq after the one before: on every invocation, ask for the per-atom
-   virial on those multiples up to nfreq ahead. Between windows (nrepeat x nevery < nfreq) this asks
-   for steps it does not sample: the fix keeps nrepeat to itself. */
+   of nevery) and its windows end on multiples of nfreq: within a window ask for the next multiple
+   of nevery; at a window's end for every multiple of nevery up to nfreq ahead, as the fix keeps
+   nrepeat, hence where the next window starts, to itself (a per-atom virial on steps between
+   windows that nothing reads, where nrepeat x nevery < nfreq). Asked for in descending order, each
+   step lands at the end of the compute's list of steps (Compute::addstep keeps it sorted). */
 void ComputeGriddemCg::ask_for_virial()
 {
   const bigint now = update->ntimestep;
-  for (size_t n = 0; n < averages.size(); n++) {
-    const bigint every = averages[n]->nevery, until = now + averages[n]->pergrid_freq;
-    for (bigint step = (std::max(now, asked_until[n]) / every + 1) * every; step <= until; step += every)
-      addstep(step);
-    asked_until[n] = until;
+  for (Fix *average : averages) {
+    const bigint every = average->nevery, nfreq = average->pergrid_freq;
+    const bigint last = now % nfreq ? (now / every + 1) * every : now + nfreq;
+    for (bigint step = last; step > now; step -= every) addstep(step);
   }
 }
 

@@ -57,7 +57,6 @@ class ComputeGriddemCg : public Compute {
 
   int nmax;
   std::vector<class Fix *> averages;    // the fixes ave/grid, whose samples need the per-atom virial
-  std::vector<bigint> asked_until;      // per fix ave/grid: the last step asked for
   double **virial;               // per-atom virial (pair + fixes), ghosts summed back when newton
   std::vector<double> contacts;  // touching neighbours per owned atom
 
