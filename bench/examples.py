@@ -8,8 +8,8 @@ logs of 23Nov26 were recorded with `cell exact`) moves the number by more than a
 tolerance, while the stock style's number is reproducible.
 
 usage: bench/examples.py [--only packing,chute,hopper] [--ranks 2] [--record]
-  --record  write the runs' logs (and the chute's profiles) into the examples as references
-            instead of checking against them"""
+  --record  write the runs' logs into the examples as references, and the chute's profiles and
+            the hopper's last states into their reference/ folders, instead of checking against them"""
 import argparse
 import datetime
 import json
@@ -28,7 +28,7 @@ DATE_TAG = "23Nov26"
 # scene: (the printed line's pattern giving the number, variables for griddem, for stock,
 #         tolerance against the reference log, tolerance griddem against stock; both absolute)
 SCENES = {
-    "packing": (r"GRIDDEM packing: .* packing fraction ([0-9.]+)", [], ["style granular"], 1e-4, 0.01),
+    "packing": (r"GRIDDEM packing: .* packing fraction ([0-9.]+)", [], ["style granular", "tag stock"], 1e-4, 0.01),
     "chute": (r"GRIDDEM chute: flow rate ([0-9.]+)", [], ["style gran/hooke/history", "tag stock"], 1e-2, 5.0),
     "hopper": (r"GRIDDEM hopper: ([0-9.]+) of the mass", [], ["style granular", "tag stock"], 1e-4, 0.03),
 }
@@ -80,7 +80,7 @@ def main():
                 shutil.copy(os.path.join(wd, log), ref_path)
                 for extra in os.listdir(wd):
                     if extra.startswith(("profile.", "final.")):    # chute profiles, hopper's last state
-                        shutil.copy(os.path.join(wd, extra), os.path.join(TOP, "examples", scene, extra))
+                        shutil.copy(os.path.join(wd, extra), os.path.join(TOP, "examples", scene, "reference", extra))
             else:
                 ref = number(pattern, open(ref_path).read(), ref_path)
                 if style == "stock" and abs(values[style] - ref) > tol_ref:
