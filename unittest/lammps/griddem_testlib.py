@@ -1,9 +1,11 @@
 """Helpers for GRIDDEM's LAMMPS-level tests: run build/lmp on an input text (optionally under
 mpirun), read dump files, make random polydisperse sphere configurations, compare numbers.
 Standard library only."""
+import atexit
 import math
 import os
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -14,6 +16,33 @@ LMP = os.path.abspath(os.environ.get("GRIDDEM_LMP", "lmp")) if os.sep in os.envi
 PLUGIN = os.path.abspath(os.environ["GRIDDEM_PLUGIN"]) if os.environ.get("GRIDDEM_PLUGIN") else None
 _failures = []
 _passed = 0
+# the temporary folder of a process, and where Open MPI 4 puts its session directories
+TMP_VARIABLES = ("TMPDIR", "OMPI_MCA_orte_tmpdir_base")
+
+
+def _own_tmpdir():
+    """Give everything this test starts (lmp, mpirun, the examples' scripts) a temporary folder
+    of its own, removed at exit. Open MPI 4 keeps its session directory in
+    <TMPDIR>/ompi.<host>.<uid>, made by every start and removed by every end: a program that
+    starts or ends beside ours in the same folder can stop ours from starting ("mkdir ...: File
+    exists"). tempfile has chosen the folder of this test's own workdir()s by then: they stay
+    where they were. The MCA setting overrides a site's own."""
+    folder = tempfile.mkdtemp(prefix="griddem-tmp-")
+    callers = {k: os.environ[k] for k in TMP_VARIABLES if k in os.environ}
+    os.environ.update({k: folder for k in TMP_VARIABLES})
+    atexit.register(shutil.rmtree, folder, True)
+    return folder, callers
+
+
+TMPDIR, _callers_tmp_environment = _own_tmpdir()
+
+# What Open MPI prints when a process could not start (its runtime, or MPI_Init)
+MPI_START_FAILED = ("It looks like orte_init failed", "It looks like opal_init failed",
+                    "It looks like MPI_INIT failed", "before MPI_INIT completed")
+
+
+class MPIStartError(RuntimeError):
+    """Open MPI could not start a run: a fault of the machine's MPI, not of the input."""
 
 
 # the start of an input on a read_data configuration, for format(data=, pair=, coeffs=)
@@ -54,8 +83,11 @@ def require_modules(modules, message, skip):
     except ImportError:
         pass
     if os.path.exists("/usr/bin/python3") and os.environ.get("GRIDDEM_REEXEC") != "1":
-        os.environ["GRIDDEM_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+        # the new process makes a temporary folder of its own, in the caller's
+        shutil.rmtree(TMPDIR, True)
+        env = {k: v for k, v in os.environ.items() if k not in TMP_VARIABLES}
+        env.update(_callers_tmp_environment, GRIDDEM_REEXEC="1")
+        os.execve("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv, env)
     print(message, file=sys.stderr)
     sys.exit(77 if skip else 1)
 
@@ -81,7 +113,8 @@ def workdir():
 
 def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None, timeout=900):
     """Run an input (with threads OpenMP threads if given); returns (exit code, screen output).
-    Raises subprocess.TimeoutExpired after timeout seconds."""
+    Raises subprocess.TimeoutExpired after timeout seconds, MPIStartError with Open MPI's
+    message where MPI did not start."""
     path = os.path.join(cwd, name)
     with open(path, "w") as f:
         if PLUGIN:
@@ -94,6 +127,9 @@ def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None, timeout
     env = dict(os.environ, OMP_NUM_THREADS=str(threads)) if threads else None
     proc = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True, timeout=timeout, env=env)
+    if proc.returncode != 0 and any(m in proc.stdout for m in MPI_START_FAILED):
+        raise MPIStartError("Open MPI could not start %s in %s (exit %d); its output:\n%s"
+                            % (" ".join(cmd), cwd, proc.returncode, proc.stdout[:6000]))
     return proc.returncode, proc.stdout
 
 
