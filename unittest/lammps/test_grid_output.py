@@ -16,7 +16,8 @@ sys.path.insert(0, HERE)
 import griddem_testlib as t
 
 t.require_modules(("vtkmodules.vtkIOXML",),
-                  "test_grid_output: needs VTK's Python module (Debian python3-vtk9: tools/install-deps)", skip=False)
+                  "test_grid_output: needs VTK's Python module (Debian python3-vtk9 or python3-paraview: "
+                  "tools/install-deps)", skip=False)
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPolyDataReader, vtkXMLRectilinearGridReader
 
