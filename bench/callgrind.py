@@ -11,7 +11,7 @@ LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSO
 bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.
 
 usage: bench/callgrind.py [--scene chute|squeeze] [--steps N] [--lmp build/lmp] [--build NAME]
-                          [--only stock,griddem] [--lammps-bench DIR] [--keep DIR]"""
+                          [--only stock,griddem] [--lammps-bench DIR] [--keep DIR] [--cell MODE]"""
 import argparse
 import datetime
 import json
@@ -68,6 +68,9 @@ def touching_pairs(args, text, wd):
 
 def count(args, label, wd):
     text = (chute_input if args.scene == "chute" else squeeze_input)(args, STYLES[label], wd)
+    if args.cell and label == "griddem":
+        head, _, tail = text.rpartition("\nrun")
+        text = head + "\nfix griddem_bench_grid all griddem cell %s\nrun" % args.cell + tail
     with open(os.path.join(wd, "in.run"), "w") as f:
         f.write(text)
     out = os.path.join(wd, "callgrind.out")
@@ -96,6 +99,7 @@ def main():
     ap.add_argument("--only", default="stock,griddem")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     ap.add_argument("--keep", default=None, help="folder to keep the callgrind outputs in")
+    ap.add_argument("--cell", default=None, help="griddem's cell mode or edge (fix griddem cell ...; default: the pair's)")
     args = ap.parse_args()
     build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
                                          stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
@@ -105,6 +109,7 @@ def main():
         per_step, pairs = count(args, label, wd)
         line = {"date": datetime.date.today().isoformat(), "device": benchlib.device(), "scene": args.scene,
                 "steps": args.steps, "style": label, "build": build,
+                **({"cell": args.cell} if args.cell and label == "griddem" else {}),
                 "instructions_per_step": {k: round(v) for k, v in per_step.items()},
                 "touching_pairs_per_step": round(pairs, 1),
                 "pair_instructions_per_touching_pair": round(per_step["pair"] / pairs, 1)}
