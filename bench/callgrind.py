@@ -5,10 +5,13 @@ on LAMMPS's chute (bench/in.chute, 32,000 atoms) or the 1:4 bidisperse squeeze o
 bench/squeeze.py. Instruction counts do not depend on what else runs on the machine, so two
 builds compare where wall times drift. Only the timestep loop is counted (Verlet::run, not the
 setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
-its neighbor share to show. Appends one JSON line per run to bench/results/callgrind.jsonl.
+its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
+over the pairs in contact a step (mean over the counted steps), counted in a second, plain run by
+LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to
+bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.
 
 usage: bench/callgrind.py [--scene chute|squeeze] [--steps N] [--lmp build/lmp] [--build NAME]
-                          [--only stock,griddem] [--lammps-bench DIR]"""
+                          [--only stock,griddem] [--lammps-bench DIR] [--keep DIR] [--cell MODE]"""
 import argparse
 import datetime
 import json
@@ -46,8 +49,28 @@ def squeeze_input(args, style, wd):
     return scene.TEMPLATE.format(data=data, pair=style, scale=scene.SCALE, most="", steps=args.steps, name="cg")
 
 
+def touching_pairs(args, text, wd):
+    """Mean pairs in contact over steps 1..steps (the steps callgrind counts): contact/atom's sum
+    over atoms counts each pair from both of its atoms."""
+    head, _, tail = text.rpartition("\nrun")
+    counting = head + ("\ncompute griddem_bench_contacts all contact/atom\n"
+                       "compute griddem_bench_sum all reduce sum c_griddem_bench_contacts\n"
+                       "thermo_style custom step c_griddem_bench_sum\nthermo_modify norm no\nthermo 1\nrun" + tail)
+    with open(os.path.join(wd, "in.pairs"), "w") as f:
+        f.write(counting)
+    out = subprocess.run([args.lmp, "-in", "in.pairs", "-log", "none"], cwd=wd, env=dict(os.environ, OMP_NUM_THREADS="1"),
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, check=True).stdout
+    table = out.rpartition("c_griddem_bench_sum")[2].partition("Loop time")[0]
+    sums = {int(step): float(value) for step, value in re.findall(r"^\s*(\d+)\s+(\S+)\s*$", table, re.M)}
+    steps = [sums[k] for k in sorted(sums) if k > 0]
+    return 0.5 * sum(steps) / len(steps)
+
+
 def count(args, label, wd):
     text = (chute_input if args.scene == "chute" else squeeze_input)(args, STYLES[label], wd)
+    if args.cell and label == "griddem":
+        head, _, tail = text.rpartition("\nrun")
+        text = head + "\nfix griddem_bench_grid all griddem cell %s\nrun" % args.cell + tail
     with open(os.path.join(wd, "in.run"), "w") as f:
         f.write(text)
     out = os.path.join(wd, "callgrind.out")
@@ -61,7 +84,10 @@ def count(args, label, wd):
     for key, pattern in FUNCTIONS.items():
         found = [int(m.group(1).replace(",", "")) for m in re.finditer(r"^\s*([\d,]+) .*" + pattern, report, re.M)]
         counts[key] = max(found) if found else 0
-    return {k: v / args.steps for k, v in counts.items()}
+    if args.keep:
+        os.makedirs(args.keep, exist_ok=True)
+        shutil.copy(out, os.path.join(args.keep, "callgrind.%s.%s.%s.out" % (args.scene, label, args.build_name)))
+    return {k: v / args.steps for k, v in counts.items()}, touching_pairs(args, text, wd)
 
 
 def main():
@@ -72,15 +98,21 @@ def main():
     ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default="stock,griddem")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    ap.add_argument("--keep", default=None, help="folder to keep the callgrind outputs in")
+    ap.add_argument("--cell", default=None, help="griddem's cell mode or edge (fix griddem cell ...; default: the pair's)")
     args = ap.parse_args()
     build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
                                          stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    args.build_name = re.sub(r"[^\w.+-]", "_", build)
     for label in args.only.split(","):
         wd = tempfile.mkdtemp(prefix="griddem-callgrind-")
-        per_step = count(args, label, wd)
+        per_step, pairs = count(args, label, wd)
         line = {"date": datetime.date.today().isoformat(), "device": benchlib.device(), "scene": args.scene,
                 "steps": args.steps, "style": label, "build": build,
-                "instructions_per_step": {k: round(v) for k, v in per_step.items()}}
+                **({"cell": args.cell} if args.cell and label == "griddem" else {}),
+                "instructions_per_step": {k: round(v) for k, v in per_step.items()},
+                "touching_pairs_per_step": round(pairs, 1),
+                "pair_instructions_per_touching_pair": round(per_step["pair"] / pairs, 1)}
         print(json.dumps(line))
         with open(os.path.join(HERE, "results", "callgrind.jsonl"), "a") as f:
             f.write(json.dumps(line) + "\n")

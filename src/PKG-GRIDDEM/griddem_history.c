@@ -60,13 +60,6 @@ int griddem_history_count(const griddem_history *h, int row)
   return (row < 0 || row >= h->cur.nrows) ? 0 : h->cur.count[row];
 }
 
-const double *griddem_history_find(const griddem_history *h, int row, int64_t partner)
-{
-  if (row < 0 || row >= h->cur.nrows) return NULL;
-  const long e = griddem_history_entry(h->cur.partner, h->cur.start[row], h->cur.count[row], partner);
-  return e < 0 ? NULL : h->cur.value + (size_t) h->values * e;
-}
-
 void griddem_history_get_row(const griddem_history *h, int row, double *entries)
 {
   const int nv = h->values, count = griddem_history_count(h, row);

@@ -121,8 +121,14 @@ void griddem_history_free(griddem_history *h);
 /* Contacts in row (0 for a row that does not exist, such as -1). */
 int griddem_history_count(const griddem_history *h, int row);
 
-/* The values of row's entry for partner, or NULL if the row has none. */
-const double *griddem_history_find(const griddem_history *h, int row, int64_t partner);
+/* The values of row's entry for partner, or NULL if the row has none (inline: the CPU sweep
+ * finds once per contact). */
+static inline const double *griddem_history_find(const griddem_history *h, int row, int64_t partner)
+{
+  if (row < 0 || row >= h->cur.nrows) return NULL;
+  const long e = griddem_history_entry(h->cur.partner, h->cur.start[row], h->cur.count[row], partner);
+  return e < 0 ? NULL : h->cur.value + (size_t) h->values * e;
+}
 
 /* Write row's entries as a message (GRIDDEM_HISTORY_ENTRY(values) doubles each). */
 void griddem_history_get_row(const griddem_history *h, int row, double *entries);
@@ -162,14 +168,15 @@ int griddem_history_end(griddem_history *h);
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
                                     const double *v);
 
-/* The CPU sweep's write: the next entry of slot's row, or its thread's overflow list. */
-static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int slot,
-                                        int64_t partner, const double *v)
+/* The CPU sweep's write: the next entry of slot's row, or its thread's overflow list. values is
+ * h->values, passed so that a sweep compiled for one history size copies a constant count. */
+static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int values,
+                                        int slot, int64_t partner, const double *v)
 {
   griddem_history_pool *p = &h->next;
   const long e = p->start[slot] + p->count[slot];
-  if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, h->values, slot, partner, v);
-  griddem_history_put(p->partner, p->value, h->values, e, partner, v);
+  if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, values, slot, partner, v);
+  griddem_history_put(p->partner, p->value, values, e, partner, v);
   p->count[slot]++;
   return 0;
 }

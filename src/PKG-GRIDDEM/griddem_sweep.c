@@ -64,12 +64,34 @@ static void record_fault(griddem_sweep_result *r, int fault, int i, int j)
   }
 }
 
+/* The laws a sweep's pair body is compiled for. Where every type pair's law is gran/hooke's or
+ * gran/hooke/history's own arithmetic (classic), the body calls it directly, with the history size
+ * of those styles as a constant; every other model (and a mix of laws across type pairs) takes the
+ * composed law, the reference the tests compare the others with. */
+enum sweep_law {
+  SWEEP_COMPOSED,
+  SWEEP_CLASSIC_SHEAR,      /* gran/hooke/history: 3 shear values per contact */
+  SWEEP_CLASSIC_NO_HISTORY  /* gran/hooke: no history, no contacts kept */
+};
+
+static int sweep_law_of(const griddem_model *m, const griddem_history *hist)
+{
+  if (m->reach_extra != 0.0) return SWEEP_COMPOSED;
+  for (int i = 1; i <= m->ntypes; i++)
+    for (int j = 1; j <= m->ntypes; j++)
+      if (!griddem_model_pair(m, i, j)->classic) return SWEEP_COMPOSED;
+  if (m->track_contacts && m->history_size == 3 && hist->values == 3) return SWEEP_CLASSIC_SHEAR;
+  if (!m->track_contacts && m->history_size == 0) return SWEEP_CLASSIC_NO_HISTORY;
+  return SWEEP_COMPOSED;
+}
+
 /* Everything one sweep reads, shared by the threads. */
 typedef struct sweep_context {
   const int *order;      /* particle of each slot of the channels */
   griddem_channels *ch;
   int nlocal;
   const griddem_model *model;
+  int law;               /* enum sweep_law */
   const griddem_exclusions *excl;
   double dt;
   int history_update;
@@ -87,16 +109,27 @@ typedef struct sweep_sums {
   griddem_history_overflow *overflow;
 } sweep_sums;
 
+/* A body the compiler copies into each caller, specialized for the constant arguments it gets */
+#ifdef __GNUC__
+#define SWEEP_SPECIALIZED static inline __attribute__((always_inline))
+#else
+#define SWEEP_SPECIALIZED static inline
+#endif
+
 /* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
- * owned; b receives its share if it is owned too. */
-static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq)
+ * owned; b receives its share if it is owned too. classic (1: every law is classic, and nothing
+ * interacts past touching) and values (the history values per contact, or -1: the model's, with
+ * contacts kept as it says) are constants of each specialization. */
+SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq,
+                                  const int classic, const int values)
 {
   griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
   const int *order = cx->order;
   const int ia = order[a], ib = order[b];
   const int b_owned = ib < cx->nlocal;
-  const int nv = m->history_size;
+  const int nv = values >= 0 ? values : m->history_size;
+  const int track = values > 0 ? 1 : (values == 0 ? 0 : m->track_contacts);
 
   if (rsq == 0.0) {
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
@@ -108,10 +141,9 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
 
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
   const double *pa = ch->pos + 4 * (size_t) a, *pb = ch->pos + 4 * (size_t) b;
-  const double *stored = m->track_contacts
-      ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
+  const double *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, pa[3], pb[3], stored != NULL))
+  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, pa[3], pb[3], stored != NULL))
     return;
 
   griddem_contact c;
@@ -121,17 +153,19 @@ static void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, 
                         (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
 
   double hv[GRIDDEM_MAX_HISTORY];
-  for (int v = 0; v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
+  for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
 
   double fc[3], ta[3], tb[3];
-  const double energy = griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  if (m->track_contacts) {
+  const double energy = classic ? griddem_classic_eval(law, &c, hv, fc, ta, tb)
+                                : griddem_contact_eval(law, &c, hv, fc, ta, tb);
+  if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
-    int failed = griddem_history_write(cx->hist, sums->overflow, a, ch->tag[b], hv);
+    const int stored_values = values >= 0 ? values : cx->hist->values;
+    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, ch->tag[b], hv);
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
-      for (int v = 0; v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
-      failed |= griddem_history_write(cx->hist, sums->overflow, b, ch->tag[a], hb);
+      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
+      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, ch->tag[a], hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
@@ -202,18 +236,13 @@ typedef struct hit_list {
   int slot[HITS_CAP];
 } hit_list;
 
-/* Evaluate slot s's touching candidates in the order found and empty the list. The partners'
- * velocities and sums are requested from memory first, so their loads overlap. */
-static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
+/* Slot s's touching candidates in the order found, each pair seen from an owned slot, by the
+ * pair body specialized for (classic, values) */
+SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int s, const hit_list *hits,
+                                     const int classic, const int values)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
-#ifdef __GNUC__
-  for (int q = 0; q < hits->n; q++) {
-    __builtin_prefetch(&ch->p->v[3 * (size_t) order[hits->slot[q]]]);
-    __builtin_prefetch(&ch->sum[hits->slot[q]], 1);
-  }
-#endif
   const int s_owned = order[s] < cx->nlocal;
   const double *ps = ch->pos + 4 * (size_t) s;
   for (int q = 0; q < hits->n; q++) {
@@ -223,8 +252,26 @@ static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_lis
     const double *pt = ch->pos + 4 * (size_t) t;
     const double dx = ps[0] - pt[0], dy = ps[1] - pt[1], dz = ps[2] - pt[2];
     const double rsq = dx * dx + dy * dy + dz * dz;
-    if (s_owned) sweep_pair(cx, sums, s, t, rsq);
-    else sweep_pair(cx, sums, t, s, rsq);
+    if (s_owned) sweep_pair(cx, sums, s, t, rsq, classic, values);
+    else sweep_pair(cx, sums, t, s, rsq, classic, values);
+  }
+}
+
+/* Evaluate slot s's touching candidates and empty the list. The partners' velocities and sums are
+ * requested from memory first, so their loads overlap. */
+static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
+{
+#ifdef __GNUC__
+  const griddem_channels *ch = cx->ch;
+  for (int q = 0; q < hits->n; q++) {
+    __builtin_prefetch(&ch->p->v[3 * (size_t) cx->order[hits->slot[q]]]);
+    __builtin_prefetch(&ch->sum[hits->slot[q]], 1);
+  }
+#endif
+  switch (cx->law) {
+    case SWEEP_CLASSIC_SHEAR: evaluate_hits(cx, sums, s, hits, 1, 3); break;
+    case SWEEP_CLASSIC_NO_HISTORY: evaluate_hits(cx, sums, s, hits, 1, 0); break;
+    default: evaluate_hits(cx, sums, s, hits, 0, -1);
   }
   hits->n = 0;
 }
@@ -482,7 +529,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   int history_update, griddem_history *hist, const int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
-  const sweep_context cx = {order, ch, nlocal, model,
+  const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
                             dt, history_update, hist, row_of, vatom, want_virial, result};
   memset(result, 0, sizeof(*result));

@@ -44,10 +44,10 @@ int main(void)
   int failed = 0;
   for (int k = 0; k < 1 + GRIDDEM_HISTORY_MARGIN + 2; k++) { /* two beyond slot 0's room */
     v[0] = 10 + k;
-    failed |= griddem_history_write(&h, &h.overflow[k % 2], 0, big + k, v);
+    failed |= griddem_history_write(&h, &h.overflow[k % 2], h.values, 0, big + k, v);
   }
   v[0] = -1;
-  failed |= griddem_history_write(&h, &h.overflow[0], 2, 42, v);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 2, 42, v);
   CHECK(!failed && h.overflow[0].n + h.overflow[1].n == 2, "two entries overflowed");
   CHECK(griddem_history_end(&h) == 0, "end");
   CHECK(h.cur.nrows == 4 && griddem_history_count(&h, 0) == 5 && griddem_history_count(&h, 1) == 0 &&
@@ -65,7 +65,7 @@ int main(void)
   const int order2[2] = {0, 1}, row_of2[2] = {2, 0};
   CHECK(griddem_history_begin(&h, 1, 2, order2, row_of2, 2) == 0, "begin again");
   v[0] = 7;
-  CHECK(griddem_history_write(&h, &h.overflow[0], 1, 3, v) == 0 && h.overflow[0].n == 0, "written in place");
+  CHECK(griddem_history_write(&h, &h.overflow[0], h.values, 1, 3, v) == 0 && h.overflow[0].n == 0, "written in place");
   CHECK(griddem_history_end(&h) == 0 && griddem_history_count(&h, 0) == 0 && griddem_history_count(&h, 1) == 1 &&
             griddem_history_find(&h, 1, 3)[0] == 7 && h.max_count == 1,
         "second sweep's rows");
