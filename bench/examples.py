@@ -39,13 +39,18 @@ SCENES = {
     "free-fall": (1, [("damped", []), ("undamped", ["eta 0"]), ("stock", ["style granular"])],
                   None, None, None),
     "sliding": (1, [(None, [])], None, None, None),
-    "packing": (2, [("griddem", []), ("stock", ["style granular"])],
+    "packing": (2, [("griddem", []), ("stock", ["style granular", "tag stock"])],
                 r"GRIDDEM packing: .* packing fraction ([0-9.]+)", 1e-4, 0.01),
     "chute": (2, [("griddem", []), ("stock", ["style gran/hooke/history", "tag stock"])],
               r"GRIDDEM chute: flow rate ([0-9.]+)", 1e-2, 5.0),
-    "hopper": (2, [("griddem", []), ("stock", ["style granular", "tag stock"])],
+    # the README's short look (0.5 s of discharge, 1 rank): the full 7.5 s on 2 ranks took more
+    # than this project's shared 2-core machine allowed when the logs were recorded
+    "hopper": (1, [("short.griddem", ["discharge 0.5"]),
+                   ("short.stock", ["discharge 0.5", "style granular", "tag stock"])],
                r"GRIDDEM hopper: ([0-9.]+) of the mass", 1e-4, 0.03),
 }
+# files besides the log that become references with it (--record)
+RECORDED = {"chute": ("profile.",)}
 
 
 def date_tag(day):
@@ -106,12 +111,12 @@ def number(pattern, text, what):
 
 
 def record(scene, wd, log, ref_path):
-    """The run's log (and its profiles or last state) become the example's references."""
+    """The run's log (and the files RECORDED names) become the example's references."""
     if ref_path:
         os.remove(ref_path)
     shutil.copy(os.path.join(wd, log), os.path.join(EXAMPLES, scene, log))
     for extra in os.listdir(wd):
-        if extra.startswith(("profile.", "final.")):    # chute profiles, hopper's last state
+        if extra.startswith(RECORDED.get(scene, ())):
             shutil.copy(os.path.join(wd, extra), os.path.join(EXAMPLES, scene, extra))
 
 
@@ -123,7 +128,7 @@ def main():
     args = ap.parse_args()
     failures, notes = [], []
     if args.logs_only:
-        logs = sorted(glob.glob(os.path.join(EXAMPLES, "*", "log.*")))
+        logs = sorted(p for p in glob.glob(os.path.join(EXAMPLES, "*", "log.*")) if not p.endswith("log.lammps"))
         failures = [f for f in map(stale, logs) if f]
         for f in failures:
             print("FAILED: " + f)
@@ -146,14 +151,14 @@ def main():
             log = log_name(scene, variant, ranks, today)
             text, loop = run(scene, variables, ranks, wd, log)
             value = number(pattern, text, log) if pattern else None
-            values[variant] = value
+            values["stock" if variant and variant.endswith("stock") else "griddem"] = value
             if args.record:
                 record(scene, wd, log, ref_path)
             elif pattern and ref_path:
                 ref = number(pattern, open(ref_path).read(), ref_path)
-                if variant == "stock" and abs(value - ref) > tol_ref:
+                if variant.endswith("stock") and abs(value - ref) > tol_ref:
                     failures.append("%s stock: %g, reference log %g" % (scene, value, ref))
-                elif variant == "griddem":
+                elif not variant.endswith("stock"):
                     notes.append("%s griddem: %g, reference log %g (judged against stock instead)"
                                  % (scene, value, ref))
             line = dict(date=datetime.date.today().isoformat(), device=benchlib.device(), scene=scene,

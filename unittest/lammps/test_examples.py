@@ -85,7 +85,8 @@ def pour(wd):
 def reference_logs_echo_inputs():
     """Every reference log in examples/ (log.DATE.NAME[.variant].N) is the output of the current
     examples/NAME/in.NAME: it echoes each of its commands in order and no other."""
-    logs = sorted(glob.glob(os.path.join(EXAMPLES, "*", "log.*")))
+    # log.lammps: LAMMPS's own name, written where an example is run in its folder
+    logs = sorted(p for p in glob.glob(os.path.join(EXAMPLES, "*", "log.*")) if not p.endswith("log.lammps"))
     t.check(len(logs) > 0, "reference logs found in %s" % EXAMPLES)
     for log in logs:
         name = os.path.basename(os.path.dirname(log))
