@@ -8,9 +8,9 @@ judged: these flows are chaotic, so a change that sums contacts in another order
 number by more than a log's tolerance, while the stock style's number is reproducible.
 
 usage: bench/examples.py [--only pour,free-fall,...] [--record] [--logs-only]
-  --record     write the runs' logs (and the chute's profiles, the hopper's last state) into the
-               examples as references named log.DATE.NAME[.variant].N, today's date in LAMMPS's
-               style, replacing the older ones
+  --record     write the runs' logs into the examples as references named
+               log.DATE.NAME[.variant].N, today's date in LAMMPS's style, replacing the older ones,
+               and the chute's profiles into examples/chute/reference/
   --logs-only  run nothing: check that every reference log in examples/ echoes its input"""
 import argparse
 import datetime
@@ -49,7 +49,7 @@ SCENES = {
                    ("short.stock", ["discharge 0.5", "style granular", "tag stock"])],
                r"GRIDDEM hopper: ([0-9.]+) of the mass", 1e-4, 0.03),
 }
-# files besides the log that become references with it (--record)
+# files besides the log that become references with it (--record), in the example's reference/
 RECORDED = {"chute": ("profile.",)}
 
 
@@ -117,7 +117,7 @@ def record(scene, wd, log, ref_path):
     shutil.copy(os.path.join(wd, log), os.path.join(EXAMPLES, scene, log))
     for extra in os.listdir(wd):
         if extra.startswith(RECORDED.get(scene, ())):
-            shutil.copy(os.path.join(wd, extra), os.path.join(EXAMPLES, scene, extra))
+            shutil.copy(os.path.join(wd, extra), os.path.join(EXAMPLES, scene, "reference", extra))
 
 
 def main():

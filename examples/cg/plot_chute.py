@@ -3,8 +3,9 @@
 (averaged over x, y and the dumps from step 1000 on) against fix ave/chunk's layer averages, and
 the coarse-grained stress against the weight of the material above each height (steady flow:
 pzz(z) = g cos(26 deg) * integral of the density above z, and -pxz(z) the same with sin; the
-stress is positive in compression as in compute pressure). Writes chute-cg.png and prints the
-largest differences below the free surface."""
+stress is positive in compression as in compute pressure). Reads chute-cg.fields.*.txt and
+chute-cg.bins.txt, writes chute-cg.png (the committed figure is reference/chute-cg.png) and prints
+the largest differences below the free surface."""
 import glob
 import math
 import os
@@ -36,8 +37,8 @@ def grid_dump(path):
 
 
 def bins():
-    """Last block of bins.txt: (z, vx, mass density) per layer."""
-    with open(os.path.join(HERE, "bins.txt")) as f:
+    """Last block of chute-cg.bins.txt: (z, vx, mass density) per layer."""
+    with open(os.path.join(HERE, "chute-cg.bins.txt")) as f:
         lines = [l.split() for l in f if not l.startswith("#")]
     rows, k = [], 0
     while k < len(lines):
@@ -47,7 +48,7 @@ def bins():
     return rows
 
 
-dumps = sorted((grid_dump(p) for p in glob.glob(os.path.join(HERE, "fields.*.txt"))), key=lambda d: d[0])
+dumps = sorted((grid_dump(p) for p in glob.glob(os.path.join(HERE, "chute-cg.fields.*.txt"))), key=lambda d: d[0])
 dumps = [d for d in dumps if d[0] >= 1000]
 nz = len(dumps[0][3])
 zlo, zhi = dumps[-1][1], dumps[-1][2]

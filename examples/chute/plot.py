@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Downhill velocity and number density per layer of the chute flow, griddem against stock, from
-the runs' profile files (fix ave/chunk, averaged over the run): writes chute.png."""
+the profile files (fix ave/chunk, averaged over the run) of the reference runs
+(reference/profile.<tag>.txt) or of the runs given: writes chute.png (the committed figure is
+reference/chute.png).
+usage: plot.py [profile.griddem.txt profile.stock.txt]"""
 import os
+import sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -23,8 +27,10 @@ def profile(path):
 
 
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 4.5), sharey=True)
-for tag, style in (("griddem", "-"), ("stock", "--")):
-    rows = profile(os.path.join(HERE, "profile.%s.txt" % tag))
+paths = sys.argv[1:3] or [os.path.join(HERE, "reference", "profile.%s.txt" % tag)
+                          for tag in ("griddem", "stock")]
+for path, tag, style in zip(paths, ("griddem", "stock"), ("-", "--")):
+    rows = profile(path)
     z = [r[0] for r in rows]
     ax1.plot([r[1] for r in rows], z, style, label=tag)
     ax2.plot([r[2] for r in rows], z, style, label=tag)

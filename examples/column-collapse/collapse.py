@@ -2,7 +2,8 @@
 """Granular column collapse: DEM (in.collapse, griddem spheres, one process, one thread) and the 2D
 mu(I) continuum (continuum.py) with the rheology learned from RVEs (../rheology), measured by one
 rule (deposit.py). For each aspect ratio: run-out, final height, front over time, final profile,
-wall times; the run-outs against published scaling laws. Writes results.json and figures.
+wall times; the run-outs against published scaling laws. Writes results.json and figures (those
+of the README's runs are in reference/).
 
     /usr/bin/python3 collapse.py [--lmp PATH] [--aspect 0.5,1,2,3] [--spheres 1800] [--h 0.5]
                                  [--no-continuum] [--no-plot] [--lmp-args ARGS --tag TAG]
@@ -108,10 +109,11 @@ def run_dem(lmp, a, spheres, extra=(), tag=""):
 
 
 def learned_mu():
-    """The regularised mu(I) of ../rheology (its final ensemble refitted to rve_points.json, the
-    procedure of learn_mu.main), held at its value at the highest sampled I above it."""
+    """The regularised mu(I) of ../rheology (its final ensemble refitted to its reference
+    rve_points.json, the procedure of learn_mu.main), held at its value at the highest sampled I
+    above it."""
     import learn_mu as L
-    with open(os.path.join(RHEOLOGY, "rve_points.json")) as f:
+    with open(os.path.join(RHEOLOGY, "reference", "rve_points.json")) as f:
         pts = json.load(f)
     Ilo, Ihi = min(p["Irequested"] for p in pts), max(p["Irequested"] for p in pts)
     ens = L.Ensemble(Ilo, Ihi).fit(pts)

@@ -20,7 +20,7 @@ Start set: the recorded RVEs of ../rheology at I = 0.001, 0.003 (the expensive l
 0.01, 0.0548 and 0.3 (its adaptive loop's start), and the RVEs' compressed state
 (learn_mu.prepare_state), both paid once for all collapses. The first collapse (DEM column of
 collapse.py's cache, work/) trains the ensemble; the other aspect ratios reuse it and report their
-new RVEs. Writes coupling.json."""
+new RVEs. Writes coupling.json (that of the README's run is reference/coupling.json)."""
 import argparse
 import json
 import math
@@ -145,7 +145,7 @@ def main():
     ap.add_argument("--dt-max", type=float, default=0.05)
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
-    with open(os.path.join(CL.RHEOLOGY, "rve_points.json")) as f:
+    with open(os.path.join(CL.RHEOLOGY, "reference", "rve_points.json")) as f:
         recorded = json.load(f)
     start = [r for r in recorded if any(abs(math.log(r["Irequested"] / I)) < 1e-3 for I in START)]
     rve_dir = os.path.join(CL.WORK, "rve")

@@ -8,7 +8,8 @@ p = cos(theta) q(y) g, q(y) = rho_g (H - y) + rho_air A (A = air depth), so mu(I
 is uniform (I = mu^-1(tan theta)); the shear rate I sqrt(p / rho_s) / d integrates to
     u(y) = (I/d) sqrt(g cos(theta) / rho_s) (2 / (3 rho_g)) (q(0)^1.5 - q(y)^1.5)   (no slip at y = 0).
 
-    /usr/bin/python3 layer_check.py            # grids of 5, 10, 20, 40 cells over H; writes layer_check.json"""
+    /usr/bin/python3 layer_check.py            # grids of 5, 10, 20, 40 cells over H; writes layer_check.json
+(the README's run: reference/layer_check.json)"""
 import json
 import math
 import os

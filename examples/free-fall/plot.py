@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Height of the ball over time from the reference logs, with the analytic apex heights:
-writes free-fall.png (matplotlib, headless)."""
+writes free-fall.png (matplotlib, headless; the committed figure is reference/free-fall.png)."""
 import math
 import os
 import sys

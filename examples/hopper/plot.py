@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Hopper discharge from the reference logs and final states: the mass fraction left against
-time (griddem and stock), the steady discharge rate against Beverloo's law, and the residual
-heap's angle of repose on both sides of the orifice. Writes hopper.png and prints the numbers.
+"""Hopper discharge from the reference runs (their logs and reference/final.<tag>.dump): the mass
+fraction left against time (griddem and stock), the steady discharge rate against Beverloo's law,
+and the residual heap's angle of repose on both sides of the orifice. Writes hopper.png (the
+committed figure is reference/hopper.png) and prints the numbers.
 usage: plot.py [griddem|stock ...]"""
 import math
 import os
@@ -40,9 +41,9 @@ def discharge(tag):
 
 
 def heap_angles(tag):
-    """Angle of the heap left on each side: top of the spheres per 5 mm column, fitted by a line
-    from the wall to the orifice's edge."""
-    path = os.path.join(HERE, "final.%s.dump" % tag)
+    """Angle of the heap left on each side of the reference run: top of the spheres per 5 mm
+    column, fitted by a line from the wall to the orifice's edge."""
+    path = os.path.join(HERE, "reference", "final.%s.dump" % tag)
     with open(path) as f:
         lines = f.read().splitlines()
     start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))

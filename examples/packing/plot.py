@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Side view of a one-sphere-thick slice through the middle of the settled bed, coloured by the
 layer each sphere was poured with, griddem beside stock, from the runs' last dump snapshots:
-writes packing.png (matplotlib, headless).
-usage: plot.py dump.griddem dump.stock"""
+writes packing.png (matplotlib, headless; the committed figure is reference/packing.png).
+usage: plot.py dump.packing.griddem dump.packing.stock"""
 import os
 import sys
 

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Side view of a one-sphere-thick slice through the middle of the poured bed, coloured by
-speed, from the last snapshot of dump.pour (run in.pour first): writes pour.png."""
+speed, from the last snapshot of dump.pour (run in.pour first): writes pour.png
+(the committed figure is reference/pour.png)."""
 import os
 import sys
 

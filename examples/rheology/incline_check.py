@@ -7,11 +7,12 @@
 (2) a decelerating layer: the steady layer at theta1 with the slope lowered to theta2 at t = 0,
     DEM (vcm(flow,x)) against the 1D depth-resolved solver (layer_solver.py) with the regularised
     mu(I), plus a grid/time-step refinement of the solver.
-Reads the RVE points from results.json (learn_mu.py), rebuilds the same ensemble and regularised
-curve, runs the inclines (cached in work/incline_<theta>/), writes incline_check.json and
-incline_check.png, decel.png.
+Reads the RVE points from a results.json of learn_mu.py (by default reference/results.json, the
+README's run), rebuilds the same ensemble and regularised curve, runs the inclines (cached in
+work/incline_<theta>/), writes incline_check.json and incline_check.png, decel.png.
 
-    /usr/bin/python3 incline_check.py [--lmp PATH] [--thetas 22,24,26] [--theta1 24 --theta2 16]"""
+    /usr/bin/python3 incline_check.py [--lmp PATH] [--results results.json] [--thetas 22,24,26]
+                                      [--theta1 24 --theta2 16]"""
 import argparse
 import json
 import math
@@ -171,6 +172,8 @@ def decelerating(workdir, theta1, theta2, mu_reg, phi, shift, grids=((20, 0.2), 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lmp", default=L.default_lmp())
+    ap.add_argument("--results", default=os.path.join(HERE, "reference", "results.json"),
+                    help="learn_mu.py's results.json whose RVE points make the curve")
     ap.add_argument("--thetas", default="22,24,26")
     ap.add_argument("--steps", type=int, default=300000)
     ap.add_argument("--theta1", type=float, default=24.0, help="steady layer of the decelerating run")
@@ -178,7 +181,7 @@ def main():
     ap.add_argument("--steps2", type=int, default=60000)
     a = ap.parse_args()
     lmp = os.path.abspath(a.lmp)
-    with open(os.path.join(HERE, "results.json")) as f:
+    with open(a.results) as f:
         res = json.load(f)
     P = res["points"]
     rng = res.get("ensemble", res["adaptive"])          # the final ensemble's span (learn_mu.py)

@@ -2,10 +2,12 @@
 """mu(I) rheology learned from DEM: runs in.rve (build/lmp, one process, one thread) at inertial
 numbers chosen adaptively where an ensemble of small NumPy MLPs disagrees, fits the
 GDR MiDi / Jop form, regularises the learned curve at low I, and checks it against steady inclined
-layers (in.incline) through the Bagnold profile. Writes results.json, mu_I.png and incline.png.
+layers (in.incline) through the Bagnold profile. Writes results.json, rve_points.json, mu_I.png and
+incline.png (those of the README's run are in reference/, which no call writes).
 
     /usr/bin/python3 learn_mu.py [--lmp PATH] [--tol 0.005] [--max-runs 6] [--uniform-levels 2]
-                                 [--extra-I 0.003,0.001] [--recorded rve_points.json] [--thetas 22,24,26]
+                                 [--extra-I 0.003,0.001] [--recorded reference/rve_points.json]
+                                 [--thetas 22,24,26]
 
 The adaptive loop and the uniform comparison sample [--Ilo, --Ihi] (0.01..0.3); --extra-I adds RVEs
 at the given (lower) I. All points enter the final ensemble (on [lowest I, Ihi]), the Jop fit and
@@ -13,7 +15,7 @@ the regularisation, whose cutoff I_c is then the lowest requested I.
 (/usr/bin/python3: Debian's interpreter, which has NumPy, SciPy and matplotlib.) DEM results are
 cached in work/ (one folder per run), so a second call only refits and redraws. --recorded FILE:
 an RVE whose requested I is in FILE (a list of result dicts, e.g. rve_points.json, written by every
-call) is taken from there instead of being rerun when work/ has no cache of it. The inclined layers
+call; reference/rve_points.json holds the README's) is taken from there instead of being rerun when work/ has no cache of it. The inclined layers
 are DEM runs (cached in work/ too); --thetas '' skips them, so that with --recorded nothing runs
 DEM. A DEM run with no lmp at --lmp stops the script with a message that says so."""
 import argparse

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Position and velocity of the sliding ball from the reference log, with the stopping distance
-of the curved floor and of a flat one: writes sliding.png (matplotlib, headless)."""
+of the curved floor and of a flat one: writes sliding.png (matplotlib, headless; the committed
+figure is reference/sliding.png)."""
 import os
 import sys
 

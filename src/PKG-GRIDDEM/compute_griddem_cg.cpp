@@ -106,7 +106,7 @@ void procs2grid2d(int nprocs, int nx, int ny, int &px, int &py)
 ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), nslot(0), list(nullptr), grid3d(nullptr), ghost_sum(nullptr),
     channels(nullptr), gc_buf1(nullptr), gc_buf2(nullptr), fft(nullptr), to_fft(nullptr),
-    from_fft(nullptr), nmax(0), virial_every_step(0), virial(nullptr)
+    from_fft(nullptr), nmax(0), virial(nullptr)
 {
 #ifndef GRIDDEM_CG_HAVE_FFT
   error->all(FLERR, "Compute griddem/cg requires the KSPACE package (its FFT3d and Remap)");
@@ -170,10 +170,8 @@ void ComputeGriddemCg::init()
   }
   if (slot[VIRIAL] >= 0 && !force->pair)
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
-  // fix ave/grid (LAMMPS 4Feb2025) schedules grid computes only at the start of its windows, so
-  // the per-atom virial would be missing on its other samples: with one defined, ask for it on
-  // every step from the first invocation on
-  virial_every_step = slot[VIRIAL] >= 0 && !modify->get_fix_by_style("^ave/grid").empty();
+  averages.clear();
+  if (slot[VIRIAL] >= 0) averages = modify->get_fix_by_style("^ave/grid");
 }
 
 void ComputeGriddemCg::init_list(int, NeighList *ptr)
@@ -311,6 +309,24 @@ void ComputeGriddemCg::convolve(int s)
 #endif
 }
 
+/* Fix ave/grid (LAMMPS 4Feb2025) in grid mode tells the computes with invocation times only its
+   first sample step (when made, and after a minimize), never the later ones, so the per-atom virial
+   would not be tallied on them. Its samples fall on multiples of its nevery (its nfreq is a multiple
+   of nevery) and its windows end on multiples of nfreq: within a window ask for the next multiple
+   of nevery; at a window's end for every multiple of nevery up to nfreq ahead, as the fix keeps
+   nrepeat, hence where the next window starts, to itself (a per-atom virial on steps between
+   windows that nothing reads, where nrepeat x nevery < nfreq). Asked for in descending order, each
+   step lands at the end of the compute's list of steps (Compute::addstep keeps it sorted). */
+void ComputeGriddemCg::ask_for_virial()
+{
+  const bigint now = update->ntimestep;
+  for (Fix *average : averages) {
+    const bigint every = average->nevery, nfreq = average->pergrid_freq;
+    const bigint last = now % nfreq ? (now / every + 1) * every : now + nfreq;
+    for (bigint step = last; step > now; step -= every) addstep(step);
+  }
+}
+
 /* Per-atom virial of the pair style and of fixes that add to the virial (as compute stress/atom);
    with newton, ghost atoms' shares go back to their owners. */
 void ComputeGriddemCg::gather_virial()
@@ -373,8 +389,10 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
-  if (virial_every_step) addstep(update->ntimestep + 1);
-  if (slot[VIRIAL] >= 0) gather_virial();
+  if (slot[VIRIAL] >= 0) {
+    ask_for_virial();
+    gather_virial();
+  }
   if (slot[CONTACTS] >= 0) count_contacts();
 
   const double *boxlo = domain->boxlo, *prd = domain->prd;

@@ -56,7 +56,7 @@ class ComputeGriddemCg : public Compute {
   std::vector<double> kernel_hat, work, fft_real, owned, smoothed;
 
   int nmax;
-  int virial_every_step;    // 1: the per-atom virial is asked for on every step (fix ave/grid)
+  std::vector<class Fix *> averages;    // the fixes ave/grid, whose samples need the per-atom virial
   double **virial;               // per-atom virial (pair + fixes), ghosts summed back when newton
   std::vector<double> contacts;  // touching neighbours per owned atom
 
@@ -66,6 +66,7 @@ class ComputeGriddemCg : public Compute {
   void destroy_fft();
   void transform_kernel(const double h[3]);
   void convolve(int s);
+  void ask_for_virial();
   void gather_virial();
   void count_contacts();
 };

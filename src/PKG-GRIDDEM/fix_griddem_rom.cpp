@@ -140,6 +140,36 @@ int FixGriddemRom::setmask()
   return INITIAL_INTEGRATE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
 }
 
+namespace {
+// a word of a model file and the line it stands on
+struct ModelWord {
+  std::string text;
+  int line;
+};
+
+// a word as a message shows it: bytes other than printable ASCII as \xNN (a binary file's words
+// hold NUL bytes, which would end the message), at most 40 bytes of it
+std::string shown(const std::string &word)
+{
+  const size_t limit = 40;
+  std::string out;
+  for (size_t k = 0; k < word.size() && k < limit; k++) {
+    const auto c = (unsigned char) word[k];
+    if (c >= 0x20 && c < 0x7f) out += (char) c;
+    else out += fmt::format("\\x{:02x}", (unsigned) c);
+  }
+  if (word.size() > limit) out += "...";
+  return out;
+}
+
+bool finite_number(const std::string &word, double &out)
+{
+  char *end = nullptr;
+  out = strtod(word.c_str(), &end);
+  return end != word.c_str() && *end == '\0' && std::isfinite(out);
+}
+}    // namespace
+
 /* The model file (format version 1 or 2; doc/fix_griddem_rom.md): '#' starts a comment; then
      griddem/rom VERSION
      grid NX NY NZ
@@ -151,8 +181,8 @@ int FixGriddemRom::setmask()
    and NROW x NCOL numbers: row 3 m + d gives velocity component d of voxel m = i + NX (j + NY k)
    as bias + sum_m' w density(m') + sum_c w control(c); then optionally (version 2)
      force 3 NCOL
-   and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features. Read on rank 0;
-   every mismatch is an error that names it. */
+   and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features; then the end of the
+   file. Read on rank 0; every mismatch is an error that names it, its line and what was expected. */
 void FixGriddemRom::read_model(const char *file)
 {
   std::string msg;
@@ -160,115 +190,134 @@ void FixGriddemRom::read_model(const char *file)
   std::vector<double> head(15, 0.0);
   if (comm->me == 0) {
     std::ifstream in(file);
-    std::vector<std::string> tok;
+    std::vector<ModelWord> tok;
+    int nlines = 0;
     if (!in) msg = fmt::format("cannot open model file {}", file);
     else {
       std::string line;
       while (std::getline(in, line)) {
+        nlines++;
         const auto hash = line.find('#');
         if (hash != std::string::npos) line.erase(hash);
         std::istringstream ss(line);
         std::string t;
-        while (ss >> t) tok.push_back(t);
+        while (ss >> t) tok.push_back({t, nlines});
       }
     }
+    // the first error: where it is (word k's line, or the end of the file) and what is wrong
+    auto fail = [&](size_t k, const std::string &what) {
+      if (!msg.empty()) return;
+      if (k < tok.size()) msg = fmt::format("model file {}, line {}: {}", file, tok[k].line, what);
+      else if (tok.empty()) msg = fmt::format("model file {} holds no words: {}", file, what);
+      else msg = fmt::format("model file {}, at its end (line {}): {}", file, nlines, what);
+    };
+    auto found = [&](size_t k) {
+      return k < tok.size() ? "'" + shown(tok[k].text) + "'" : std::string("the end of the file");
+    };
     size_t p = 0;
-    auto expect = [&](const char *key, int nvalues) -> bool {
+    // a line 'key values...': the key, and nvalues words after it
+    auto expect = [&](const char *key, const char *values, int nvalues) -> bool {
       if (!msg.empty()) return false;
-      if (p >= tok.size() || tok[p] != key) {
-        msg = fmt::format("model file {}: expected '{}' at word {}, found '{}'", file, key, p + 1,
-                          p < tok.size() ? tok[p] : std::string("end of file"));
+      if (p >= tok.size() || tok[p].text != key) {
+        fail(p, fmt::format("expected '{} {}', found {}", key, values, found(p)));
         return false;
       }
       if (p + nvalues >= tok.size()) {
-        msg = fmt::format("model file {}: '{}' needs {} values", file, key, nvalues);
+        fail(p, fmt::format("'{}' needs {} values ({}), found the end of the file", key, nvalues, values));
         return false;
       }
       p++;
       return true;
     };
-    auto number = [&](double &out) {
+    auto number = [&](double &out, const char *what) {
       if (!msg.empty()) return;
-      char *end = nullptr;
-      out = strtod(tok[p].c_str(), &end);
-      if (end == tok[p].c_str() || *end != '\0' || !std::isfinite(out))
-        msg = fmt::format("model file {}: '{}' (word {}) is not a finite number", file, tok[p], p + 1);
+      if (!finite_number(tok[p].text, out))
+        fail(p, fmt::format("expected {} (a finite number), found '{}'", what, shown(tok[p].text)));
       p++;
     };
     // an optional line of version 2, named by its first word
     auto optional = [&](const char *key) -> bool {
-      if (!msg.empty() || p >= tok.size() || tok[p] != key) return false;
-      if (head[0] < 2)
-        msg = fmt::format("model file {}: line '{}' (word {}) needs format version 2, the file has version 1",
-                          file, key, p + 1);
+      if (!msg.empty() || p >= tok.size() || tok[p].text != key) return false;
+      if (head[0] < 2) fail(p, fmt::format("'{}' needs format version 2 (the file has version 1)", key));
       return msg.empty();
     };
-    if (expect("griddem/rom", 1)) {
-      number(head[0]);
+    // the nrow x ncol numbers of a block that starts at word p (its header line at word header)
+    auto block = [&](std::vector<double> &out, size_t header, double nrow, double ncol) {
+      if (!msg.empty()) return;
+      if (tok.size() - p < (size_t) (nrow * ncol)) {
+        fail(tok.size(), fmt::format("'{} {} {}' (line {}) needs {} x {} = {} values, found {}", tok[header].text,
+                                     nrow, ncol, tok[header].line, nrow, ncol, nrow * ncol, tok.size() - p));
+        return;
+      }
+      out.resize((size_t) (nrow * ncol));
+      for (size_t k = 0; k < out.size() && msg.empty(); k++, p++)
+        if (!finite_number(tok[p].text, out[k]))
+          fail(p, fmt::format("expected value {} of row {} of '{}' (a finite number), found '{}'", k % (size_t) ncol + 1,
+                              k / (size_t) ncol + 1, tok[header].text, shown(tok[p].text)));
+    };
+
+    size_t at = p;
+    if (expect("griddem/rom", "VERSION", 1)) {
+      number(head[0], "the format version");
       if (msg.empty() && head[0] != 1 && head[0] != GRIDDEM_ROM_VERSION)
-        msg = fmt::format("model file {}: format version {} is not supported (this build reads versions 1 to {})",
-                          file, tok[p - 1], GRIDDEM_ROM_VERSION);
+        fail(at, fmt::format("format version {} is not supported (this build reads versions 1 to {})", shown(tok[p - 1].text),
+                             GRIDDEM_ROM_VERSION));
     }
-    if (expect("grid", 3))
-      for (int d = 0; d < 3; d++) number(head[1 + d]);
-    if (msg.empty())
-      for (int d = 0; d < 3; d++)
-        if (head[1 + d] < 1 || head[1 + d] != std::floor(head[1 + d]) || head[1 + d] > 1e4)
-          msg = fmt::format("model file {}: grid size {} {} {} must be positive integers", file,
-                            head[1], head[2], head[3]);
-    if (expect("box", 6))
-      for (int d = 0; d < 6; d++) number(head[4 + d]);
-    if (msg.empty())
-      for (int d = 0; d < 3; d++)
-        if (!(head[5 + 2 * d] > head[4 + 2 * d]))
-          msg = fmt::format("model file {}: box bounds along axis {} are not increasing", file, d);
-    if (optional("frame") && expect("frame", 1)) {
-      if (tok[p] != "moving")
-        msg = fmt::format("model file {}: 'frame {}' (word {}): the only frame is 'moving'", file, tok[p], p + 1);
+    at = p;
+    if (expect("grid", "NX NY NZ", 3))
+      for (int d = 0; d < 3; d++) number(head[1 + d], "a number of voxels");
+    for (int d = 0; d < 3 && msg.empty(); d++)
+      if (head[1 + d] < 1 || head[1 + d] != std::floor(head[1 + d]) || head[1 + d] > 1e4)
+        fail(at, fmt::format("grid size {} {} {} must be positive integers", head[1], head[2], head[3]));
+    at = p;
+    if (expect("box", "XLO XHI YLO YHI ZLO ZHI", 6))
+      for (int d = 0; d < 6; d++) number(head[4 + d], "a box bound");
+    for (int d = 0; d < 3 && msg.empty(); d++)
+      if (!(head[5 + 2 * d] > head[4 + 2 * d]))
+        fail(at, fmt::format("box bounds along axis {} are not increasing", "xyz"[d]));
+    if (optional("frame") && expect("frame", "moving", 1)) {
+      if (tok[p].text != "moving") fail(p, fmt::format("expected 'frame moving' (the only frame), found '{}'",
+                                                       shown(tok[p].text)));
       p++;
       head[13] = 1.0;
     }
-    if (expect("controls", 1)) number(head[10]);
+    at = p;
+    if (expect("controls", "NC", 1)) number(head[10], "the number of controls");
     if (msg.empty() && (head[10] < 0 || head[10] != std::floor(head[10])))
-      msg = fmt::format("model file {}: number of controls {} is not a count", file, head[10]);
-    if (expect("lambda", 1)) number(head[11]);
+      fail(at, fmt::format("number of controls {} is not a count", head[10]));
+    if (expect("lambda", "L", 1)) number(head[11], "the ridge parameter");
     double nrow = 0, ncol = 0;
-    if (expect("weights", 2)) {
-      number(nrow);
-      number(ncol);
+    const size_t weights_at = p;
+    if (expect("weights", "NROW NCOL", 2)) {
+      number(nrow, "the number of rows");
+      number(ncol, "the number of columns");
     }
     const double nvox = head[1] * head[2] * head[3];
     if (msg.empty() && nrow != 3 * nvox)
-      msg = fmt::format("model file {}: weights has {} rows; grid size {} {} {} needs 3 x {} = {}",
-                        file, nrow, head[1], head[2], head[3], nvox, 3 * nvox);
+      fail(weights_at, fmt::format("weights has {} rows; grid size {} {} {} needs 3 x {} = {}", nrow, head[1], head[2],
+                                   head[3], nvox, 3 * nvox));
     if (msg.empty() && ncol != 1 + nvox + head[10])
-      msg = fmt::format("model file {}: weights has {} columns; grid size {} {} {} and {} controls "
-                        "need 1 + {} + {} = {}", file, ncol, head[1], head[2], head[3], head[10],
-                        nvox, head[10], 1 + nvox + head[10]);
-    if (msg.empty() && tok.size() - p < (size_t) (nrow * ncol))
-      msg = fmt::format("model file {}: {} weight values, expected {} x {} = {}", file, tok.size() - p,
-                        nrow, ncol, nrow * ncol);
-    if (msg.empty()) {
-      weights.resize((size_t) (nrow * ncol));
-      for (auto &w : weights) number(w);
-    }
+      fail(weights_at, fmt::format("weights has {} columns; grid size {} {} {} and {} controls need 1 + {} + {} = {}",
+                                   ncol, head[1], head[2], head[3], head[10], nvox, head[10], 1 + nvox + head[10]));
+    block(weights, weights_at, nrow, ncol);
     head[12] = nrow * ncol;
     if (msg.empty() && p < tok.size()) {
+      if (tok[p].text != "force")
+        fail(p, fmt::format("expected the end of the file{} after the {} x {} weights, found '{}'",
+                            head[0] >= 2 ? fmt::format(" or a block 'force 3 {}'", ncol) : "", nrow, ncol,
+                            shown(tok[p].text)));
+      const size_t force_at = p;
       double frow = 0, fcol = 0;
-      if (optional("force") && expect("force", 2)) {
-        number(frow);
-        number(fcol);
+      if (optional("force") && expect("force", "3 NCOL", 2)) {
+        number(frow, "the number of rows");
+        number(fcol, "the number of columns");
       }
       if (msg.empty() && (frow != 3 || fcol != ncol))
-        msg = fmt::format("model file {}: force has {} rows and {} columns; expected 3 and {} (as weights)", file,
-                          frow, fcol, ncol);
-      if (msg.empty() && tok.size() - p != (size_t) (3 * ncol))
-        msg = fmt::format("model file {}: {} force values, expected 3 x {} = {}", file, tok.size() - p, ncol,
-                          3 * ncol);
-      if (msg.empty()) {
-        force_weights.resize((size_t) (3 * ncol));
-        for (auto &w : force_weights) number(w);
-      }
+        fail(force_at, fmt::format("force has {} rows and {} columns; expected 3 and {} (as weights)", frow, fcol, ncol));
+      block(force_weights, force_at, 3, ncol);
+      if (msg.empty() && p < tok.size())
+        fail(p, fmt::format("expected the end of the file after the 3 x {} force values, found '{}'", ncol,
+                            shown(tok[p].text)));
       head[14] = 3;
     }
   }

@@ -35,9 +35,9 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
   c->vt[0] = c->vr[0] - vn1, c->vt[1] = c->vr[1] - vn2, c->vt[2] = c->vr[2] - vn3;
 
   /* relative rotational velocity */
-  const double wr1 = (c->radi * c->wi[0] + c->radj * c->wj[0]) * rinv;
-  const double wr2 = (c->radi * c->wi[1] + c->radj * c->wj[1]) * rinv;
-  const double wr3 = (c->radi * c->wi[2] + c->radj * c->wj[2]) * rinv;
+  const double wr1 = griddem_symmetric_sum(c->radi, c->wi[0], c->radj, c->wj[0]) * rinv;
+  const double wr2 = griddem_symmetric_sum(c->radi, c->wi[1], c->radj, c->wj[1]) * rinv;
+  const double wr3 = griddem_symmetric_sum(c->radi, c->wi[2], c->radj, c->wj[2]) * rinv;
 
   /* normal force = Hookean contact + normal velocity damping */
   const double damp = c->meff * dp->damp * vnnr * rsqinv;

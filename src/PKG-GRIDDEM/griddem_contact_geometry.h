@@ -39,6 +39,21 @@ GRIDDEM_INLINE double griddem_dot3(const double *a, const double *b)
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* a*b + c*d with the same bits whichever pair comes first. Seen from j, a contact's sums such as
+ * radi wi + radj wj swap their terms, and the Kokkos styles evaluate a contact once from each atom
+ * and rely on equal bits. Where the hardware fuses multiply-adds (FMA: GPUs, -mfma), a compiler
+ * may fuse either product into the add (nvcc does by default, and it sees through a swap of the
+ * operands), so the fused form is written out in an order set by the operands' values; without
+ * FMA nothing is fused and the rounded sum is commutative. */
+GRIDDEM_INLINE double griddem_symmetric_sum(double a, double b, double c, double d)
+{
+#if defined(FP_FAST_FMA) || defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+  return (a > c || (a == c && b > d)) ? fma(c, d, a * b) : fma(a, b, c * d);
+#else
+  return a * b + c * d;
+#endif
+}
+
 GRIDDEM_INLINE double griddem_len3(const double *a)
 {
   return sqrt(griddem_dot3(a, a));
@@ -57,7 +72,7 @@ GRIDDEM_INLINE void griddem_contact_kinematics(griddem_contact *c)
   c->vnnr = griddem_dot3(c->vr, c->n);
   for (int k = 0; k < 3; k++) c->vt[k] = c->vr[k] - c->vnnr * c->n[k];
   double wr[3];
-  for (int k = 0; k < 3; k++) wr[k] = c->radi * c->wi[k] + c->radj * c->wj[k];
+  for (int k = 0; k < 3; k++) wr[k] = griddem_symmetric_sum(c->radi, c->wi[k], c->radj, c->wj[k]);
   c->vtr[0] = c->vt[0] - (wr[1] * c->n[2] - wr[2] * c->n[1]);
   c->vtr[1] = c->vt[1] - (wr[2] * c->n[0] - wr[0] * c->n[2]);
   c->vtr[2] = c->vt[2] - (wr[0] * c->n[1] - wr[1] * c->n[0]);

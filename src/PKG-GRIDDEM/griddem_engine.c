@@ -157,34 +157,67 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
   return base[ncls];
 }
 
-int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
-                        int *coarsened)
+/* Bin the particles (scanned into scan) into e's grids as s says: cls gets the classes, all the
+ * channels' order of particles. Returns 0, or GRIDDEM_FAULT_MEMORY. */
+static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_scan *scan, griddem_class_grid *cls,
+                      griddem_bins *all, int *coarsened)
 {
   const griddem_particles *p = &s->particles;
-  memset(result, 0, sizeof(*result));
   *coarsened = 0;
   e->nclass = s->size_classes ? griddem_class_count(s->rmin, s->rmax) : 1;
-  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
-  griddem_bins all; /* the channels' order of particles */
-  memset(&all, 0, sizeof(all));
-  all.n = p->nall;
+  memset(all, 0, sizeof(*all));
+  all->n = p->nall;
   const int apart_bit = s->excl ? s->excl->apart_bit : 0;
-  griddem_scan own_scan;
-  const griddem_scan *scan = s->scan;
-  if (!scan) griddem_engine_scan(p, &own_scan), scan = &own_scan;
   if (e->nclass == 1 && !apart_bit) {
     /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
     *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
                              : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
     if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
-      result->fault = GRIDDEM_FAULT_MEMORY;
+      return GRIDDEM_FAULT_MEMORY;
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
-    all.order = e->bins[0].order;
-  } else {
-    all.n = bin_gathered(e, s, apart_bit, cls, coarsened);
-    if (all.n < 0) result->fault = GRIDDEM_FAULT_MEMORY;
-    all.order = e->order;
+    all->order = e->bins[0].order;
+    return GRIDDEM_FAULT_NONE;
   }
+  all->n = bin_gathered(e, s, apart_bit, cls, coarsened);
+  all->order = e->order;
+  return all->n < 0 ? GRIDDEM_FAULT_MEMORY : GRIDDEM_FAULT_NONE;
+}
+
+static void count_occupancy(griddem_engine *e)
+{
+  e->stats.occupied_cells = 0;
+  e->stats.max_occupancy = 0;
+  for (int c = 0; c < e->nclass; c++) {
+    e->stats.occupied_cells += e->bins[c].occupied;
+    if (e->bins[c].max_occupancy > e->stats.max_occupancy) e->stats.max_occupancy = e->bins[c].max_occupancy;
+  }
+}
+
+double griddem_engine_candidates(griddem_engine *e, const griddem_step *s)
+{
+  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
+  griddem_bins all;
+  int coarsened;
+  griddem_scan own_scan;
+  const griddem_scan *scan = s->scan;
+  if (!scan) griddem_engine_scan(&s->particles, &own_scan), scan = &own_scan;
+  if (engine_bin(e, s, scan, cls, &all, &coarsened) != GRIDDEM_FAULT_NONE) return -1.0;
+  count_occupancy(e);
+  return griddem_sweep_candidates(cls, e->nclass, s->model->reach_extra);
+}
+
+int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
+                        int *coarsened)
+{
+  const griddem_particles *p = &s->particles;
+  memset(result, 0, sizeof(*result));
+  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
+  griddem_bins all; /* the channels' order of particles */
+  const int apart_bit = s->excl ? s->excl->apart_bit : 0;
+  griddem_scan own_scan;
+  const griddem_scan *scan = s->scan;
+  if (!scan) griddem_engine_scan(p, &own_scan), scan = &own_scan;
+  result->fault = engine_bin(e, s, scan, cls, &all, coarsened);
   if (result->fault || griddem_channels_fill(&e->channels, &all, p) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
@@ -203,12 +236,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   e->stats.max_speed = sqrt(scan->vmax2);
   e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->nclass - 1].h;
   e->stats.nonfinite_velocity = scan->nonfinite_velocity;
-  e->stats.occupied_cells = 0;
-  e->stats.max_occupancy = 0;
-  for (int c = 0; c < e->nclass; c++) {
-    e->stats.occupied_cells += e->bins[c].occupied;
-    if (e->bins[c].max_occupancy > e->stats.max_occupancy) e->stats.max_occupancy = e->bins[c].max_occupancy;
-  }
+  count_occupancy(e);
   e->stats.cell_edge = e->grid[0].h;
   e->stats.contacts = result->contacts;
   e->stats.max_contacts = result->max_contacts;

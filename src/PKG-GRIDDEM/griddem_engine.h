@@ -115,6 +115,12 @@ void griddem_engine_free(griddem_engine *e);
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened);
 
+/* What a grid layout costs: bins the particles as s says (no sweep; e->stats.occupied_cells and
+ * max_occupancy are set) and returns the candidate pairs the sweep would test on those grids
+ * (griddem_sweep_candidates), or -1 without memory. How a pair style compares a cell mode with
+ * the default's layout. */
+double griddem_engine_candidates(griddem_engine *e, const griddem_step *s);
+
 /* Bytes the engine holds. */
 double griddem_engine_memory(const griddem_engine *e);
 

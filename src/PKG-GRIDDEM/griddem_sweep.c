@@ -420,6 +420,63 @@ static double contact_reach(const griddem_grid *g, double r1, double r2, double 
   return (r1 + r2 + extra) * (1.0 + 1e-10) + 1e-14 * extent;
 }
 
+/* Slots of the cells x0..x1 of row (y, z) of grid g binned into b, clamped to the grid */
+static long row_slots(const griddem_grid *g, const griddem_bins *b, int x0, int x1, int y, int z)
+{
+  if (y < 0 || y >= g->n[1] || z < 0 || z >= g->n[2]) return 0;
+  x0 = x0 < 0 ? 0 : x0;
+  x1 = x1 >= g->n[0] ? g->n[0] - 1 : x1;
+  if (x1 < x0) return 0;
+  const long row = (long) g->n[0] * y + (long) g->n[0] * g->n[1] * z;
+  return b->cell_start[row + x1 + 1] - b->cell_start[row + x0];
+}
+
+double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double reach_extra)
+{
+  double candidates = 0.0;
+  for (int kc = 0; kc < ncls; kc++) {
+    const griddem_grid *g = cls[kc].g;
+    const griddem_bins *b = cls[kc].b;
+    if (b->n == 0) continue;
+    stencil_row rows[MAX_ROWS];
+    const int nrows = build_stencil(g, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra), rows);
+    const long nx = g->n[0], nxy = nx * g->n[1];
+    for (int s = 0; s < b->n;) {    /* occupied cells only, through their slots */
+      const long cell = b->cell[b->order[s]];
+      const int x = (int) (cell % nx), y = (int) (cell / nx % g->n[1]), z = (int) (cell / nxy);
+      const long n = b->cell_start[cell + 1] - b->cell_start[cell];
+      long stencil = 0;
+      for (int r = 0; r < nrows; r++)
+        stencil += row_slots(g, b, x + rows[r].dxlo, x + rows[r].dxhi, y + rows[r].dy, z + rows[r].dz);
+      candidates += (double) n * stencil - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
+      s = b->cell_start[cell + 1];
+    }
+    /* into each coarser class: the cells within the contact distance of the small sphere's cell */
+    for (int lc = 0; lc < kc; lc++) {
+      const griddem_grid *gl = cls[lc].g;
+      const griddem_bins *bl = cls[lc].b;
+      if (bl->n == 0) continue;
+      const double cut = contact_reach(gl, cls[kc].rmax, cls[lc].rmax, reach_extra);
+      for (int s = 0; s < b->n;) {
+        const long cell = b->cell[b->order[s]];
+        const long k[3] = {cell % nx, cell / nx % g->n[1], cell / nxy};
+        int blo[3], bhi[3];
+        for (int d = 0; d < 3; d++) {
+          const double lo = g->lo[d] + k[d] * g->h;
+          blo[d] = griddem_axis_cell(lo - cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          bhi[d] = griddem_axis_cell(lo + g->h + cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+        }
+        long block = 0;
+        for (int zz = blo[2]; zz <= bhi[2]; zz++)
+          for (int yy = blo[1]; yy <= bhi[1]; yy++) block += row_slots(gl, bl, blo[0], bhi[0], yy, zz);
+        candidates += (double) (b->cell_start[cell + 1] - b->cell_start[cell]) * block;
+        s = b->cell_start[cell + 1];
+      }
+    }
+  }
+  return candidates;
+}
+
 int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
                   int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
                   int history_update, griddem_history *hist, const int *row_of, double *f,

@@ -95,6 +95,12 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   int history_update, griddem_history *hist, const int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result);
 
+/* Candidate pairs griddem_sweep tests on the classes cls (what a grid layout costs): per class,
+ * each cell's centres against its forward half stencil; across classes, each smaller sphere
+ * against the coarser grid's cells within the contact distance of its cell (a bound on the
+ * sweep's blocks around the sphere itself). Needs the bins only, not the channels. */
+double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double reach_extra);
+
 #ifdef __cplusplus
 }
 #endif

@@ -35,7 +35,7 @@ static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    cpu_rows(nullptr), coarsened_warned(0), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
+    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -339,9 +339,9 @@ void PairGriddem::init_style()
   freeze_group_bit = freezes.empty() ? 0 : freezes.front()->groupbit;
 
   setup_exclusions();
+  model.reach_extra = 0.0;    // init_one() finds it per type pair
   find_radius_range();
   type_radius = max_radius_by_type();
-  model.reach_extra = 0.0;    // init_one() finds it per type pair
 
   // NN4DEM stability rule: dt <= pi/5 sqrt(m/k) for the lightest atom
   double mlocal = INFINITY, mmin;
@@ -447,6 +447,28 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
   rmax = -global[1];
   if (rmax > 0.0 && !(rmin > 0.0))
     error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", force->pair_style, rmin);
+  check_periodic_images();
+}
+
+/* The contact history is keyed by the partner's ID: where a periodic box is thinner than twice
+   the largest contact distance, a sphere can touch two images of one partner, or its own image,
+   and those contacts would share one history. Refused until history is keyed by image too. The
+   width is the distance between opposite faces (a triclinic box's too). */
+
+void PairGriddem::check_periodic_images()
+{
+  if (!model.track_contacts || rmax == 0.0) return;
+  const double contact = 2.0 * rmax + model.reach_extra;
+  const double *hi = domain->h_inv;
+  const double width[3] = {1.0 / sqrt(hi[0] * hi[0] + hi[5] * hi[5] + hi[4] * hi[4]),
+                           1.0 / sqrt(hi[1] * hi[1] + hi[3] * hi[3]), 1.0 / hi[2]};
+  for (int d = 0; d < 3; d++)
+    if (domain->periodicity[d] && width[d] < 2.0 * contact)
+      error->all(FLERR, "Pair style {}: the periodic box is {} wide along {}, less than twice the largest contact "
+                 "distance {} (radius {}): a sphere could touch two periodic images of one partner, or its own "
+                 "image, whose contacts would share one history (kept per partner ID); make the box at least {} "
+                 "wide along {} (replicate it) or make that boundary non-periodic",
+                 force->pair_style, width[d], "xyz"[d], contact, rmax, 2.0 * contact, "xyz"[d]);
 }
 
 void PairGriddem::error_nonfinite(const char *what, int i, const double *value)
@@ -502,19 +524,14 @@ void PairGriddem::report_fault(const griddem_sweep_result &r)
                atom->nlocal + atom->nghost);
 }
 
-void PairGriddem::compute(int eflag, int vflag)
+/* LAMMPS's owned and ghost atoms as the engine reads them */
+
+griddem_particles PairGriddem::host_particles()
 {
-  ev_init(eflag, vflag);
-
-  double **x = atom->x;
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-
-  griddem_step step;
-  griddem_particles &part = step.particles;
-  part.nlocal = nlocal;
-  part.nall = nall;
-  part.x = x[0];
+  griddem_particles part;
+  part.nlocal = atom->nlocal;
+  part.nall = atom->nlocal + atom->nghost;
+  part.x = atom->x[0];
   part.v = atom->v[0];
   part.omega = atom->omega[0];
   part.radius = atom->radius;
@@ -524,6 +541,74 @@ void PairGriddem::compute(int eflag, int vflag)
   part.type = atom->type;
   part.mask = atom->mask;
   part.frozen_bit = freeze_group_bit;
+  return part;
+}
+
+/* A cell mode with one grid (multi, exact, a given edge) can cost far more than the default's
+   grid per size class: at a large size ratio, multi's cells sized for the largest sphere hold
+   many small ones. Measured on the host's atoms at the start of each run and when the atom count
+   changes (grid_cost_due(), the same on every process): the candidate pairs the sweep tests on
+   each layout, and the most centres in one cell; warned once. */
+
+bool PairGriddem::grid_cost_due() const
+{
+  const int mode = fix->cell_mode;
+  if (cost_warned || mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES || rmax == 0.0) return false;
+  return update->setupflag || atom->natoms != cost_natoms;
+}
+
+void PairGriddem::check_grid_cost()
+{
+  const int mode = fix->cell_mode;
+  cost_natoms = atom->natoms;
+
+  griddem_step step;
+  memset(&step, 0, sizeof(step));
+  step.particles = host_particles();
+  for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
+  step.rmin = rmin;
+  step.rmax = rmax;
+  step.max_cells = GRIDDEM_ONE_GRID_MAX_CELLS(step.particles.nall);
+  step.model = &model;
+  step.excl = &exclusions;
+  griddem_engine probe;
+  griddem_engine_init(&probe);
+  step.cell_edge = griddem_cell_edge(mode, rmin, rmax, fix->cell_edge);
+  double local[2], total[2];
+  local[0] = griddem_engine_candidates(&probe, &step);
+  int most_local = probe.stats.max_occupancy, most;
+  step.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, rmin, rmax, 0.0);
+  step.size_classes = 1;
+  local[1] = griddem_engine_candidates(&probe, &step);
+  griddem_engine_free(&probe);
+  if (local[0] < 0.0 || local[1] < 0.0) local[0] = local[1] = 0.0;    // no memory to measure: no verdict
+  MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&most_local, &most, 1, MPI_INT, MPI_MAX, world);
+  const double natoms = MAX((double) atom->natoms, 1.0), here = total[0] / natoms, defaults = total[1] / natoms;
+  if (here <= GRIDDEM_COST_RATIO_WARN * defaults && most <= GRIDDEM_OCCUPANCY_WARN) return;
+  cost_warned = 1;
+  const std::string name = mode == GRIDDEM_CELL_EXACT ? "exact" : mode == GRIDDEM_CELL_MULTI ? "multi"
+                                                                  : fmt::format("{}", fix->cell_edge);
+  if (comm->me == 0)
+    error->warning(FLERR, "Pair style {}: fix {} cell {} tests {:.6g} candidate pairs per atom, {:.6g} times the {:.6g} "
+                   "of cell auto, and holds up to {} centres in one cell (warned above {} times or {} centres); "
+                   "use cell auto (the default), which gives each size class a grid of its own",
+                   force->pair_style, fix->id, name, here, here / MAX(defaults, 1e-300), defaults,
+                   most, GRIDDEM_COST_RATIO_WARN, GRIDDEM_OCCUPANCY_WARN);
+}
+
+void PairGriddem::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  check_periodic_images();    // the box may have changed since the radius range was found
+
+  double **x = atom->x;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+
+  griddem_step step;
+  griddem_particles &part = step.particles;
+  part = host_particles();
 
   // one pass: non-finite positions, the box, the fastest atom, the radius range
   griddem_scan scan;
@@ -531,6 +616,7 @@ void PairGriddem::compute(int eflag, int vflag)
   if (scan.first_nonfinite >= 0) error_nonfinite("position", scan.first_nonfinite, x[scan.first_nonfinite]);
   if (neighbor->ago == 0) set_radius_range(scan.rmin, scan.rmax);
   if (rmax == 0.0) return;    // no atoms yet
+  if (grid_cost_due()) check_grid_cost();
 
   step.scan = &scan;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];

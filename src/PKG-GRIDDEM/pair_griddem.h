@@ -19,6 +19,11 @@
 
 namespace LAMMPS_NS {
 
+// check_grid_cost(): a mode warns above this many times cell auto's candidates per atom, or above
+// this many centres in one cell
+#define GRIDDEM_COST_RATIO_WARN 8
+#define GRIDDEM_OCCUPANCY_WARN 64
+
 class PairGriddem : public Pair, public GriddemPairLink {
  public:
   PairGriddem(class LAMMPS *);
@@ -48,6 +53,8 @@ class PairGriddem : public Pair, public GriddemPairLink {
                                     // a model without history, or a Kokkos style)
   griddem_engine engine;    // the CPU styles' grids, bins and channels
   int coarsened_warned;
+  int cost_warned;        // check_grid_cost() warned
+  bigint cost_natoms;     // the atom count check_grid_cost() last measured
   double rmin, rmax;            // smallest and largest radius of all atoms, refreshed on reneighbor
 
   int freeze_group_bit;
@@ -77,6 +84,12 @@ class PairGriddem : public Pair, public GriddemPairLink {
   void error_too_fast(int i, double speed, double h_nn4dem);
   void error_coincident(int i, int j);
   void error_stencil_reach(double edge);
+  // warns once where the fix's cell mode tests far more candidates than cell auto would
+  bool grid_cost_due() const;
+  void check_grid_cost();    // on the host's atoms
+  griddem_particles host_particles();
+  // refuses a periodic box thinner than twice the largest contact distance (history styles)
+  void check_periodic_images();
 
  private:
   griddem_pair_params make_params(const griddem_pair_spec &s, int i, int j);

@@ -152,6 +152,14 @@ static void jkr_reach(void)
 
 int main(void)
 {
+#if defined(GRIDDEM_TEST_FMA) && GRIDDEM_TEST_FMA
+  /* built with -mfma: without the instruction, nothing to test (and nothing could run) */
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("fma")) {
+    printf("SKIPPED: this CPU has no FMA instructions; the contraction test needs them\n");
+    return 77;
+  }
+#endif
   hooke_restitution(0.0);   /* elastic: e = 1 */
   hooke_restitution(20.0);  /* z = 0.032 */
   hooke_restitution(100.0); /* z = 0.158 */

@@ -7,6 +7,59 @@
 #include "griddem_engine.h"
 #include "spec_text.h"
 
+/* What a layout costs (griddem_engine_candidates). One grid of multi's edge: the sweep's forward
+ * half of the 27 cells, so every unordered pair in neighbouring cells (Chebyshev distance 1) is
+ * a candidate once, counted here pair by pair. A 1:100 scene (one large sphere and a cloud of
+ * small ones): multi's cells sized for the large one hold the whole cloud, a grid per size class
+ * does not, which is what the pair styles warn about. */
+static void candidates(const griddem_model *m)
+{
+  enum { N = 400 };
+  static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
+  static int tag[N], type[N], mask[N];
+  for (int i = 0; i < N; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 6.0 * check_uniform(), v[3 * i + d] = w[3 * i + d] = 0.0;
+    rad[i] = 0.1 + 0.4 * check_uniform(), mass[i] = 1.0, tag[i] = i + 1, type[i] = 1, mask[i] = 1;
+  }
+  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  griddem_step s;
+  memset(&s, 0, sizeof(s));
+  s.particles = part, s.model = m, s.rmin = 0.1, s.rmax = 0.5, s.max_cells = 1000000;
+  s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_MULTI, s.rmin, s.rmax, 0.0);
+  griddem_engine e;
+  griddem_engine_init(&e);
+  const double counted = griddem_engine_candidates(&e, &s);
+  long pairs = 0;
+  for (int i = 0; i < N; i++)
+    for (int j = i + 1; j < N; j++) {
+      int near = 1;
+      for (int d = 0; d < 3; d++) {
+        const long ci = (long) floor(x[3 * i + d] / s.cell_edge), cj = (long) floor(x[3 * j + d] / s.cell_edge);
+        near = near && labs(ci - cj) <= 1;
+      }
+      pairs += near;
+    }
+  CHECK(counted == (double) pairs, "multi: %g candidates counted, %ld pairs in neighbouring cells", counted, pairs);
+
+  /* 1:100: the large sphere at the centre, the small ones (radius 0.1) around it */
+  rad[0] = 10.0;
+  for (int d = 0; d < 3; d++) x[d] = 3.0;
+  for (int i = 1; i < N; i++) rad[i] = 0.1;
+  s.rmin = 0.1, s.rmax = 10.0;
+  s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_MULTI, s.rmin, s.rmax, 0.0);
+  const double multi = griddem_engine_candidates(&e, &s);
+  CHECK(multi == 0.5 * N * (N - 1) && e.stats.max_occupancy == N, "multi 1:100: one cell holds all %d (%d), every pair a candidate (%g)",
+        N, e.stats.max_occupancy, multi);
+  s.size_classes = 1;
+  s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, s.rmin, s.rmax, 0.0);
+  const double classes = griddem_engine_candidates(&e, &s);
+  /* the small spheres' class grid of edge 0.2 over the 6^3 box: about 400 / 27000 per cell, so
+     each tests a few neighbours and the large sphere's cells */
+  CHECK(classes > 0.0 && classes < multi / 8.0 && e.stats.max_occupancy < 16,
+        "auto 1:100: %g candidates (multi %g), at most %d in a cell", classes, multi, e.stats.max_occupancy);
+  griddem_engine_free(&e);
+}
+
 int main(void)
 {
   griddem_pair_params table[4];
@@ -82,5 +135,6 @@ int main(void)
   CHECK(scan.first_nonfinite == 2, "first non-finite position: particle %d", scan.first_nonfinite);
   griddem_engine_free(&e);
   griddem_history_free(&h);
+  candidates(&m);
   return check_summary();
 }

@@ -5,8 +5,8 @@ defaults (no fix griddem line: the history starts at the default size per atom a
 since each big sphere ends with more than 24 contacts). Asserted: the runs complete on 1 and 2
 ranks; the big spheres end with more than 24 contacts (compute contact/atom, and the most
 contacts of one atom reported by fix GRIDDEM); positions, velocities and forces at the end equal
-stock's to 1e-8 relative (a compressed packing amplifies round-off over the run, which stock
-shows between its own 1- and 2-rank runs); 2 ranks equal 1 rank of griddem to 1e-10."""
+stock's, and griddem's on 2 ranks its own on 1, to 1e-11 relative (ROUNDOFF; a compressed packing
+amplifies round-off over the run, which stock shows between its own 1- and 2-rank runs)."""
 import math
 import os
 import random
@@ -40,6 +40,11 @@ dump snap all custom {steps} dump.{name} id type x y z vx vy vz fx fy fz c_c
 dump_modify snap format float %.17g sort id
 run {steps}
 """
+# round-off amplified over the run. Measured (largest relative difference of positions, velocities
+# and forces): stock 2 ranks vs 1 rank 7.7e-13, griddem vs stock 1.2e-12, griddem 2 ranks vs 1
+# rank 1.1e-13. Allowed: 13 times stock's own rank difference; kn changed by 1e-9 relative in the
+# griddem run alone moves the end state by 4.8e-9. Stock's rank difference must stay 5 times below.
+ROUNDOFF = 1e-11
 STATE = ["x", "y", "z", "vx", "vy", "vz"]
 FORCES = ["fx", "fy", "fz"]
 
@@ -122,10 +127,9 @@ def main():
         t.finish()
     big = big_contacts(stock1)
     t.check(len(big) == NBIG and min(big) > 24, "stock: every big sphere ends with > 24 contacts (%s)" % big)
-    # round-off amplified over the run: what ordering alone changes in stock (reported, and the
-    # tolerance below must stay well above it)
+    # what ordering alone changes in stock: the tolerance below must stay well above it
     drift = t.max_rel_diff(stock2, stock1, STATE + FORCES)
-    t.check(drift <= 1e-10, "stock 2 ranks vs 1 rank: %.3g relative (round-off growth)" % drift)
+    t.check(drift <= ROUNDOFF / 5, "stock 2 ranks vs 1 rank: %.3g relative (round-off growth)" % drift)
 
     grid = {}
     for n in (1, 2):
@@ -143,12 +147,12 @@ def main():
         t.check(t.thermo_values(out, "c_cmax") == t.thermo_values(stock_out, "c_cmax"),
                 "griddem, %d ranks: the most contacts of one atom follows stock's at every thermo step" % n)
         err = t.max_rel_diff(snap, stock1, STATE)
-        t.check(err <= 1e-8, "griddem, %d ranks: positions/velocities differ from stock by %.3g relative" % (n, err))
+        t.check(err <= ROUNDOFF, "griddem, %d ranks: positions/velocities differ from stock by %.3g relative" % (n, err))
         err = t.max_rel_diff(snap, stock1, FORCES)
-        t.check(err <= 1e-8, "griddem, %d ranks: forces differ from stock by %.3g relative" % (n, err))
+        t.check(err <= ROUNDOFF, "griddem, %d ranks: forces differ from stock by %.3g relative" % (n, err))
     if 1 in grid and 2 in grid:
         err = t.max_rel_diff(grid[2], grid[1], STATE + FORCES)
-        t.check(err <= 1e-10, "griddem 2 ranks vs 1 rank: %.3g relative" % err)
+        t.check(err <= ROUNDOFF, "griddem 2 ranks vs 1 rank: %.3g relative" % err)
     t.finish()
 
 

@@ -403,6 +403,69 @@ def check_time_average(wd):
         t.check(diff <= 1e-12, "fix ave/grid of %s over steps 6-10 = mean of the per-step fields (rel. %.3g)" % (value, diff))
 
 
+def check_long_average(wd):
+    """fix ave/grid over 2000 steps, past the samples that fix ave/grid (LAMMPS 4Feb2025) never
+    announces to the computes: the second of a window with nevery 2 (step 804), the first of the
+    second window with nevery 1 (step 1901). The kernel is far wider than the periodic box and the
+    total momentum zero, so every grid point of pzz and pxy is the box's pressure tensor of compute
+    pressure: fix ave/time of it over the same samples is the reference at steps 1000 and 2000."""
+    data = os.path.join(wd, "data.long")
+    t.write_random_spheres(data, 300, (4.0, 4.0, 4.0), 0.1, 0.3, seed=11)
+    head = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", coeffs="")
+    head += "velocity all zero linear\ntimestep 1e-4\ncompute cg all griddem/cg 8 6 5 1e3 pzz pxy\n"
+    for every in (2, 1):
+        sub = os.path.join(wd, "long.%d" % every)
+        os.mkdir(sub)
+        text = head + ("fix avg all ave/grid {0} 100 1000 8 6 5 c_cg:grid:pzz c_cg:grid:pxy\n"
+                       "fix avt all ave/time {0} 100 1000 c_P[3] c_P[4]\n"
+                       "dump zz all grid/vtk 1000 pzz.*.vti f_avg:grid:data[1]\n"
+                       "dump xy all grid/vtk 1000 pxy.*.vti f_avg:grid:data[2]\n"
+                       "dump_modify zz format float %.17g\ndump_modify xy format float %.17g\n"
+                       "thermo_style custom step f_avt[1] f_avt[2]\nthermo_modify format float %.17g\nthermo 1000\nrun 2000\n").format(every)
+        rc, out = t.run_lmp(text, sub, name="in.long")
+        t.check(rc == 0, "fix ave/grid %d 100 1000 of pzz and pxy runs 2000 steps (exit %d): %s"
+                % (every, rc, t.errors(out)[:1]))
+        if rc:
+            continue
+        reference = list(zip(t.thermo_values(out, "f_avt[1]"), t.thermo_values(out, "f_avt[2]")))[1:]
+        for step, (zz, xy) in zip((1000, 2000), reference):
+            worst = max(max_diff(read_vti(os.path.join(sub, "%s.%d.vti" % (v, step))), [ref] * 240)
+                        for v, ref in (("pzz", zz), ("pxy", xy))) / abs(zz)
+            t.check(worst <= 1e-12, "fix ave/grid %d 100 1000 at step %d: pzz and pxy = compute pressure's "
+                    "averaged by fix ave/time (rel. %.3g)" % (every, step, worst))
+
+
+def check_doc_example(wd):
+    """The Examples block of doc/compute_griddem_cg.md as written, for 1000 steps on spheres in a
+    periodic 4 x 1 x 4 box: it runs (its fix ave/grid samples a stress-carrying compute every 10
+    steps), and the dumped density and velocity carry the total mass and momentum."""
+    doc = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "doc", "compute_griddem_cg.md")
+    with open(doc) as f:
+        block = f.read().split("## Examples")[1].split("```")[1]
+    data = os.path.join(wd, "data.doc")
+    t.write_random_spheres(data, 1600, (4.0, 1.0, 4.0), 0.05, 0.1, seed=5)
+    atoms = read_atoms(data)
+    mass = sum(a[0] for a in atoms)
+    text = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", coeffs="")
+    text += "timestep 1e-4\n" + block + ("dump_modify cells format float %.17g\nrun 1000\n"
+                                         "print \"momentum $(vcm(all,x)*mass(all):%.17g)\"\n")
+    sub = os.path.join(wd, "doc")
+    os.mkdir(sub)
+    rc, out = t.run_lmp(text, sub, name="in.doc")
+    t.check(rc == 0, "doc/compute_griddem_cg.md's Examples block runs 1000 steps (exit %d): %s" % (rc, t.errors(out)[:1]))
+    if rc:
+        return
+    with open(os.path.join(sub, "cg.1000.txt")) as f:
+        rows = [[float(w) for w in line.split()] for line in f.read().split("ITEM: GRID CELLS")[1].splitlines()[1:] if line.strip()]
+    cellvol = 4.0 * 1.0 * 4.0 / len(rows)
+    momentum = float(out.split("momentum ")[-1].split()[0])
+    dumped = (sum(r[0] for r in rows) * cellvol, sum(r[0] * r[1] for r in rows) * cellvol)
+    t.check(len(rows) == 16000 and abs(dumped[0] - mass) <= 1e-12 * mass,
+            "doc example: density integrates to the total mass (%.17g against %.17g)" % (dumped[0], mass))
+    t.check(abs(dumped[1] - momentum) <= 1e-12 * mass,
+            "doc example: density x vx integrates to the total x momentum (%.17g against %.17g)" % (dumped[1], momentum))
+
+
 def check_errors(wd):
     base = "units lj\natom_style sphere\n%s\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\ncompute c all griddem/cg %s\n"
     for dim, args, expect in [("", "2 2 2 0.5 density stress", "unknown value stress"),
@@ -427,6 +490,8 @@ def main():
     check_lattice(wd)
     check_static_bed(wd)
     check_time_average(wd)
+    check_long_average(wd)
+    check_doc_example(wd)
     check_errors(wd)
     t.finish()
 

@@ -476,6 +476,78 @@ def check_extremes(wd, data):
                 "%s velocity: kk stops naming the atom as the CPU style: %s vs %s" % (kind, said["kk"], said["cpu"]))
 
 
+SLIDING = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block -5 5 -5 5 -5 5
+create_box 1 box
+create_atoms 1 single 0 0 0
+create_atoms 1 single 0.93 0 0
+set atom 1 diameter 1.0 density 1.0 omega 3.0 -1.0 2.0
+set atom 2 diameter 0.94 density 1.3 omega -0.5 0.25 1.5
+pair_style {pair}
+pair_coeff * * {coeffs}
+group one id 1
+group two id 2
+fix still one move linear 0 0 0
+fix orbit two move rotate 0 0 0 0.3 0.4 1 1.0
+timestep 1e-3
+dump forces all custom 1 dump.{name} id fx fy fz
+dump_modify forces format float %.17g sort id
+run 3000
+"""
+
+
+def check_oddness(wd, _data):
+    """Each atom of a kk contact evaluates it from its own side with its own copy of the contact's
+    history, so f_12 = -f_21 must hold to the bit, also where the compiler fuses multiply-adds (a
+    build with -mfma -ffp-contract=fast, or a GPU). Sphere 2 orbits sphere 1 (fix move) at a fixed
+    overlap for 3000 steps while both spin about tilted axes: a long sliding contact whose shear
+    history enters the force every step, so a history copy that drifted from the other would show
+    in the forces. Laws: gran/hooke/history's, and a granular one with rolling resistance."""
+    granular = next(c1 for _label, c1, _c2 in MODELS if "rolling" in c1)
+    for label, pair, coeffs in (("hooke/history", HISTORY[1], ""), ("granular", "griddem/granular", granular)):
+        name = "odd_" + label.replace("/", "_")
+        rc, out = t.run_lmp(SLIDING.format(pair=pair, coeffs=coeffs, name=name), wd, name="in." + name,
+                            extra=kk_args(THREADS[-1]), threads=THREADS[-1])
+        t.check(rc == 0, "%s: the sliding contact runs under kk: %s" % (label, t.errors(out)[:1]))
+        if rc != 0:
+            continue
+        snaps = [atoms for _columns, atoms in t.read_dumps(os.path.join(wd, "dump." + name))]
+        odd = sum(1 for atoms in snaps for c in range(3) if atoms[1][c] == -atoms[2][c])
+        touching = sum(1 for atoms in snaps if atoms[1][0] != 0.0)
+        t.check(len(snaps) == 3001 and touching == 3001 and odd == 3 * 3001,
+                "%s (%s): f_12 = -f_21 to the bit at %d of %d force components, %d steps in contact"
+                % (label, coeffs or pair, odd, 3 * len(snaps), touching))
+
+
+def check_periodic_images(wd, _data):
+    """A periodic box thinner than twice the largest contact distance: refused by the kk history
+    style in the CPU style's words (test_periodic_images.py), and a box just wider runs."""
+    from test_periodic_images import SLAB, HISTORY as SLAB_HISTORY
+    for lz, refused in ((1.2, True), (1.85, False)):
+        said = errors_of_cpu_and_kk(wd, "slab", SLAB.format(lz=lz, pair=SLAB_HISTORY, fix="", steps=10))
+        t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
+                (not refused or "1.2 wide along z, less than twice the largest contact distance 0.9" in said["kk"][1][0]),
+                "slab %g thick: kk %s as the CPU style: %s vs %s" % (lz, "refuses" if refused else "runs",
+                                                                    said["kk"], said["cpu"]))
+
+
+def check_grid_cost(wd, _data):
+    """fix griddem cell multi at 1:100 (test_grid_cost.py's scene): the kk style warns with the CPU
+    style's numbers, which it measures on the same layouts."""
+    from test_grid_cost import SCENE, BIG, WARNING
+    text = SCENE.format(big=BIG, fix="fix grid all griddem cell multi")
+    found = {}
+    for name, extra in (("cpu", ()), ("kk", kk_args(1))):
+        rc, out = t.run_lmp(text, wd, name="in.cost_" + name, extra=extra)
+        found[name] = (rc, re.findall(WARNING.replace("griddem/hooke/history", "griddem/hooke/history(?:/kk)?"), out))
+    t.check(found["kk"] == found["cpu"] and found["kk"][0] == 0 and len(found["kk"][1]) == 1,
+            "cell multi at 1:100: kk warns once with the CPU style's numbers: %s vs %s" % (found["kk"], found["cpu"]))
+
+
 def check_reach(wd, data):
     # one grid of a given edge: a contact distance (1 here) over more than 32 edges is refused in
     # the CPU style's words (edge 1/32 = 0.03125: 33 cells, with the search's margin), and a
@@ -802,8 +874,8 @@ def check_replanned(wd, data):
 # GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
-    check_laws, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
-    check_reach, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
+    check_reach, check_periodic_images, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 

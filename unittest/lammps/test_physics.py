@@ -2,8 +2,10 @@
 - head-on collision: restitution e = exp(-pi z / sqrt(1 - z^2)), z = gamma_n meff / (2 sqrt(Kn meff)),
   and contact duration pi / sqrt(Kn/meff - (gamma_n/2)^2);
 - free fall onto a frozen sphere without damping (NN4DEM set I, 0.95 m): rebounds to the drop height;
-- sliding with Coulomb friction (NN4DEM set I, 1.414 m/s, mu 0.5, no rotation): stops after
-  v^2 / (2 mu g) = 0.2038 m;
+- sliding with Coulomb friction (NN4DEM set I, 1.414 m/s, mu 0.5, no rotation) over the top of a
+  frozen sphere of diameter 100: stops where its equation of motion along the arc puts it (0.2051 m;
+  v^2 / (2 mu g) = 0.2038 m on a flat floor), less the tangential spring's stretch mu m g / Kt
+  that pulls it back once it sticks (4.9e-4 m), to 2.4e-4 m;
 - no damping, no friction: kinetic plus contact spring energy conserved to 1e-6 over 1e5 steps."""
 import math
 import os
@@ -89,6 +91,29 @@ run 9000
     t.check(abs(peak - 0.95) <= 2e-3 * 0.95, "rebound height %.5f m, dropped from 0.95 m" % peak)
 
 
+def sliding_stop(v0, mu, g, radius, m, kn):
+    """Where a ball sliding over the top of a frozen sphere (centres radius apart), with Coulomb
+    friction mu and no rotation, comes to rest. Along the arc s, w = v^2 obeys
+    dw/ds = 2 g sin(s/R) - 2 mu (g cos(s/R) - w/R): gravity's downhill part speeds it, and the
+    centripetal part lightens the contact (together 0.6 % farther than on a flat floor here);
+    integrated by RK4 in s to w = 0. While sliding, the tangential spring (Kt = 2/7 Kn) is stretched
+    by mu m g / Kt; once the ball sticks it springs back by that much. Returns the x of rest."""
+    def slope(s, w):
+        return 2.0 * g * math.sin(s / radius) - 2.0 * mu * (g * math.cos(s / radius) - w / radius)
+    s, w, ds = 0.0, v0 * v0, 1e-5
+    while True:
+        k1 = slope(s, w)
+        k2 = slope(s + 0.5 * ds, w + 0.5 * ds * k1)
+        k3 = slope(s + 0.5 * ds, w + 0.5 * ds * k2)
+        k4 = slope(s + ds, w + ds * k3)
+        after = w + ds / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        if after <= 0.0:
+            s += ds * w / (w - after)    # w is linear in s to 1e-10 of ds here
+            break
+        s, w = s + ds, after
+    return radius * math.sin(s / radius) - mu * m * g / (2.0 / 7.0 * kn)
+
+
 def sliding():
     m = 2700 * 4.0 / 3.0 * math.pi * 0.05 ** 3
     sink = m * 9.81 / 5e4
@@ -124,9 +149,11 @@ run 5000
 """.format(z=50.05 - sink)
     out = t.run_ok(text, WD, name="in.sliding")
     x, v = t.thermo_values(out, "v_x"), t.thermo_values(out, "v_v")
-    expected = 1.414 ** 2 / (2 * 0.5 * 9.81)
+    expected = sliding_stop(1.414, 0.5, 9.81, 50.05 - sink, m, 5e4)
     t.check(abs(v[-1]) < 1e-2, "the ball stopped (v = %.3g m/s)" % v[-1])
-    t.check(abs(x[-1] - expected) <= 0.02 * expected, "slid %.4f m, expected %.4f m" % (x[-1], expected))
+    # measured: 7.9e-5 m from the expected rest, the stick oscillation of the tangential spring not
+    # yet damped out at t = 0.5 s; allowed 3 times that (mu 0.51 would stop 4e-3 m short)
+    t.check(abs(x[-1] - expected) <= 2.4e-4, "slid %.6f m, expected %.6f m" % (x[-1], expected))
 
 
 def energy():

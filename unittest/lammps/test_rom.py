@@ -1,7 +1,11 @@
 """fix griddem/rom (adaptive reduced-order DEM), on models written here by hand:
 - model-file checks: a wrong format version, a weight matrix whose size does not fit the grid,
   a number of controls other than the fix's, a box other than the simulation's: each refused with
-  an error naming it;
+  an error naming it; words after the weights or the force block, binary bytes (at the start and
+  in a row of weights) and a weights block cut short: refused naming the line and what was expected
+  there, bytes other than printable ASCII as \\xNN;
+- the counters f_rom[2], [3], [4], [7] (made kinematic, released by hits, by overlaps,
+  classifications) on a scene counted by hand over two runs;
 - eps = 0: no atom becomes kinematic and the run is the plain run, digit for digit;
 - a uniform predicted field U (weights: bias only): a resting atom (|v - U| = |U| <= eps v0)
   becomes kinematic, its velocity is U exactly and it moves by U dt per step although gravity
@@ -110,6 +114,100 @@ def model_checks():
     text = model_input(good)
     rc, out = t.run_lmp(text, WD, name="in.good")
     t.check(rc == 0, "a consistent model is accepted")
+
+
+def model_file_messages():
+    """Words after the weights, and binary bytes, are refused naming the line and what was expected
+    there, with bytes other than printable ASCII as \\xNN. A test model's lines: 1 comment,
+    2 version, 3 grid, 4 box, 5 controls, 6 lambda, 7 'weights 81 29', 8-88 the 81 rows."""
+    def refused(path, expected, what):
+        rc, out = t.run_lmp(model_input(path), WD, name="in.msg_" + os.path.basename(path).split(".")[0])
+        t.check(rc != 0 and expected in out, "%s refused naming line and expectation (%r): %s"
+                % (what, expected, t.errors(out)[:1]))
+
+    for version, expected in ((1, "line 89: expected the end of the file after the 81 x 29 weights, found 'end'"),
+                              (2, "line 89: expected the end of the file or a block 'force 3 29' after the 81 x 29 "
+                                  "weights, found 'end'")):
+        path = os.path.join(WD, "trailing%d.model" % version)
+        t.write_rom_model(path, (3, 3, 3), BOX, controls=1, version=version)
+        with open(path, "a") as f:
+            f.write("end\n")
+        refused(path, expected, "version %d: a word after the weights" % version)
+    path = os.path.join(WD, "trailing_force.model")
+    t.write_rom_model(path, (3, 3, 3), BOX, controls=1, version=2, force=[[0.0] * 29] * 3)
+    with open(path, "a") as f:
+        f.write("0.5\n")
+    refused(path, "line 93: expected the end of the file after the 3 x 29 force values, found '0.5'",
+            "a word after the force block")
+
+    def escaped(data):
+        return "".join(chr(b) if 0x20 <= b < 0x7f else "\\x%02x" % b for b in data)
+    # a binary file: its first word is 64 bytes without white space (shown: 40 of them, then ...)
+    binary = b"\x7fELF\x02\x01\x01" + bytes(57)
+    path = os.path.join(WD, "binary.model")
+    with open(path, "wb") as f:
+        f.write(binary + b"\n\x03\x00\x00\n")
+    refused(path, "line 1: expected 'griddem/rom VERSION', found '%s...'" % escaped(binary[:40]), "a binary file")
+    # binary bytes in the weights' second row (line 9)
+    path = os.path.join(WD, "binary_row.model")
+    t.write_rom_model(path, (3, 3, 3), BOX, controls=1)
+    with open(path, "rb") as f:
+        lines = f.read().split(b"\n")
+    lines[8] = b"\x00\x01 " + lines[8]
+    with open(path, "wb") as f:
+        f.write(b"\n".join(lines))
+    refused(path, "line 9: expected value 1 of row 2 of 'weights' (a finite number), found '\\x00\\x01'",
+            "binary bytes in a row of weights")
+    # too few weights: where the file ends, and what the header asked for
+    path = os.path.join(WD, "short.model")
+    t.write_rom_model(path, (3, 3, 3), BOX, controls=1, nrow=80)
+    with open(path) as f:
+        text = f.read().replace("weights 80 29", "weights 81 29")
+    with open(path, "w") as f:
+        f.write(text)
+    refused(path, "at its end (line 87): 'weights 81 29' (line 7) needs 81 x 29 = 2349 values, found 2320",
+            "a weights block cut short")
+
+
+def counters():
+    """f_rom[2], [3], [4], [7] (made kinematic, released by a hit, released by an overlap,
+    classifications) on a scene counted by hand: zero field, eps v0 = 0.5, every 5, two runs of 5
+    steps (a classification at the end of each; the counters add up over the fix's runs).
+    Run 1: atoms 1, 2, 3, 4 rest alone and are made kinematic; atom 6 rests against atom 7 (outside
+    the fix's group), which slides past it at 1 (overlap 0.01): 6 is not made kinematic, and not
+    counted as released, since it was not kinematic. Made 4, hits 0, overlaps 0, 1 classification.
+    Between the runs: atom 5 (outside the group) is set against kinematic atom 1 (overlap 0.01),
+    sliding past it at 1 (5 steps of friction leave it above 0.5); kinematic atoms 2 and 3 are set
+    to overlap by 0.1 (> 0.1 min(ri, rj) = 0.05; no force acts between kinematic atoms to part them);
+    atoms 6 and 7 are parted and stopped.
+    Run 2: 1 is released by a hit, 2 and 3 by their overlap, 4 stays kinematic (not made again),
+    6 is made kinematic. Made 5, hits 1, overlaps 2, 2 classifications; kinematic now 4 and 6."""
+    model = os.path.join(WD, "rest_counts.model")
+    t.write_rom_model(model, (3, 3, 3), BOX)
+    text = resting_spheres((1.5, 1.5, 1.5), (4.5, 1.5, 1.5), (4.5, 4.5, 1.5), (1.5, 4.5, 4.5), (1.5, 4.5, 1.5),
+                           (4.5, 4.5, 4.5), (4.5, 4.5, 3.51)) + PAIR + """
+group romable id 1 2 3 4 6
+set atom 7 vx 1.0
+fix rom romable griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step f_rom[1] f_rom[2] f_rom[3] f_rom[4] f_rom[6] f_rom[7]
+thermo 5
+run 5
+set atom 5 x 2.49 y 1.5 z 1.5 vx 0.0 vy 1.0 vz 0.0
+set atom 3 x 4.5 y 2.4 z 1.5
+set atom 7 x 4.5 y 1.5 z 4.5 vx 0.0
+set atom 6 vx 0.0 vy 0.0 vz 0.0
+run 5
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.counters")
+    columns = ("f_rom[1]", "f_rom[2]", "f_rom[3]", "f_rom[4]", "f_rom[6]", "f_rom[7]")
+    names = ("kinematic", "made", "hits", "overlaps", "released by a force", "classifications")
+    got = [t.thermo_values(out, c) for c in columns]
+    # thermo rows: steps 0 and 5 (run 1), 5 and 10 (run 2)
+    for label, row, expected in (("run 1", 1, (4, 4, 0, 0, 0, 1)), ("run 2", 3, (2, 5, 1, 2, 0, 2))):
+        for name, values, want in zip(names, got, expected):
+            t.check(len(values) == 4 and values[row] == want,
+                    "counters, %s: %s %s, counted by hand %d" % (label, name, values[row:row + 1], want))
 
 
 def eps_zero():
@@ -684,7 +782,7 @@ run 10
     t.write_rom_model(periodic, (3, 1, 1), frame, version=2, frame="moving", controls=1)
     cases = [(model, "", "f f f", "has a moving frame (line 'frame moving'): keyword origin is required"),
              (fixed, "origin v_o 0 0", "f f f", "keyword origin needs a model with a moving frame"),
-             (v1frame, "origin v_o 0 0", "f f f", "line 'frame' (word 14) needs format version 2"),
+             (v1frame, "origin v_o 0 0", "f f f", "line 5: 'frame' needs format version 2"),
              (badforce, "origin v_o 0 0", "f f f", "force has 3 rows and 4 columns; expected 3 and 5"),
              (periodic, "origin v_o 0 v_o", "f f p", "keyword origin moves the frame along the periodic axis z"),
              (model, "origin v_nothing 0 0", "f f f", "origin variable nothing does not exist"),
@@ -777,6 +875,8 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
 
 
 model_checks()
+model_file_messages()
+counters()
 newcomer()
 moving_frame()
 moving_frame(2)

@@ -129,6 +129,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     ~ProfilingRegion() { Kokkos::Profiling::popRegion(); }
   } region;
   this->ev_init(eflag, vflag, 0);
+  this->check_periodic_images();    // the box may have changed since the radius range was found
   if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared
     if ((int) k_vatom.extent(0) < this->maxvatom) {
       this->memoryKK->destroy_kokkos(k_vatom, this->vatom);
@@ -176,6 +177,10 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       if (this->neighbor->ago == 0 && attempt == 0)
         this->set_radius_range(this->atom->nlocal ? sc.rmin : INFINITY, sc.rmax);
       if (this->rmax == 0.0) return;    // no atoms yet
+      if (attempt == 0 && this->grid_cost_due()) {
+        atomKK->sync(Host, X_MASK | V_MASK | RADIUS_MASK | TAG_MASK | MASK_MASK);
+        this->check_grid_cost();
+      }
       plan_classes(grids);
       if (grids.ncls > 1) {
         scan(grids, false, true);
