@@ -16,7 +16,7 @@ import exampletools as ex
 m = 2700 * 4.0 / 3.0 * math.pi * 0.05 ** 3
 fig, ax = plt.subplots(figsize=(7, 4))
 for label, eta, style in [("undamped", 0.0, "-"), ("damped", 0.5, "-"), ("stock", 0.5, ":")]:
-    log = os.path.join(HERE, "log.23Nov26.free-fall.%s.1" % label)
+    log = ex.reference_log(HERE, label)
     name = {"undamped": "griddem, eta = 0", "damped": "griddem, eta = 0.5",
             "stock": "stock granular, eta = 0.5"}[label]
     ax.plot(ex.thermo(log, "Time"), ex.thermo(log, "v_h"), style, label=name)

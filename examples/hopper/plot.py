@@ -26,7 +26,7 @@ def beverloo_rate(phi=0.6, c=1.03, k=1.5):
 
 
 def discharge(tag):
-    log = os.path.join(HERE, "log.23Nov26.hopper.%s.2" % tag)
+    log = ex.reference_log(HERE, tag, 2)
     text = open(log).read()
     mass0 = float(text.split("initial mass ")[-1].split()[0])
     left = ex.thermo(text, "v_inhopper")

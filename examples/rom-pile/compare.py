@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """Resolved against reduced-order run of the same scene:
-    compare.py RESOLVED_TAG ROM_TAG      (reads cg.TAG.txt and log.TAG)
+    compare.py [--log PATTERN] RESOLVED_TAG ROM_TAG
+reads cg.TAG.txt and the run's log, log.TAG (or PATTERN with {} for the tag:
+run_all.sh's 'log.2Dec26.rom-pile.{}.1'):
 - speed-up: LAMMPS loop time of the resolved run / of the reduced run (summed over the runs of a
   log: a run in segments, examples/rom-hopper, has several);
 - surface height: per voxel column (x), the mass-equivalent fill height of the container
@@ -12,18 +14,23 @@
 - granular temperature: the same with the voxels' time-averaged granular temperature (compute
   griddem/cg temperature: velocity variance about the voxel mean), when the dumps have it;
 - reduction: the mean fraction of kinematic atoms (thermo's v_nkin over atoms)."""
+import argparse
 import re
-import sys
 
 import numpy as np
 
 from romtools import read_grid_dump
 
 RHO_BULK = 0.6
+LOG = "log.{}"
+
+
+def log_of(tag):
+    return LOG.format(tag)
 
 
 def loop_time(tag):
-    with open("log." + tag) as f:
+    with open(log_of(tag)) as f:
         times = re.findall(r"Loop time of ([0-9.eE+-]+) on", f.read())
     return sum(float(t) for t in times)
 
@@ -43,7 +50,7 @@ def kinematic_series(tag, column=4):
     nkin nnear; column 4 the kinematic atoms, 5 those of them moving at DEM's step); empty for a
     run without them."""
     steps, frac = [], []
-    with open("log." + tag) as f:
+    with open(log_of(tag)) as f:
         for line in f:
             w = line.split()
             if len(w) == 6 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
@@ -54,7 +61,7 @@ def kinematic_series(tag, column=4):
 
 def counters(tag):
     """The fix's counters printed at the end of a reduced run (ROM-COUNTS name value ...)."""
-    with open("log." + tag) as f:
+    with open(log_of(tag)) as f:
         for line in f:
             if line.startswith("ROM-COUNTS"):
                 w = line.split()[1:]
@@ -111,7 +118,14 @@ def compare(res_tag, rom_tag):
 
 
 def main():
-    c = compare(sys.argv[1], sys.argv[2])
+    global LOG
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--log", default=LOG, help="a run's log name, {} for its tag")
+    ap.add_argument("resolved")
+    ap.add_argument("reduced")
+    args = ap.parse_args()
+    LOG = args.log
+    c = compare(args.resolved, args.reduced)
     print("loop time resolved %.2f s, reduced %.2f s: speed-up %.2f" % (c["loop_resolved_s"], c["loop_reduced_s"],
                                                                        c["speedup"]))
     print("mean kinematic fraction %.3f" % c["kinematic_fraction"])

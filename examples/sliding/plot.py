@@ -13,7 +13,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 import exampletools as ex
 
-log = os.path.join(HERE, "log.23Nov26.sliding.1")
+log = ex.reference_log(HERE)
 t = ex.thermo(log, "Time")
 fig, ax = plt.subplots(figsize=(7, 4))
 ax.plot(t, ex.thermo(log, "v_x"), label="x (m), griddem")

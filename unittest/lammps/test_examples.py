@@ -3,7 +3,9 @@ free-fall (NN4DEM set I) apex heights against the analytic e^2 per bounce (0.1%)
 stock pair granular (1e-8); sliding distance against the solution for the curved floor (0.1%);
 the default pour scene's packing fraction against stock gran/hooke/history (0.01, a chaotic
 pour) and a random packing's range. Each also against the reference log in the example (1e-6
-for the single particles, 0.005 for the pour)."""
+for the single particles, 0.005 for the pour). Every example's reference log echoes its current
+input."""
+import glob
 import math
 import os
 import re
@@ -42,7 +44,7 @@ def free_fall(wd):
                               ("stock", 0.5, "granular")]:
         out = run_example("free-fall", wd, "eta %g" % eta, "style " + style)
         runs[label] = ex.apexes(ex.thermo(out, "v_h"))
-        ref = ex.apexes(ex.thermo(os.path.join(EXAMPLES, "free-fall", "log.23Nov26.free-fall.%s.1" % label), "v_h"))
+        ref = ex.apexes(ex.thermo(ex.reference_log(os.path.join(EXAMPLES, "free-fall"), label), "v_h"))
         t.check(len(runs[label]) == 4 and len(ref) == 4, "free-fall %s: four bounces (%s)" % (label, runs[label]))
         t.check(all(close(a, b, 1e-6) for a, b in zip(runs[label], ref)),
                 "free-fall %s: apexes %s match the reference log %s" % (label, runs[label], ref))
@@ -57,7 +59,7 @@ def sliding(wd):
     out = run_example("sliding", wd)
     x = ex.thermo(out, "v_x")[-1]
     v = ex.thermo(out, "v_v")[-1]
-    ref = ex.thermo(os.path.join(EXAMPLES, "sliding", "log.23Nov26.sliding.1"), "v_x")[-1]
+    ref = ex.thermo(ex.reference_log(os.path.join(EXAMPLES, "sliding")), "v_x")[-1]
     expected = ex.slide_on_sphere(1.414, 0.5, 9.81, 50.05)
     t.check(abs(v) < 1e-3, "sliding: the ball stopped (v = %.3g m/s)" % v)
     t.check(close(x, expected, 1e-3), "sliding: stopped after %.6f m, curved-floor solution %.6f m" % (x, expected))
@@ -73,15 +75,31 @@ def pour(wd):
     stock_text = stock_text.replace(" f_GRIDDEM[5] f_GRIDDEM[2]", "").replace(", $(f_GRIDDEM[5]) contacts", "")
     out = t.run_ok(stock_text, wd, name="in.pour.stock")
     phi_stock = float(re.findall(pattern, out)[-1])
-    with open(os.path.join(EXAMPLES, "pour", "log.2Dec26.pour.1")) as f:
+    with open(ex.reference_log(os.path.join(EXAMPLES, "pour"))) as f:
         phi_ref = float(re.findall(pattern, f.read())[-1])
     t.check(0.58 <= phi <= 0.66, "pour: packing fraction %.3f of a random packing of spheres" % phi)
     t.check(abs(phi - phi_stock) <= 0.01, "pour: %.3f, stock gran/hooke/history %.3f" % (phi, phi_stock))
     t.check(abs(phi - phi_ref) <= 0.005, "pour: %.3f, reference log %.3f" % (phi, phi_ref))
 
 
+def reference_logs_echo_inputs():
+    """Every reference log in examples/ (log.DATE.NAME[.variant].N) is the output of the current
+    examples/NAME/in.NAME: it echoes each of its commands in order and no other."""
+    # log.lammps: LAMMPS's own name, written where an example is run in its folder
+    logs = sorted(p for p in glob.glob(os.path.join(EXAMPLES, "*", "log.*")) if not p.endswith("log.lammps"))
+    t.check(len(logs) > 0, "reference logs found in %s" % EXAMPLES)
+    for log in logs:
+        name = os.path.basename(os.path.dirname(log))
+        t.check(re.match(r"log\.\d{1,2}[A-Z][a-z][a-z]\d\d\.%s(\.[^.]+)*\.\d+$" % re.escape(name),
+                         os.path.basename(log)), "%s named log.DATE.%s[.variant].N" % (log, name))
+        with open(log) as f:
+            fault = ex.echo_fault(os.path.join(EXAMPLES, name, "in." + name), f.read())
+        t.check(fault is None, "%s echoes in.%s (%s)" % (log, name, fault))
+
+
 def main():
     wd = t.workdir()
+    reference_logs_echo_inputs()
     free_fall(wd)
     sliding(wd)
     pour(wd)
