@@ -511,7 +511,7 @@ void PairGriddem::check_motion(double h_nn4dem)
 
 void PairGriddem::error_stencil_reach(double edge)
 {
-  error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell multi or a larger edge",
+  error->one(FLERR, "Pair style {}: contact distance {} spans more than {} cells of edge {} (radius ratio {}); use fix griddem cell auto (the default: a grid per size class) or a larger edge",
              force->pair_style, 2.0 * rmax + model.reach_extra, GRIDDEM_MAX_REACH, edge, rmax / rmin);
 }
 
