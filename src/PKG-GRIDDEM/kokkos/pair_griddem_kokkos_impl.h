@@ -453,7 +453,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
       "griddem/kk:sort_cells", Kokkos::RangePolicy<DeviceType>(0, ncell),
       KOKKOS_LAMBDA(const int c) {
         count(c) = 0;    // the fill cursor's work is done: zero again for the next binning
-        griddem_sort_cell(&order(start(c)), start(c + 1) - start(c), tags, sizeof(tagint), xs);
+        // an empty cell past the last slot has no element of order to point at
+        const int n = start(c + 1) - start(c);
+        if (n > 1) griddem_sort_cell(&order(start(c)), n, tags, sizeof(tagint), xs);
       });
   Kokkos::parallel_for(
       "griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int slot) {
