@@ -697,18 +697,33 @@ def peak_rss_mib(wd, text, name, extra):
         return usage.ru_maxrss / 1024.0, os.waitstatus_to_exitcode(status), out.read()
 
 
+# LAMMPS 4Feb2025's fix neigh/history/kk reads d_partner(i, m) for m up to an atom's partner
+# count, which can pass the view's 8 columns before they grow: with Kokkos's bounds check on,
+# stock gran/hooke/history/kk stops with this label on the squeeze below
+STOCK_PARTNER_BOUNDS = 'out of bounds access label=("neighbor_history:partner")'
+
+
 def check_exchange_buffer(wd, _data):
     """bench/gpu.py's poly scene at 4,096 atoms (diameters 1:10 on a lattice, squeezed fast to
     half the edge): the longest history row grows one contact at a time to about 18, and
     LAMMPS's CommKokkos grows its send buffer by 1.5 each time a fix's maxexchange grows; fix
     griddem/kk sizes it by powers of two, so the run stays within twice stock kk's memory
     (griddem needs half of stock's per atom). With a maxexchange that followed each contact:
-    472 MiB against stock's 78."""
-    rss = {}
+    472 MiB against stock's 78. On a build with Kokkos's bounds check stock stops in its own
+    fix (STOCK_PARTNER_BOUNDS): griddem's run is then checked alone."""
+    rss, stock_ran = {}, True
     for pair in ("gran/hooke/history", "griddem/hooke/history"):
         text = POLY.format(n=16, nz=16, style=pair, fix="", prep=300, steps=0)
         rss[pair], rc, out = peak_rss_mib(wd, text, "squeeze", kk_args(1))
+        if rc != 0 and pair == "gran/hooke/history" and STOCK_PARTNER_BOUNDS in out:
+            # stock's own fault, seen only where Kokkos checks bounds: no stock reference then
+            print("SKIPPED: the memory comparison: stock gran/hooke/history/kk stops in its fix "
+                  "neigh/history/kk (%s)" % t.errors(out)[:1])
+            rc = 0
+            stock_ran = False
         t.check(rc == 0, "%s/kk squeeze runs (exit %d): %s" % (pair, rc, t.errors(out)[:1]))
+    if not stock_ran:
+        return
     print("squeeze, peak RSS: stock kk %.0f MiB, griddem kk %.0f MiB" % (rss["gran/hooke/history"],
                                                                         rss["griddem/hooke/history"]))
     t.check(rss["griddem/hooke/history"] < 2.0 * rss["gran/hooke/history"],
