@@ -48,7 +48,7 @@ def session(bundle, wd, name, args, path=None):
     out = os.path.join(wd, "out-" + name)
     proc = subprocess.run([sys.executable, os.path.join(bundle, "bench", "gpu_session.py"), "--out", out] + args,
                           cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, timeout=2400)
+                          universal_newlines=True, timeout=1700)
     t.check(os.listdir(cwd) == [], "%s: the session wrote nothing into its working folder: %s" % (name, os.listdir(cwd)))
     jsonl = os.path.join(out, "session.jsonl")
     if not os.path.exists(jsonl):
@@ -96,7 +96,7 @@ def main():
     api = lmp_info(t.LMP)[0]
     threads = "2" if api and {"OpenMP", "Threads"} & set(api.split()) else "1"
     print("%s: Kokkos %s; dry run on %s threads" % (t.LMP, api, threads))
-    rc, lines = session(bundle, wd, "dry", ["--cpu", threads, "--deadline", "2000"])
+    rc, lines = session(bundle, wd, "dry", ["--cpu", threads, "--deadline", "1500"])
     t.check(rc == 0, "the dry run exits 0 (exit %d)" % rc)
     steps = check_steps("dry run", lines, STEPS, api)
     if api:
@@ -132,6 +132,7 @@ def main():
         print("GPU session with this lmp:", got)
         t.check(rc == 1 and len(got) == 1 and got[0]["step"] == "start" and got[0]["status"] == "failed" and
                 got[0].get("reason"), "a GPU session whose start fails stops after start, with its reason: %s" % got)
+    shutil.rmtree(os.path.join(wd, "bare"))
     t.finish()
 
 
