@@ -362,6 +362,8 @@ def main():
         line["status"] = "ok"
     except Failed as e:
         line.update(status="failed", reason=str(e))
+    except Exception as e:  # an lmp.xz that does not unpack, a fault of this script
+        line.update(status="failed", reason="gpu_session.py: %s: %s" % (type(e).__name__, e))
     s.record(line)
     if line["status"] != "ok":
         shutil.rmtree(s.scratch, ignore_errors=True)
