@@ -14,7 +14,7 @@ repository, so that they import each other unchanged:
   unittest/lammps/*.py                    test_kokkos.py and the test modules it imports
   unittest/kokkos_tools/sync_counter.c    the synchronisation counter, built there with cc
 
-Then: python3 DIR/bench/gpu_session.py --out OUT (bench/README.md, "A GPU session").
+Then, wherever DIR is copied: python3 DIR/bench/gpu_session.py --out OUT (bench/README.md).
 
 usage: bench/gpu_bundle.py --lmp LMP --out DIR [--xz] [--list-submodels PROGRAM] [--lammps-bench DIR]
 """
