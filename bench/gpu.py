@@ -57,6 +57,9 @@ import benchlib
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 BASE = 32000  # atoms in data.chute
+# LAMMPS's chute files (./tools/build downloads the LAMMPS source into .deps)
+LAMMPS_BENCH = os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench")
+CHUTE_FILES = ("data.chute", "in.chute.scaled")
 # (pair style as written in the input, note); all with the chute's coefficients
 STYLES = [
     ("gran/hooke/history/kk", "stock, LAMMPS's Kokkos chute benchmark"),
@@ -143,10 +146,14 @@ def scene_input(args, scaled, style, variant, natoms):
 
 
 def lmp_info(lmp):
-    out = subprocess.run([lmp, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True).stdout
-    api = re.search(r"KOKKOS package API:\s*(.*)", out)
-    pairs = out.split("* Pair styles:", 1)[-1].split("* Bond styles:", 1)[0].split()
+    return help_info(subprocess.run([lmp, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                    universal_newlines=True).stdout)
+
+
+def help_info(text):
+    """(the KOKKOS package API, None without KOKKOS; the set of pair styles) from lmp -h's text."""
+    api = re.search(r"KOKKOS package API:\s*(.*)", text)
+    pairs = text.split("* Pair styles:", 1)[-1].split("* Bond styles:", 1)[0].split()
     return (api.group(1).strip() if api else None), set(pairs)
 
 
@@ -253,7 +260,7 @@ def main():
     ap.add_argument("--steps", type=int, default=100)
     ap.add_argument("--only", default=None, help="comma-separated pair styles to run")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per run")
-    ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    ap.add_argument("--lammps-bench", default=LAMMPS_BENCH)
     ap.add_argument("--cell", default=None,
                     help="fix griddem cell modes for the griddem styles, e.g. auto,0.5 (default: none given)")
     ap.add_argument("--search", default=None,
@@ -295,7 +302,7 @@ def main():
     sizes = [atoms(s) for s in (args.sizes.split(",") if args.sizes else GPU_SIZES if gpu else CPU_SIZES)]
     grow = gpu and not args.sizes
 
-    chute = [os.path.join(args.lammps_bench, name) for name in ("data.chute", "in.chute.scaled")]
+    chute = [os.path.join(args.lammps_bench, name) for name in CHUTE_FILES]
     if args.scene == "chute" and not all(os.path.exists(path) for path in chute):
         raise SystemExit("gpu.py: no %s: name the folder of LAMMPS's data.chute and in.chute.scaled with "
                          "--lammps-bench DIR (./tools/build downloads it into .deps)" % " or ".join(

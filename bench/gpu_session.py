@@ -1,17 +1,20 @@
 #!/usr/bin/env python3
-"""One GPU session's measurements, in priority order, under one deadline.
+"""One GPU session's measurements, in priority order, under one deadline, from a bundle alone.
 
-A lent GPU machine gives minutes, not hours: this script spends them measuring. Given a CUDA
-`lmp` (built on the CPU machine, bench/README.md "A GPU session"), it runs these steps in order,
-each under its own cap and all under --deadline, and writes every result as soon as it has it,
-so that a session cut short still keeps what it reached:
+A lent GPU machine gives minutes, not hours, and holds only what is sent to it. This script runs
+from a bundle (bench/gpu_bundle.py: the lmp, the CUDA runtime it links, and every program, script
+and data file the steps read) and reads nothing outside it. It runs these steps in order, each
+under its own cap and all under --deadline, and writes every result as soon as it has it, so that
+a session cut short still keeps what it reached:
 
-  start    the lmp starts and initialises Kokkos on the device (ldd: no library missing)
+  start    the lmp loads (ldd, with the bundle's lib/ first: no library or symbol version
+           missing), on a GPU the driver is there and supports the lmp's CUDA runtime, lmp -h
+           runs and names KOKKOS (its device back end on a GPU), and the lmp initialises Kokkos;
+           if any of these fails the script stops, its reason recorded
   kktests  test_kokkos.py's GPU sections (KK_SECTIONS: list and row layouts, size classes,
-           history rows that grow, migrate and go through restart, the blocking synchronisations
-           of a step, counted by unittest/kokkos_tools/sync_counter.c, built here with cc,
-           the team search against the thread search),
-           GRIDDEM_KK_GPUS=1
+           history rows that grow, migrate, are added and deleted and go through restart, the
+           blocking synchronisations of a step, counted by unittest/kokkos_tools/sync_counter.c,
+           built here with cc, the team search against the thread search), GRIDDEM_KK_GPUS=1
   chute    bench/gpu.py: stock and griddem/hooke/history/kk (fix griddem search thread and team)
            on LAMMPS's chute at 2M, 8M and 32M atoms
   bound    bench/gpu.py --launch-blocking: one stock run at 2M, for the bound on any pair style
@@ -20,21 +23,28 @@ so that a session cut short still keeps what it reached:
   largest  the largest chute that the griddem history style's memory slope (peak GPU memory at
            8M and 32M from the chute step) says fits in 90% of the device's memory, 100 steps
 
+Each step after start checks what it needs (the bundle's files, a KOKKOS lmp, cc) and records one
+line: ok, or skipped or failed with its reason; the next step runs either way. Without cc the
+kktests step leaves out the synchronisation section and census is skipped, each saying so.
+
 Out folder (--out; $OUT on the device machine): session.jsonl (one line per step: name, status,
-seconds, what it found), gpu.jsonl (bench/gpu.py's lines, to be appended to
+reason, seconds, what it found), gpu.jsonl (bench/gpu.py's lines, to be appended to
 bench/results/gpu.jsonl after the session), session.log (every step's output, with headers).
 
 --cpu N runs the same steps end to end on N OpenMP threads with small sizes (a Kokkos OpenMP
-build) and caps 10x longer, so that a GPU session never fails on a script error; bound is then
-skipped (CUDA only).
+lmp) and caps 10x longer, so that a GPU session never fails on a script error; bound is then
+skipped (CUDA only). With an lmp without KOKKOS the dry run checks the bundle: the kk steps are
+skipped, saying so.
 
-usage: bench/gpu_session.py --lmp LMP[.xz] --out DIR [--deadline 420] [--cpu N] [--only STEP,...]
-                            [--lammps-bench DIR]
+usage: BUNDLE/bench/gpu_session.py --out DIR [--deadline 420] [--cpu N] [--only STEP,...]
 """
 import argparse
+import collections
+import ctypes
 import json
 import lzma
 import os
+import re
 import shutil
 import signal
 import stat
@@ -43,29 +53,35 @@ import sys
 import tempfile
 import time
 
+import gpu_bundle as bundle
+from gpu import CHUTE_FILES, help_info, reason
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-TOP = os.path.dirname(HERE)
-GPU_PY = os.path.join(HERE, "gpu.py")
-KK_SECTIONS = "laws,classes,growth,migration,add_delete,restart,synchronisation,search"
+BUNDLE = os.path.dirname(HERE)
+KK_SECTIONS = ["laws", "classes", "growth", "migration", "add_delete", "restart", "synchronisation", "search"]
+SKIP = 77  # test_kokkos.py's exit code when the lmp has no KOKKOS
 STOCK, HISTORY = "gran/hooke/history/kk", "griddem/hooke/history/kk"
-# (step, cap in seconds, GPU sizes, CPU dry-run sizes)
-STEPS = [
-    ("start", 30, None, None),
-    ("kktests", 120, None, None),
-    ("chute", 170, "2M,8M,32M", "32k,64k,128k"),
-    ("bound", 25, "2M", None),
-    ("poly", 60, "2M", "16k"),
-    ("census", 60, "8M", "64k"),
-    ("largest", 90, None, None),
-]
+START_CAP = 30
 DRY_LARGEST_CAP = 256000  # atoms: the dry run computes the largest size but runs no more than this
 DRY_CAP_FACTOR = 10       # the dry run's caps: a few CPU threads do in 10x the time what a GPU does
+NO_KOKKOS = "lmp has no KOKKOS package (lmp -h)"
+
+
+class Skipped(Exception):
+    """A step that does not apply to this lmp or machine; its reason."""
+
+
+class Failed(Exception):
+    """A step that cannot run; its reason."""
 
 
 class Session:
-    def __init__(self, out, deadline):
-        self.out, self.end = out, time.time() + deadline
+    def __init__(self, out, deadline, cpu):
+        self.out, self.end, self.cpu = out, time.time() + deadline, cpu
         self.log = open(os.path.join(out, "session.log"), "a")
+        self.scratch = tempfile.mkdtemp(prefix="griddem-session-")
+        self.results = os.path.join(out, "gpu.jsonl")
+        self.lmp = self.api = None
 
     def left(self):
         return self.end - time.time()
@@ -76,13 +92,13 @@ class Session:
             f.write(json.dumps(line) + "\n")
 
     def run(self, name, cmd, cap, env=None):
-        """Run cmd (its output to session.log) for at most min(cap, time left): (exit code or
-        None if it was stopped at its cap or the deadline, seconds)."""
+        """Run cmd in the scratch folder (its output to session.log) for at most min(cap, time
+        left): (exit code or None if it was stopped, seconds, its output, what would stop it)."""
         limit = max(1.0, min(cap, self.left()))
         self.log.write("\n===== %s: %s (at most %.0f s)\n" % (name, " ".join(cmd), limit))
         self.log.flush()
-        start = time.time()
-        proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT, cwd=TOP,
+        begin, start = self.log.tell(), time.time()
+        proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT, cwd=self.scratch,
                                 env=dict(os.environ, **(env or {})), start_new_session=True)
         try:
             rc = proc.wait(timeout=limit)
@@ -91,13 +107,47 @@ class Session:
             proc.wait()
             rc = None
         self.log.flush()
-        return rc, round(time.time() - start, 1)
+        with open(self.log.name, "rb") as f:
+            f.seek(begin)
+            out = f.read().decode(errors="replace")
+        return rc, round(time.time() - start, 1), out, "its cap" if limit == cap else "the deadline"
+
+    def kk_switches(self):
+        return ["-k", "on"] + (["t", str(self.cpu)] if self.cpu else ["g", "1"])
+
+    def need(self, *paths):
+        """Fail the step if the bundle lacks one of paths (relative to it)."""
+        absent = [p for p in paths if not os.path.exists(os.path.join(BUNDLE, p))]
+        if absent:
+            raise Failed("the bundle has no %s" % ", ".join(absent))
+
+    def need_kokkos(self):
+        if not self.api:
+            raise Skipped(NO_KOKKOS)
 
 
-def unpacked(lmp, scratch):
-    """lmp itself, or lmp.xz decompressed into scratch and made executable."""
+def cuda_version(library, function):
+    """A CUDA version number (13000 is 13.0) that library's function gives, or the reason it
+    gives none."""
+    try:
+        value = ctypes.c_int()
+        rc = getattr(ctypes.CDLL(library), function)(ctypes.byref(value))
+    except (OSError, AttributeError) as e:
+        return None, str(e)
+    return (value.value, None) if rc == 0 else (None, "%s returned %d" % (function, rc))
+
+
+def version_text(number):
+    return "%d.%d" % (number // 1000, number % 1000 // 10)
+
+
+def unpacked(scratch):
+    """The bundle's lmp, or its lmp.xz decompressed into scratch and made executable."""
+    lmp = bundle.bundled_lmp(BUNDLE)
+    if lmp is None:
+        raise Failed("no lmp or lmp.xz in %s: make the bundle with bench/gpu_bundle.py" % BUNDLE)
     if not lmp.endswith(".xz"):
-        return os.path.abspath(lmp)
+        return lmp
     path = os.path.join(scratch, "lmp")
     with lzma.open(lmp) as src, open(path, "wb") as dst:
         shutil.copyfileobj(src, dst)
@@ -105,10 +155,143 @@ def unpacked(lmp, scratch):
     return path
 
 
-def missing_libraries(lmp):
-    out = subprocess.run(["ldd", lmp], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True).stdout
-    return [line.split()[0] for line in out.splitlines() if "not found" in line]
+def start(s, line):
+    """Raises Failed unless the lmp loads, finds its device and initialises Kokkos."""
+    s.lmp = unpacked(s.scratch)
+    resolved, problems = bundle.ldd(s.lmp, os.path.join(BUNDLE, bundle.LIB))
+    if problems:
+        raise Failed("%sldd: %s" % ("no NVIDIA driver: " if any("libcuda.so" in p for p in problems) else "",
+                                    "; ".join(problems)))
+    runtime = [path for name, path in resolved.items() if name.startswith(bundle.CARRIED_LIBRARIES)]
+    line["cuda_runtime"] = runtime[0] if runtime else None
+    if not s.cpu:
+        driver, why = cuda_version("libcuda.so.1", "cuDriverGetVersion")
+        if driver is None:
+            raise Failed("no NVIDIA driver: %s" % why)
+        line["driver_cuda"] = version_text(driver)
+        if runtime:
+            needed, why = cuda_version(runtime[0], "cudaRuntimeGetVersion")
+            if needed is None:
+                raise Failed("the CUDA runtime %s gives no version: %s" % (runtime[0], why))
+            line["runtime_cuda"] = version_text(needed)
+            if driver < needed:
+                raise Failed("the driver supports CUDA %s, older than the lmp's runtime %s (%s)" % (
+                    version_text(driver), version_text(needed), runtime[0]))
+    rc, _, out, _ = s.run("start: lmp -h", [s.lmp, "-h"], START_CAP)
+    if rc != 0:
+        raise Failed("lmp -h: %s" % ("stopped at %d s" % START_CAP if rc is None else reason(rc, out, False, 0)))
+    s.api = help_info(out)[0]
+    line["kokkos"] = s.api
+    if not s.api:
+        if not s.cpu:
+            raise Failed(NO_KOKKOS)
+        line["note"] = NO_KOKKOS + ": the kk steps are skipped"
+        return
+    if not s.cpu and "CUDA" not in s.api.split():
+        raise Failed("lmp's Kokkos has no CUDA back end (%s)" % s.api)
+    rc, seconds, out, _ = s.run("start", [s.lmp] + s.kk_switches() + ["-sf", "kk", "-in", "/dev/null", "-log", "none"],
+                                START_CAP)
+    line["seconds"] = seconds
+    if rc != 0:
+        raise Failed("Kokkos does not start: %s" % (
+            "stopped at %d s" % START_CAP if rc is None else reason(rc, out, False, 0)))
+
+
+def sync_counter(s):
+    """(the sync counter library built here, or None; why not)."""
+    cc = shutil.which("cc")
+    if not cc:
+        return None, "no C compiler (cc) to build %s" % bundle.SYNC_COUNTER_SOURCE
+    lib = os.path.join(s.scratch, "griddem_sync_counter.so")
+    built = subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", lib, os.path.join(BUNDLE, bundle.SYNC_COUNTER_SOURCE)],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    if built.returncode != 0:
+        return None, "cc failed on %s: %s" % (bundle.SYNC_COUNTER_SOURCE, (built.stdout.strip().splitlines() or ["?"])[0])
+    return lib, None
+
+
+def kktests(s, line, cap, sizes):
+    s.need(bundle.KK_TESTS, bundle.LIST_SUBMODELS, bundle.SYNC_COUNTER_SOURCE)
+    env = {"GRIDDEM_LMP": s.lmp, "GRIDDEM_LIST_SUBMODELS": os.path.join(BUNDLE, bundle.LIST_SUBMODELS)}
+    env.update({"OMP_NUM_THREADS": str(s.cpu)} if s.cpu else {"GRIDDEM_KK_GPUS": "1"})
+    sections = list(KK_SECTIONS)
+    counter, why = sync_counter(s)
+    if counter:
+        env["GRIDDEM_SYNC_COUNTER"] = counter
+    else:
+        sections.remove("synchronisation")
+        line["not_run"] = {"synchronisation": why}
+    line["sections"] = ",".join(sections)
+    ran = s.run("kktests", [sys.executable, os.path.join(BUNDLE, bundle.KK_TESTS), "--only", line["sections"]], cap, env)
+    out = ran[2]
+    tally = re.findall(r"^\d+ passed, \d+ failed$", out, re.M)
+    line["result"] = tally[-1] if tally else None
+    if ran[0] == SKIP:  # the test's own skip: it found no KOKKOS in the lmp
+        raise Skipped(next((l for l in out.splitlines() if l.startswith("SKIPPED")), "test_kokkos.py exit 77")[:300])
+    return ran
+
+
+def bench(s, line, cap, args, on_chute=True, compiles=None):
+    """bench/gpu.py with args (on the chute unless on_chute is False; building the bundle's source
+    compiles with cc if given), its lines to gpu.jsonl; line gets how many runs ended how."""
+    chute_files = [os.path.join(bundle.LAMMPS_BENCH, name) for name in CHUTE_FILES] if on_chute else []
+    s.need(bundle.GPU_PY, *chute_files + ([compiles] if compiles else []))
+    s.need_kokkos()
+    if compiles and not shutil.which("cc"):
+        raise Skipped("no C compiler (cc) to build %s" % compiles)
+    before = len(bench_lines(s.results))
+    device = ["--threads", str(s.cpu)] if s.cpu else ["--gpu"]
+    ran = s.run(line["step"], [sys.executable, os.path.join(BUNDLE, bundle.GPU_PY), "--lmp", s.lmp,
+                               "--results", s.results, "--lammps-bench", os.path.join(BUNDLE, bundle.LAMMPS_BENCH)]
+                + device + args, cap)
+    line["runs"] = dict(collections.Counter(l["status"] for l in bench_lines(s.results)[before:]))
+    return ran
+
+
+def chute(s, line, cap, sizes):
+    return bench(s, line, cap, ["--sizes", sizes, "--only", ",".join([STOCK, HISTORY]), "--search", "thread,team"])
+
+
+def bound(s, line, cap, sizes):
+    if s.cpu:
+        raise Skipped("CUDA_LAUNCH_BLOCKING needs a GPU")
+    return bench(s, line, cap, ["--sizes", sizes, "--only", STOCK, "--launch-blocking"])
+
+
+def poly(s, line, cap, sizes):
+    return bench(s, line, cap, ["--scene", "poly", "--sizes", sizes, "--only", ",".join([STOCK, HISTORY])] + (
+        ["--prep", "500"] if s.cpu else []), on_chute=False)
+
+
+def census(s, line, cap, sizes):
+    return bench(s, line, cap, ["--sizes", sizes, "--census", "--only", ",".join([STOCK, HISTORY])],
+                 compiles=bundle.CENSUS_SOURCE)
+
+
+def largest(s, line, cap, sizes):
+    s.need_kokkos()
+    atoms, how = largest_size(s.results, s.cpu)
+    line["how"] = how
+    if atoms is None:
+        raise Skipped(how)
+    line["fits_atoms"] = atoms
+    if s.cpu:
+        atoms = min(atoms, DRY_LARGEST_CAP)
+    return bench(s, line, cap, ["--sizes", str(atoms), "--only", HISTORY, "--timeout", str(int(cap))])
+
+
+# (step, cap in seconds, GPU sizes, CPU dry-run sizes) in order, after start; the kk tests are
+# many small runs, each paying the device's start-up: their cap counts on no speed-up over the
+# CPU dry run (bench/README.md)
+STEPS = [
+    (kktests, 300, None, None),
+    (chute, 170, "2M,8M,32M", "32k,64k,128k"),
+    (bound, 25, "2M", None),
+    (poly, 60, "2M", "16k"),
+    (census, 60, "8M", "64k"),
+    (largest, 90, None, None),
+]
+STEP_NAMES = [step[0].__name__ for step in STEPS]
 
 
 def bench_lines(path, **match):
@@ -152,88 +335,66 @@ def largest_size(results, cpu):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--lmp", required=True, help="a Kokkos lmp (CUDA for a GPU session), or lmp.xz")
     ap.add_argument("--out", required=True, help="folder for session.jsonl, gpu.jsonl and session.log")
     ap.add_argument("--deadline", type=float, default=420.0, help="seconds for all steps together")
     ap.add_argument("--cpu", type=int, default=None, metavar="N",
-                    help="dry run on N OpenMP threads with small sizes (a Kokkos OpenMP build)")
-    ap.add_argument("--only", default=None, help="comma-separated steps to run (default: all, in order)")
-    ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"),
-                    help="folder of LAMMPS's data.chute and in.chute.scaled")
+                    help="dry run on N OpenMP threads with small sizes (a Kokkos OpenMP lmp)")
+    ap.add_argument("--only", default=None, help="comma-separated steps to run after start (default: all, in order)")
     args = ap.parse_args()
-    os.makedirs(args.out, exist_ok=True)
-    session = Session(args.out, args.deadline)
-    scratch = tempfile.mkdtemp(prefix="griddem-session-")
-    lmp = unpacked(args.lmp, scratch)
-    results = os.path.join(os.path.abspath(args.out), "gpu.jsonl")
-    device = ["--threads", str(args.cpu)] if args.cpu else ["--gpu"]
-    gpu_py = [sys.executable, GPU_PY, "--lmp", lmp, "--results", results,
-              "--lammps-bench", os.path.abspath(args.lammps_bench)] + device
-    only = args.only.split(",") if args.only else [s[0] for s in STEPS]
-    session.record({"step": "session", "lmp": args.lmp, "deadline_s": args.deadline,
-                    "mode": "cpu %d threads" % args.cpu if args.cpu else "gpu", "steps": only,
-                    "date": time.strftime("%Y-%m-%d %H:%M:%S")})
-    for name, cap, gpu_sizes, cpu_sizes in STEPS:
-        if name not in only:
+    only = args.only.split(",") if args.only else STEP_NAMES
+    unknown = [name for name in only if name not in STEP_NAMES]
+    if unknown:
+        raise SystemExit("gpu_session.py --only: no step %s (steps: %s)" % (",".join(unknown), ",".join(STEP_NAMES)))
+    # nothing from outside the bundle: no test settings of the caller's, the bundle's libraries first
+    for key in [k for k in os.environ if k.startswith("GRIDDEM_") or k == "KOKKOS_TOOLS_LIBS"]:
+        del os.environ[key]
+    os.environ["LD_LIBRARY_PATH"] = os.pathsep.join(
+        p for p in (os.path.join(BUNDLE, bundle.LIB), os.environ.get("LD_LIBRARY_PATH")) if p)
+    out = os.path.abspath(args.out)
+    os.makedirs(out, exist_ok=True)
+    s = Session(out, args.deadline, args.cpu)
+    s.record({"step": "session", "bundle": BUNDLE, "deadline_s": args.deadline,
+              "mode": "cpu %d threads" % args.cpu if args.cpu else "gpu", "steps": ["start"] + only,
+              "date": time.strftime("%Y-%m-%d %H:%M:%S")})
+    line = {"step": "start"}
+    try:
+        start(s, line)
+        line["status"] = "ok"
+    except Failed as e:
+        line.update(status="failed", reason=str(e))
+    except Exception as e:  # an lmp.xz that does not unpack, a fault of this script
+        line.update(status="failed", reason="gpu_session.py: %s: %s" % (type(e).__name__, e))
+    s.record(line)
+    if line["status"] != "ok":
+        shutil.rmtree(s.scratch, ignore_errors=True)
+        sys.exit(1)
+    for step, cap, gpu_sizes, cpu_sizes in STEPS:
+        if step.__name__ not in only:
             continue
-        line = {"step": name}
-        if session.left() < 5:
+        line = {"step": step.__name__}
+        if s.left() < 5:
             line.update(status="not reached", reason="deadline")
-            session.record(line)
+            s.record(line)
             continue
-        sizes = cpu_sizes if args.cpu else gpu_sizes
-        rc, env = None, {}
-        if name == "start":
-            missing = missing_libraries(lmp)
-            line["missing_libraries"] = missing
-            kk = ["-k", "on"] + (["t", str(args.cpu)] if args.cpu else ["g", "1"])
-            cmd = [lmp] + kk + ["-sf", "kk", "-in", "/dev/null", "-log", "none"]
-        elif name == "kktests":
-            counter = os.path.join(scratch, "griddem_sync_counter.so")
-            subprocess.run(["cc", "-O2", "-shared", "-fPIC", "-o", counter,
-                            os.path.join(TOP, "unittest", "kokkos_tools", "sync_counter.c")])
-            env = {"GRIDDEM_LMP": lmp, "GRIDDEM_SYNC_COUNTER": counter}
-            env.update({"OMP_NUM_THREADS": str(args.cpu)} if args.cpu else {"GRIDDEM_KK_GPUS": "1"})
-            cmd = [sys.executable, os.path.join(TOP, "unittest", "lammps", "test_kokkos.py"), "--only", KK_SECTIONS]
-            line["sections"] = KK_SECTIONS
-        elif name == "chute":
-            cmd = gpu_py + ["--sizes", sizes, "--only", ",".join([STOCK, HISTORY]), "--search", "thread,team"]
-        elif name == "bound":
-            if args.cpu:
-                line.update(status="skipped", reason="CUDA_LAUNCH_BLOCKING needs a GPU")
-                session.record(line)
-                continue
-            cmd = gpu_py + ["--sizes", sizes, "--only", STOCK, "--launch-blocking"]
-        elif name == "poly":
-            cmd = gpu_py + ["--scene", "poly", "--sizes", sizes, "--only", ",".join([STOCK, HISTORY])] + (
-                ["--prep", "500"] if args.cpu else [])
-        elif name == "census":
-            cmd = gpu_py + ["--sizes", sizes, "--census", "--only", ",".join([STOCK, HISTORY])]
-        elif name == "largest":
-            atoms, how = largest_size(results, args.cpu)
-            line["how"] = how
-            if atoms is None:
-                line.update(status="skipped", reason=how)
-                session.record(line)
-                continue
-            line["fits_atoms"] = atoms
-            if args.cpu:
-                atoms = min(atoms, DRY_LARGEST_CAP)
-            cmd = gpu_py + ["--sizes", str(atoms), "--only", HISTORY, "--timeout", str(int(cap))]
-        before = len(bench_lines(results))
-        rc, seconds = session.run(name, cmd, cap * (DRY_CAP_FACTOR if args.cpu else 1), env)
-        line.update(status="ok" if rc == 0 else "stopped at %.0f s" % seconds if rc is None else "exit %d" % rc,
-                    seconds=seconds)
-        if name == "start":
-            line["started"] = rc == 0 and not line["missing_libraries"]
-        if name == "kktests":
-            with open(os.path.join(args.out, "session.log")) as f:
-                tail = [l for l in f.read().splitlines() if " passed, " in l and " failed" in l]
-            line["result"] = tail[-1] if tail else None
-        if cmd[:2] == [sys.executable, GPU_PY]:
-            line["bench_lines"] = len(bench_lines(results)) - before
-        session.record(line)
-    shutil.rmtree(scratch, ignore_errors=True)
+        try:
+            rc, seconds, out_text, limit = step(s, line, cap * (DRY_CAP_FACTOR if s.cpu else 1),
+                                                cpu_sizes if s.cpu else gpu_sizes)
+            line["seconds"] = seconds
+            if rc == 0:
+                line["status"] = "ok"
+            elif rc is None:
+                line.update(status="stopped", reason="stopped at %s after %.0f s" % (limit, seconds))
+            else:
+                line.update(status="failed", reason=reason(rc, out_text, False, 0))
+        except Skipped as e:
+            line.update(status="skipped", reason=str(e))
+        except Failed as e:
+            line.update(status="failed", reason=str(e))
+        except Exception as e:  # a fault of this script in one step: the next still runs
+            line.update(status="failed", reason="gpu_session.py: %s: %s" % (type(e).__name__, e))
+        s.record(line)
+    shutil.rmtree(s.scratch, ignore_errors=True)
 
 
-main()
+if __name__ == "__main__":
+    main()

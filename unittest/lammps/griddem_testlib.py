@@ -57,14 +57,18 @@ pair_style {pair}
 """
 
 
+def list_submodels_program(lmp=LMP):
+    """unittest/core/list_submodels: GRIDDEM_LIST_SUBMODELS (set by ctest), else the one in the
+    build folder of lmp."""
+    return os.environ.get("GRIDDEM_LIST_SUBMODELS") or os.path.join(
+        os.path.dirname(os.path.abspath(lmp)), "unittest", "core", "list_submodels")
+
+
 def submodel_table():
     """The sub-model table (griddem_submodels.c) as unittest/core/list_submodels prints it:
     ([(label, type 1 arguments, type 2 arguments)] of the rows' examples, [(keyword, name)] of
-    pair granular's models that the table does not evaluate). The program is found through
-    GRIDDEM_LIST_SUBMODELS (set by ctest), else in the build folder of GRIDDEM_LMP."""
-    program = os.environ.get("GRIDDEM_LIST_SUBMODELS") or os.path.join(
-        os.path.dirname(os.path.abspath(LMP)), "unittest", "core", "list_submodels")
-    lines = subprocess.run([program], stdout=subprocess.PIPE, universal_newlines=True,
+    pair granular's models that the table does not evaluate)."""
+    lines = subprocess.run([list_submodels_program()], stdout=subprocess.PIPE, universal_newlines=True,
                            check=True).stdout.splitlines()
     rows = [line.split("\t") for line in lines]
     return ([tuple(r[1:]) for r in rows if r[0] == "example"],
