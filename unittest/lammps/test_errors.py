@@ -95,7 +95,7 @@ fix grid all griddem cell exact
 fix integrate all nve/sphere
 run 5
 """, WD, name="in.stencil_reach")
-t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in out and "cell multi" in out,
+t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in out and "use fix griddem cell auto" in out,
         "stencil_reach: error names the ratio and the remedy")
 case("two_d", "supports 3d simulations only", dim=2)
 case("no_ghost_velocity", "comm_modify vel yes", comm="")
