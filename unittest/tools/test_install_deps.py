@@ -17,6 +17,9 @@ import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "lammps"))
+import griddem_testlib as t  # noqa: E402  (the suite's check and closing line)
+
 INSTALL_DEPS = os.path.join(HERE, "..", "..", "tools", "install-deps")
 
 STUBS = {
@@ -28,19 +31,6 @@ STUBS = {
     "sudo": '#!/bin/sh\nexec "$@"\n',
 }
 
-failures = []
-passed = 0
-
-
-def check(cond, message):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(message)
-        print("FAILED: " + message, file=sys.stderr)
-
-
 def planned_installs(stubs, missing):
     """The apt-get install commands install-deps runs where the packages in missing are not
     installed: a list of argument lists."""
@@ -51,7 +41,7 @@ def planned_installs(stubs, missing):
                STUB_LOG=log)
     proc = subprocess.run([INSTALL_DEPS], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True)
-    check(proc.returncode == 0, "install-deps with %s missing: exit %d %s" % (missing, proc.returncode, proc.stdout))
+    t.check(proc.returncode == 0, "install-deps with %s missing: exit %d %s" % (missing, proc.returncode, proc.stdout))
     if not os.path.exists(log):
         return []
     with open(log) as f:
@@ -70,19 +60,19 @@ def check_made_up_machines():
 
         plans = planned_installs(stubs, ["python3-vtk9", "python3-scipy"])
         print("ParaView's Python installed: %s" % plans)
-        check(len(plans) == 1, "ParaView installed: one apt-get install (%s)" % plans)
+        t.check(len(plans) == 1, "ParaView installed: one apt-get install (%s)" % plans)
         for plan in plans:
-            check("--no-remove" in plan, "ParaView installed: apt-get install --no-remove (%s)" % plan)
-            check("python3-scipy" in plan, "ParaView installed: the missing python3-scipy is installed (%s)" % plan)
-            check("python3-vtk9" not in plan, "ParaView installed: python3-vtk9, which would remove it, is not "
+            t.check("--no-remove" in plan, "ParaView installed: apt-get install --no-remove (%s)" % plan)
+            t.check("python3-scipy" in plan, "ParaView installed: the missing python3-scipy is installed (%s)" % plan)
+            t.check("python3-vtk9" not in plan, "ParaView installed: python3-vtk9, which would remove it, is not "
                   "installed (%s)" % plan)
 
         plans = planned_installs(stubs, ["python3-vtk9", "python3-paraview", "python3-scipy"])
         print("no VTK: %s" % plans)
-        check(len(plans) == 1, "no VTK: one apt-get install (%s)" % plans)
+        t.check(len(plans) == 1, "no VTK: one apt-get install (%s)" % plans)
         for plan in plans:
-            check("--no-remove" in plan, "no VTK: apt-get install --no-remove (%s)" % plan)
-            check("python3-vtk9" in plan and "python3-scipy" in plan,
+            t.check("--no-remove" in plan, "no VTK: apt-get install --no-remove (%s)" % plan)
+            t.check("python3-vtk9" in plan and "python3-scipy" in plan,
                   "no VTK: python3-vtk9 and python3-scipy are installed (%s)" % plan)
     finally:
         shutil.rmtree(stubs)
@@ -96,15 +86,14 @@ def check_this_machine():
                           universal_newlines=True)
     removals = [line for line in proc.stdout.splitlines() if line.startswith("Remv ")]
     paraview = subprocess.run(["dpkg-query", "-W", "-f=${Status}", "python3-paraview"], stdout=subprocess.PIPE,
-                              stderr=subprocess.DEVNULL, universal_newlines=True).stdout.endswith("installed")
+                              stderr=subprocess.DEVNULL, universal_newlines=True).stdout == "install ok installed"
     print("this machine (python3-paraview %s): apt-get -s exit %d, %d removals"
           % ("installed" if paraview else "not installed", proc.returncode, len(removals)))
-    check(proc.returncode == 0, "install-deps --simulate: apt accepts the plan (exit %d): %s"
+    t.check(proc.returncode == 0, "install-deps --simulate: apt accepts the plan (exit %d): %s"
           % (proc.returncode, proc.stdout[-1500:]))
-    check(not removals, "install-deps --simulate: apt removes nothing (%s)" % removals)
+    t.check(not removals, "install-deps --simulate: apt removes nothing (%s)" % removals)
 
 
 check_made_up_machines()
 check_this_machine()
-print("%d passed, %d failed" % (passed, len(failures)))
-sys.exit(1 if failures or passed == 0 else 0)
+t.finish()
