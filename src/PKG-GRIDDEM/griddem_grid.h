@@ -7,6 +7,7 @@
 
 #include "griddem_portable.h"
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -28,7 +29,7 @@ GRIDDEM_INLINE int griddem_slot_before(int a, int b, const void *key, int key_by
   const int64_t ka = griddem_key_at(key, key_bytes, a), kb = griddem_key_at(key, key_bytes, b);
   if (ka != kb) return ka < kb;
   for (int d = 0; d < 3; d++)
-    if (x[3 * a + d] != x[3 * b + d]) return x[3 * a + d] < x[3 * b + d];
+    if (x[3 * (size_t) a + d] != x[3 * (size_t) b + d]) return x[3 * (size_t) a + d] < x[3 * (size_t) b + d];
   return 0;
 }
 

@@ -416,7 +416,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
             const double sx = corner[0] - g.corner(0, x);
             for (const int end = start(row + x + 1); u < end; u++) {
               if (u == s) continue;
-              const float *pu = rows + 4 * (u + shift);
+              const float *pu = rows + 4 * (size_t) (u + shift);
               const double dx = (pi[0] - (double) pu[0]) + sx;
               const double dy = (pi[1] - (double) pu[1]) + sy;
               const double dz = (pi[2] - (double) pu[2]) + sz;
