@@ -28,8 +28,9 @@ GRIDDEM_INLINE int griddem_slot_before(int a, int b, const void *key, int key_by
 {
   const int64_t ka = griddem_key_at(key, key_bytes, a), kb = griddem_key_at(key, key_bytes, b);
   if (ka != kb) return ka < kb;
+  const double *xa = x + 3 * (size_t) a, *xb = x + 3 * (size_t) b;
   for (int d = 0; d < 3; d++)
-    if (x[3 * (size_t) a + d] != x[3 * (size_t) b + d]) return x[3 * (size_t) a + d] < x[3 * (size_t) b + d];
+    if (xa[d] != xb[d]) return xa[d] < xb[d];
   return 0;
 }
 

@@ -487,38 +487,32 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
     if (b->n == 0) continue;
     stencil_row rows[MAX_ROWS];
     const int nrows = build_stencil(g, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra), rows);
+    double cut[kc + 1];    /* contact distance to each coarser class */
+    for (int lc = 0; lc < kc; lc++) cut[lc] = contact_reach(cls[lc].g, cls[kc].rmax, cls[lc].rmax, reach_extra);
     const long nx = g->n[0], nxy = nx * g->n[1];
     for (int s = 0; s < b->n;) {    /* occupied cells only, through their slots */
       const long cell = b->cell[b->order[s]];
-      const int x = (int) (cell % nx), y = (int) (cell / nx % g->n[1]), z = (int) (cell / nxy);
+      const int k[3] = {(int) (cell % nx), (int) (cell / nx % g->n[1]), (int) (cell / nxy)};
       const long n = b->cell_start[cell + 1] - b->cell_start[cell];
       long stencil = 0;
       for (int r = 0; r < nrows; r++)
-        stencil += row_slots(g, b, x + rows[r].dxlo, x + rows[r].dxhi, y + rows[r].dy, z + rows[r].dz);
+        stencil += row_slots(g, b, k[0] + rows[r].dxlo, k[0] + rows[r].dxhi, k[1] + rows[r].dy, k[2] + rows[r].dz);
       candidates += (double) n * stencil - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
-      s = b->cell_start[cell + 1];
-    }
-    /* into each coarser class: the cells within the contact distance of the small sphere's cell */
-    for (int lc = 0; lc < kc; lc++) {
-      const griddem_grid *gl = cls[lc].g;
-      const griddem_bins *bl = cls[lc].b;
-      if (bl->n == 0) continue;
-      const double cut = contact_reach(gl, cls[kc].rmax, cls[lc].rmax, reach_extra);
-      for (int s = 0; s < b->n;) {
-        const long cell = b->cell[b->order[s]];
-        const long k[3] = {cell % nx, cell / nx % g->n[1], cell / nxy};
+      /* into each coarser class: the cells within the contact distance of this cell */
+      for (int lc = 0; lc < kc; lc++) {
+        const griddem_grid *gl = cls[lc].g;
         int blo[3], bhi[3];
         for (int d = 0; d < 3; d++) {
           const double lo = g->lo[d] + k[d] * g->h;
-          blo[d] = griddem_axis_cell(lo - cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
-          bhi[d] = griddem_axis_cell(lo + g->h + cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          blo[d] = griddem_axis_cell(lo - cut[lc], gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          bhi[d] = griddem_axis_cell(lo + g->h + cut[lc], gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
         }
         long block = 0;
         for (int zz = blo[2]; zz <= bhi[2]; zz++)
-          for (int yy = blo[1]; yy <= bhi[1]; yy++) block += row_slots(gl, bl, blo[0], bhi[0], yy, zz);
-        candidates += (double) (b->cell_start[cell + 1] - b->cell_start[cell]) * block;
-        s = b->cell_start[cell + 1];
+          for (int yy = blo[1]; yy <= bhi[1]; yy++) block += row_slots(gl, cls[lc].b, blo[0], bhi[0], yy, zz);
+        candidates += (double) n * block;
       }
+      s = b->cell_start[cell + 1];
     }
   }
   return candidates;
