@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200112L /* posix_memalign */
 #include "griddem_sweep.h"
 
+#include "griddem_search.h"
+
 #include <math.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -22,7 +24,10 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   const int n = b->n;
   if (n > ch->cap) {
     const int cap = n + n / 4 + 16;
-    if (grow_aligned((void **) &ch->pos, 4 * sizeof(double), cap) != 0 ||
+    if (grow_aligned((void **) &ch->x, sizeof(double), cap) != 0 ||
+        grow_aligned((void **) &ch->y, sizeof(double), cap) != 0 ||
+        grow_aligned((void **) &ch->z, sizeof(double), cap) != 0 ||
+        grow_aligned((void **) &ch->r, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->tag, sizeof(int64_t), cap) != 0 ||
         grow_aligned((void **) &ch->sum, sizeof(griddem_slot_sum), cap) != 0 ||
         grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
@@ -34,11 +39,10 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 #pragma omp parallel for schedule(static)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
-    double *q = ch->pos + 4 * (size_t) s;
-    q[0] = p->x[3 * (size_t) i];
-    q[1] = p->x[3 * (size_t) i + 1];
-    q[2] = p->x[3 * (size_t) i + 2];
-    q[3] = p->radius[i];
+    ch->x[s] = p->x[3 * (size_t) i];
+    ch->y[s] = p->x[3 * (size_t) i + 1];
+    ch->z[s] = p->x[3 * (size_t) i + 2];
+    ch->r[s] = p->radius[i];
     ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
     griddem_slot_sum *sum = &ch->sum[s];
     for (int d = 0; d < 3; d++) sum->f[d] = 0.0, sum->t[d] = 0.0;
@@ -49,7 +53,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->pos), free(ch->tag), free(ch->sum), free(ch->ncontact);
+  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->sum), free(ch->ncontact);
   free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
@@ -100,6 +104,8 @@ typedef struct sweep_context {
   double *vatom;
   int want_virial;
   griddem_sweep_result *result;
+  griddem_spheres spheres;        /* the channels' centres and radii */
+  griddem_touching_fn touching;   /* the candidate test */
 } sweep_context;
 
 /* Accumulators one thread adds up over its pairs. */
@@ -140,15 +146,15 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (cx->excl && griddem_excluded(cx->excl, type_a, ma, type_b, mb)) return;
 
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
-  const double *pa = ch->pos + 4 * (size_t) a, *pb = ch->pos + 4 * (size_t) b;
+  const double ra = ch->r[a], rb = ch->r[b];
   const double *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, pa[3], pb[3], stored != NULL))
+  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ra, rb, stored != NULL))
     return;
 
   griddem_contact c;
-  const double dx[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
-  griddem_contact_setup(&c, dx, rsq, pa[3], pb[3], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
+  const double dx[3] = {ch->x[a] - ch->x[b], ch->y[a] - ch->y[b], ch->z[a] - ch->z[b]};
+  griddem_contact_setup(&c, dx, rsq, ra, rb, p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
                         p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
                         (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
 
@@ -233,7 +239,7 @@ static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows
 
 typedef struct hit_list {
   int n;
-  int slot[HITS_CAP];
+  int slot[HITS_CAP + GRIDDEM_SEARCH_SLACK];
 } hit_list;
 
 /* Slot s's touching candidates in the order found, each pair seen from an owned slot, by the
@@ -244,13 +250,11 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
   const int s_owned = order[s] < cx->nlocal;
-  const double *ps = ch->pos + 4 * (size_t) s;
   for (int q = 0; q < hits->n; q++) {
     const int t = hits->slot[q];
     const int t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
-    const double *pt = ch->pos + 4 * (size_t) t;
-    const double dx = ps[0] - pt[0], dy = ps[1] - pt[1], dz = ps[2] - pt[2];
+    const double dx = ch->x[s] - ch->x[t], dy = ch->y[s] - ch->y[t], dz = ch->z[s] - ch->z[t];
     const double rsq = dx * dx + dy * dy + dz * dz;
     if (s_owned) sweep_pair(cx, sums, s, t, rsq, classic, values);
     else sweep_pair(cx, sums, t, s, rsq, classic, values);
@@ -276,33 +280,23 @@ static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_lis
   hits->n = 0;
 }
 
-/* Append to slot[n..] the candidates t in [t0, t1) whose sphere (radius + the pull-off reach in
- * radi) touches the one at (xi, yi, zi): a branch-free test over a contiguous run of packed
- * positions. The caller ensures room for t1 - t0 more. Returns the new count. */
-static inline int test_run(const double *P, double xi, double yi, double zi, double radi, int t0, int t1,
-                           int *slot, int n)
+/* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) (at most total
+ * slots), for the centre and reach c: in one pass where they fit the list, else in parts, slot
+ * s's list evaluated whenever the next part would overflow it. */
+static void collect_hits(const sweep_context *cx, sweep_sums *sums, int s, const double *c, const int *lo,
+                         const int *hi, int nruns, int total, hit_list *hits)
 {
-  for (int t = t0; t < t1; t++) {
-    const double *pt = P + 4 * (size_t) t;
-    const double dx = xi - pt[0], dy = yi - pt[1], dz = zi - pt[2], rs = radi + pt[3];
-    slot[n] = t;
-    n += dx * dx + dy * dy + dz * dz < rs * rs;
+  if (total <= HITS_CAP) {
+    hits->n = cx->touching(&cx->spheres, c, lo, hi, nruns, hits->slot);
+    return;
   }
-  return n;
-}
-
-/* Collect slot s's touching candidates in [t0, t1), evaluating a full list first (a run longer
- * than the list is taken in parts). */
-static void collect_hits(const sweep_context *cx, sweep_sums *sums, int s, double reach, int t0,
-                         int t1, hit_list *hits)
-{
-  const double *ps = cx->ch->pos + 4 * (size_t) s;
-  while (t0 < t1) {
-    if (hits->n + (t1 - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
-    const int end = t1 - t0 > HITS_CAP ? t0 + HITS_CAP : t1;
-    hits->n = test_run(cx->ch->pos, ps[0], ps[1], ps[2], ps[3] + reach, t0, end, hits->slot, hits->n);
-    t0 = end;
-  }
+  for (int q = 0; q < nruns; q++)
+    for (int t0 = lo[q]; t0 < hi[q];) {
+      if (hits->n + (hi[q] - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
+      const int t1 = hi[q] - t0 > HITS_CAP ? t0 + HITS_CAP : hi[q];
+      hits->n += cx->touching(&cx->spheres, c, &t0, &t1, 1, hits->slot + hits->n);
+      t0 = t1;
+    }
 }
 
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t > s of their
@@ -333,7 +327,8 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
     nvalid++;
   }
 
-  const double reach = cx->model->reach_extra, *P = cx->ch->pos;
+  const griddem_channels *ch = cx->ch;
+  const double reach = cx->model->reach_extra;
   hit_list hits;
   hits.n = 0;
   int lo[MAX_ROWS], hi[MAX_ROWS];
@@ -355,16 +350,9 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
         total += hi[q] - lo[q];
       }
     for (int s = base + s0; s < base + end; s++) {
-      if (total <= HITS_CAP) {    /* room for every candidate: no checks in the runs */
-        const double *ps = P + 4 * (size_t) s;
-        const double xi = ps[0], yi = ps[1], zi = ps[2], radi = ps[3] + reach;
-        int n = test_run(P, xi, yi, zi, radi, s + 1, hi[0], hits.slot, 0);
-        for (int q = 1; q < nvalid; q++) n = test_run(P, xi, yi, zi, radi, lo[q], hi[q], hits.slot, n);
-        hits.n = n;
-      } else {
-        collect_hits(cx, sums, s, reach, s + 1, hi[0], &hits);
-        for (int q = 1; q < nvalid; q++) collect_hits(cx, sums, s, reach, lo[q], hi[q], &hits);
-      }
+      const double c[4] = {ch->x[s], ch->y[s], ch->z[s], ch->r[s] + reach};
+      lo[0] = s + 1;
+      collect_hits(cx, sums, s, c, lo, hi, nvalid, total, &hits);
       if (hits.n) sweep_hits(cx, sums, s, &hits);
     }
     s0 = end;
@@ -385,18 +373,19 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   const griddem_grid *g = l->g;
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
-  const double extra = cx->model->reach_extra, *P = cx->ch->pos;
+  const griddem_channels *ch = cx->ch;
+  const double extra = cx->model->reach_extra;
   hit_list hits;
   hits.n = 0;
   int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
   int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n; q++) {
     const int s = slots[q];
-    const double *ps = P + 4 * (size_t) s;
+    const double c[4] = {ch->x[s], ch->y[s], ch->z[s], ch->r[s] + extra};
     int b[6];
     for (int d = 0; d < 3; d++) {
-      b[d] = griddem_axis_cell(ps[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
-      b[3 + d] = griddem_axis_cell(ps[d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[d] = griddem_axis_cell(c[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[3 + d] = griddem_axis_cell(c[d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
     }
     if (memcmp(b, block, sizeof(b)) != 0) {
       nrange = total = 0;
@@ -408,13 +397,7 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
         }
       memcpy(block, b, sizeof(b));
     }
-    if (total <= HITS_CAP) {
-      const double xi = ps[0], yi = ps[1], zi = ps[2], radi = ps[3] + extra;
-      int m = 0;
-      for (int r = 0; r < nrange; r++) m = test_run(P, xi, yi, zi, radi, lo[r], hi[r], hits.slot, m);
-      hits.n = m;
-    } else
-      for (int r = 0; r < nrange; r++) collect_hits(cx, sums, s, extra, lo[r], hi[r], &hits);
+    collect_hits(cx, sums, s, c, lo, hi, nrange, total, &hits);
     if (hits.n) sweep_hits(cx, sums, s, &hits);
   }
 }
@@ -525,7 +508,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 {
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
-                            dt, history_update, hist, row_of, vatom, want_virial, result};
+                            dt, history_update, hist, row_of, vatom, want_virial, result,
+                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching()};
   memset(result, 0, sizeof(*result));
   int nthreads = 1;
 #ifdef _OPENMP
@@ -601,8 +585,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       memset(first, 0, sizeof(int) * ((size_t) nslab + 1));
       const long nxy = (long) g->n[0] * g->n[1];
       for (int q = 0; q < nk; q++) {
-        const double *ps = ch->pos + 4 * (size_t) (k->base + q);
-        slab[q] = (int) (griddem_cell_of(g, ps[0], ps[1], ps[2]) / nxy) / thick;
+        const int t = k->base + q;
+        slab[q] = (int) (griddem_cell_of(g, ch->x[t], ch->y[t], ch->z[t]) / nxy) / thick;
         first[slab[q] + 1]++;
       }
       for (int q = 0; q < nslab; q++) first[q + 1] += first[q];

@@ -34,14 +34,14 @@ typedef struct griddem_slot_sum {
   double f[3], t[3];
 } griddem_slot_sum;
 
-/* The particles in sorted order (the channels): position and radius packed per slot, which the
- * distance test reads in runs (one 32-byte record a candidate); a pair that touches reads the
+/* The particles in sorted order (the channels): centre and radius per slot, one array each, which
+ * the candidate search reads in runs of slots a vector at a time; a pair that touches reads the
  * rest (velocities, mass, type, mask) from the particles through the slot's index. Also the
  * cross-class pass's scratch, kept between steps. */
 typedef struct griddem_channels {
   int n, cap;
   const griddem_particles *p;  /* of the last fill */
-  double *pos;                 /* x, y, z, radius per slot */
+  double *x, *y, *z, *r;       /* per slot */
   griddem_slot_sum *sum;
   int64_t *tag;
   int *ncontact;

@@ -8,6 +8,7 @@
  * grows with its contacts; faults name the particles. */
 #include "check.h"
 #include "griddem_engine.h"
+#include "griddem_search.h"
 #include "griddem_sweep.h"
 #include "spec_text.h"
 
@@ -374,7 +375,8 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   griddem_history_free(&hist);
 }
 
-int main(void)
+/* Every check of this file, with the sweep's candidate test done by each kernel this processor runs */
+static void all_checks(void)
 {
   engine_against_all_pairs(LAWS[0], 1, 1, 0);
   engine_against_all_pairs(LAWS[3], 3, 1, 0);
@@ -394,5 +396,19 @@ int main(void)
     compare_mode(mode, "granular, 3 threads", &m, NULL, 3);
   }
   check_faults();
+}
+
+int main(void)
+{
+  static const char *const kernels[] = {"scalar", "avx2", "avx512"};
+  for (size_t k = 0; k < sizeof(kernels) / sizeof(kernels[0]); k++) {
+    if (griddem_touching_use(kernels[k]) != 0) {
+      printf("search kernel %s: not run by this processor\n", kernels[k]);
+      continue;
+    }
+    const int failed = check_failed;
+    all_checks();
+    printf("search kernel %s: %d failed\n", kernels[k], check_failed - failed);
+  }
   return check_summary();
 }
