@@ -108,9 +108,10 @@ long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], c
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes)
 {
-  if (g->ncell + 1 > b->ncell_cap) {
+  /* one int beyond cell_start's ncell + 1: the counts are kept two places up (below) */
+  if (g->ncell + 2 > b->ncell_cap) {
     free(b->cell_start);
-    b->ncell_cap = g->ncell + 1;
+    b->ncell_cap = g->ncell + 2;
     b->cell_start = (int *) malloc(sizeof(int) * (size_t) b->ncell_cap);
     if (!b->cell_start) return -1;
   }
@@ -125,32 +126,36 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   b->ncell = g->ncell;
   b->n = n;
   int *start = b->cell_start;
-  memset(start, 0, sizeof(int) * (size_t) (g->ncell + 1));
+  memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
 
+  /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
+     scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
+     A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
   for (int i = 0; i < n; i++) {
     const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     b->cell[i] = c;
-    start[c + 1]++;
+    start[c + 2]++;
   }
   long occupied = 0;
   int most = 0;
   for (long c = 0; c < g->ncell; c++) {
-    const int count = start[c + 1];
-    if (count) occupied++;
-    if (count > most) most = count;
-    start[c + 1] += start[c];
+    const int count = start[c + 2];
+    occupied += count != 0;
+    most = count > most ? count : most;
+    start[c + 2] += start[c + 1];
   }
   b->occupied = occupied;
   b->max_occupancy = most;
+  for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
 
-  /* scatter; start[c] is advanced as slots fill and shifted back afterwards */
-  for (int i = 0; i < n; i++) b->order[start[b->cell[i]]++] = i;
-  for (long c = g->ncell; c > 0; c--) start[c] = start[c - 1];
-  start[0] = 0;
-
+  /* the occupied cells, through their slots */
   if (key && most > 1)
-    for (long c = 0; c < g->ncell; c++)
-      griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+    for (int s = 0; s < n;) {
+      const long c = b->cell[b->order[s]];
+      const int count = start[c + 1] - start[c];
+      if (count > 1) griddem_sort_cell(b->order + s, count, key, key_bytes, x);
+      s += count;
+    }
   return 0;
 }
 

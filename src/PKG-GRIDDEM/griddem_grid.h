@@ -152,7 +152,7 @@ long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], c
 typedef struct griddem_bins {
   long ncell;       /* cells binned into */
   int n;            /* points binned */
-  int *cell_start;  /* [ncell+1] */
+  int *cell_start;  /* [ncell+1] (room for ncell+2) */
   int *order;       /* [n] original index of each sorted slot */
   long *cell;       /* [n] cell of each original point */
   long ncell_cap;

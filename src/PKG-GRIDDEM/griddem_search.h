@@ -1,11 +1,14 @@
-/* GRIDDEM candidate search: which spheres of some runs of sorted slots touch one sphere.
+/* GRIDDEM candidate search: which spheres of some runs of sorted slots touch the spheres of a
+ * cluster of consecutive slots.
  *
  * The grid keeps a cell's spheres in consecutive slots, so the candidates of a sphere are a few
- * runs of slots (one per stencil row, or per row of a block of a coarser grid). The test of a run
- * reads the spheres as four separate arrays (x, y, z, radius by slot), which a SIMD kernel loads a
- * vector at a time. A plain-C kernel is the reference; AVX2 and AVX-512 kernels compute the same
- * expression in the same order, lane by lane (no fused multiply-add), so every kernel finds the
- * same slots in the same order. The best kernel the processor runs is chosen at load time. */
+ * runs of slots (one per stencil row, or per row of a block of a coarser grid), and consecutive
+ * spheres of one cell row share them. A kernel tests a cluster of up to GRIDDEM_CLUSTER_MAX such
+ * spheres against each candidate at once, one sphere per vector lane (as GROMACS's cluster-pair
+ * kernels do), reading the spheres as four arrays (x, y, z, radius by slot). A plain-C kernel is
+ * the reference; the AVX2 (4 lanes) and AVX-512 (8 lanes) kernels compute the same expression in
+ * the same order lane by lane (no fused multiply-add), so every kernel finds the same slots in the
+ * same order. The widest kernel the processor runs is chosen at first use. */
 #ifndef GRIDDEM_SEARCH_H
 #define GRIDDEM_SEARCH_H
 
@@ -18,22 +21,28 @@ typedef struct griddem_spheres {
   const double *x, *y, *z, *r;
 } griddem_spheres;
 
-/* Room a kernel may write past the slots it returns (a vector's store of its last hits). */
-#define GRIDDEM_SEARCH_SLACK 16
+/* The most spheres in a cluster (the widest kernel's lanes). */
+#define GRIDDEM_CLUSTER_MAX 8
 
-/* Append to slot the slots t of the runs [lo[q], hi[q]), q < nruns, in run order, whose sphere
- * touches the sphere of centre c[0..2] and radius c[3] (the pull-off reach included): with
- * dx = c - centre of t and s = c[3] + radius of t, dx0 dx0 + dx1 dx1 + dx2 dx2 < s s, summed left
- * to right. slot needs room for every candidate plus GRIDDEM_SEARCH_SLACK. Returns the count. */
-typedef int (*griddem_touching_fn)(const griddem_spheres *sp, const double *c, const int *lo, const int *hi,
-                                   int nruns, int *slot);
+/* For each sphere k < ni of the cluster of slots i0 + k, append to slot[k] (count n[k]) the slots
+ * t of the runs [lo[q], hi[q]), q < nruns, in run order, whose sphere touches it: with
+ * dx = centre of i0 + k - centre of t and s = (radius of i0 + k + reach) + radius of t,
+ * dx0 dx0 + dx1 dx1 + dx2 dx2 < s s, summed left to right. If own, run 0 is the cluster's own
+ * run and only its slots t > i0 + k are candidates of sphere k. ni is at most the kernel's
+ * width (griddem_touching_width); slot[k] needs room for every candidate. */
+typedef void (*griddem_touching_fn)(const griddem_spheres *sp, double reach, int i0, int ni, int own, const int *lo,
+                                    const int *hi, int nruns, int *const *slot, int *n);
 
-/* The kernel by name ("scalar", "avx2", "avx512"), or NULL where this build or processor has none. */
+/* The kernel by name ("scalar", "avx2", "avx512"), or NULL where this build or processor has none;
+ * and its width (the cluster it tests at once; 0 for an unknown name). */
 griddem_touching_fn griddem_touching_kernel(const char *name);
+int griddem_touching_kernel_width(const char *name);
 
-/* The kernel the sweep uses: the widest this processor runs, unless griddem_touching_use chose one. */
+/* The kernel the sweep uses, its name and width: the widest this processor runs, unless
+ * griddem_touching_use chose one. */
 griddem_touching_fn griddem_touching(void);
 const char *griddem_touching_name(void);
+int griddem_touching_width(void);
 
 /* Make the named kernel the sweep's (tests compare kernels through whole sweeps). 0, or -1 where
  * griddem_touching_kernel(name) is NULL. */

@@ -106,6 +106,7 @@ typedef struct sweep_context {
   griddem_sweep_result *result;
   griddem_spheres spheres;        /* the channels' centres and radii */
   griddem_touching_fn touching;   /* the candidate test */
+  int cluster;                    /* its width */
 } sweep_context;
 
 /* Accumulators one thread adds up over its pairs. */
@@ -239,7 +240,7 @@ static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows
 
 typedef struct hit_list {
   int n;
-  int slot[HITS_CAP + GRIDDEM_SEARCH_SLACK];
+  int slot[HITS_CAP];
 } hit_list;
 
 /* Slot s's touching candidates in the order found, each pair seen from an owned slot, by the
@@ -280,28 +281,28 @@ static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_lis
   hits->n = 0;
 }
 
-/* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) (at most total
- * slots), for the centre and reach c: in one pass where they fit the list, else in parts, slot
- * s's list evaluated whenever the next part would overflow it. */
-static void collect_hits(const sweep_context *cx, sweep_sums *sums, int s, const double *c, const int *lo,
-                         const int *hi, int nruns, int total, hit_list *hits)
+/* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) in parts that
+ * fit the list, evaluating slot s's list whenever the next part would overflow it: the path of a
+ * sphere with more candidates than the list holds. */
+static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, const int *lo, const int *hi,
+                             int nruns, hit_list *hits)
 {
-  if (total <= HITS_CAP) {
-    hits->n = cx->touching(&cx->spheres, c, lo, hi, nruns, hits->slot);
-    return;
-  }
+  int *const list[1] = {hits->slot};
   for (int q = 0; q < nruns; q++)
     for (int t0 = lo[q]; t0 < hi[q];) {
       if (hits->n + (hi[q] - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
       const int t1 = hi[q] - t0 > HITS_CAP ? t0 + HITS_CAP : hi[q];
-      hits->n += cx->touching(&cx->spheres, c, &t0, &t1, 1, hits->slot + hits->n);
+      cx->touching(&cx->spheres, cx->model->reach_extra, s, 1, 0, &t0, &t1, 1, list, &hits->n);
       t0 = t1;
     }
 }
 
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t > s of their
  * forward stencil (slots of the channels are the class's slots + k->base). Each stencil row's
- * cells are found once per cell row; a cell then costs two reads of cell_start per stencil row. */
+ * cells are found once per cell row. The row's slots are taken in clusters of consecutive slots
+ * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
+ * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
+ * slot order, each in the order its candidates were found. */
 static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
                            const stencil_row *rows, int nrows, int y, int z)
 {
@@ -327,35 +328,41 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
     nvalid++;
   }
 
-  const griddem_channels *ch = cx->ch;
-  const double reach = cx->model->reach_extra;
-  hit_list hits;
-  hits.n = 0;
+  hit_list hits[GRIDDEM_CLUSTER_MAX];
+  int *list[GRIDDEM_CLUSTER_MAX], nhit[GRIDDEM_CLUSTER_MAX];
+  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) list[c] = hits[c].slot, hits[c].n = 0;
   int lo[MAX_ROWS], hi[MAX_ROWS];
-  for (int s0 = first; s0 < last;) {
-    const int x = (int) (b->cell[b->order[s0]] - rowcell), end = start[rowcell + x + 1];
-    /* slot ranges of the stencil rows, shared by the cell's centres; row 0 starts after each
-       centre. Only cells at the ends of the row clamp their stencil to the grid */
+  for (int s0 = first; s0 < last; s0 += cx->cluster) {
+    const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
+    const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
+    /* slot ranges of the stencil rows from the first sphere's cell to the last's; row 0 starts
+       after the first sphere (the kernel starts each sphere's after itself). Only clusters at
+       the ends of the row clamp their stencil to the grid */
     int total = 0;
-    if (x >= xsafe_lo && x <= xsafe_hi)
+    if (xa >= xsafe_lo && xb <= xsafe_hi)
       for (int q = 0; q < nvalid; q++) {
-        lo[q] = base + lo_at[q][x], hi[q] = base + hi_at[q][x];
+        lo[q] = base + lo_at[q][xa], hi[q] = base + hi_at[q][xb];
         total += hi[q] - lo[q];
       }
     else
       for (int q = 0; q < nvalid; q++) {
-        const int x0 = x + dxlo[q] < 0 ? 0 : x + dxlo[q];
-        const int x1 = x + dxhi[q] >= nx ? nx - 1 : x + dxhi[q];
+        const int x0 = xa + dxlo[q] < 0 ? 0 : xa + dxlo[q];
+        const int x1 = xb + dxhi[q] >= nx ? nx - 1 : xb + dxhi[q];
         lo[q] = base + lo_at[q][x0 - dxlo[q]], hi[q] = base + hi_at[q][x1 - dxhi[q]];
         total += hi[q] - lo[q];
       }
-    for (int s = base + s0; s < base + end; s++) {
-      const double c[4] = {ch->x[s], ch->y[s], ch->z[s], ch->r[s] + reach};
-      lo[0] = s + 1;
-      collect_hits(cx, sums, s, c, lo, hi, nvalid, total, &hits);
-      if (hits.n) sweep_hits(cx, sums, s, &hits);
-    }
-    s0 = end;
+    lo[0] = base + s0 + 1;
+    if (total <= HITS_CAP) {    /* room for every candidate of each sphere */
+      for (int c = 0; c < ni; c++) nhit[c] = 0;
+      cx->touching(&cx->spheres, cx->model->reach_extra, base + s0, ni, 1, lo, hi, nvalid, list, nhit);
+      for (int c = 0; c < ni; c++)
+        if (nhit[c]) hits[c].n = nhit[c], sweep_hits(cx, sums, base + s0 + c, &hits[c]);
+    } else
+      for (int c = 0; c < ni; c++) {
+        lo[0] = base + s0 + c + 1;
+        collect_in_parts(cx, sums, base + s0 + c, lo, hi, nvalid, &hits[0]);
+        if (hits[0].n) sweep_hits(cx, sums, base + s0 + c, &hits[0]);
+      }
   }
 }
 
@@ -376,12 +383,13 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   const griddem_channels *ch = cx->ch;
   const double extra = cx->model->reach_extra;
   hit_list hits;
+  int *const list[1] = {hits.slot};
   hits.n = 0;
   int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
   int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n; q++) {
     const int s = slots[q];
-    const double c[4] = {ch->x[s], ch->y[s], ch->z[s], ch->r[s] + extra};
+    const double c[3] = {ch->x[s], ch->y[s], ch->z[s]};
     int b[6];
     for (int d = 0; d < 3; d++) {
       b[d] = griddem_axis_cell(c[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
@@ -397,7 +405,8 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
         }
       memcpy(block, b, sizeof(b));
     }
-    collect_hits(cx, sums, s, c, lo, hi, nrange, total, &hits);
+    if (total <= HITS_CAP) cx->touching(&cx->spheres, extra, s, 1, 0, lo, hi, nrange, list, &hits.n);
+    else collect_in_parts(cx, sums, s, lo, hi, nrange, &hits);
     if (hits.n) sweep_hits(cx, sums, s, &hits);
   }
 }
@@ -509,7 +518,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
                             dt, history_update, hist, row_of, vatom, want_virial, result,
-                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching()};
+                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
   memset(result, 0, sizeof(*result));
   int nthreads = 1;
 #ifdef _OPENMP

@@ -1,8 +1,8 @@
-/* The candidate search kernels (griddem_search.h): each kernel this processor runs finds, on
- * random polydisperse scenes and on ties at the contact distance, exactly the slots of the
- * documented test in run order; spheres clearly inside or outside the contact distance are
- * found or not whatever the rounding; lanes past a run are never counted; nothing is written
- * past the returned slots' room; the widest kernel the processor runs is the one chosen. */
+/* The candidate search kernels (griddem_search.h): each kernel this processor runs finds, for
+ * each sphere of a cluster, exactly the slots of the documented test in run order, on random
+ * polydisperse scenes with random clusters, runs and own runs, and on ties at the contact distance;
+ * spheres clearly inside or outside the contact distance are found or not whatever the rounding;
+ * lanes past the cluster are never written; the widest kernel the processor runs is chosen. */
 #include "check.h"
 #include "griddem_search.h"
 
@@ -18,57 +18,66 @@ static const char *const KERNELS[] = {"scalar", "avx2", "avx512"};
 static double X[NSPHERE], Y[NSPHERE], Z[NSPHERE], R[NSPHERE];
 
 /* The documented test, written out pair by pair (this file is built without contraction) */
-static int reference(const double *c, const int *lo, const int *hi, int nruns, int *slot)
+static void reference(double reach, int i0, int ni, int own, const int *lo, const int *hi, int nruns,
+                      int want[][NSPHERE], int *m)
 {
-  int n = 0;
-  for (int q = 0; q < nruns; q++)
-    for (int t = lo[q]; t < hi[q]; t++) {
-      const double dx = c[0] - X[t], dy = c[1] - Y[t], dz = c[2] - Z[t], s = c[3] + R[t];
-      const double d2 = (dx * dx + dy * dy) + dz * dz;
-      if (d2 < s * s) slot[n++] = t;
-    }
-  return n;
+  for (int k = 0; k < ni; k++) {
+    const int i = i0 + k;
+    m[k] = 0;
+    for (int q = 0; q < nruns; q++)
+      for (int t = lo[q]; t < hi[q]; t++) {
+        if (own && q == 0 && t <= i) continue;
+        const double dx = X[i] - X[t], dy = Y[i] - Y[t], dz = Z[i] - Z[t], s = (R[i] + reach) + R[t];
+        const double d2 = (dx * dx + dy * dy) + dz * dz;
+        if (d2 < s * s) want[k][m[k]++] = t;
+      }
+  }
 }
 
-/* Run kernel fn on the runs; check its slots against the reference's and its writes against the
- * room it was given. Returns the count. */
-static int compare(const char *name, griddem_touching_fn fn, const double *c, const int *lo, const int *hi,
-                   int nruns, int *expect_n)
+/* Run kernel fn on a cluster and its runs; check each sphere's slots against the reference's, and
+ * that lanes past the cluster are left alone. Returns the slots found. */
+static long compare(const char *name, griddem_touching_fn fn, double reach, int i0, int ni, int own, const int *lo,
+                    const int *hi, int nruns)
 {
-  static int got[NSPHERE + GRIDDEM_SEARCH_SLACK + 8], want[NSPHERE];
+  static int got[GRIDDEM_CLUSTER_MAX][NSPHERE], want[GRIDDEM_CLUSTER_MAX][NSPHERE];
+  int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX], m[GRIDDEM_CLUSTER_MAX];
+  for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = k < ni ? 0 : CANARY, got[k][0] = CANARY;
   const griddem_spheres sp = {X, Y, Z, R};
-  int total = 0;
-  for (int q = 0; q < nruns; q++) total += hi[q] - lo[q];
-  for (size_t k = 0; k < sizeof(got) / sizeof(got[0]); k++) got[k] = CANARY;
-  const int n = fn(&sp, c, lo, hi, nruns, got), m = reference(c, lo, hi, nruns, want);
-  CHECK(n == m, "kernel %s: %d slots, reference %d", name, n, m);
-  CHECK(memcmp(got, want, sizeof(int) * (size_t) (n < m ? n : m)) == 0, "kernel %s: other slots or order", name);
-  int untouched = 1;
-  for (size_t k = (size_t) total + GRIDDEM_SEARCH_SLACK; k < sizeof(got) / sizeof(got[0]); k++)
-    untouched &= got[k] == CANARY;
-  CHECK(untouched, "kernel %s wrote past its room (%d candidates)", name, total);
-  *expect_n = m;
-  return n;
+  fn(&sp, reach, i0, ni, own, lo, hi, nruns, list, n);
+  reference(reach, i0, ni, own, lo, hi, nruns, want, m);
+  long found = 0;
+  for (int k = 0; k < ni; k++) {
+    CHECK(n[k] == m[k], "kernel %s: sphere %d of %d: %d slots, reference %d", name, k, ni, n[k], m[k]);
+    CHECK(memcmp(got[k], want[k], sizeof(int) * (size_t) (n[k] < m[k] ? n[k] : m[k])) == 0,
+          "kernel %s: sphere %d of %d: other slots or order", name, k, ni);
+    found += n[k];
+  }
+  for (int k = ni; k < GRIDDEM_CLUSTER_MAX; k++)
+    CHECK(n[k] == CANARY && got[k][0] == CANARY, "kernel %s wrote lane %d of a cluster of %d", name, k, ni);
+  return found;
 }
 
-/* Random runs of random lengths (0..MAX_RUN) at random offsets */
-static int random_runs(int *lo, int *hi)
+/* A random cluster (its width at most the kernel's) with random runs (0..MAX_RUN long, at random
+ * offsets) after it; with own, run 0 starts right after the cluster's first sphere */
+static int random_cluster(int width, int *i0, int *ni, int *own, int *lo, int *hi)
 {
+  *ni = 1 + (int) (check_uniform() * width);
+  *i0 = (int) (check_uniform() * (NSPHERE - MAX_RUN - *ni));
+  *own = check_uniform() < 0.5;
   const int nruns = (int) (check_uniform() * (MAX_RUNS + 1));
   for (int q = 0; q < nruns; q++) {
     const int len = (int) (check_uniform() * (MAX_RUN + 1));
-    lo[q] = (int) (check_uniform() * (NSPHERE - len));
+    lo[q] = *own && q == 0 ? *i0 + 1 : (int) (check_uniform() * (NSPHERE - len));
     hi[q] = lo[q] + len;
   }
   return nruns;
 }
 
-/* Polydisperse spheres (radius ratio 1:10) in a box where a centre has tens of candidates in
- * reach; centres of the scene's spheres and of random points */
-static void random_scenes(const char *name, griddem_touching_fn fn)
+/* Polydisperse spheres (radius ratio 1:10) in boxes where a sphere has tens of candidates in reach */
+static void random_scenes(const char *name, griddem_touching_fn fn, int width)
 {
   long found = 0, tested = 0;
-  int lo[MAX_RUNS], hi[MAX_RUNS];
+  int lo[MAX_RUNS], hi[MAX_RUNS], i0, ni, own;
   for (int scene = 0; scene < 200; scene++) {
     const double box = 2.0 + 6.0 * check_uniform();
     for (int t = 0; t < NSPHERE; t++) {
@@ -76,26 +85,24 @@ static void random_scenes(const char *name, griddem_touching_fn fn)
       R[t] = 0.05 + 0.45 * check_uniform();
     }
     for (int probe = 0; probe < 50; probe++) {
-      const int nruns = random_runs(lo, hi);
-      const int a = (int) (check_uniform() * NSPHERE);
-      const double c[4] = {probe % 2 ? X[a] : 100.0 + box * check_uniform(), Y[a], Z[a],
-                           R[a] + (probe % 3 == 0 ? 0.1 : 0.0)};
-      int m;
-      found += compare(name, fn, c, lo, hi, nruns, &m);
-      for (int q = 0; q < nruns; q++) tested += hi[q] - lo[q];
+      const int nruns = random_cluster(width, &i0, &ni, &own, lo, hi);
+      found += compare(name, fn, probe % 3 == 0 ? 0.1 : 0.0, i0, ni, own, lo, hi, nruns);
+      for (int q = 0; q < nruns; q++) tested += (long) ni * (hi[q] - lo[q]);
     }
   }
-  CHECK(found > 1000 && found < tested, "kernel %s: %ld touching of %ld candidates (the scenes test both outcomes)",
+  CHECK(found > 1000 && found < tested / 2, "kernel %s: %ld touching of %ld tests (the scenes test both outcomes)",
         name, found, tested);
 }
 
-/* Spheres at the contact distance exactly (not touching: the test is strict) and one ulp inside
- * it (touching), along each axis and in runs of every length and alignment */
-static void ties(const char *name, griddem_touching_fn fn)
+/* The cluster's spheres on one centre; the candidates at the contact distance exactly (not
+ * touching: the test is strict) or one ulp inside it (touching), along each axis, in runs of
+ * every length and alignment */
+static void ties(const char *name, griddem_touching_fn fn, int width)
 {
-  const double c[4] = {1.0, 2.0, 3.0, 0.25};
-  for (int len = 0; len <= 2 * MAX_RUN && len < NSPHERE; len++)
-    for (int offset = 0; offset < 9; offset++) {
+  const double c[3] = {1.0, 2.0, 3.0};
+  for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = 0.25;
+  for (int len = 0; len <= MAX_RUN; len++)
+    for (int offset = width; offset < width + 9; offset++) {
       int expect = 0;
       for (int t = offset; t < offset + len; t++) {
         const int axis = t % 3, inside = (t / 3) % 2;
@@ -106,56 +113,59 @@ static void ties(const char *name, griddem_touching_fn fn)
         expect += inside;
       }
       const int lo = offset, hi = offset + len;
-      int m;
-      const int n = compare(name, fn, c, &lo, &hi, len > MAX_RUN ? 0 : 1, &m);
-      if (len <= MAX_RUN) CHECK(n == expect, "kernel %s: %d of %d ties inside found (run %d at %d)", name, n, expect, len, offset);
+      CHECK(compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1) == (long) width * expect,
+            "kernel %s: not %d ties inside found per sphere (run %d at %d)", name, expect, len, offset);
     }
 }
 
-/* Spheres in random directions within a few rounding errors of the contact distance, where the
- * order of the sum decides: every kernel agrees with the reference */
-static void near_ties(const char *name, griddem_touching_fn fn)
+/* Candidates in random directions within a few rounding errors of the contact distance, where
+ * the order of the sum decides */
+static void near_ties(const char *name, griddem_touching_fn fn, int width)
 {
-  const double c[4] = {0.3, -0.7, 1.1, 0.5};
-  for (int t = 0; t < NSPHERE; t++) {
+  const double c[3] = {0.3, -0.7, 1.1};
+  for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = 0.5;
+  for (int t = width; t < NSPHERE; t++) {
     const double u = 2.0 * check_uniform() - 1.0, phi = 6.283185307179586 * check_uniform();
-    const double d = 1.0 * (1.0 + (double) (t % 9 - 4) * 2.220446049250313e-16);
+    const double d = 1.0 + (double) (t % 9 - 4) * 2.220446049250313e-16;
     X[t] = c[0] + d * sqrt(1.0 - u * u) * cos(phi), Y[t] = c[1] + d * sqrt(1.0 - u * u) * sin(phi), Z[t] = c[2] + d * u;
     R[t] = 0.5;
   }
-  const int lo = 0, hi = NSPHERE;
-  int m;
-  const int n = compare(name, fn, c, &lo, &hi, 1, &m);
-  CHECK(n > NSPHERE / 10 && n < NSPHERE - NSPHERE / 10, "kernel %s: %d of %d near ties touch (both outcomes expected)",
-        name, n, NSPHERE);
+  const int lo = width, hi = NSPHERE;
+  const long n = compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1);
+  CHECK(n > width * (NSPHERE / 10) && n < width * (NSPHERE - NSPHERE / 10),
+        "kernel %s: %ld near ties touch (both outcomes expected)", name, n);
 }
 
-/* Every sphere on the centre, at the origin, where a lane loaded as zero would touch too: a kernel
- * counts exactly the slots of the runs, whatever lies past their ends; clearly inside and clearly
- * outside are decided without regard to rounding */
-static void run_ends_and_margins(const char *name, griddem_touching_fn fn)
+/* Every sphere at the origin, where a lane loaded as zero would touch too: each sphere of a
+ * cluster counts exactly the slots of the runs (after itself in an own run); then candidates
+ * clearly inside and clearly outside, decided without regard to rounding */
+static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int width)
 {
-  int lo[MAX_RUNS], hi[MAX_RUNS];
-  const double c[4] = {0.0, 0.0, 0.0, 0.1};
-  for (int t = 0; t < NSPHERE; t++) X[t] = c[0], Y[t] = c[1], Z[t] = c[2], R[t] = 0.1;
+  int lo[MAX_RUNS], hi[MAX_RUNS], i0, ni, own;
+  for (int t = 0; t < NSPHERE; t++) X[t] = Y[t] = Z[t] = 0.0, R[t] = 0.1;
   for (int probe = 0; probe < 2000; probe++) {
-    const int nruns = random_runs(lo, hi);
-    int total = 0, m;
-    for (int q = 0; q < nruns; q++) total += hi[q] - lo[q];
-    CHECK(compare(name, fn, c, lo, hi, nruns, &m) == total, "kernel %s: not every slot of the runs counted", name);
+    const int nruns = random_cluster(width, &i0, &ni, &own, lo, hi);
+    long total = 0;
+    for (int k = 0; k < ni; k++)
+      for (int q = 0; q < nruns; q++) total += own && q == 0 ? (hi[q] > i0 + k + 1 ? hi[q] - (i0 + k + 1) : 0) : hi[q] - lo[q];
+    CHECK(compare(name, fn, 0.0, i0, ni, own, lo, hi, nruns) == total, "kernel %s: not every slot of the runs counted", name);
   }
-  for (int t = 0; t < NSPHERE; t++) {
+  for (int t = width; t < NSPHERE; t++) {
     const double d = 0.2 * (t % 2 ? 1.001 : 0.999), u = 2.0 * check_uniform() - 1.0, phi = 6.283185307179586 * check_uniform();
-    X[t] = c[0] + d * sqrt(1.0 - u * u) * cos(phi), Y[t] = c[1] + d * sqrt(1.0 - u * u) * sin(phi), Z[t] = c[2] + d * u;
+    X[t] = d * sqrt(1.0 - u * u) * cos(phi), Y[t] = d * sqrt(1.0 - u * u) * sin(phi), Z[t] = d * u;
   }
+  static int got[GRIDDEM_CLUSTER_MAX][NSPHERE];
+  int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX];
+  for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = 0;
   const griddem_spheres sp = {X, Y, Z, R};
-  static int got[NSPHERE + GRIDDEM_SEARCH_SLACK];
-  const int lo0 = 0, hi0 = NSPHERE;
-  const int n = fn(&sp, c, &lo0, &hi0, 1, got);
-  int ok = n == NSPHERE / 2;
-  for (int k = 0; ok && k < n; k++) ok = got[k] == 2 * k;
-  CHECK(ok, "kernel %s: %d found; the %d spheres at 0.999 of the contact distance expected, none at 1.001", name, n,
-        NSPHERE / 2);
+  const int lo0 = width, hi0 = NSPHERE;
+  fn(&sp, 0.0, 0, width, 0, &lo0, &hi0, 1, list, n);
+  for (int k = 0; k < width; k++) {
+    int ok = n[k] == (NSPHERE - width) / 2;
+    for (int j = 0; ok && j < n[k]; j++) ok = got[k][j] % 2 == 0;
+    CHECK(ok, "kernel %s: sphere %d: %d found; those at 0.999 of the contact distance expected, none at 1.001", name,
+          k, n[k]);
+  }
 }
 
 int main(void)
@@ -167,18 +177,20 @@ int main(void)
   CHECK(griddem_touching_kernel("scalar") != NULL, "no plain-C kernel");
   for (size_t k = 0; k < sizeof(KERNELS) / sizeof(KERNELS[0]); k++) {
     griddem_touching_fn fn = griddem_touching_kernel(KERNELS[k]);
+    const int width = griddem_touching_kernel_width(KERNELS[k]);
     if (!fn) {
       printf("kernel %s: not run by this processor\n", KERNELS[k]);
       continue;
     }
+    CHECK(width >= 1 && width <= GRIDDEM_CLUSTER_MAX, "kernel %s: width %d", KERNELS[k], width);
     const int failed = check_failed;
-    random_scenes(KERNELS[k], fn);
-    ties(KERNELS[k], fn);
-    near_ties(KERNELS[k], fn);
-    run_ends_and_margins(KERNELS[k], fn);
-    CHECK(griddem_touching_use(KERNELS[k]) == 0 && griddem_touching() == fn &&
+    random_scenes(KERNELS[k], fn, width);
+    ties(KERNELS[k], fn, width);
+    near_ties(KERNELS[k], fn, width);
+    run_ends_and_margins(KERNELS[k], fn, width);
+    CHECK(griddem_touching_use(KERNELS[k]) == 0 && griddem_touching() == fn && griddem_touching_width() == width &&
               strcmp(griddem_touching_name(), KERNELS[k]) == 0, "kernel %s not made the sweep's", KERNELS[k]);
-    printf("kernel %s: %d failed\n", KERNELS[k], check_failed - failed);
+    printf("kernel %s (width %d): %d failed\n", KERNELS[k], width, check_failed - failed);
   }
   return check_summary();
 }
