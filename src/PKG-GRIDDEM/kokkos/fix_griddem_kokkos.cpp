@@ -5,6 +5,8 @@
 
 #include "fix_griddem_kokkos.h"
 
+#include "griddem_kk_launch.h"
+
 #include "atom_kokkos.h"
 #include "atom_masks.h"
 #include "error.h"
@@ -300,7 +302,7 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
   const int nvalues = nv;
 
   int total = 0;
-  Kokkos::parallel_scan(
+  griddem_kk_scan(
       "griddem/kk:pack_exchange", Kokkos::RangePolicy<DeviceType>(0, nsend),
       KOKKOS_LAMBDA(const int s, int &offset, const bool final) {
         const int i = sendlist(s);
@@ -316,7 +318,7 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
       },
       total);
   // refill the sent slots only after every message is packed: a copy source may be sent too
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:fill_sent", Kokkos::RangePolicy<DeviceType>(0, nsend),
       KOKKOS_LAMBDA(const int s) {
         const int i = sendlist(s), j = copylist(s);
@@ -354,7 +356,7 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
 
   long entries = 0;
   int most = 0;
-  Kokkos::parallel_reduce(
+  griddem_kk_reduce(
       "griddem/kk:exchange_entries", Kokkos::RangePolicy<DeviceType>(0, nrecv),
       KOKKOS_LAMBDA(const int r, long &sum, int &longest_row) {
         if (indices(r) < 0) return;
@@ -372,7 +374,7 @@ void FixGriddemKokkos<DeviceType>::unpack_exchange_kokkos(DAT::tdual_xfloat_2d &
   auto count = k_count[cur].template view<DeviceType>();
   const long base = used;
 
-  Kokkos::parallel_scan(
+  griddem_kk_scan(
       "griddem/kk:unpack_exchange", Kokkos::RangePolicy<DeviceType>(0, nrecv),
       KOKKOS_LAMBDA(const int r, long &offset, const bool final) {
         const int i = indices(r);

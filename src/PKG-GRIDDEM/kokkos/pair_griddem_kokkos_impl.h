@@ -15,6 +15,7 @@
 #include "fix_griddem_face.h"
 #include "force.h"
 #include "griddem_grid.h"
+#include "griddem_kk_launch.h"
 #include "memory_kokkos.h"
 #include "neighbor_kokkos.h"
 #include "update.h"
@@ -268,7 +269,7 @@ void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool
     scan.v = atomKK->k_v.template view<DeviceType>();
     scan.radius = radius;
     scan.nlocal = this->atom->nlocal;
-    Kokkos::parallel_reduce(
+    griddem_kk_reduce(
         "griddem/kk:scan", Kokkos::RangePolicy<DeviceType>(0, nall), scan,
         Kokkos::View<GriddemKKScanValue, DeviceType, Kokkos::MemoryUnmanaged>(&report->scan));
   }
@@ -278,7 +279,7 @@ void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool
   class_scan.x = x;
   class_scan.radius = radius;
   class_scan.grids = grids;
-  Kokkos::parallel_reduce(
+  griddem_kk_reduce(
       "griddem/kk:class_scan", Kokkos::RangePolicy<DeviceType>(0, nall), class_scan,
       Kokkos::View<double *, DeviceType, Kokkos::MemoryUnmanaged>(report->class_boxes,
                                                                    class_scan.value_count));
@@ -417,21 +418,21 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto state = chan.state;
   auto tm = d_tm;
   auto report = d_report;
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:report_reset", Kokkos::RangePolicy<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
         report().retry = 0;
         report().listed = report().rows = 0;
         report().coincident = LONG_MAX;
       });
   // count is zero here: zero-filled when made, and each binning zeroes what it counted
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:bin", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const int k = grids.class_of(radius(i));
         const int c = grids.offset[k] + grids.g[k].cell_of(x(i, 0), x(i, 1), x(i, 2));
         cell(i) = c;
         Kokkos::atomic_inc(&count(c));
       });
-  Kokkos::parallel_scan(
+  griddem_kk_scan(
       "griddem/kk:scan_cells", Kokkos::RangePolicy<DeviceType>(0, ncell + 1),
       KOKKOS_LAMBDA(const int c, int &partial, const bool final) {
         const int k = count(c);
@@ -441,7 +442,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         }
         partial += k;
       });
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:fill", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const int c = cell(i);
         order(start(c) + Kokkos::atomic_fetch_add(&count(c), 1)) = i;
@@ -449,7 +450,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   // within a cell, slots by (tag, x, y, z): the same order whatever order atoms are stored in
   const tagint *tags = tag.data();
   const double *xs = x.data();    // LayoutRight: 3 interleaved coordinates an atom
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:sort_cells", Kokkos::RangePolicy<DeviceType>(0, ncell),
       KOKKOS_LAMBDA(const int c) {
         count(c) = 0;    // the fill cursor's work is done: zero again for the next binning
@@ -457,7 +458,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         const int n = start(c + 1) - start(c);
         if (n > 1) griddem_sort_cell(&order(start(c)), n, tags, sizeof(tagint), xs);
       });
-  Kokkos::parallel_for(
+  griddem_kk_for(
       "griddem/kk:place", Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int slot) {
         const int i = order(slot);
         const int c = cell(i);
@@ -511,7 +512,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   auto order = d_order;
   auto last = d_last;
   auto row_count = rows.count;
-  Kokkos::parallel_scan(
+  griddem_kk_scan(
       "griddem/kk:list_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
       KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
         if (s == nall) {
@@ -559,7 +560,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
 
   // the new history rows: room for each owned atom's list, slot by slot, in the other pool
   if (track) {
-    Kokkos::parallel_scan(
+    griddem_kk_scan(
         "griddem/kk:row_layout", Kokkos::RangePolicy<DeviceType>(0, nall + 1),
         KOKKOS_LAMBDA(const int s, long &offset, const bool final) {
           if (s == nall) {
@@ -595,7 +596,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
   sweep.rows = rows;
-  Kokkos::parallel_reduce(
+  griddem_kk_reduce(
       "griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
       Kokkos::View<GriddemKKSweepValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->sums));
 }
@@ -611,7 +612,7 @@ void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType,
       std::is_same<typename DeviceType::execution_space, Kokkos::DefaultHostExecutionSpace>::value;
   const int mode = this->fix->search;
   if (mode == GRIDDEM_SEARCH_THREAD || (mode == GRIDDEM_SEARCH_AUTO && on_host)) {
-    Kokkos::parallel_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
+    griddem_kk_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
     return;
   }
   GriddemKKFindTeams<DeviceType, Real> teams;
@@ -627,9 +628,14 @@ void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType,
   }
   teams.first_block[grids.ncls] = blocks;
   teams.most_rows = (2 * most_reach + 1) * (2 * most_reach + 1);
+  // a stencil too wide for the device's team scratch takes the thread search (same lists)
+  if (teams.team_shmem_size(0) > (size_t) Kokkos::TeamPolicy<DeviceType>::scratch_size_max(0)) {
+    griddem_kk_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
+    return;
+  }
   // a warp a team on a GPU (a block holds ~8-30 particles); one thread on the host
   Kokkos::TeamPolicy<DeviceType> policy(blocks, on_host ? 1 : 32);
-  Kokkos::parallel_for("griddem/kk:find_teams", policy, teams);
+  griddem_kk_for("griddem/kk:find_teams", policy, teams);
 }
 
 /* a computed step's report: faults, the history rows made current, virial and diagnostics */
@@ -676,7 +682,7 @@ void PairGriddemKokkos<DeviceType, Base>::count_occupancy(griddem_engine_stats &
 {
   auto start = d_start;
   int occupied = 0, occupancy = 0;
-  Kokkos::parallel_reduce(
+  griddem_kk_reduce(
       "griddem/kk:occupancy", Kokkos::RangePolicy<DeviceType>(0, ncell_counted),
       KOKKOS_LAMBDA(const int c, int &cells, int &most) {
         const int k = start(c + 1) - start(c);
