@@ -18,7 +18,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rom-pile"))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools, for the modules below
+sys.path.insert(0, os.path.join(HERE, "..", "rom-pile"))
 from compare import kinematic_series  # noqa: E402
 from plot_rom import accuracy_panel, run_tags  # noqa: E402
 from blade_force import read_force  # noqa: E402
@@ -45,7 +47,7 @@ def main():
                                                      ", %d kinematic (blue)" % kin.sum() if row else ""))
     accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left")
     ax = fig.add_subplot(4, 2, 6)
-    for column, label in ((4, "kinematic"), (5, "kinematic within reach (move every step)")):
+    for column, label in (("v_nkin", "kinematic"), ("v_nnear", "kinematic within reach (move every step)")):
         steps, frac = kinematic_series(rom_tag, column)
         ax.plot(steps, frac, label=label)
     ax.set_xlabel("step")

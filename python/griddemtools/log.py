@@ -12,8 +12,8 @@ _CPU = re.compile(r"^([0-9.]+)% CPU use", re.M)
 
 
 def text_of(path_or_text):
-    """A log's text: the argument itself if it has a newline, else the file it names."""
-    if "\n" in path_or_text:
+    """A log's text: the argument itself if it has a newline or is empty, else the file it names."""
+    if "\n" in path_or_text or not path_or_text:
         return path_or_text
     with open(path_or_text) as f:
         return f.read()
