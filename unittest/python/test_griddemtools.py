@@ -84,7 +84,8 @@ CHUNKS = """# Chunk-averaged data for fix profile and group flow
 """
 
 # a log of two runs: the first's table broken by a WARNING line, the second's columns in
-# another order; loop lines with and without a CPU use line
+# another order; loop lines with and without a CPU use line; between the runs a line (a print's)
+# of as many numbers as the table has columns, not a row of it
 LOG = """LAMMPS (4 Feb 2025)
 thermo_style custom step temp v_h
 Per MPI rank memory allocation (min/avg/max) = 5 | 5 | 5 Mbytes
@@ -106,6 +107,7 @@ Neigh   | 0.01       | 0.01       | 0.01       |   0.0 |  8.50
 Other   |            | 0.054      |            |       | 43.50
 
 Nlocal:             50 ave          51 max          49 min
+5 6 7
    Step            v_h           Temp
         20   0.5            2.5
         30   0.25           3.75
