@@ -27,7 +27,7 @@ import benchlib
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-from griddemtools import lammps  # noqa: E402
+from griddemtools import lammps, log  # noqa: E402
 
 STYLES = {"stock": "gran/hooke/history", "griddem": "griddem/hooke/history"}
 # inclusive counts reported, by a pattern of callgrind_annotate's function names
@@ -62,8 +62,7 @@ def touching_pairs(args, text, wd):
     with open(os.path.join(wd, "in.pairs"), "w") as f:
         f.write(counting)
     out = lammps.run(args.lmp, ["-in", "in.pairs", "-log", "none"], wd, check=True).stdout
-    table = out.rpartition("c_griddem_bench_sum")[2].partition("Loop time")[0]
-    sums = {int(step): float(value) for step, value in re.findall(r"^\s*(\d+)\s+(\S+)\s*$", table, re.M)}
+    sums = {int(step): value for step, value in log.thermo_table(out, "Step", "c_griddem_bench_sum")}
     steps = [sums[k] for k in sorted(sums) if k > 0]
     return 0.5 * sum(steps) / len(steps)
 

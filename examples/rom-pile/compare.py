@@ -49,8 +49,7 @@ def heights(frame):
 def kinematic_series(tag, column="v_nkin"):
     """(steps, share of the atoms) at the thermo rows of log.TAG with atoms: column v_nkin the
     kinematic atoms, v_nnear those of them moving at DEM's step; empty for a run without them."""
-    text = log.text_of(log_of(tag))
-    rows = [r for r in zip(log.thermo(text, "Step"), log.thermo(text, "Atoms"), log.thermo(text, column)) if r[1] > 0]
+    rows = [r for r in log.thermo_table(log_of(tag), "Step", "Atoms", column) if r[1] > 0]
     return np.array([int(r[0]) for r in rows]), np.array([r[2] / r[1] for r in rows])
 
 

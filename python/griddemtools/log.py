@@ -19,22 +19,30 @@ def text_of(path_or_text):
         return f.read()
 
 
-def thermo(path_or_text, column):
-    """Values of a thermo column, the rows of all runs in order. A table starts at a line whose
-    first word is Step and ends at a Loop line or a row that is not all numbers."""
-    values, header = [], None
+def thermo_table(path_or_text, *columns):
+    """Rows of thermo columns, each a tuple of the columns' values, from every table that has all
+    of them, in order. A table starts at a line whose first word is Step and ends at a Loop line
+    or at a row of its width that is not all numbers; lines of another width inside it (a
+    WARNING) are passed over."""
+    rows, at = [], None
     for line in text_of(path_or_text).splitlines():
         words = line.split()
         if words[:1] == ["Step"]:
-            header = words
-        elif header and words[:1] == ["Loop"]:
-            header = None
-        elif header and len(words) == len(header):
+            at = [words.index(c) for c in columns] if all(c in words for c in columns) else None
+            width = len(words)
+        elif at and words[:1] == ["Loop"]:
+            at = None
+        elif at and len(words) == width:
             try:
-                values.append(float(words[header.index(column)]))
+                rows.append(tuple(float(words[k]) for k in at))
             except ValueError:
-                header = None
-    return values
+                at = None
+    return rows
+
+
+def thermo(path_or_text, column):
+    """Values of one thermo column, the rows of all tables that have it, in order."""
+    return [row[0] for row in thermo_table(path_or_text, column)]
 
 
 def loop_times(path_or_text):

@@ -84,7 +84,7 @@ CHUNKS = """# Chunk-averaged data for fix profile and group flow
 """
 
 # a log of two runs: the first's table broken by a WARNING line, the second's columns in
-# another order; loop lines with and without a CPU use line; between the runs a line (a print's)
+# another order and one more; loop lines with and without a CPU use line; between the runs a line (a print's)
 # of as many numbers as the table has columns, not a row of it
 LOG = """LAMMPS (4 Feb 2025)
 thermo_style custom step temp v_h
@@ -108,9 +108,9 @@ Other   |            | 0.054      |            |       | 43.50
 
 Nlocal:             50 ave          51 max          49 min
 5 6 7
-   Step            v_h           Temp
-        20   0.5            2.5
-        30   0.25           3.75
+   Step            v_h           Temp           c_x
+        20   0.5            2.5            1
+        30   0.25           3.75           -2
 Loop time of 1.5e-05 on 1 procs for 10 steps with 99 atoms
 
 Total wall time: 0:00:01
@@ -190,6 +190,10 @@ def logs():
     check(log.thermo(path, "v_h") == [0.95, 0.9, 0.5, 0.5, 0.25], "log: v_h over both runs, from a file")
     check(log.thermo(LOG, "Temp") == [0, 1.5, 2.5, 2.5, 3.75], "log: Temp over both runs, from the text")
     check(log.thermo(LOG, "Step") == [0, 10, 20, 20, 30], "log: the Step column")
+    check(log.thermo(LOG, "c_x") == [1, -2], "log: a column of the second run only")
+    check(log.thermo_table(LOG, "Step", "v_h") == [(0, 0.95), (10, 0.9), (20, 0.5), (20, 0.5), (30, 0.25)],
+          "log: two columns row by row, each table's own order")
+    check(log.thermo_table(LOG, "c_x", "Step") == [(1, 20), (-2, 30)], "log: rows of the tables that have all columns")
     runs = log.loop_times(LOG)
     check(runs == [(0.125, 2, 20, 100, 97.5), (1.5e-05, 1, 10, 99, None)],
           "log: loop seconds, procs, steps, atoms, CPU use per run (%s)" % (runs,))
