@@ -18,9 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools, for the modules below
-sys.path.insert(0, os.path.join(HERE, "..", "rom-pile"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rom-pile"))
 from compare import kinematic_series  # noqa: E402
 from plot_rom import accuracy_panel, run_tags  # noqa: E402
 from blade_force import read_force  # noqa: E402
