@@ -1,7 +1,11 @@
-"""Shared by the benchmark harnesses: the machine's name, LAMMPS's loop time and timing breakdown."""
+"""Shared by the benchmark harnesses: the machine's name, the last run's loop time, one input run on
+ranks and threads, one result recorded."""
 import os
 import platform
-import re
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))  # griddemtools
+from griddemtools import lammps, log  # noqa: E402
 
 
 def device():
@@ -17,35 +21,21 @@ def device():
 
 def loop_time(out, what):
     """(loop seconds, steps, atoms) of the last run in LAMMPS's screen output."""
-    found = re.findall(r"Loop time of ([0-9.e+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
-    if not found:
+    runs = log.loop_times(out)
+    if not runs:
         print(out[-3000:])
         raise SystemExit("no loop time for " + what)
-    loop, _, steps, atoms = found[-1]
-    return float(loop), int(steps), int(atoms)
-
-
-def timing_sections(out):
-    """{section: percent of the loop} from the last run's "MPI task timing breakdown" (Pair, Neigh,
-    Comm, Output, Modify, Other); {} if there is none."""
-    table = out.rpartition("MPI task timing breakdown:")[2].split("\n\n")[0]
-    return {k: float(v) for k, v in re.findall(r"^(\w+)\s*\|.*\|\s*([0-9.]+)\s*$", table, re.M)}
+    return runs[-1].seconds, runs[-1].steps, runs[-1].atoms
 
 
 def run_lmp(lmp, wd, text, ranks, threads=1, extra=(), env=None):
     """Run an input text with lmp on `ranks` MPI ranks and `threads` OpenMP threads each, with the
     command-line switches `extra` (Kokkos's, say) and the variables `env` added to the
     environment; returns (loop seconds, steps, atoms, screen output) of its last run."""
-    import subprocess
     with open(os.path.join(wd, "in.run"), "w") as f:
         f.write(text)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMP_NUM_THREADS=str(threads), **(env or {}))
-    cmd = [lmp] + list(extra) + ["-in", "in.run", "-log", "none"]
-    if ranks > 1:
-        cmd = ["mpirun", "-np", str(ranks), "--bind-to", "core", "-x", "OMP_NUM_THREADS"] + cmd
-    out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True).stdout
+    out = lammps.run(lmp, list(extra) + ["-in", "in.run", "-log", "none"], wd, ranks, threads,
+                     ["--bind-to", "core", "-x", "OMP_NUM_THREADS"], env).stdout
     return loop_time(out, "%s on %d ranks" % (text.splitlines()[0], ranks)) + (out,)
 
 

@@ -26,6 +26,9 @@ import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+from griddemtools import lammps, log  # noqa: E402
+
 STYLES = {"stock": "gran/hooke/history", "griddem": "griddem/hooke/history"}
 # inclusive counts reported, by a pattern of callgrind_annotate's function names
 FUNCTIONS = {"loop": r"PROGRAM TOTALS",
@@ -58,10 +61,8 @@ def touching_pairs(args, text, wd):
                        "thermo_style custom step c_griddem_bench_sum\nthermo_modify norm no\nthermo 1\nrun" + tail)
     with open(os.path.join(wd, "in.pairs"), "w") as f:
         f.write(counting)
-    out = subprocess.run([args.lmp, "-in", "in.pairs", "-log", "none"], cwd=wd, env=dict(os.environ, OMP_NUM_THREADS="1"),
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, check=True).stdout
-    table = out.rpartition("c_griddem_bench_sum")[2].partition("Loop time")[0]
-    sums = {int(step): float(value) for step, value in re.findall(r"^\s*(\d+)\s+(\S+)\s*$", table, re.M)}
+    out = lammps.run(args.lmp, ["-in", "in.pairs", "-log", "none"], wd, check=True).stdout
+    sums = {int(step): value for step, value in log.thermo_table(out, "Step", "c_griddem_bench_sum")}
     steps = [sums[k] for k in sorted(sums) if k > 0]
     return 0.5 * sum(steps) / len(steps)
 
@@ -76,7 +77,7 @@ def count(args, label, wd):
     out = os.path.join(wd, "callgrind.out")
     subprocess.run(["valgrind", "--tool=callgrind", "--collect-atstart=no", "--toggle-collect=*Verlet::run*",
                     "--callgrind-out-file=" + out, args.lmp, "-in", "in.run", "-log", "none"], cwd=wd,
-                   env=dict(os.environ, OMP_NUM_THREADS="1"), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   env=lammps.environment(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    check=True)
     report = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", out],
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, universal_newlines=True).stdout

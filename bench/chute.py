@@ -12,12 +12,15 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 
 import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+from griddemtools.log import timing_sections  # noqa: E402
 # (pair style, extra input, label, OpenMP threads per rank)
 VARIANTS = [
     ("gran/hooke/history", "", "stock", 1),
@@ -54,7 +57,7 @@ def main():
             text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
             loop, steps, atoms, out = benchlib.run_lmp(args.lmp, wd, text, ranks, threads)
-            sections = benchlib.timing_sections(out)
+            sections = timing_sections(out)
             benchlib.record(out_path, "chute", label, ranks, threads, loop, steps, atoms, build=build,
                             pair_pct=sections.get("Pair"), neigh_pct=sections.get("Neigh"))
 

@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -28,8 +27,8 @@ import benchlib
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 EXAMPLES = os.path.join(TOP, "examples")
-sys.path.insert(0, EXAMPLES)
-import exampletools  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+from griddemtools import echo, lammps, log  # noqa: E402
 
 # scene: (ranks, runs as (variant in the log's name, -var settings), the printed line's pattern
 #         giving the number (None: unit tests judge it, test_examples.py), tolerance of the stock
@@ -65,7 +64,7 @@ def log_name(scene, variant, ranks, date):
 def reference_log(scene, variant, ranks):
     """The example's reference log of this run, whatever its date; None if it has none, an error
     if it has several."""
-    found = exampletools.reference_logs(os.path.join(EXAMPLES, scene), variant, ranks)
+    found = log.reference_logs(os.path.join(EXAMPLES, scene), variant, ranks)
     if len(found) > 1:
         raise SystemExit("more than one reference log of %s %s: %s" % (scene, variant, ", ".join(found)))
     return found[0] if found else None
@@ -76,31 +75,27 @@ def stale(log_path):
     naming the log and what differs."""
     scene = os.path.basename(os.path.dirname(log_path))
     with open(log_path) as f:
-        fault = exampletools.echo_fault(os.path.join(EXAMPLES, scene, "in." + scene), f.read())
+        fault = echo.echo_fault(os.path.join(EXAMPLES, scene, "in." + scene), f.read())
     return None if fault is None else "%s does not echo in.%s: %s" % (os.path.relpath(log_path, TOP),
                                                                        scene, fault)
 
 
-def run(scene, variables, ranks, wd, log):
+def run(scene, variables, ranks, wd, log_file):
     src = os.path.join(EXAMPLES, scene, "in." + scene)
     shutil.copy(src, wd)
-    cmd = [os.path.join(TOP, "build", "lmp"), "-in", "in." + scene, "-log", log]
+    args = ["-in", "in." + scene, "-log", log_file]
     if scene == "chute":
         variables = variables + ["data " + os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench", "data.chute")]
     for v in variables:
-        cmd += ["-var"] + v.split(" ", 1)
-    if ranks > 1:
-        cmd = ["mpirun", "-np", str(ranks)] + cmd
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
-    out = subprocess.run(cmd, cwd=wd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True).stdout
-    if not os.path.exists(os.path.join(wd, log)) or "Total wall time" not in open(os.path.join(wd, log)).read():
+        args += ["-var"] + v.split(" ", 1)
+    out = lammps.run(os.path.join(TOP, "build", "lmp"), args, wd, ranks).stdout
+    path = os.path.join(wd, log_file)
+    if not os.path.exists(path) or "Total wall time" not in open(path).read():
         print(out[-3000:])
-        raise SystemExit("%s %s did not finish" % (scene, log))
-    with open(os.path.join(wd, log)) as f:
+        raise SystemExit("%s %s did not finish" % (scene, log_file))
+    with open(path) as f:
         text = f.read()
-    loops = [float(x) for x in re.findall(r"Loop time of ([0-9.e+-]+) on", text)]
-    return text, sum(loops)
+    return text, sum(run.seconds for run in log.loop_times(text))
 
 
 def number(pattern, text, what):
@@ -110,11 +105,11 @@ def number(pattern, text, what):
     return float(found[-1])
 
 
-def record(scene, wd, log, ref_path):
+def record(scene, wd, log_file, ref_path):
     """The run's log (and the files RECORDED names) become the example's references."""
     if ref_path:
         os.remove(ref_path)
-    shutil.copy(os.path.join(wd, log), os.path.join(EXAMPLES, scene, log))
+    shutil.copy(os.path.join(wd, log_file), os.path.join(EXAMPLES, scene, log_file))
     for extra in os.listdir(wd):
         if extra.startswith(RECORDED.get(scene, ())):
             shutil.copy(os.path.join(wd, extra), os.path.join(EXAMPLES, scene, "reference", extra))
@@ -148,12 +143,12 @@ def main():
                 if fault:
                     failures.append(fault)
                     print("FAILED: " + fault, flush=True)
-            log = log_name(scene, variant, ranks, today)
-            text, loop = run(scene, variables, ranks, wd, log)
-            value = number(pattern, text, log) if pattern else None
+            log_file = log_name(scene, variant, ranks, today)
+            text, loop = run(scene, variables, ranks, wd, log_file)
+            value = number(pattern, text, log_file) if pattern else None
             values["stock" if variant and variant.endswith("stock") else "griddem"] = value
             if args.record:
-                record(scene, wd, log, ref_path)
+                record(scene, wd, log_file, ref_path)
             elif pattern and ref_path:
                 ref = number(pattern, open(ref_path).read(), ref_path)
                 if variant.endswith("stock") and abs(value - ref) > tol_ref:

@@ -49,6 +49,7 @@ import re
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -56,6 +57,9 @@ import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+from griddemtools import log  # noqa: E402
+
 BASE = 32000  # atoms in data.chute
 # LAMMPS's chute files (./tools/build downloads the LAMMPS source into .deps)
 LAMMPS_BENCH = os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench")
@@ -348,10 +352,10 @@ def main():
                     f.write(text)
                 cmd = [args.lmp] + kk + variables + ["-in", "in.run", "-log", "none"]
                 rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu, blocking)
-                found = re.findall(r"Loop time of ([0-9.e+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", out)
-                if rc == 0 and found:
-                    loop, steps, n = float(found[-1][0]), int(found[-1][1]), int(found[-1][2])
-                    sections = benchlib.timing_sections(out)
+                runs = log.loop_times(out)
+                if rc == 0 and runs:
+                    loop, steps, n = runs[-1].seconds, runs[-1].steps, runs[-1].atoms
+                    sections = log.timing_sections(out)
                     record.update(status="ok", natoms=n, steps=steps, loop_s=loop,
                                   atom_steps_per_s=n * steps / loop, pair_pct=sections.get("Pair"),
                                   sections_pct=sections)

@@ -11,6 +11,7 @@ repository, so that they import each other unchanged:
   unittest/core/list_submodels            the sub-model table test_granular_parity reads
   lammps-bench/data.chute, in.chute.scaled  LAMMPS's chute (bench/gpu.py --lammps-bench)
   bench/gpu_session.py and what it runs   gpu.py, benchlib.py, kokkos_census.c, this file
+  python/griddemtools/                    the readers and runner benchlib.py and gpu.py import
   unittest/lammps/*.py                    test_kokkos.py and the test modules it imports
   unittest/kokkos_tools/sync_counter.c    the synchronisation counter, built there with cc
 
@@ -43,6 +44,7 @@ CENSUS_SOURCE = os.path.join("bench", "kokkos_census.c")
 SCRIPTS = [os.path.join("bench", name) for name in
            ("gpu_session.py", "gpu_bundle.py", "gpu.py", "benchlib.py", "kokkos_census.c")] + [SYNC_COUNTER_SOURCE]
 TEST_MODULES = os.path.join("unittest", "lammps", "*.py")
+TOOLS_MODULES = os.path.join("python", "griddemtools", "*.py")
 # libraries carried with the lmp: the CUDA runtime, which a machine with only the driver lacks
 CARRIED_LIBRARIES = ("libcudart.so",)
 
@@ -88,7 +90,8 @@ def make(lmp, out, xz, list_submodels, lammps_bench):
         if not os.path.exists(os.path.join(out, "bench", "gpu_bundle.py")):
             raise SystemExit("gpu_bundle.py: %s exists and is not a bundle; name a new folder" % out)
         shutil.rmtree(out)
-    for rel in SCRIPTS + [os.path.relpath(p, TOP) for p in glob.glob(os.path.join(TOP, TEST_MODULES))]:
+    modules = glob.glob(os.path.join(TOP, TEST_MODULES)) + glob.glob(os.path.join(TOP, TOOLS_MODULES))
+    for rel in SCRIPTS + [os.path.relpath(p, TOP) for p in modules]:
         place(os.path.join(TOP, rel), out, rel)
     place(list_submodels, out, LIST_SUBMODELS)
     for name in CHUTE_FILES:

@@ -17,6 +17,7 @@ import json
 import math
 import os
 import shutil
+import sys
 import tempfile
 
 import matplotlib
@@ -27,6 +28,9 @@ import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+from griddemtools import dump  # noqa: E402
+
 STOCK_PAIR = "gran/hooke/history 200000.0 NULL 50.0 NULL 0.5 0"
 RUNS = [  # (label, pair style, extra input)
     ("double", "griddem/hooke/history 200000.0 NULL 50.0 NULL 0.5 0", "fix grid all griddem precision double"),
@@ -45,13 +49,11 @@ def script(base, pair, extra, steps, every):
 
 
 def read_dump(path):
-    """{id: (x, y, z, fx, fy, fz)}"""
-    atoms, lines = {}, open(path).read().splitlines()
-    start = lines.index("ITEM: ATOMS id xu yu zu fx fy fz") + 1
-    for line in lines[start:]:
-        v = line.split()
-        atoms[int(v[0])] = tuple(float(a) for a in v[1:])
-    return atoms
+    """{id: (x, y, z, fx, fy, fz)} of the dump's one snapshot (columns id xu yu zu fx fy fz)"""
+    snapshot = dump.read_dump(path)[0]
+    if snapshot.columns != ["id", "xu", "yu", "zu", "fx", "fy", "fz"]:
+        raise SystemExit("%s: columns %s, not id xu yu zu fx fy fz" % (path, " ".join(snapshot.columns)))
+    return {k: tuple(v) for k, v in snapshot.by_id().items()}
 
 
 def distances(a, b):

@@ -33,49 +33,49 @@ reduced run measures on the blade and of the force its model predicts (examples/
 import argparse
 import json
 import os
-import re
 import resource
 import subprocess
 import sys
+
+import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
 HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 BLADE = os.path.join(ROOT, "examples", "rom-blade")
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+# the examples' measures of a reduced run against a resolved one
 sys.path.insert(0, EXAMPLE)
-sys.path.insert(0, HERE)
-
-import benchlib  # noqa: E402
-from compare import compare  # noqa: E402
-
 sys.path.insert(0, BLADE)
 from blade_force import force_accuracy  # noqa: E402
+from compare import compare  # noqa: E402
+from griddemtools import lammps, log  # noqa: E402
 
 
-def cpu_time_of(args, wd):
-    """Runs LAMMPS (args) in wd on one thread; returns the CPU time it took."""
+def cpu_time_of(lmp, args, wd):
+    """Runs lmp with args in wd on one thread; returns the CPU time it took."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(args, cwd=wd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    lammps.run(lmp, args, wd, output=None, check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
 def run_pile(lmp, wd, scene, steps, w, tag, extra=()):
-    args = [lmp, "-in", os.path.join(EXAMPLE, "in.rom-pile"), "-var", "w", str(w), "-var", "steps", str(steps),
+    args = ["-in", os.path.join(EXAMPLE, "in.rom-pile"), "-var", "w", str(w), "-var", "steps", str(steps),
             "-var", "tag", tag, "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in scene.items():
         args += ["-var", k, str(v)]
-    return cpu_time_of(args + list(extra), wd)
+    return cpu_time_of(lmp, args + list(extra), wd)
 
 
 def run_lammps(lmp, wd, inp, tag, variables, example=HOPPER, scene="in.hopper-scene"):
     """Runs an input of an example folder (rom-hopper, rom-blade) in wd; returns the CPU time it took."""
-    args = [lmp, "-in", os.path.join(example, inp), "-var", "scene", os.path.join(example, scene),
+    args = ["-in", os.path.join(example, inp), "-var", "scene", os.path.join(example, scene),
             "-log", "log." + tag, "-echo", "none", "-screen", "none"]
     for k, v in variables.items():
         args += ["-var", k] + (v if isinstance(v, list) else [str(v)])
-    return cpu_time_of(args, wd)
+    return cpu_time_of(lmp, args, wd)
 
 
 def blade_runs(a, lmp):
@@ -239,9 +239,9 @@ def main():
         subprocess.run([sys.executable, plot, res, rom] + ([noise] if noise else []) +
                        [os.path.abspath(os.path.join(here, a.plot))], check=True)
     os.chdir(here)
-    log = open(os.path.join(wd, "log." + res)).read()
-    _, _, atoms = benchlib.loop_time(log, res)
-    steps = sum(int(n) for n in re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps", log))
+    text = log.text_of(os.path.join(wd, "log." + res))
+    _, _, atoms = benchlib.loop_time(text, res)
+    steps = sum(run.steps for run in log.loop_times(text))
     line = dict(date=__import__("datetime").date.today().isoformat(), device=benchlib.device(),
                 scene=scene, natoms=atoms, steps=steps,
                 **(dict(train=a.train, test=a.test, block=a.block, walls=a.walls) if a.scene == "pile" else

@@ -20,7 +20,6 @@ import datetime
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -30,9 +29,12 @@ import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
+# the test suite's random packings, its squeeze scene and its comparison of two dumps' forces
 sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
 import griddem_testlib as t  # noqa: E402
 import benchlib  # noqa: E402
+from griddemtools import dump, lammps, log  # noqa: E402
 import poured_bed  # noqa: E402
 import test_bidisperse_squeeze as squeeze  # noqa: E402
 
@@ -224,11 +226,9 @@ def run(scene, mode, wd, lmp, data_chute, dump_step):
                 "format float %.17g").format(s=dump_step)
     text = scene["text"].format(style=style, args=args, grid=grid, every=max(1, scene["steps"] // 50) if scene["steps"] else 1,
                                 dump=dump, steps=scene["steps"], data_chute=data_chute)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
     with open(os.path.join(wd, "in.run"), "w") as f:
         f.write(text)
-    out = subprocess.run([lmp, "-in", "in.run", "-log", "none"], cwd=wd, env=env, stdout=subprocess.PIPE,
-                         stderr=subprocess.STDOUT, universal_newlines=True).stdout
+    out = lammps.run(lmp, ["-in", "in.run", "-log", "none"], wd).stdout
     loop, _, atoms = benchlib.loop_time(out, "%s %s" % (scene["name"], label))
     return out, loop, atoms
 
@@ -264,10 +264,11 @@ def main():
             if scene["force_probe"]:
                 # forces on the scene's initial state, the same for every mode
                 run(dict(scene, steps=0), mode, wd, args.lmp, data_chute, 1)
-                forces = t.read_dumps(os.path.join(wd, "dump.forces"))[0]
+                snapshot = dump.read_dump(os.path.join(wd, "dump.forces"))[0]
+                forces = (snapshot.columns[1:], snapshot.by_id())    # (fx fy fz, {id: values}) as t.max_rel_diff takes
             out, loop, atoms = run(scene, mode, wd, args.lmp, data_chute, None)
-            results[mode[0]] = dict(forces=forces, ke=t.thermo_values(out, "c_ke"),
-                                    numbers=t.thermo_values(out, scene["number"]), loop=loop, atoms=atoms)
+            results[mode[0]] = dict(forces=forces, ke=log.thermo(out, "c_ke"),
+                                    numbers=log.thermo(out, scene["number"]), loop=loop, atoms=atoms)
         ref = results[REFERENCE]
         kescale = max(abs(v) for v in ref["ke"]) or 1.0
         for label, r in results.items():

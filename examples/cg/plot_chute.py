@@ -9,43 +9,33 @@ the largest differences below the free surface."""
 import glob
 import math
 import os
+import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import chunks, grid  # noqa: E402
+
 THETA = math.radians(26.0)
 
 
 def grid_dump(path):
-    """(step, lz, nz, per-z-plane means of each column) of one dump grid file."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    step = int(lines[lines.index("ITEM: TIMESTEP") + 1])
-    b = lines.index(next(l for l in lines if l.startswith("ITEM: BOX BOUNDS")))
-    zlo, zhi = map(float, lines[b + 3].split())
-    g = lines.index("ITEM: GRID SIZE nx ny nz")
-    nx, ny, nz = map(int, lines[g + 1].split())
-    c = lines.index(next(l for l in lines if l.startswith("ITEM: GRID CELLS")))
-    rows = [list(map(float, l.split())) for l in lines[c + 1:c + 1 + nx * ny * nz]]
+    """(step, zlo, zhi, per-z-plane means of each column) of one dump grid file's frame."""
+    frame = grid.read_grid_dump(path)[0]
+    nx, ny, nz = frame.n
     planes = []
     for k in range(nz):
-        plane = rows[k * nx * ny:(k + 1) * nx * ny]
-        planes.append([sum(r[j] for r in plane) / len(plane) for j in range(len(rows[0]))])
-    return step, zlo, zhi, planes
+        cells = slice(k * nx * ny, (k + 1) * nx * ny)
+        planes.append([sum(values[cells]) / (nx * ny) for values in frame.columns.values()])
+    return frame.step, frame.box[4], frame.box[5], planes
 
 
 def bins():
     """Last block of chute-cg.bins.txt: (z, vx, mass density) per layer."""
-    with open(os.path.join(HERE, "chute-cg.bins.txt")) as f:
-        lines = [l.split() for l in f if not l.startswith("#")]
-    rows, k = [], 0
-    while k < len(lines):
-        n = int(lines[k][1])
-        rows = [(float(r[1]), float(r[3]), float(r[4])) for r in lines[k + 1:k + 1 + n]]
-        k += 1 + n
-    return rows
+    return [(r[1], r[3], r[4]) for r in chunks.last_block(os.path.join(HERE, "chute-cg.bins.txt"))]
 
 
 dumps = sorted((grid_dump(p) for p in glob.glob(os.path.join(HERE, "chute-cg.fields.*.txt"))), key=lambda d: d[0])

@@ -12,17 +12,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import chunks  # noqa: E402
 
 
 def profile(path):
     """Last block of a fix ave/chunk file: (z, vx, density) per layer."""
-    with open(path) as f:
-        lines = [line.split() for line in f if not line.startswith("#")]
-    rows, k = [], 0
-    while k < len(lines):
-        count = int(lines[k][1])
-        rows = [(float(r[1]), float(r[3]), float(r[4])) for r in lines[k + 1:k + 1 + count]]
-        k += 1 + count
+    rows = [(r[1], r[3], r[4]) for r in chunks.last_block(path)]
     return [r for r in rows if r[2] > 0.0]
 
 

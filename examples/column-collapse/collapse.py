@@ -15,7 +15,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -23,9 +22,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RHEOLOGY = os.path.join(HERE, "..", "rheology")
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
 sys.path.insert(0, HERE)
 sys.path.insert(0, RHEOLOGY)
 import deposit as D  # noqa: E402
+from griddemtools import lammps, log as lammps_log  # noqa: E402
 from continuum import FollowingBox, HeldMu, MuIFlow  # noqa: E402
 
 WORK = os.path.join(HERE, "work")
@@ -33,10 +34,6 @@ W = 4.4            # periodic depth of in.collapse
 DUMP_EVERY = 0.5
 SERIES_SPHERES = 1800  # the aspect-ratio series; other column sizes show the size effect
 DT = 0.001         # DEM time step (in.collapse's default: contact time / 23)
-
-
-def default_lmp():
-    return os.environ.get("GRIDDEM_LMP", os.path.join(HERE, "..", "..", "build", "lmp"))
 
 
 def geometry(a, spheres):
@@ -52,15 +49,9 @@ def geometry(a, spheres):
 def lammps_times(log):
     """LAMMPS's loop times summed over the runs of a log, and the same times the CPU use it reports
     for each (the processor time: on a shared machine the loop time counts waits for a core)."""
-    loop = cpu = 0.0
-    last = 0.0
-    for line in open(log):
-        if line.startswith("Loop time of"):
-            last = float(line.split()[3])
-            loop += last
-        elif "% CPU use" in line:
-            cpu += last * float(line.split("%")[0]) / 100.0
-    return round(loop, 1), round(cpu, 1)
+    runs = lammps_log.loop_times(log)
+    return (round(sum(r.seconds for r in runs), 1),
+            round(sum(r.seconds * r.cpu_percent / 100.0 for r in runs if r.cpu_percent is not None), 1))
 
 
 def run_dem(lmp, a, spheres, extra=(), tag=""):
@@ -79,11 +70,10 @@ def run_dem(lmp, a, spheres, extra=(), tag=""):
     log = os.path.join(wd, "log.lammps")
     finished = os.path.exists(log) and "GRIDDEM collapse: released" in open(log).read()
     if not finished:       # (a finished run whose analysis was interrupted is analysed, not rerun)
-        cmd = [lmp, "-in", os.path.join(HERE, "in.collapse"), "-var", "L0", "%g" % L0, "-var", "H", "%g" % H,
-               "-var", "Lx", "%g" % Lx, "-var", "tmax", "%g" % tmax, "-var", "dump_every", "%g" % DUMP_EVERY,
-               "-var", "dt", "%g" % DT, "-log", "log.lammps", "-echo", "none"] + list(extra)
-        p = subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                           env=dict(os.environ, OMP_NUM_THREADS="1"))
+        args = ["-in", os.path.join(HERE, "in.collapse"), "-var", "L0", "%g" % L0, "-var", "H", "%g" % H,
+                "-var", "Lx", "%g" % Lx, "-var", "tmax", "%g" % tmax, "-var", "dump_every", "%g" % DUMP_EVERY,
+                "-var", "dt", "%g" % DT, "-log", "log.lammps", "-echo", "none"] + list(extra)
+        p = lammps.run(lmp, args, wd)
         if p.returncode != 0 or "GRIDDEM collapse: released" not in p.stdout:
             raise RuntimeError("in.collapse failed (exit %d):\n%s" % (p.returncode, p.stdout[-2000:]))
     wall = time.time() - t0
@@ -194,7 +184,7 @@ def run_continuum(dem, mu, h=0.5, t_end=None, ke_stop=1e-5, on_output=None, dt_m
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--lmp", default=default_lmp())
+    ap.add_argument("--lmp", default=lammps.default_lmp())
     ap.add_argument("--aspect", default="0.5,1,2,3")
     ap.add_argument("--spheres", type=int, default=SERIES_SPHERES, help="spheres per column (the fits and the "
                     "speed-ups take the %d-sphere series; other sizes are drawn apart)" % SERIES_SPHERES)

@@ -32,10 +32,12 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
 sys.path.insert(0, HERE)
 import collapse as CL  # noqa: E402
 import learn_mu as L  # noqa: E402  (collapse puts ../rheology on the path)
 from continuum import HeldMu  # noqa: E402
+from griddemtools import lammps  # noqa: E402
 
 START = (0.001, 0.003, 0.01, 0.0548, 0.3)
 I_REF = 0.3
@@ -133,7 +135,7 @@ class AdaptiveRheology:
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--lmp", default=CL.default_lmp())
+    ap.add_argument("--lmp", default=lammps.default_lmp())
     ap.add_argument("--factors", default="1.5,2,3")
     ap.add_argument("--first", type=float, default=1.0)
     ap.add_argument("--others", default="0.5,2,3")

@@ -9,8 +9,13 @@ of a column times the cell size.
 Run-out / front: the farthest x where h >= 1 d, linear between column centres (the crossing of
 h = 1 d after the last column with h >= 1 d). Final height: the largest h."""
 import math
+import os
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+from griddemtools import dump  # noqa: E402
 
 
 def front(x, h, thick=1.0):
@@ -29,21 +34,9 @@ def front(x, h, thick=1.0):
 def read_dump(path):
     """LAMMPS dump custom (id x z radius): list of (timestep, array N x 3 of x, z, radius)."""
     frames = []
-    with open(path) as f:
-        while True:
-            line = f.readline()
-            if not line:
-                break
-            if line.startswith("ITEM: TIMESTEP"):
-                step = int(f.readline())
-                f.readline()
-                n = int(f.readline())
-                for _ in range(4):
-                    f.readline()
-                cols = f.readline().split()[2:]
-                data = np.array([f.readline().split() for _ in range(n)], float)
-                pick = [cols.index(c) for c in ("x", "z", "radius")]
-                frames.append((step, data[:, pick]))
+    for s in dump.read_dump(path):
+        data = np.array(s.rows, float).reshape(s.natoms, len(s.columns))
+        frames.append((s.step, data[:, [s.columns.index(c) for c in ("x", "z", "radius")]]))
     return frames
 
 

@@ -13,8 +13,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.dirname(HERE))
-import exampletools as ex
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import dump, log  # noqa: E402
 
 RHO, D, ORIFICE, DEPTH, G = 1592.0, 0.006, 0.04, 0.04, 9.81
 
@@ -26,11 +26,10 @@ def beverloo_rate(phi=0.6, c=1.03, k=1.5):
 
 
 def discharge(tag):
-    log = ex.reference_log(HERE, tag, 2)
-    text = open(log).read()
+    text = log.text_of(log.reference_log(HERE, tag, 2))
     mass0 = float(text.split("initial mass ")[-1].split()[0])
-    left = ex.thermo(text, "v_inhopper")
-    t = ex.thermo(text, "Time")[-len(left):]    # the discharge run's rows
+    left = log.thermo(text, "v_inhopper")
+    t = log.thermo(text, "Time")[-len(left):]    # the discharge run's rows
     # steady rate: straight line through the part between 80% and 40% left
     pts = [(a, b) for a, b in zip(t, left) if 0.4 <= b <= 0.8]
     n = len(pts)
@@ -43,12 +42,7 @@ def discharge(tag):
 def heap_angles(tag):
     """Angle of the heap left on each side of the reference run: top of the spheres per 5 mm
     column, fitted by a line from the wall to the orifice's edge."""
-    path = os.path.join(HERE, "reference", "final.%s.dump" % tag)
-    with open(path) as f:
-        lines = f.read().splitlines()
-    start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
-    names = lines[start].split()[2:]
-    atoms = [dict(zip(names, map(float, line.split()))) for line in lines[start + 1:] if line.strip()]
+    atoms = dump.read_dump(os.path.join(HERE, "reference", "final.%s.dump" % tag))[0].atoms()
     top = {}
     for a in atoms:
         if a["z"] > 0:

@@ -11,13 +11,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.dirname(HERE))
-import exampletools as ex
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import dump, plot  # noqa: E402
 
 
 fig, axes = plt.subplots(1, 2, figsize=(10, 5), sharey=True)
 for ax, path, title in zip(axes, sys.argv[1:3], ["griddem/granular", "stock granular"]):
-    ex.draw_slice(ax, ex.last_snapshot(path), 2.5, 0.05, lambda a: (a["id"] - 1) // 14406, "tab10", (0, 9))
+    plot.draw_slice(ax, dump.last_snapshot(path).atoms(), 2.5, 0.05, lambda a: (a["id"] - 1) // 14406, "tab10", (0, 9))
     ax.set_xlim(0, 5)
     ax.set_ylim(0, 2.6)
     ax.set_title("%s: slice 2.45 < y < 2.55 m" % title, fontsize=9)

@@ -10,12 +10,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.dirname(HERE))
-import exampletools as ex
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import dump, plot  # noqa: E402
 
-atoms = ex.last_snapshot(sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "dump.pour"))
+atoms = dump.last_snapshot(sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "dump.pour")).atoms()
 fig, ax = plt.subplots(figsize=(4, 7))
-coll = ex.draw_slice(ax, atoms, 5.0, 0.5, lambda a: a["z"], "viridis")
+coll = plot.draw_slice(ax, atoms, 5.0, 0.5, lambda a: a["z"], "viridis")
 ax.set_xlim(0, 10)
 ax.set_ylim(0, 18)
 ax.set_xlabel("x")

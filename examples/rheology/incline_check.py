@@ -17,43 +17,23 @@ import argparse
 import json
 import math
 import os
-import subprocess
+import sys
 
 import numpy as np
 
-import learn_mu as L
-import layer_solver as S
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+import learn_mu as L  # noqa: E402
+import layer_solver as S  # noqa: E402
+from griddemtools import chunks, lammps  # noqa: E402
 
 HERE = L.HERE
 EDGE = 2.0     # layers within this distance (d) of the base or the surface are left out
 
 
-def run_incline(lmp, theta, steps, theta2=None, steps2=0):
-    """in.incline in work/incline_<theta> (cached: rerun only when its vcm file is absent)."""
-    workdir = os.path.join(L.WORK, "incline_%g" % theta)
-    if not os.path.exists(os.path.join(workdir, "vcm.%g.txt" % theta)):
-        L.need_lmp(lmp, "the inclined layer at %g degrees (not in work/)" % theta)
-        os.makedirs(workdir, exist_ok=True)
-        cmd = [lmp, "-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta,
-               "-var", "steps", str(steps), "-var", "tag", "%g" % theta, "-log", "log.lammps", "-echo", "none"]
-        if steps2:
-            cmd += ["-var", "theta2", "%g" % theta2, "-var", "steps2", str(steps2)]
-        subprocess.run(cmd, cwd=workdir, check=True, stdout=subprocess.DEVNULL,
-                       env=dict(os.environ, OMP_NUM_THREADS="1"))
-    return workdir
-
-
 def read_chunks(path):
     """All blocks of a fix ave/chunk file: (timesteps, array [block, chunk, (z, count, rho, vx)])."""
-    with open(path) as f:
-        lines = [l.split() for l in f if not l.startswith("#")]
-    steps, blocks, k = [], [], 0
-    while k < len(lines):
-        n = int(lines[k][1])
-        steps.append(int(lines[k][0]))
-        blocks.append([[float(v) for v in r[1:]] for r in lines[k + 1:k + 1 + n]])
-        k += 1 + n
-    return np.array(steps), np.array(blocks)
+    blocks = chunks.read_ave_chunk(path)
+    return np.array([step for step, _ in blocks]), np.array([[r[1:] for r in rows] for _, rows in blocks])
 
 
 def read_series(path):
@@ -171,7 +151,7 @@ def decelerating(workdir, theta1, theta2, mu_reg, phi, shift, grids=((20, 0.2), 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--lmp", default=L.default_lmp())
+    ap.add_argument("--lmp", default=lammps.default_lmp())
     ap.add_argument("--results", default=os.path.join(HERE, "reference", "results.json"),
                     help="learn_mu.py's results.json whose RVE points make the curve")
     ap.add_argument("--thetas", default="22,24,26")
@@ -193,7 +173,7 @@ def main():
     out = dict(layers=[], steady=[])
     for t in [float(s) for s in a.thetas.split(",")]:
         first = t == a.theta1
-        wd = run_incline(lmp, t, a.steps, a.theta2 if first else None, a.steps2 if first else 0)
+        wd = L.run_incline(lmp, t, a.steps, a.theta2 if first else None, a.steps2 if first else 0)
         c = steady_layer(wd, t, mu_reg, lambda x: ens.predict([x], extrapolate=True)[1][0, 0], P)
         s = steadiness(wd, t)
         c["vcm_thirds"] = s["thirds"]

@@ -25,23 +25,21 @@ import math
 import os
 import re
 import resource
-import subprocess
 import sys
 import time
 
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import chunks, lammps, log  # noqa: E402
+
 WORK = os.path.join(HERE, "work")
 RESULT = re.compile(r"GRIDDEM rheology: result I (\S+) \+- (\S+) mu (\S+) \+- (\S+) phi (\S+) \+- (\S+)")
 FAILED = "GRIDDEM rheology: pressure control failed"
 
 
 # ---------------------------------------------------------------- DEM runs
-def default_lmp():
-    return os.environ.get("GRIDDEM_LMP", os.path.join(HERE, "..", "..", "build", "lmp"))
-
-
 def need_lmp(lmp, what):
     """stop, naming --lmp, when a DEM run is due and lmp is not an executable"""
     if not os.access(lmp, os.X_OK):
@@ -59,7 +57,6 @@ def parse_rve(text):
 
 
 STEADY = re.compile(r"GRIDDEM rheology: production blocks start after (\S+) strain")
-LOOP = re.compile(r"Loop time of (\S+) on")
 
 
 def rve_log_info(text):
@@ -67,7 +64,7 @@ def rve_log_info(text):
     test's exit), total strain sheared, window means of mu, and the summed LAMMPS loop times (s)."""
     wins = re.findall(r"GRIDDEM rheology: window \S+: strain (\S+) mu (\S+)", text)
     blocks = re.findall(r"GRIDDEM rheology: block \S+: mu", text)
-    info = dict(loop_s=round(sum(float(x) for x in LOOP.findall(text)), 1),
+    info = dict(loop_s=round(sum(run.seconds for run in log.loop_times(text)), 1),
                 window_mu=[round(float(m), 4) for _, m in wins])
     m = STEADY.search(text)
     if m and wins:
@@ -115,9 +112,8 @@ def prepare_state(lmp, statedir, extra=()):
     os.makedirs(statedir, exist_ok=True)
     written = "%s.%d.tmp" % (state, os.getpid())
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run([lmp, "-in", IN_RVE, "-var", "save", written, "-var", "compress_only", "1", "-log", "none",
-                           "-echo", "none"] + list(extra), cwd=statedir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    proc = lammps.run(lmp, ["-in", IN_RVE, "-var", "save", written, "-var", "compress_only", "1", "-log", "none",
+                            "-echo", "none"] + list(extra), statedir)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode != 0 or "compressed state written" not in proc.stdout or not os.path.exists(written):
         if os.path.exists(written):
@@ -153,11 +149,8 @@ def run_rve(lmp, I, extra=(), workdir=None, recorded=(), statedir=None):
     written = "%s.%d.tmp" % (state, os.getpid())       # renamed once the RVE has succeeded
     start = ["-var", "state", state] if os.path.exists(state) else ["-var", "save", written]
     t0 = time.time()
-    cmd = [lmp, "-in", IN_RVE, "-var", "I", "%.6g" % I, "-log", "log.lammps",
-           "-echo", "none"] + start + list(extra)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    proc = subprocess.run(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, env=env)
+    proc = lammps.run(lmp, ["-in", IN_RVE, "-var", "I", "%.6g" % I, "-log", "log.lammps",
+                            "-echo", "none"] + start + list(extra), workdir)
     res = parse_rve(proc.stdout)
     if (FAILED in proc.stdout or proc.returncode != 0 or res is None) and os.path.exists(written):
         os.remove(written)
@@ -387,29 +380,26 @@ def bagnold(z, H, I, phi, theta, g=1.0, d=1.0):
 
 
 # ---------------------------------------------------------------- inclined layers
-def run_incline(lmp, theta, steps, N=700):
+def run_incline(lmp, theta, steps, theta2=None, steps2=0):
+    """in.incline at slope theta (degrees) for steps, then with steps2 at slope theta2 for steps2
+    more (the decelerating layer), in work/incline_<theta>; cached: run only when an output this
+    call reads is absent (profile and vcm files; with steps2 the decel file). Returns the folder."""
     workdir = os.path.join(WORK, "incline_%g" % theta)
-    prof = os.path.join(workdir, "profile.%g.txt" % theta)
-    if not os.path.exists(prof):
+    outputs = ["profile.%g.txt", "vcm.%g.txt"] + (["decel.%g.txt"] if steps2 else [])
+    if not all(os.path.exists(os.path.join(workdir, name % theta)) for name in outputs):
         need_lmp(lmp, "the inclined layer at %g degrees (not in work/; --thetas '' skips the layers)" % theta)
         os.makedirs(workdir, exist_ok=True)
-        subprocess.run([lmp, "-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta,
-                        "-var", "steps", str(steps), "-var", "N", str(N), "-var", "tag", "%g" % theta,
-                        "-log", "log.lammps", "-echo", "none"], cwd=workdir, check=True,
-                       stdout=subprocess.DEVNULL, env=dict(os.environ, OMP_NUM_THREADS="1"))
-    return read_profile(prof)
+        args = ["-in", os.path.join(HERE, "in.incline"), "-var", "theta", "%g" % theta, "-var", "steps", str(steps),
+                "-var", "tag", "%g" % theta, "-log", "log.lammps", "-echo", "none"]
+        if steps2:
+            args += ["-var", "theta2", "%g" % theta2, "-var", "steps2", str(steps2)]
+        lammps.run(lmp, args, workdir, output=False, check=True)
+    return workdir
 
 
 def read_profile(path):
     """Last block of a fix ave/chunk file: arrays z, mass density, vx (layers with mass only)."""
-    with open(path) as f:
-        lines = [l.split() for l in f if not l.startswith("#")]
-    rows, k = [], 0
-    while k < len(lines):
-        n = int(lines[k][1])
-        rows = [[float(v) for v in r[1:]] for r in lines[k + 1:k + 1 + n]]
-        k += 1 + n
-    a = np.array([r for r in rows if r[1] > 0])
+    a = np.array([r[1:] for r in chunks.last_block(path) if r[2] > 0])
     return a[:, 0], a[:, 2], a[:, 3]
 
 
@@ -443,7 +433,7 @@ def compare_incline(z, rho, vx, theta_deg, mu_reg, phi_of_I, dz=0.5):
 # ---------------------------------------------------------------- main
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--lmp", default=default_lmp())
+    ap.add_argument("--lmp", default=lammps.default_lmp())
     ap.add_argument("--Ilo", type=float, default=0.01, help="lowest I run (1e-3 requested: see README)")
     ap.add_argument("--Ihi", type=float, default=0.3)
     ap.add_argument("--tol", type=float, default=0.005, help="max ensemble std of mu")
@@ -514,7 +504,7 @@ def main():
         return final.predict([x])[0][0, 1]
     inc = []
     for t in [float(s) for s in a.thetas.split(",") if s.strip()]:
-        z, rho, vx = run_incline(lmp, t, a.incline_steps)
+        z, rho, vx = read_profile(os.path.join(run_incline(lmp, t, a.incline_steps), "profile.%g.txt" % t))
         c = compare_incline(z, rho, vx, t, mu_reg, phi_of_I)
         if c is None:
             print("theta %g: tan theta outside the learned mu range: no steady Bagnold layer" % t)

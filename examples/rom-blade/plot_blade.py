@@ -45,7 +45,7 @@ def main():
                                                      ", %d kinematic (blue)" % kin.sum() if row else ""))
     accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left")
     ax = fig.add_subplot(4, 2, 6)
-    for column, label in ((4, "kinematic"), (5, "kinematic within reach (move every step)")):
+    for column, label in (("v_nkin", "kinematic"), ("v_nnear", "kinematic within reach (move every step)")):
         steps, frac = kinematic_series(rom_tag, column)
         ax.plot(steps, frac, label=label)
     ax.set_xlabel("step")

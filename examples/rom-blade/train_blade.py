@@ -20,7 +20,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rom-pile"))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+sys.path.insert(0, os.path.join(HERE, "..", "rom-pile"))
+from griddemtools import dump  # noqa: E402
 from romtools import write_model  # noqa: E402
 from train_rom import fit_validated  # noqa: E402
 
@@ -31,16 +34,11 @@ FRAME_BOX = (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)
 
 
 def read_snapshots(path):
-    """[(step, array of the atoms' columns)] of a LAMMPS text dump."""
+    """[(step, {column: array over the atoms})] of a LAMMPS text dump."""
     frames = []
-    with open(path) as f:
-        blocks = f.read().split("ITEM: TIMESTEP\n")[1:]
-    for b in blocks:
-        lines = b.split("\n")
-        natoms = int(lines[2])
-        cols = lines[7].split()[2:]
-        data = np.array(" ".join(lines[8:8 + natoms]).split(), dtype=float).reshape(natoms, len(cols))
-        frames.append((int(lines[0]), {c: data[:, k] for k, c in enumerate(cols)}))
+    for s in dump.read_dump(path):
+        data = np.array(s.rows, dtype=float).reshape(s.natoms, len(s.columns))
+        frames.append((s.step, {c: data[:, k] for k, c in enumerate(s.columns)}))
     return frames
 
 

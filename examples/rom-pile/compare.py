@@ -15,11 +15,14 @@ run_all.sh's 'log.2Dec26.rom-pile.{}.1'):
   griddem/cg temperature: velocity variance about the voxel mean), when the dumps have it;
 - reduction: the mean fraction of kinematic atoms (thermo's v_nkin over atoms)."""
 import argparse
-import re
+import os
+import sys
 
 import numpy as np
 
-from romtools import read_grid_dump
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+from griddemtools import log  # noqa: E402
+from griddemtools.grid import read_grid_dump  # noqa: E402
 
 RHO_BULK = 0.6
 LOG = "log.{}"
@@ -30,33 +33,24 @@ def log_of(tag):
 
 
 def loop_time(tag):
-    with open(log_of(tag)) as f:
-        times = re.findall(r"Loop time of ([0-9.eE+-]+) on", f.read())
-    return sum(float(t) for t in times)
+    return sum(run.seconds for run in log.loop_times(log_of(tag)))
 
 
 def heights(frame):
-    step, box, n, cols = frame
-    nx, ny, nz = n
+    nx, ny, nz = frame.n
+    box = frame.box
     hz = (box[5] - box[4]) / nz
     zc = box[4] + (np.arange(nz) + 0.5) * hz
-    rho = cols["density"].reshape(nz, ny, nx)
+    rho = np.asarray(frame.columns["density"]).reshape(nz, ny, nx)
     inside = zc > 0
     return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
 
 
-def kinematic_series(tag, column=4):
-    """(steps, share of the atoms) at the thermo lines of log.TAG (columns: step time atoms ke
-    nkin nnear; column 4 the kinematic atoms, 5 those of them moving at DEM's step); empty for a
-    run without them."""
-    steps, frac = [], []
-    with open(log_of(tag)) as f:
-        for line in f:
-            w = line.split()
-            if len(w) == 6 and w[0].isdigit() and w[2].isdigit() and int(w[2]) > 0:
-                steps.append(int(w[0]))
-                frac.append(float(w[column]) / float(w[2]))
-    return np.array(steps), np.array(frac)
+def kinematic_series(tag, column="v_nkin"):
+    """(steps, share of the atoms) at the thermo rows of log.TAG with atoms: column v_nkin the
+    kinematic atoms, v_nnear those of them moving at DEM's step; empty for a run without them."""
+    rows = [r for r in log.thermo_table(log_of(tag), "Step", "Atoms", column) if r[1] > 0]
+    return np.array([int(r[0]) for r in rows]), np.array([r[2] / r[1] for r in rows])
 
 
 def counters(tag):
@@ -78,7 +72,7 @@ def kinematic_fraction(tag):
 def near_fraction(tag):
     """Mean over the thermo lines of the share of the atoms that are kinematic and move at DEM's
     step (within reach of a dynamic atom)."""
-    frac = kinematic_series(tag, 5)[1]
+    frac = kinematic_series(tag, "v_nnear")[1]
     return float(np.mean(frac)) if frac.size else 0.0
 
 
@@ -89,7 +83,7 @@ def height_accuracy_series(res, rom):
     for k in range(nf):
         hr, hm = heights(res[k]), heights(rom[k])
         acc.append(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr))
-    return np.array([res[k][0] for k in range(nf)]), np.array(acc)
+    return np.array([res[k].step for k in range(nf)]), np.array(acc)
 
 
 def compare(res_tag, rom_tag):
@@ -99,15 +93,15 @@ def compare(res_tag, rom_tag):
     half = range(nf // 2, nf)
     hr = np.array([heights(res[k]) for k in half])
     hm = np.array([heights(rom[k]) for k in half])
-    rho = np.mean([res[k][3]["density"] for k in half], axis=0)
+    rho = np.mean([res[k].columns["density"] for k in half], axis=0)
     mask = rho > 0.05
-    vr = np.array([np.mean([res[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
-    vm = np.array([np.mean([rom[k][3][c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
+    vr = np.array([np.mean([res[k].columns[c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
+    vm = np.array([np.mean([rom[k].columns[c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     tr, tm = loop_time(res_tag), loop_time(rom_tag)
     extra = {}
-    if "temperature" in res[0][3] and "temperature" in rom[0][3]:
-        Tr = np.mean([res[k][3]["temperature"] for k in half], axis=0)[mask]
-        Tm = np.mean([rom[k][3]["temperature"] for k in half], axis=0)[mask]
+    if "temperature" in res[0].columns and "temperature" in rom[0].columns:
+        Tr = np.mean([res[k].columns["temperature"] for k in half], axis=0)[mask]
+        Tm = np.mean([rom[k].columns["temperature"] for k in half], axis=0)[mask]
         extra["temperature_error"] = float(np.linalg.norm(Tm - Tr) / np.linalg.norm(Tr))
     return dict(**extra,loop_resolved_s=tr, loop_reduced_s=tm, speedup=tr / tm,
                 height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),

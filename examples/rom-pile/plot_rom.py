@@ -7,6 +7,7 @@ Top: the last snapshots (atoms.TAG.txt: id x z kinematic [diameter]), resolved a
 (blue) / dynamic (red). Bottom left: surface-height accuracy of each frame against the resolved
 run (and of a resolved run with another seed, NOISE_TAG: the chaotic noise floor). Bottom right:
 the kinematic fraction after each classification (thermo of log.ROM_TAG)."""
+import os
 import sys
 
 import matplotlib
@@ -15,17 +16,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
 from compare import height_accuracy_series, kinematic_series  # noqa: E402
-from romtools import read_grid_dump  # noqa: E402
-
-
-def last_snapshot(path):
-    """(step, array of id x z kin) of the last frame of a dump custom file."""
-    with open(path) as f:
-        lines = f.read().splitlines()
-    k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: TIMESTEP"))
-    n = int(lines[k + 3])
-    return int(lines[k + 1]), np.array([[float(v) for v in line.split()] for line in lines[k + 9:k + 9 + n]])
+from griddemtools import dump  # noqa: E402
+from griddemtools.grid import read_grid_dump  # noqa: E402
 
 
 def accuracy_panel(ax, res_tag, rom_tag, noise_tag, bar, bottom, legend_at):
@@ -57,7 +51,8 @@ def main():
     fig = plt.figure(figsize=(10, 8))
     for col, (tag, title) in enumerate(((res_tag, "resolved"), (rom_tag, "reduced"))):
         ax = fig.add_subplot(2, 2, 1 + col)
-        step, a = last_snapshot("atoms.%s.txt" % tag)
+        snapshot = dump.last_snapshot("atoms.%s.txt" % tag)
+        step, a = snapshot.step, np.array(snapshot.rows)
         colour = np.where(a[:, 3] > 0.5, "tab:blue", "tab:red")
         # a fifth column holds diameters: markers of about the spheres' size (a panel is ~4.5 in)
         size = (4.5 * 72 / np.ptp(a[:, 1]) * a[:, 4]) ** 2 if a.shape[1] > 4 else 6

@@ -1,37 +1,4 @@
-"""Reading LAMMPS `dump grid` text files (one process: cells in x-fastest order) and the
-griddem/rom model file format (versions 1 and 2, doc/fix_griddem_rom.md)."""
-import numpy as np
-
-
-def read_grid_dump(path):
-    """Frames of a dump grid text file: list of (step, box[6], n[3], {column: array[nvoxel]})."""
-    frames = []
-    with open(path) as f:
-        lines = f.read().splitlines()
-    k = 0
-    while k < len(lines):
-        if lines[k].startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            k += 2
-            continue
-        if lines[k].startswith("ITEM: BOX BOUNDS"):
-            box = [float(v) for line in lines[k + 1:k + 4] for v in line.split()[:2]]
-            k += 4
-            continue
-        if lines[k].startswith("ITEM: GRID SIZE"):
-            n = [int(v) for v in lines[k + 1].split()]
-            k += 2
-            continue
-        if lines[k].startswith("ITEM: GRID CELLS"):
-            cols = lines[k].split()[3:]
-            m = n[0] * n[1] * n[2]
-            data = np.array([[float(v) for v in line.split()] for line in lines[k + 1:k + 1 + m]])
-            names = [c.split(":")[-1] for c in cols]
-            frames.append((step, box, n, {name: data[:, j] for j, name in enumerate(names)}))
-            k += 1 + m
-            continue
-        k += 1
-    return frames
+"""Writing the griddem/rom model file format (versions 1 and 2, doc/fix_griddem_rom.md)."""
 
 
 def write_model(path, n, box, lam, weights, note="", frame=None, force=None):

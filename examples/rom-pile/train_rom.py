@@ -15,11 +15,14 @@ runs almost never fill gets no huge weight); targets: vx, vy, vz of every voxel.
 centred data. lambda is chosen by leave-one-run-out validation (mean squared velocity error
 over the held-out run's frames) from a logarithmic grid, then the model is refitted on all runs
 and written with the scaling folded in (plain weights on raw densities and controls)."""
+import os
 import sys
 
 import numpy as np
 
-from romtools import read_grid_dump, write_model
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+from griddemtools.grid import read_grid_dump  # noqa: E402
+from romtools import write_model  # noqa: E402
 
 
 STD_FLOOR = 0.05    # of the median feature spread: the smallest spread a feature is scaled by
@@ -42,8 +45,9 @@ def load(specs):
     for spec in specs:
         path, controls = spec.rsplit(":", 1)
         X, Y = [], []
-        for step, b, nn, cols in read_grid_dump(path):
-            c = control_values(controls, step)
+        for frame in read_grid_dump(path):
+            b, nn, cols = frame.box, frame.n, frame.columns
+            c = control_values(controls, frame.step)
             if n is None:
                 n, box = nn, b
             if nn != n or not np.allclose(b, box):

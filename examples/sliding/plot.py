@@ -10,15 +10,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.dirname(HERE))
-import exampletools as ex
+sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
+from griddemtools import analytic, log  # noqa: E402
 
-log = ex.reference_log(HERE)
-t = ex.thermo(log, "Time")
+path = log.reference_log(HERE)
+t = log.thermo(path, "Time")
 fig, ax = plt.subplots(figsize=(7, 4))
-ax.plot(t, ex.thermo(log, "v_x"), label="x (m), griddem")
-ax.plot(t, ex.thermo(log, "v_v"), label="v (m/s), griddem")
-ax.axhline(ex.slide_on_sphere(1.414, 0.5, 9.81, 50.05), color="grey", lw=0.8,
+ax.plot(t, log.thermo(path, "v_x"), label="x (m), griddem")
+ax.plot(t, log.thermo(path, "v_v"), label="v (m/s), griddem")
+ax.axhline(analytic.slide_on_sphere(1.414, 0.5, 9.81, 50.05), color="grey", lw=0.8,
            label="stop, floor of radius 50 m")
 ax.axhline(1.414 ** 2 / (2 * 0.5 * 9.81), color="grey", ls=":", lw=0.8, label="stop, flat floor 0.2038 m")
 ax.set_xlabel("time (s)")

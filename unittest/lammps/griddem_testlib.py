@@ -1,5 +1,6 @@
 """Helpers for GRIDDEM's LAMMPS-level tests: run build/lmp on an input text (optionally under
-mpirun), read dump files, make random polydisperse sphere configurations, compare numbers.
+mpirun), read dump files and thermo columns (with python/griddemtools's plain readers, which
+python.griddemtools checks), make random polydisperse sphere configurations, compare numbers.
 Standard library only."""
 import atexit
 import math
@@ -9,6 +10,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from griddemtools import dump, log  # noqa: E402
 
 LMP = os.path.abspath(os.environ.get("GRIDDEM_LMP", "lmp")) if os.sep in os.environ.get("GRIDDEM_LMP", "lmp") else os.environ.get("GRIDDEM_LMP", "lmp")
 # with GRIDDEM_PLUGIN set (a griddemplugin.so), every input starts by loading it: the tests then
@@ -151,22 +155,8 @@ def run_ok(text, cwd, nprocs=1, name="in.test", threads=None):
 
 
 def read_dumps(path):
-    """Snapshots of a dump custom file, each (column names after id, {id: [values...]})."""
-    snapshots, columns, reading = [], [], False
-    with open(path) as f:
-        for line in f:
-            if line.startswith("ITEM: ATOMS"):
-                columns = line.split()[3:]
-                snapshots.append((columns, {}))
-                reading = True
-                continue
-            if line.startswith("ITEM:"):
-                reading = False
-                continue
-            if reading:
-                values = line.split()
-                snapshots[-1][1][int(values[0])] = [float(v) for v in values[1:]]
-    return snapshots
+    """Snapshots of a dump custom file, each (column names but id, {id: [values...]})."""
+    return [([c for c in s.columns if c != "id"], s.by_id()) for s in dump.read_dump(path)]
 
 
 def read_dump(path):
@@ -190,20 +180,7 @@ def max_rel_diff(a, b, columns):
 
 def thermo_values(out, column):
     """All values of a thermo column printed to the screen."""
-    values, header = [], None
-    for line in out.splitlines():
-        words = line.split()
-        if words[:1] == ["Step"]:
-            header = words
-            continue
-        if header and len(words) == len(header):
-            try:
-                values.append(float(words[header.index(column)]))
-            except ValueError:
-                header = None
-        elif header and words[:1] == ["Loop"]:
-            header = None
-    return values
+    return log.thermo(out, column)
 
 
 def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0, wscale=1.0,

@@ -34,7 +34,8 @@ BUNDLED = ["lmp.xz", "unittest/core/list_submodels", "lammps-bench/data.chute", 
            "unittest/kokkos_tools/sync_counter.c", "bench/kokkos_census.c", "bench/gpu_session.py",
            "bench/gpu_bundle.py", "bench/gpu.py", "bench/benchlib.py", "unittest/lammps/test_kokkos.py",
            "unittest/lammps/griddem_testlib.py", "unittest/lammps/test_granular_parity.py",
-           "unittest/lammps/test_stock_parity.py"]
+           "unittest/lammps/test_stock_parity.py", "python/griddemtools/__init__.py", "python/griddemtools/log.py",
+           "python/griddemtools/lammps.py"]
 
 
 def session(bundle, wd, name, args, path=None):

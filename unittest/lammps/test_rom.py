@@ -825,19 +825,21 @@ run 5
     t.run_ok(text, WD, name="in.binning")
     # train_blade.py needs numpy: the system interpreter's, as train_rom.py in training()
     import subprocess
-    blade = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                         "examples", "rom-blade")
+    top = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    # the plain readers of griddemtools read both files; train_blade.bin_frame is what is checked
     script = """
 import sys
 sys.path.insert(0, %r)
+sys.path.insert(0, %r)
 from train_blade import bin_frame, read_snapshots
-from romtools import read_grid_dump
+from griddemtools.grid import read_grid_dump
 atoms = dict(read_snapshots(%r))[5]
-fix = read_grid_dump(%r)[-1][3]["density"]
+fix = read_grid_dump(%r)[-1].columns["density"]
 rho = bin_frame(atoms["x"] - 1.7, atoms["z"], atoms["vx"], atoms["vz"], atoms["mass"], %r, %r)[0]
 inside = ((atoms["x"] - 1.7 >= -1) & (atoms["x"] - 1.7 < 3) & (atoms["z"] < 3)).sum()
 print(len(fix), max(abs(fix - rho)), inside)
-""" % (blade, os.path.join(WD, "binning.atoms"), os.path.join(WD, "binning.grid"), n, frame)
+""" % (os.path.join(top, "examples", "rom-blade"), os.path.join(top, "python"), os.path.join(WD, "binning.atoms"),
+       os.path.join(WD, "binning.grid"), n, frame)
     proc = subprocess.run(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True)
     t.check(proc.returncode == 0, "train_blade.py's binning runs: " + proc.stdout[-300:])

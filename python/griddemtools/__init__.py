@@ -1,0 +1,18 @@
+"""GRIDDEM's Python tools for the examples' and the benchmarks' scripts: readers of LAMMPS's text
+outputs and the way those scripts start LAMMPS. Standard library only.
+
+  dump      atom dumps (dump custom, atom): snapshots of per-atom columns
+  grid      dump grid text files: per-cell columns of each frame
+  chunks    fix ave/chunk files: the blocks of per-chunk rows
+  log       a log or screen output: thermo columns, loop times, timing breakdown, reference logs
+  echo      whether a log echoes an input script, command by command
+  lammps    the lmp to run (GRIDDEM_LMP or build/lmp) and how: mpirun, threads, root's Open MPI
+  analytic  the analytic references of the NN4DEM single-particle scenes
+  plot      drawing helpers shared by the examples' figures (matplotlib)
+
+A script finds the package by one line that puts this repository's python/ folder first on its
+path, relative to the script's own file (examples/NAME/x.py: "..", "..", "python"; bench/x.py:
+"..", "python"):
+
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+"""

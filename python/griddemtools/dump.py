@@ -1,0 +1,64 @@
+"""LAMMPS text dumps of atoms (dump custom, dump atom): each snapshot's step, box and per-atom rows."""
+
+
+class Snapshot:
+    """One snapshot: step, natoms, box (rows of the BOX BOUNDS item: [lo, hi] or [lo, hi, tilt]),
+    columns (the names of the ATOMS item) and rows (per atom, floats in the columns' order, in the
+    file's order)."""
+    __slots__ = ("step", "natoms", "box", "columns", "rows")
+
+    def __init__(self, step, natoms, box, columns, rows):
+        self.step, self.natoms, self.box, self.columns, self.rows = step, natoms, box, columns, rows
+
+    def column(self, name):
+        """One column's values, atom by atom."""
+        k = self.columns.index(name)
+        return [row[k] for row in self.rows]
+
+    def atoms(self):
+        """The atoms as dicts by column name."""
+        return [dict(zip(self.columns, row)) for row in self.rows]
+
+    def by_id(self):
+        """{id: the atom's other values, in the columns' order without id}."""
+        k = self.columns.index("id")
+        return {int(row[k]): row[:k] + row[k + 1:] for row in self.rows}
+
+
+def read_dump(path):
+    """The snapshots of a dump file, in the file's order. Items other than TIMESTEP, NUMBER OF
+    ATOMS, BOX BOUNDS and ATOMS (dump_modify time, units) are passed over."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    snapshots, k = [], 0
+    step = natoms = box = None
+    while k < len(lines):
+        line = lines[k]
+        if line.startswith("ITEM: TIMESTEP"):
+            step = int(lines[k + 1])
+            k += 2
+        elif line.startswith("ITEM: NUMBER OF ATOMS"):
+            natoms = int(lines[k + 1])
+            k += 2
+        elif line.startswith("ITEM: BOX BOUNDS"):
+            box = [[float(v) for v in lines[k + 1 + d].split()] for d in range(3)]
+            k += 4
+        elif line.startswith("ITEM: ATOMS"):
+            columns = line.split()[2:]
+            rows = [[float(v) for v in row.split()] for row in lines[k + 1:k + 1 + natoms]]
+            if len(rows) != natoms or any(len(r) != len(columns) for r in rows):
+                raise ValueError("%s: the snapshot of step %s has not %d rows of %d values"
+                                 % (path, step, natoms, len(columns)))
+            snapshots.append(Snapshot(step, natoms, box, columns, rows))
+            k += 1 + natoms
+        else:
+            k += 1
+    return snapshots
+
+
+def last_snapshot(path):
+    """The last snapshot of a dump file."""
+    snapshots = read_dump(path)
+    if not snapshots:
+        raise ValueError("%s: no snapshot" % path)
+    return snapshots[-1]
