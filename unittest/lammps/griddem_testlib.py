@@ -3,7 +3,6 @@ mpirun), read dump files and thermo columns (with python/griddemtools's plain re
 python.griddemtools checks), make random polydisperse sphere configurations, compare numbers.
 Standard library only."""
 import atexit
-import math
 import os
 import random
 import shutil
