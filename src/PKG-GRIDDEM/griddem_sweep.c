@@ -372,8 +372,10 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
 /* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
  * grid l (l holds the larger spheres): the cells of l that the box of half-edge cut (the longest
  * contact distance between the two classes) around the slot's centre overlaps, the slot on its
- * own side. Consecutive slots mostly share that block, whose non-empty row ranges are then found
- * once. */
+ * own side. Consecutive slots whose centres lie within one cell edge of l of each other along
+ * every axis form a cluster (up to the kernel's width), searched at once over the block around
+ * their centres' box; consecutive clusters mostly share that block, whose non-empty row ranges
+ * are then found once. A sphere's hits come in the order of its own block's rows. */
 static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
                          double cut, const int *slots, int n)
 {
@@ -382,18 +384,26 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   const griddem_channels *ch = cx->ch;
   const double extra = cx->model->reach_extra;
-  hit_list hits;
-  int *const list[1] = {hits.slot};
-  hits.n = 0;
+  hit_list hits[GRIDDEM_CLUSTER_MAX];
+  int *list[GRIDDEM_CLUSTER_MAX], nhit[GRIDDEM_CLUSTER_MAX];
+  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) list[c] = hits[c].slot, hits[c].n = 0;
   int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
   int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
-  for (int q = 0; q < n; q++) {
+  for (int q = 0; q < n;) {
     const int s = slots[q];
-    const double c[3] = {ch->x[s], ch->y[s], ch->z[s]};
+    double box[6] = {ch->x[s], ch->y[s], ch->z[s], ch->x[s], ch->y[s], ch->z[s]};
+    int ni = 1;
+    for (; ni < cx->cluster && q + ni < n && slots[q + ni] == s + ni; ni++) {
+      const double c[3] = {ch->x[s + ni], ch->y[s + ni], ch->z[s + ni]};
+      int near = 1;
+      for (int d = 0; d < 3; d++) near &= fmax(box[3 + d], c[d]) - fmin(box[d], c[d]) <= g->h;
+      if (!near) break;
+      for (int d = 0; d < 3; d++) box[d] = fmin(box[d], c[d]), box[3 + d] = fmax(box[3 + d], c[d]);
+    }
     int b[6];
     for (int d = 0; d < 3; d++) {
-      b[d] = griddem_axis_cell(c[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
-      b[3 + d] = griddem_axis_cell(c[d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[d] = griddem_axis_cell(box[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      b[3 + d] = griddem_axis_cell(box[3 + d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
     }
     if (memcmp(b, block, sizeof(b)) != 0) {
       nrange = total = 0;
@@ -405,9 +415,17 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
         }
       memcpy(block, b, sizeof(b));
     }
-    if (total <= HITS_CAP) cx->touching(&cx->spheres, extra, s, 1, 0, lo, hi, nrange, list, &hits.n);
-    else collect_in_parts(cx, sums, s, lo, hi, nrange, &hits);
-    if (hits.n) sweep_hits(cx, sums, s, &hits);
+    if (total <= HITS_CAP) {    /* room for every candidate of each sphere */
+      for (int c = 0; c < ni; c++) nhit[c] = 0;
+      cx->touching(&cx->spheres, extra, s, ni, 0, lo, hi, nrange, list, nhit);
+      for (int c = 0; c < ni; c++)
+        if (nhit[c]) hits[c].n = nhit[c], sweep_hits(cx, sums, s + c, &hits[c]);
+    } else
+      for (int c = 0; c < ni; c++) {
+        collect_in_parts(cx, sums, s + c, lo, hi, nrange, &hits[0]);
+        if (hits[0].n) sweep_hits(cx, sums, s + c, &hits[0]);
+      }
+    q += ni;
   }
 }
 
