@@ -20,7 +20,6 @@
 #include "math_const.h"
 #include "memory.h"
 #include "modify.h"
-#include "neigh_list.h"
 #include "neighbor.h"
 #include "pair.h"
 #include "update.h"
@@ -104,7 +103,7 @@ void procs2grid2d(int nprocs, int nx, int ny, int &px, int &py)
 }    // namespace
 
 ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
-    Compute(lmp, narg, arg), nslot(0), list(nullptr), grid3d(nullptr), ghost_sum(nullptr),
+    Compute(lmp, narg, arg), nslot(0), contact_grid(), contact_bins(), grid3d(nullptr), ghost_sum(nullptr),
     channels(nullptr), gc_buf1(nullptr), gc_buf2(nullptr), fft(nullptr), to_fft(nullptr),
     from_fft(nullptr), nmax(0), virial(nullptr)
 {
@@ -160,23 +159,18 @@ ComputeGriddemCg::~ComputeGriddemCg()
   deallocate_grid();
   delete ghost_sum;
   memory->destroy(virial);
+  griddem_bins_free(&contact_bins);
 }
 
 void ComputeGriddemCg::init()
 {
-  if (slot[CONTACTS] >= 0) {
-    if (!force->pair) error->all(FLERR, "Compute griddem/cg: coordination requires a pair style");
-    neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
-  }
+  // the pair style's cutoff is what makes the ghost atoms hold every touching partner
+  if (slot[CONTACTS] >= 0 && !force->pair)
+    error->all(FLERR, "Compute griddem/cg: coordination requires a pair style");
   if (slot[VIRIAL] >= 0 && !force->pair)
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
   averages.clear();
   if (slot[VIRIAL] >= 0) averages = modify->get_fix_by_style("^ave/grid");
-}
-
-void ComputeGriddemCg::init_list(int, NeighList *ptr)
-{
-  list = ptr;
 }
 
 void ComputeGriddemCg::allocate_grid()
@@ -368,22 +362,14 @@ void ComputeGriddemCg::unpack_reverse_comm(int n, int *list_, double *buf)
     for (int k = 0; k < 6; k++) virial[list_[i]][k] += buf[m++];
 }
 
-/* Touching neighbours (overlap > 0) of each owned atom, from a full list. */
+/* Touching neighbours (overlap > 0) of each owned atom among the owned and ghost atoms. */
 void ComputeGriddemCg::count_contacts()
 {
-  neighbor->build_one(list);
-  contacts.assign(atom->nlocal, 0.0);
-  double **x = atom->x;
-  const double *radius = atom->radius;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = list->firstneigh[i][jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-      const double touch = radius[i] + radius[j];
-      if (dx * dx + dy * dy + dz * dz < touch * touch) contacts[i] += 1.0;
-    }
-  }
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  contacts.assign(nlocal, 0.0);
+  if (nall && griddem_cg_contacts(nlocal, nall, atom->x[0], atom->radius, contacts.data(), &contact_grid,
+                                  &contact_bins) != 0)
+    error->one(FLERR, "Compute griddem/cg: no memory for the grid of {} atoms that finds their contacts", nall);
 }
 
 void ComputeGriddemCg::compute_pergrid()
@@ -524,5 +510,6 @@ double ComputeGriddemCg::memory_usage()
       (hi_out[2] - lo_out[2] + 1);
   return sizeof(double) *
       (points * (nslot + fields.size()) + smoothed.size() + owned.size() + work.size() +
-       kernel_hat.size() + fft_real.size() + 6.0 * nmax + contacts.size());
+       kernel_hat.size() + fft_real.size() + 6.0 * nmax + contacts.size()) +
+      sizeof(int) * ((double) contact_bins.ncell_cap + contact_bins.n_cap) + sizeof(long) * (double) contact_bins.n_cap;
 }

@@ -13,6 +13,7 @@ ComputeStyle(griddem/cg,ComputeGriddemCg);
 #define LMP_COMPUTE_GRIDDEM_CG_H
 
 #include "compute.h"
+#include "griddem_grid.h"
 
 #include <string>
 #include <vector>
@@ -24,7 +25,6 @@ class ComputeGriddemCg : public Compute {
   ComputeGriddemCg(class LAMMPS *, int, char **);
   ~ComputeGriddemCg() override;
   void init() override;
-  void init_list(int, class NeighList *) override;
   void compute_pergrid() override;
   void reset_grid() override;
   int get_grid_by_name(const std::string &, int &) override;
@@ -41,7 +41,6 @@ class ComputeGriddemCg : public Compute {
   std::vector<int> values;       // what each output is (enum in the .cpp)
   std::vector<int> slot;         // per channel: its place in the channel brick, or -1
   int nslot;
-  class NeighList *list;
 
   class Grid3d *grid3d;
   class Fix *ghost_sum;          // Grid3d's reverse communication goes through a Fix
@@ -59,6 +58,8 @@ class ComputeGriddemCg : public Compute {
   std::vector<class Fix *> averages;    // the fixes ave/grid, whose samples need the per-atom virial
   double **virial;               // per-atom virial (pair + fixes), ghosts summed back when newton
   std::vector<double> contacts;  // touching neighbours per owned atom
+  griddem_grid contact_grid;     // the grid they are found on, kept between steps
+  griddem_bins contact_bins;
 
   void allocate_grid();
   void deallocate_grid();

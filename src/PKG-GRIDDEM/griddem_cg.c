@@ -156,3 +156,33 @@ void griddem_cg_convolve_direct(const int m[3], const double *kernel, const doub
         out[i + m[0] * (j + (long) m[1] * k)] = sum;
       }
 }
+
+int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *radius, double *count,
+                        griddem_grid *g, griddem_bins *b)
+{
+  double rmax = 0.0;
+  for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
+  for (int i = 0; i < nlocal; i++) count[i] = 0.0;
+  if (nall == 0 || rmax == 0.0) return 0;
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  /* the edge may grow for a dilute set; the stencil of the partners within 2 rmax follows it */
+  griddem_grid_cover(g, anchor, nall, x, 2.0 * rmax * (1.0 + 1e-12), 8L * nall + 1024L);
+  if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
+  griddem_stencil stencil;    /* reaches one cell: the edge is at least the distance */
+  griddem_stencil_build(&stencil, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
+  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
+  for (int i = 0; i < nlocal; i++) {
+    const double *xi = x + 3 * (long) i;
+    const int nruns = griddem_stencil_runs(&stencil, g, b, b->cell[i], lo, hi);
+    for (int q = 0; q < nruns; q++)
+      for (int s = lo[q]; s < hi[q]; s++) {
+        const int j = b->order[s];
+        if (j == i) continue;
+        const double *xj = x + 3 * (long) j;
+        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+        const double touch = radius[i] + radius[j];
+        if (dx * dx + dy * dy + dz * dz < touch * touch) count[i] += 1.0;
+      }
+  }
+  return 0;
+}

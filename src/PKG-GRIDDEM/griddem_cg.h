@@ -12,6 +12,8 @@
 #ifndef GRIDDEM_CG_H
 #define GRIDDEM_CG_H
 
+#include "griddem_grid.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -58,6 +60,13 @@ void griddem_cg_kernel_brick(const int m[3], const int reach[3], const int lo[3]
  * convolution an FFT computes, done point by point. Cost (m0 m1 m2)^2: small grids only. */
 void griddem_cg_convolve_direct(const int m[3], const double *kernel, const double *field,
                                 double *out);
+
+/* The coordination channel: for each of the first nlocal of nall points (owned first, then
+ * ghosts), count[i] = the other points touching it (centre distance below the sum of radii),
+ * found through the full stencil of a grid of all nall points. g and b are the caller's scratch,
+ * kept between calls (griddem_bins_free b at the end). 0, or -1 without memory. */
+int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *radius, double *count,
+                        griddem_grid *g, griddem_bins *b);
 
 #ifdef __cplusplus
 }

@@ -24,6 +24,31 @@ int griddem_stencil_reach(double h, double cut)
   return reach < 1 ? 1 : reach;
 }
 
+int griddem_stencil_build(griddem_stencil *s, double h, double cut, int part)
+{
+  const double c2 = cut * cut;
+  const int reach = griddem_stencil_reach(h, cut);
+  s->nrows = 0;
+  if (reach > GRIDDEM_MAX_REACH) return -1;
+  for (int dz = -reach; dz <= reach; dz++)
+    for (int dy = -reach; dy <= reach; dy++) {
+      const int own = dy == 0 && dz == 0;
+      if (part == GRIDDEM_STENCIL_FORWARD && (dz < 0 || (dz == 0 && dy < 0))) continue;
+      /* the smallest distance between a point of the cell and one of the row, across x */
+      const double gz = abs(dz) > 1 ? (abs(dz) - 1) * h : 0.0;
+      const double gy = abs(dy) > 1 ? (abs(dy) - 1) * h : 0.0;
+      const double g2 = gy * gy + gz * gz;
+      if (g2 >= c2) continue;
+      int dx = (int) ceil(sqrt(c2 - g2) / h);
+      if (dx > reach) dx = reach;
+      griddem_stencil_row *row = &s->row[s->nrows++];
+      row->dy = dy, row->dz = dz;
+      row->dxlo = (own && part == GRIDDEM_STENCIL_FORWARD) ? 0 : -dx;
+      row->dxhi = dx;
+    }
+  return 0;
+}
+
 static long axis_index(double x, double anchor, double hinv)
 {
   return griddem_floor_index((x - anchor) * hinv);
@@ -165,4 +190,23 @@ void griddem_bins_free(griddem_bins *b)
   free(b->order);
   free(b->cell);
   memset(b, 0, sizeof(*b));
+}
+
+int griddem_stencil_runs(const griddem_stencil *s, const griddem_grid *g, const griddem_bins *b, long cell,
+                         int *lo, int *hi)
+{
+  const long nx = g->n[0], nxy = nx * g->n[1];
+  const int x = (int) (cell % nx), y = (int) (cell / nx % g->n[1]), z = (int) (cell / nxy);
+  int n = 0;
+  for (int r = 0; r < s->nrows; r++) {
+    const griddem_stencil_row *row = &s->row[r];
+    const int yy = y + row->dy, zz = z + row->dz;
+    if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
+    const int x0 = x + row->dxlo < 0 ? 0 : x + row->dxlo;
+    const int x1 = x + row->dxhi >= nx ? (int) nx - 1 : x + row->dxhi;
+    const long first = nx * yy + nxy * zz;
+    lo[n] = b->cell_start[first + x0], hi[n] = b->cell_start[first + x1 + 1];
+    n++;
+  }
+  return n;
 }

@@ -104,8 +104,38 @@ typedef struct griddem_grid {
 double griddem_cell_edge(int mode, double rmin, double rmax, double value);
 
 /* Cells a stencil must reach on each side so that every centre within distance cut of a centre
- * in the middle cell is visited: ceil(cut/h). */
+ * in the middle cell is visited: ceil(cut/h), at least 1. */
 int griddem_stencil_reach(double h, double cut);
+
+/* Most cells a stencil reaches on each side (exact mode handles radius ratios up to 1:18), and
+ * most rows of a stencil (the full one at that reach). */
+#define GRIDDEM_MAX_REACH 32
+#define GRIDDEM_STENCIL_MAX_ROWS ((2 * GRIDDEM_MAX_REACH + 1) * (2 * GRIDDEM_MAX_REACH + 1))
+
+/* Which of the cells around a cell a stencil holds. */
+enum griddem_stencil_part {
+  GRIDDEM_STENCIL_FULL = 0,   /* all of them: every partner of a centre (or of a point) */
+  GRIDDEM_STENCIL_FORWARD = 1 /* the cell and those after it in sorted order: each pair once */
+};
+
+/* One row of a stencil: the cells (dx, dy, dz) from a cell for dx = dxlo..dxhi, whose slots are
+ * contiguous. */
+typedef struct griddem_stencil_row {
+  int dy, dz, dxlo, dxhi;
+} griddem_stencil_row;
+
+/* The rows of cells that can hold a centre within a distance of a point in a cell, in sorted
+ * order (by dz, then dy); the corners are pruned by the smallest distance between the two cells.
+ * The forward part is the full stencil's rows from the cell's own row on, that row starting at
+ * the cell itself: the own row is its row 0. */
+typedef struct griddem_stencil {
+  int nrows;
+  griddem_stencil_row row[GRIDDEM_STENCIL_MAX_ROWS];
+} griddem_stencil;
+
+/* The stencil of part for cells of edge h and the distance cut (centres closer than cut). 0, or -1
+ * (and no rows) when it would reach more than GRIDDEM_MAX_REACH cells. */
+int griddem_stencil_build(griddem_stencil *s, double h, double cut, int part);
 
 /* Grid with edge h, faces aligned to anchor, covering the bounding box of n interleaved points.
  * Aligning to a fixed anchor makes a point's cell depend on its position only, not on which other
@@ -167,6 +197,14 @@ typedef struct griddem_bins {
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes);
 void griddem_bins_free(griddem_bins *b);
+
+/* The runs of slots of b (binned into g) that can hold a centre within stencil s's distance of a
+ * point of cell `cell` of g: one run [lo[q], hi[q]) per stencil row inside the grid, in the
+ * stencil's order, its cells clamped to the grid along x. Of a forward stencil, run 0 is the cell's
+ * own row from the cell's first slot on: a centre's forward partners there are the slots after
+ * its own. lo and hi need room for s->nrows runs. Returns the number of runs. */
+int griddem_stencil_runs(const griddem_stencil *s, const griddem_grid *g, const griddem_bins *b, long cell,
+                         int *lo, int *hi);
 
 #ifdef __cplusplus
 }

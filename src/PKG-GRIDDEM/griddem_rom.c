@@ -108,40 +108,37 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
   for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
   if (nall == 0 || rmax == 0.0) return 0;
   const double anchor[3] = {0.0, 0.0, 0.0};
-  /* the edge may grow for a dilute set; 27 cells still hold every partner */
+  /* the edge may grow for a dilute set; the stencil of the partners within 2 rmax follows it */
   griddem_grid_cover(g, anchor, nall, x, 2.0 * rmax * (1.0 + 1e-12), 8L * nall + 1024L);
   if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
-  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  griddem_stencil stencil;    /* reaches one cell: the edge is at least the distance */
+  griddem_stencil_build(&stencil, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
+  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
   for (int i = 0; i < nlocal; i++) {
     if (!next[i]) continue;
     const double *xi = x + 3 * (long) i;
     const double *vi = kinematic[i] ? v + 3 * (long) i : u + 3 * (long) i;
-    const long c = b->cell[i], cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-    for (long z = cz > 0 ? cz - 1 : 0; next[i] && z <= cz + 1 && z < nz; z++)
-      for (long y = cy > 0 ? cy - 1 : 0; next[i] && y <= cy + 1 && y < ny; y++) {
-        const long row = nx * (y + ny * z);
-        const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
-        const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
-        for (int s = s0; next[i] && s < s1; s++) {
-          const int j = b->order[s];
-          if (j == i) continue;
-          const double *xj = x + 3 * (long) j;
-          const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-          const double r = sqrt(dx * dx + dy * dy + dz * dz), touch = radius[i] + radius[j];
-          if (r >= touch) continue;
-          const double rmin = radius[i] < radius[j] ? radius[i] : radius[j];
-          if (touch - r > overlap_max * rmin) {
-            next[i] = 0;
-            *overlaps += kinematic[i];
-            continue;
-          }
-          if (kinematic[j]) continue;
-          const double *vj = v + 3 * (long) j;
-          const double rx = vi[0] - vj[0], ry = vi[1] - vj[1], rz = vi[2] - vj[2];
-          if (sqrt(rx * rx + ry * ry + rz * rz) > threshold) {
-            next[i] = 0;
-            *hits += kinematic[i];
-          }
+    const int nruns = griddem_stencil_runs(&stencil, g, b, b->cell[i], lo, hi);
+    for (int q = 0; next[i] && q < nruns; q++)
+      for (int s = lo[q]; next[i] && s < hi[q]; s++) {
+        const int j = b->order[s];
+        if (j == i) continue;
+        const double *xj = x + 3 * (long) j;
+        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+        const double r = sqrt(dx * dx + dy * dy + dz * dz), touch = radius[i] + radius[j];
+        if (r >= touch) continue;
+        const double rmin = radius[i] < radius[j] ? radius[i] : radius[j];
+        if (touch - r > overlap_max * rmin) {
+          next[i] = 0;
+          *overlaps += kinematic[i];
+          continue;
+        }
+        if (kinematic[j]) continue;
+        const double *vj = v + 3 * (long) j;
+        const double rx = vi[0] - vj[0], ry = vi[1] - vj[1], rz = vi[2] - vj[2];
+        if (sqrt(rx * rx + ry * ry + rz * rz) > threshold) {
+          next[i] = 0;
+          *hits += kinematic[i];
         }
       }
   }
@@ -178,39 +175,37 @@ int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *r
     }
   const double anchor[3] = {0.0, 0.0, 0.0};
   /* the grid covers every atom (the dynamic ones look up their cells); the edge may grow for a
-   * dilute set, and 27 cells still hold every pair with gap < cap */
-  griddem_grid_cover(g, anchor, nall, x, (2.0 * rmax + cap) * (1.0 + 1e-12) + 1e-300, 8L * nall + 1024L);
+   * dilute set, and the stencil of the pairs with gap < cap follows it */
+  const double cut = 2.0 * rmax + cap;
+  griddem_grid_cover(g, anchor, nall, x, cut * (1.0 + 1e-12) + 1e-300, 8L * nall + 1024L);
   if (griddem_bin_points(b, g, nkin, xk, NULL, 0) != 0) {
     free(xk);
     free(which);
     return -1;
   }
-  const long nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  griddem_stencil stencil;    /* reaches one cell: the edge is at least the distance */
+  griddem_stencil_build(&stencil, g->h, cut, GRIDDEM_STENCIL_FULL);
+  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
   for (int j = 0; j < nall; j++) {
     if (kinematic[j]) continue;
     const double *xj = x + 3 * (long) j;
     const int owned = j < nlocal;
-    const long c = griddem_cell_of(g, xj[0], xj[1], xj[2]), cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-    for (long z = cz > 0 ? cz - 1 : 0; z <= cz + 1 && z < nz; z++)
-      for (long y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < ny; y++) {
-        const long row = nx * (y + ny * z);
-        const int s0 = b->cell_start[row + (cx > 0 ? cx - 1 : 0)];
-        const int s1 = b->cell_start[row + (cx + 1 < nx ? cx + 1 : nx - 1) + 1];
-        for (int s = s0; s < s1; s++) {
-          const int i = which[b->order[s]];
-          if (!owned && (i >= nlocal || near[i])) continue;
-          const double *xi = x + 3 * (long) i;
-          const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-          /* only gaps below the budget so far (owned j; >= reach) or below reach count */
-          const double limit = radius[i] + radius[j] + (owned ? budget[j] : reach);
-          const double r2 = dx * dx + dy * dy + dz * dz;
-          if (r2 >= limit * limit) continue;
-          const double gap = sqrt(r2) - (radius[i] + radius[j]);
-          if (gap < reach) {
-            if (i < nlocal) near[i] = 1;
-          } else if (owned)
-            budget[j] = gap;
-        }
+    const int nruns = griddem_stencil_runs(&stencil, g, b, griddem_cell_of(g, xj[0], xj[1], xj[2]), lo, hi);
+    for (int q = 0; q < nruns; q++)
+      for (int s = lo[q]; s < hi[q]; s++) {
+        const int i = which[b->order[s]];
+        if (!owned && (i >= nlocal || near[i])) continue;
+        const double *xi = x + 3 * (long) i;
+        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+        /* only gaps below the budget so far (owned j; >= reach) or below reach count */
+        const double limit = radius[i] + radius[j] + (owned ? budget[j] : reach);
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        if (r2 >= limit * limit) continue;
+        const double gap = sqrt(r2) - (radius[i] + radius[j]);
+        if (gap < reach) {
+          if (i < nlocal) near[i] = 1;
+        } else if (owned)
+          budget[j] = gap;
       }
   }
   free(xk);

@@ -202,39 +202,6 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   }
 }
 
-/* One row of the forward half stencil: cells (dx, dy, dz) for dx in [dxlo, dxhi]. */
-typedef struct stencil_row {
-  int dy, dz, dxlo, dxhi;
-} stencil_row;
-
-#define MAX_REACH GRIDDEM_MAX_REACH
-#define MAX_ROWS ((MAX_REACH + 1) * (2 * MAX_REACH + 1))
-
-/* Rows of cells that can hold a centre within cutmax of a centre in cell (0,0,0) and come after
- * it in sorted order: the row (0,0) from the cell itself on, rows dy > 0 of layer dz = 0, and
- * all rows of layers dz > 0; the corners are pruned by the smallest cell-to-cell distance. */
-static int build_stencil(const griddem_grid *g, double cutmax, stencil_row *rows)
-{
-  const double h = g->h, c2 = cutmax * cutmax;
-  const int reach = griddem_stencil_reach(h, cutmax);
-  if (reach > MAX_REACH) return 0;
-  int n = 0;
-  for (int dz = 0; dz <= reach; dz++)
-    for (int dy = dz == 0 ? 0 : -reach; dy <= reach; dy++) {
-      const double gz = dz > 1 ? (dz - 1) * h : 0.0;
-      const double gy = abs(dy) > 1 ? (abs(dy) - 1) * h : 0.0;
-      const double g2 = gy * gy + gz * gz;
-      if (g2 >= c2) continue;
-      int dx = (int) ceil(sqrt(c2 - g2) / h);
-      if (dx > reach) dx = reach;
-      rows[n].dy = dy, rows[n].dz = dz;
-      rows[n].dxlo = (dy == 0 && dz == 0) ? 0 : -dx;
-      rows[n].dxhi = dx;
-      n++;
-    }
-  return n;
-}
-
 /* Candidates that touch, collected for slot s before they are evaluated in order */
 #define HITS_CAP 256
 
@@ -304,8 +271,10 @@ static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, c
  * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
  * slot order, each in the order its candidates were found. */
 static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
-                           const stencil_row *rows, int nrows, int y, int z)
+                           const griddem_stencil *stencil, int y, int z)
 {
+  const griddem_stencil_row *rows = stencil->row;
+  const int nrows = stencil->nrows;
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
   const int *start = b->cell_start, base = k->base, nx = g->n[0];
@@ -315,8 +284,8 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
 
   /* the stencil rows inside the grid: where the slots of cell x's first and past its last
      stencil cell begin, offset by x (row 0, the cell's own row, comes first) */
-  const int *lo_at[MAX_ROWS], *hi_at[MAX_ROWS];
-  int dxlo[MAX_ROWS], dxhi[MAX_ROWS], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
+  const int *lo_at[GRIDDEM_STENCIL_MAX_ROWS], *hi_at[GRIDDEM_STENCIL_MAX_ROWS];
+  int dxlo[GRIDDEM_STENCIL_MAX_ROWS], dxhi[GRIDDEM_STENCIL_MAX_ROWS], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
   for (int r = 0; r < nrows; r++) {
     const int yy = y + rows[r].dy, zz = z + rows[r].dz;
     if (yy < 0 || yy >= g->n[1] || zz >= g->n[2]) continue;
@@ -331,7 +300,7 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   hit_list hits[GRIDDEM_CLUSTER_MAX];
   int *list[GRIDDEM_CLUSTER_MAX], nhit[GRIDDEM_CLUSTER_MAX];
   for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) list[c] = hits[c].slot, hits[c].n = 0;
-  int lo[MAX_ROWS], hi[MAX_ROWS];
+  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
     const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
@@ -367,7 +336,7 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
 }
 
 /* Most rows of a cross-class block: (2 reach + 1)^2 */
-#define MAX_BLOCK_ROWS ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1))
+#define MAX_BLOCK_ROWS ((2 * GRIDDEM_MAX_REACH + 1) * (2 * GRIDDEM_MAX_REACH + 1))
 
 /* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
  * grid l (l holds the larger spheres): the cells of l that the box of half-edge cut (the longest
@@ -495,8 +464,10 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
     const griddem_grid *g = cls[kc].g;
     const griddem_bins *b = cls[kc].b;
     if (b->n == 0) continue;
-    stencil_row rows[MAX_ROWS];
-    const int nrows = build_stencil(g, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra), rows);
+    griddem_stencil stencil;    /* no rows (no candidates) past GRIDDEM_MAX_REACH */
+    griddem_stencil_build(&stencil, g->h, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra),
+                          GRIDDEM_STENCIL_FORWARD);
+    int run_lo[GRIDDEM_STENCIL_MAX_ROWS], run_hi[GRIDDEM_STENCIL_MAX_ROWS];
     double cut[kc + 1];    /* contact distance to each coarser class */
     for (int lc = 0; lc < kc; lc++) cut[lc] = contact_reach(cls[lc].g, cls[kc].rmax, cls[lc].rmax, reach_extra);
     const long nx = g->n[0], nxy = nx * g->n[1];
@@ -504,10 +475,10 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
       const long cell = b->cell[b->order[s]];
       const int k[3] = {(int) (cell % nx), (int) (cell / nx % g->n[1]), (int) (cell / nxy)};
       const long n = b->cell_start[cell + 1] - b->cell_start[cell];
-      long stencil = 0;
-      for (int r = 0; r < nrows; r++)
-        stencil += row_slots(g, b, k[0] + rows[r].dxlo, k[0] + rows[r].dxhi, k[1] + rows[r].dy, k[2] + rows[r].dz);
-      candidates += (double) n * stencil - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
+      const int nruns = griddem_stencil_runs(&stencil, g, b, cell, run_lo, run_hi);
+      long reached = 0;
+      for (int q = 0; q < nruns; q++) reached += run_hi[q] - run_lo[q];
+      candidates += (double) n * reached - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
       /* into each coarser class: the cells within the contact distance of this cell */
       for (int lc = 0; lc < kc; lc++) {
         const griddem_grid *gl = cls[lc].g;
@@ -557,13 +528,13 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     const griddem_bins *b = k->b;
     if (b->n == 0) continue;
     const long nxy = (long) g->n[0] * g->n[1];
-    stencil_row rows[MAX_ROWS];
-    const int nrows = build_stencil(g, contact_reach(g, k->rmax, k->rmax, model->reach_extra), rows);
-    if (nrows == 0) {
+    griddem_stencil stencil;
+    if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, k->rmax, model->reach_extra),
+                              GRIDDEM_STENCIL_FORWARD) != 0) {
       result->fault = GRIDDEM_FAULT_STENCIL;
       return result->fault;
     }
-    const int reach = rows[nrows - 1].dz;
+    const int reach = stencil.row[stencil.nrows - 1].dz;    /* the last layer it visits */
 
     /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
     const int thick = slab_thickness(g->n[2], nthreads, reach);
@@ -576,7 +547,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
         /* occupied cell rows only, found through their slots: a dilute grid costs nothing extra */
         for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
           const long row = b->cell[b->order[s]] / g->n[0];
-          sweep_cell_row(&cx, &sums, k, rows, nrows, (int) (row % g->n[1]), (int) (row / g->n[1]));
+          sweep_cell_row(&cx, &sums, k, &stencil, (int) (row % g->n[1]), (int) (row / g->n[1]));
           s = b->cell_start[(row + 1) * g->n[0]];
         }
         v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
@@ -597,7 +568,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       const griddem_grid *g = l->g;
       const double cut = contact_reach(g, k->rmax, l->rmax, model->reach_extra);
       const int reach = griddem_stencil_reach(g->h, cut);
-      if (reach > MAX_REACH) {
+      if (reach > GRIDDEM_MAX_REACH) {
         result->fault = GRIDDEM_FAULT_STENCIL;
         return result->fault;
       }

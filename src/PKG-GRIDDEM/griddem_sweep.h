@@ -60,9 +60,6 @@ enum griddem_fault {
   GRIDDEM_FAULT_MEMORY = 3           /* no memory for the history or the grid */
 };
 
-/* Most cells a stencil reaches on each side (exact mode handles radius ratios up to 1:18). */
-#define GRIDDEM_MAX_REACH 32
-
 typedef struct griddem_sweep_result {
   double virial[6];    /* xx yy zz xy xz yz; a pair with one owned atom counts half */
   double energy;       /* elastic energy stored in the contacts' springs, counted as the virial */

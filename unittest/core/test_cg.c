@@ -3,7 +3,8 @@
  * switches between the direct and Poisson forms, sums to 1 on a periodic axis, pads at most the
  * box along a non-periodic one and costs the same for any W (a Gaussian wider than the box is
  * flat); the direct circular convolution equals the convolution theorem done with a naive DFT,
- * and zero padding keeps mass at one wall from reaching the other. */
+ * and zero padding keeps mass at one wall from reaching the other; the coordination channel's
+ * contacts equal a brute-force count over all pairs, also when two far points coarsen the grid. */
 #include "check.h"
 #include "griddem_cg.h"
 
@@ -249,8 +250,46 @@ static void check_brick(void)
       }
 }
 
+/* The touching partners of each of the first nlocal points equal a brute-force count over all
+ * pairs of polydisperse points, some pairs exactly at contact (never counted); a point far away
+ * coarsens the grid. */
+static void check_contacts(double far)
+{
+  enum { NALL = 500, NLOCAL = 350 };
+  static double x[3 * NALL], r[NALL], count[NLOCAL];
+  for (int i = 0; i < NALL; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 2.0 * check_uniform();
+    r[i] = 0.1 + 0.2 * check_uniform() * check_uniform();
+  }
+  /* pairs at exactly the contact distance: 0.125 + 0.125 apart along x, binary fractions */
+  for (int i = 0; i < 20; i += 2) {
+    r[i] = r[i + 1] = 0.125;
+    x[3 * i] = 0.25 + 0.5 * i / 20.0, x[3 * (i + 1)] = x[3 * i] + 0.25;
+    x[3 * (i + 1) + 1] = x[3 * i + 1], x[3 * (i + 1) + 2] = x[3 * i + 2];
+  }
+  x[3 * (NALL - 1) + 2] = far;
+  griddem_grid g;
+  griddem_bins b = {0};
+  CHECK(griddem_cg_contacts(NLOCAL, NALL, x, r, count, &g, &b) == 0, "contacts counted");
+  int same = 1;
+  long total = 0;
+  for (int i = 0; i < NLOCAL; i++) {
+    int touching = 0;
+    for (int j = 0; j < NALL; j++) {
+      const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+      touching += j != i && sqrt(dx * dx + dy * dy + dz * dz) < r[i] + r[j];
+    }
+    same &= count[i] == touching;
+    total += touching;
+  }
+  CHECK(same && total > 1000, "far point at %g: contacts equal the brute-force count (%ld in all)", far, total);
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
+  check_contacts(2.0);
+  check_contacts(1e6);
   check_cic();
   check_kernel_axis();
   check_padding_bounds();
