@@ -4,6 +4,8 @@
 
 #include "fix_griddem_rom.h"
 
+#include "griddem_rom_model.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
@@ -22,15 +24,13 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
-    origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), lambda(0.0), eps(-1.0),
+    origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
     v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
@@ -109,7 +109,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 16;
+  size_vector = NCOUNTER + 3;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
@@ -140,209 +140,42 @@ int FixGriddemRom::setmask()
   return INITIAL_INTEGRATE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
 }
 
-namespace {
-// a word of a model file and the line it stands on
-struct ModelWord {
-  std::string text;
-  int line;
-};
-
-// a word as a message shows it: bytes other than printable ASCII as \xNN (a binary file's words
-// hold NUL bytes, which would end the message), at most 40 bytes of it
-std::string shown(const std::string &word)
-{
-  const size_t limit = 40;
-  std::string out;
-  for (size_t k = 0; k < word.size() && k < limit; k++) {
-    const auto c = (unsigned char) word[k];
-    if (c >= 0x20 && c < 0x7f) out += (char) c;
-    else out += fmt::format("\\x{:02x}", (unsigned) c);
-  }
-  if (word.size() > limit) out += "...";
-  return out;
-}
-
-bool finite_number(const std::string &word, double &out)
-{
-  char *end = nullptr;
-  out = strtod(word.c_str(), &end);
-  return end != word.c_str() && *end == '\0' && std::isfinite(out);
-}
-}    // namespace
-
-/* The model file (format version 1 or 2; doc/fix_griddem_rom.md): '#' starts a comment; then
-     griddem/rom VERSION
-     grid NX NY NZ
-     box XLO XHI YLO YHI ZLO ZHI
-     frame moving             (version 2, optional: the box is relative to keyword origin)
-     controls NC
-     lambda L
-     weights NROW NCOL        (NROW = 3 NX NY NZ, NCOL = 1 + NX NY NZ + NC)
-   and NROW x NCOL numbers: row 3 m + d gives velocity component d of voxel m = i + NX (j + NY k)
-   as bias + sum_m' w density(m') + sum_c w control(c); then optionally (version 2)
-     force 3 NCOL
-   and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features; then the end of the
-   file. Read on rank 0; every mismatch is an error that names it, its line and what was expected. */
+/* The model file (griddem_rom_model.h), read and checked on rank 0 and sent to all. */
 void FixGriddemRom::read_model(const char *file)
 {
+  griddem_rom_model model = {};
   std::string msg;
-  // version, grid (3), box (6), controls, lambda, weights' size, moving, force rows
-  std::vector<double> head(15, 0.0);
   if (comm->me == 0) {
-    std::ifstream in(file);
-    std::vector<ModelWord> tok;
-    int nlines = 0;
-    if (!in) msg = fmt::format("cannot open model file {}", file);
-    else {
-      std::string line;
-      while (std::getline(in, line)) {
-        nlines++;
-        const auto hash = line.find('#');
-        if (hash != std::string::npos) line.erase(hash);
-        std::istringstream ss(line);
-        std::string t;
-        while (ss >> t) tok.push_back({t, nlines});
-      }
-    }
-    // the first error: where it is (word k's line, or the end of the file) and what is wrong
-    auto fail = [&](size_t k, const std::string &what) {
-      if (!msg.empty()) return;
-      if (k < tok.size()) msg = fmt::format("model file {}, line {}: {}", file, tok[k].line, what);
-      else if (tok.empty()) msg = fmt::format("model file {} holds no words: {}", file, what);
-      else msg = fmt::format("model file {}, at its end (line {}): {}", file, nlines, what);
-    };
-    auto found = [&](size_t k) {
-      return k < tok.size() ? "'" + shown(tok[k].text) + "'" : std::string("the end of the file");
-    };
-    size_t p = 0;
-    // a line 'key values...': the key, and nvalues words after it
-    auto expect = [&](const char *key, const char *values, int nvalues) -> bool {
-      if (!msg.empty()) return false;
-      if (p >= tok.size() || tok[p].text != key) {
-        fail(p, fmt::format("expected '{} {}', found {}", key, values, found(p)));
-        return false;
-      }
-      if (p + nvalues >= tok.size()) {
-        fail(p, fmt::format("'{}' needs {} values ({}), found the end of the file", key, nvalues, values));
-        return false;
-      }
-      p++;
-      return true;
-    };
-    auto number = [&](double &out, const char *what) {
-      if (!msg.empty()) return;
-      if (!finite_number(tok[p].text, out))
-        fail(p, fmt::format("expected {} (a finite number), found '{}'", what, shown(tok[p].text)));
-      p++;
-    };
-    // an optional line of version 2, named by its first word
-    auto optional = [&](const char *key) -> bool {
-      if (!msg.empty() || p >= tok.size() || tok[p].text != key) return false;
-      if (head[0] < 2) fail(p, fmt::format("'{}' needs format version 2 (the file has version 1)", key));
-      return msg.empty();
-    };
-    // the nrow x ncol numbers of a block that starts at word p (its header line at word header)
-    auto block = [&](std::vector<double> &out, size_t header, double nrow, double ncol) {
-      if (!msg.empty()) return;
-      if (tok.size() - p < (size_t) (nrow * ncol)) {
-        fail(tok.size(), fmt::format("'{} {} {}' (line {}) needs {} x {} = {} values, found {}", tok[header].text,
-                                     nrow, ncol, tok[header].line, nrow, ncol, nrow * ncol, tok.size() - p));
-        return;
-      }
-      out.resize((size_t) (nrow * ncol));
-      for (size_t k = 0; k < out.size() && msg.empty(); k++, p++)
-        if (!finite_number(tok[p].text, out[k]))
-          fail(p, fmt::format("expected value {} of row {} of '{}' (a finite number), found '{}'", k % (size_t) ncol + 1,
-                              k / (size_t) ncol + 1, tok[header].text, shown(tok[p].text)));
-    };
-
-    size_t at = p;
-    if (expect("griddem/rom", "VERSION", 1)) {
-      number(head[0], "the format version");
-      if (msg.empty() && head[0] != 1 && head[0] != GRIDDEM_ROM_VERSION)
-        fail(at, fmt::format("format version {} is not supported (this build reads versions 1 to {})", shown(tok[p - 1].text),
-                             GRIDDEM_ROM_VERSION));
-    }
-    at = p;
-    if (expect("grid", "NX NY NZ", 3))
-      for (int d = 0; d < 3; d++) number(head[1 + d], "a number of voxels");
-    for (int d = 0; d < 3 && msg.empty(); d++)
-      if (head[1 + d] < 1 || head[1 + d] != std::floor(head[1 + d]) || head[1 + d] > 1e4)
-        fail(at, fmt::format("grid size {} {} {} must be positive integers", head[1], head[2], head[3]));
-    at = p;
-    if (expect("box", "XLO XHI YLO YHI ZLO ZHI", 6))
-      for (int d = 0; d < 6; d++) number(head[4 + d], "a box bound");
-    for (int d = 0; d < 3 && msg.empty(); d++)
-      if (!(head[5 + 2 * d] > head[4 + 2 * d]))
-        fail(at, fmt::format("box bounds along axis {} are not increasing", "xyz"[d]));
-    if (optional("frame") && expect("frame", "moving", 1)) {
-      if (tok[p].text != "moving") fail(p, fmt::format("expected 'frame moving' (the only frame), found '{}'",
-                                                       shown(tok[p].text)));
-      p++;
-      head[13] = 1.0;
-    }
-    at = p;
-    if (expect("controls", "NC", 1)) number(head[10], "the number of controls");
-    if (msg.empty() && (head[10] < 0 || head[10] != std::floor(head[10])))
-      fail(at, fmt::format("number of controls {} is not a count", head[10]));
-    if (expect("lambda", "L", 1)) number(head[11], "the ridge parameter");
-    double nrow = 0, ncol = 0;
-    const size_t weights_at = p;
-    if (expect("weights", "NROW NCOL", 2)) {
-      number(nrow, "the number of rows");
-      number(ncol, "the number of columns");
-    }
-    const double nvox = head[1] * head[2] * head[3];
-    if (msg.empty() && nrow != 3 * nvox)
-      fail(weights_at, fmt::format("weights has {} rows; grid size {} {} {} needs 3 x {} = {}", nrow, head[1], head[2],
-                                   head[3], nvox, 3 * nvox));
-    if (msg.empty() && ncol != 1 + nvox + head[10])
-      fail(weights_at, fmt::format("weights has {} columns; grid size {} {} {} and {} controls need 1 + {} + {} = {}",
-                                   ncol, head[1], head[2], head[3], head[10], nvox, head[10], 1 + nvox + head[10]));
-    block(weights, weights_at, nrow, ncol);
-    head[12] = nrow * ncol;
-    if (msg.empty() && p < tok.size()) {
-      if (tok[p].text != "force")
-        fail(p, fmt::format("expected the end of the file{} after the {} x {} weights, found '{}'",
-                            head[0] >= 2 ? fmt::format(" or a block 'force 3 {}'", ncol) : "", nrow, ncol,
-                            shown(tok[p].text)));
-      const size_t force_at = p;
-      double frow = 0, fcol = 0;
-      if (optional("force") && expect("force", "3 NCOL", 2)) {
-        number(frow, "the number of rows");
-        number(fcol, "the number of columns");
-      }
-      if (msg.empty() && (frow != 3 || fcol != ncol))
-        fail(force_at, fmt::format("force has {} rows and {} columns; expected 3 and {} (as weights)", frow, fcol, ncol));
-      block(force_weights, force_at, 3, ncol);
-      if (msg.empty() && p < tok.size())
-        fail(p, fmt::format("expected the end of the file after the 3 x {} force values, found '{}'", ncol,
-                            shown(tok[p].text)));
-      head[14] = 3;
-    }
+    std::vector<char> message(GRIDDEM_ROM_MODEL_MESSAGE + strlen(file));
+    if (griddem_rom_model_read(file, &model, message.data(), message.size()) != 0) msg = message.data();
   }
   int len = msg.size();
   MPI_Bcast(&len, 1, MPI_INT, 0, world);
   msg.resize(len);
   MPI_Bcast(&msg[0], len, MPI_CHAR, 0, world);
   if (len) error->all(FLERR, "Fix griddem/rom: {}", msg);
-  MPI_Bcast(head.data(), head.size(), MPI_DOUBLE, 0, world);
-  for (int d = 0; d < 3; d++) {
-    frame_grid.n[d] = (int) head[1 + d];
-    frame_grid.lo[d] = head[4 + 2 * d];
-    frame_grid.hi[d] = head[5 + 2 * d];
-  }
+  frame_grid = model.box;
+  int flags[3] = {model.moving, model.ncontrol, model.force != nullptr};
+  MPI_Bcast(frame_grid.n, 3, MPI_INT, 0, world);
+  MPI_Bcast(frame_grid.lo, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(frame_grid.hi, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(flags, 3, MPI_INT, 0, world);
   grid = frame_grid;
-  moving = head[13] != 0.0;
-  ncontrol = (int) head[10];
-  lambda = head[11];
-  weights.resize((size_t) head[12]);
-  MPI_Bcast(weights.data(), weights.size(), MPI_DOUBLE, 0, world);
+  moving = flags[0] != 0;
+  ncontrol = flags[1];
   const int nvox = griddem_rom_nvoxel(&grid);
-  force_weights.resize((size_t) head[14] * (1 + nvox + ncontrol));
+  const size_t ncol = 1 + nvox + ncontrol;
+  weights.resize(3 * nvox * ncol);
+  force_weights.resize(flags[2] ? 3 * ncol : 0);
+  if (comm->me == 0) {
+    std::copy(model.weights, model.weights + weights.size(), weights.begin());
+    if (model.force) std::copy(model.force, model.force + force_weights.size(), force_weights.begin());
+  }
+  griddem_rom_model_free(&model);
+  MPI_Bcast(weights.data(), weights.size(), MPI_DOUBLE, 0, world);
   MPI_Bcast(force_weights.data(), force_weights.size(), MPI_DOUBLE, 0, world);
   density.assign(nvox, 0.0);
-  feature.assign(1 + nvox + ncontrol, 0.0);
+  feature.assign(ncol, 0.0);
   field.assign(3 * nvox, 0.0);
 }
 
@@ -483,7 +316,7 @@ void FixGriddemRom::post_neighbor()
   MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
   if (any) {
     mark_near();
-    counts[10] += 1;
+    counts[REACH_TESTS] += 1;
   } else
     fill_nearlist();
 }
@@ -493,7 +326,7 @@ void FixGriddemRom::fill_nearlist()
   nearlist.clear();
   const int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
-    if ((mask[i] & kinematic_bit) && track[i][4] != 0.0) nearlist.push_back(i);
+    if ((mask[i] & kinematic_bit) && track[i][TRACK_NEAR] != 0.0) nearlist.push_back(i);
 }
 
 /* The pair has run and no fix has added forces yet (griddem styles give ghosts nothing, so the
@@ -532,11 +365,11 @@ void FixGriddemRom::release_by_force()
         for (int d = 0; d < 3; d++) fo[d] -= rmass[i] * g.second[d];
     const double fm2 = fo[0] * fo[0] + fo[1] * fo[1] + fo[2] * fo[2];
     if (sqrt(fm2) * scale > threshold * rmass[i]) {
-      if (track[i][4] == 0.0)
+      if (track[i][TRACK_NEAR] == 0.0)
         for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
       mask[i] = (mask[i] & ~(kinematic_bit | lagging_bit)) | dynamic_bit;
-      for (int d = 0; d < 3; d++) track[i][d] = x[i][d];
-      track[i][3] = track[i][4] = 0.0;
+      for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = x[i][d];
+      track[i][TRACK_BUDGET] = track[i][TRACK_NEAR] = 0.0;
       released++;
     }
   }
@@ -544,8 +377,8 @@ void FixGriddemRom::release_by_force()
   MPI_Allreduce(&released, &all, 1, MPI_INT, MPI_SUM, world);
   if (all) {
     comm->forward_comm(this);    // the ghosts of released atoms too
-    counts[5] += all;
-    counts[0] -= all;
+    counts[RELEASED_FORCE] += all;
+    counts[KINEMATIC] -= all;
   }
 }
 
@@ -557,7 +390,7 @@ void FixGriddemRom::catch_up()
     double **x = atom->x, **v = atom->v;
     const int *mask = atom->mask;
     for (int i = 0; i < atom->nlocal; i++)
-      if ((mask[i] & kinematic_bit) && track[i][4] == 0.0)
+      if ((mask[i] & kinematic_bit) && track[i][TRACK_NEAR] == 0.0)
         for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
   }
   last_model = update->ntimestep;
@@ -583,10 +416,10 @@ void FixGriddemRom::mark_near()
   double umax = 0.0, nnear = 0.0, nkin = 0.0;
   for (int i = 0; i < nlocal; i++) {
     nkin += kinematic[i];
-    for (int d = 0; d < 3; d++) track[i][d] = x[i][d];
-    track[i][3] = budget[i];
-    track[i][4] = near[i] && kinematic[i];
-    nnear += track[i][4];
+    for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = x[i][d];
+    track[i][TRACK_BUDGET] = budget[i];
+    track[i][TRACK_NEAR] = near[i] && kinematic[i];
+    nnear += track[i][TRACK_NEAR];
     const bool lagging = kinematic[i] && !near[i];
     mask[i] = lagging ? (mask[i] | lagging_bit) : (mask[i] & ~lagging_bit);
     if (lagging) umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
@@ -596,7 +429,7 @@ void FixGriddemRom::mark_near()
   MPI_Allreduce(&umax, &umax_far, 1, MPI_DOUBLE, MPI_MAX, world);
   double mine[2] = {nnear, nkin}, all[2];
   MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
-  counts[8] = all[0];
+  counts[NEAR] = all[0];
   nfar = all[1] - all[0];
   fill_nearlist();
 }
@@ -622,19 +455,20 @@ void FixGriddemRom::end_of_step()
     int mine = 0, any = 0;
     for (int i = 0; i < atom->nlocal && !mine && nfar > 0.0; i++) {
       if (mask[i] & kinematic_bit) continue;
-      double dx[3] = {x[i][0] - track[i][0], x[i][1] - track[i][1], x[i][2] - track[i][2]};
+      const double *x0 = &track[i][TRACK_X];
+      double dx[3] = {x[i][0] - x0[0], x[i][1] - x0[1], x[i][2] - x0[2]};
       domain->minimum_image(dx);
-      mine = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) + travel >= track[i][3];
+      mine = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) + travel >= track[i][TRACK_BUDGET];
     }
     MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
     if (any) {
       catch_up();
       comm->forward_comm();
       mark_near();
-      counts[10] += 1;
+      counts[REACH_TESTS] += 1;
     }
   }
-  counts[12] += MPI_Wtime() - t0;
+  counts[SECONDS] += MPI_Wtime() - t0;
   fill_state();
 }
 
@@ -733,13 +567,19 @@ void FixGriddemRom::classify()
   }
   comm->forward_comm(this);
 
-  double mine[7] = {nkin, made, (double) hits, (double) overlaps, left, jumps, held}, all[7];
-  MPI_Allreduce(mine, all, 7, MPI_DOUBLE, MPI_SUM, world);
-  counts[0] = all[0];
-  for (int k = 1; k < 5; k++) counts[k] += all[k];
-  counts[6] += 1;
-  counts[7] += all[5];
-  counts[11] += all[6];
+  double mine[NCOUNTER] = {}, all[NCOUNTER];
+  mine[KINEMATIC] = nkin;
+  mine[MADE_KINEMATIC] = made;
+  mine[RELEASED_HIT] = hits;
+  mine[RELEASED_OVERLAP] = overlaps;
+  mine[RELEASED_LEFT] = left;
+  mine[RELEASED_JUMP] = jumps;
+  mine[HELD_BY_VOXEL] = held;
+  MPI_Allreduce(mine, all, NCOUNTER, MPI_DOUBLE, MPI_SUM, world);
+  counts[KINEMATIC] = all[KINEMATIC];
+  for (const int k : {MADE_KINEMATIC, RELEASED_HIT, RELEASED_OVERLAP, RELEASED_LEFT, RELEASED_JUMP, HELD_BY_VOXEL})
+    counts[k] += all[k];
+  counts[CLASSIFICATIONS] += 1;
 
   // the model step: the fastest kinematic atom crosses at most cfl of the smallest voxel edge
   double umax_all = 0.0, hmin = grid.hi[0] - grid.lo[0];
@@ -747,7 +587,7 @@ void FixGriddemRom::classify()
   for (int d = 0; d < 3; d++) hmin = MIN(hmin, (grid.hi[d] - grid.lo[d]) / grid.n[d]);
   const double steps = umax_all > 0.0 ? cfl * hmin / (umax_all * update->dt) : period;
   model_step = steps >= period ? period : MAX(1, (int) steps);
-  counts[9] = model_step;
+  counts[MODEL_STEP] = model_step;
   next_model = update->ntimestep + model_step;
 }
 
@@ -765,7 +605,7 @@ void FixGriddemRom::grow_arrays(int n)
 {
   memory->grow(state, n, "griddem/rom:state");
   memory->grow(fpair, n, 3, "griddem/rom:fpair");
-  memory->grow(track, n, 5, "griddem/rom:track");
+  memory->grow(track, n, NTRACK, "griddem/rom:track");
   vector_atom = state;
   nmax = n;
 }
@@ -773,7 +613,7 @@ void FixGriddemRom::grow_arrays(int n)
 
 void FixGriddemRom::copy_arrays(int i, int j, int)
 {
-  for (int k = 0; k < 5; k++) track[j][k] = track[i][k];
+  for (int k = 0; k < NTRACK; k++) track[j][k] = track[i][k];
 }
 
 /* A new atom (fix pour, create_atoms) is dynamic, with budget 0; it is not lagging, and the reach
@@ -784,27 +624,33 @@ void FixGriddemRom::set_arrays(int i)
   mask[i] &= ~lagging_bit;
   mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
   fresh = true;
-  for (int d = 0; d < 3; d++) track[i][d] = atom->x[i][d];
-  track[i][3] = track[i][4] = 0.0;
+  for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = atom->x[i][d];
+  track[i][TRACK_BUDGET] = track[i][TRACK_NEAR] = 0.0;
   state[i] = 0.0;
 }
 
 int FixGriddemRom::pack_exchange(int i, double *buf)
 {
-  for (int k = 0; k < 5; k++) buf[k] = track[i][k];
-  return 5;
+  for (int k = 0; k < NTRACK; k++) buf[k] = track[i][k];
+  return NTRACK;
 }
 
 int FixGriddemRom::unpack_exchange(int i, double *buf)
 {
-  for (int k = 0; k < 5; k++) track[i][k] = buf[k];
-  return 5;
+  for (int k = 0; k < NTRACK; k++) track[i][k] = buf[k];
+  return NTRACK;
+}
+
+/* a ghost's kinematic and lagging bits, as one number */
+namespace {
+constexpr int COMM_KINEMATIC = 1, COMM_LAGGING = 2;
 }
 
 int FixGriddemRom::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
   const int *mask = atom->mask;
-  for (int i = 0; i < n; i++) buf[i] = ((mask[list_[i]] & kinematic_bit) ? 1 : 0) + ((mask[list_[i]] & lagging_bit) ? 2 : 0);
+  for (int i = 0; i < n; i++)
+    buf[i] = ((mask[list_[i]] & kinematic_bit) ? COMM_KINEMATIC : 0) + ((mask[list_[i]] & lagging_bit) ? COMM_LAGGING : 0);
   return n;
 }
 
@@ -813,23 +659,16 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
   int *mask = atom->mask;
   for (int i = 0; i < n; i++) {
     const int j = first + i;
-    const int state = (int) buf[i];
-    mask[j] = (state & 1) ? (mask[j] | kinematic_bit) & ~dynamic_bit : (mask[j] & ~kinematic_bit) | dynamic_bit;
-    mask[j] = (state & 2) ? (mask[j] | lagging_bit) : (mask[j] & ~lagging_bit);
+    const int bits = (int) buf[i];
+    mask[j] = (bits & COMM_KINEMATIC) ? (mask[j] | kinematic_bit) & ~dynamic_bit : (mask[j] & ~kinematic_bit) | dynamic_bit;
+    mask[j] = (bits & COMM_LAGGING) ? (mask[j] | lagging_bit) : (mask[j] & ~lagging_bit);
   }
 }
 
-/* 1: kinematic atoms now; 2: atoms made kinematic; 3, 4, 5, 6: made dynamic again by a hit (a
-   touching partner's relative speed), by an overlap, by leaving the model box or entering the
-   resolved region, by a force; 7: classifications; 8: made dynamic by a jump of the field;
-   9: kinematic atoms moving at DEM's step (within reach of a dynamic atom) after the last reach
-   test; 10: the model step in DEM steps; 11: reach tests between model steps (the skin rule);
-   12: atoms that qualified but were kept dynamic by their voxel; 13: seconds this process spent
-   at the end of steps (classification, reach test, catch-up). 2-8, 11-13 summed over the run.
-   14-16: the force the model's block 'force' predicts at the last classification (0 without). */
+/* the counters (Counter), then the force the model's block 'force' predicts */
 double FixGriddemRom::compute_vector(int n)
 {
-  return n < 13 ? counts[n] : force_predicted[n - 13];
+  return n < NCOUNTER ? counts[n] : force_predicted[n - NCOUNTER];
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)
@@ -910,5 +749,5 @@ void *FixGriddemRom::get_griddata_by_index(int index)
 
 double FixGriddemRom::memory_usage()
 {
-  return (double) nmax * 9 * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
+  return (double) nmax * (1 + 3 + NTRACK) * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
 }

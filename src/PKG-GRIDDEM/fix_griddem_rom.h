@@ -64,7 +64,6 @@ class FixGriddemRom : public Fix {
   int origin_vars[3];
   double origin[3];               // the frame's origin now (constants from keyword origin)
   int ncontrol;
-  double lambda;
   std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol]
   std::vector<double> force_weights;    // model block 'force': [3][1 + nvoxel + ncontrol], or empty
   double force_predicted[3];            // the force block's prediction at the last classification
@@ -85,7 +84,9 @@ class FixGriddemRom : public Fix {
   double nfar;                 // number of lagging kinematic atoms (all processes)
   bool fresh;                  // atoms were created on this process since its last reach test
   bool force_each_step;        // a fix other than gravity acts on kinematic atoms: test forces each step
-  double **track;              // per atom: x at last_model (3), budget, near (1: moves each step)
+  // per atom: x at last_model (3), the budget, near (1: moves each step); moves with the atom
+  enum Track { TRACK_X, TRACK_BUDGET = TRACK_X + 3, TRACK_NEAR, NTRACK };
+  double **track;              // [nmax][NTRACK]
   std::vector<int> nearlist;   // owned kinematic atoms that move each step (rebuilt at reneighboring)
   griddem_grid near_grid;      // the reach test's grid and bins (scratch kept between calls)
   griddem_bins near_bins;
@@ -100,7 +101,17 @@ class FixGriddemRom : public Fix {
   double ***grid_values[4];    // vx vy vz density of the last classification
   griddem_grid check_grid;    // the contact checks' grid and bins (scratch kept between calls)
   griddem_bins check_bins;
-  double counts[13];    // see compute_vector (entries 14-16: force_predicted)
+  // the global vector's entries 1-13 in its order (doc/fix_griddem_rom.md; 14-16: force_predicted):
+  // kinematic atoms now; made kinematic; released by a hit, an overlap, leaving the model box or
+  // entering the resolved region, a force; classifications; released by a jump of the field;
+  // kinematic atoms near a dynamic one at the last reach test; the model step in DEM steps; reach
+  // tests between model steps; atoms held dynamic by their voxel; seconds spent at the end of steps.
+  // KINEMATIC, NEAR and MODEL_STEP are values now, the others sums over the run.
+  enum Counter {
+    KINEMATIC, MADE_KINEMATIC, RELEASED_HIT, RELEASED_OVERLAP, RELEASED_LEFT, RELEASED_FORCE,
+    CLASSIFICATIONS, RELEASED_JUMP, NEAR, MODEL_STEP, REACH_TESTS, HELD_BY_VOXEL, SECONDS, NCOUNTER
+  };
+  double counts[NCOUNTER];
 
   void read_model(const char *file);
   void place_grid();
