@@ -65,7 +65,7 @@ void FixGriddemCPU::set_values(int values)
   rows_written();
 }
 
-const double *FixGriddemCPU::find_history(int i, tagint partner)
+const double *FixGriddemCPU::find_history(int i, int64_t partner)
 {
   return griddem_history_find(&rows, row_of[i], partner);
 }

@@ -7,6 +7,7 @@
 #include "fix_griddem_face.h"
 
 #include "atom.h"
+#include "comm.h"
 #include "error.h"
 #include "force.h"
 #include "modify.h"
@@ -37,7 +38,7 @@ static int choice(const char *word, std::initializer_list<std::pair<const char *
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6),
     precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0), stats_current(0),
-    step_stats()
+    step_stats(), image_axes(0)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -80,6 +81,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   restart_peratom = 1;
   create_attribute = 1;        // atoms made later (create_atoms, fix pour) start with no contacts
   maxexchange_dynamic = 1;     // an atom's row is as long as its contacts: sized after each step
+  comm_forward = 1;            // periodic_images()
 
   // the store's own constructor sizes its per-atom arrays before any callback comes
   atom->add_callback(Atom::GROW);
@@ -119,6 +121,45 @@ void FixGriddem::drop_history()
 {
   for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
   stats_current = 0;
+}
+
+/* An owned atom's image is minus its image flags (griddem_history.h); its keys hold partner IDs
+   below 2^GRIDDEM_KEY_TAG_BITS, with the image above. */
+
+const int *FixGriddem::periodic_images(int axes)
+{
+  const int nlocal = atom->nlocal;
+  image_codes.resize(nlocal + atom->nghost);
+  image_axes = axes;
+  const imageint *image = atom->image;
+  const tagint *tag = atom->tag;
+  const bigint tag_limit = (bigint) 1 << GRIDDEM_KEY_TAG_BITS;
+  for (int i = 0; i < nlocal; i++) {
+    if ((bigint) tag[i] >= tag_limit)
+      error->one(FLERR, "Fix {}: atom ID {} is {} or more, too large for the contact history of a box "
+                 "narrower than twice the contact distance, which keys contacts by atom ID and periodic image",
+                 id, tag[i], tag_limit);
+    const int m[3] = {-(int) ((image[i] & IMGMASK) - IMGMAX), -(int) ((image[i] >> IMGBITS & IMGMASK) - IMGMAX),
+                      -(int) ((image[i] >> IMG2BITS) - IMGMAX)};
+    image_codes[i] = griddem_image_code(m, axes);
+  }
+  comm->forward_comm(this);
+  return image_codes.data();
+}
+
+// a ghost's image: its source's plus the periodic shift (along the box vectors, triclinic too)
+
+int FixGriddem::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  const int none[3] = {0, 0, 0};
+  const int *shift = pbc_flag ? pbc : none;
+  for (int k = 0; k < n; k++) buf[k] = griddem_image_shifted(image_codes[list[k]], shift, image_axes);
+  return n;
+}
+
+void FixGriddem::unpack_forward_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) image_codes[first + k] = (int) buf[k];
 }
 
 // exchange and restart carry the row as a message

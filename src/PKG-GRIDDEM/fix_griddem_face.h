@@ -10,6 +10,8 @@
 #include "griddem_engine.h"
 #include "griddem_pair_link.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
@@ -43,8 +45,8 @@ class FixGriddem : public Fix {
   virtual int history_values() const = 0;
   // a new layout of values per contact: each stored row keeps its values up to the shorter length
   virtual void set_values(int values) = 0;
-  // stored history values of atom i's contact with the atom tagged partner, or nullptr
-  virtual const double *find_history(int i, tagint partner) = 0;
+  // stored history values of atom i's contact of key partner (griddem_history.h), or nullptr
+  virtual const double *find_history(int i, int64_t partner) = 0;
   // atom i's row as a message, returning its length in doubles; the length it has; the longest
   // of any atom of this process
   virtual int get_message(int i, double *message) = 0;
@@ -52,6 +54,13 @@ class FixGriddem : public Fix {
   virtual int longest_message() = 0;
   // atom i takes the row of a message with history_values() values per contact
   virtual void put_message(int i, const double *message) = 0;
+
+  // the periodic image code (griddem_image_code) of each owned and ghost atom along the image
+  // axes `axes` (bit d: axis d), for the history keys of a box thin along them; the ghosts' by a
+  // forward communication, which adds each ghost's periodic shift. Valid until the next call.
+  const int *periodic_images(int axes);
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
 
   // atom i takes the row of a record laid out as pack_restart writes it
   void put_history(int i, const double *record);
@@ -84,6 +93,8 @@ class FixGriddem : public Fix {
  private:
   int stats_current;    // step_stats are of a griddem pair style's step with this fix
   griddem_engine_stats step_stats;
+  std::vector<int> image_codes;    // periodic_images()
+  int image_axes;                  // of the last periodic_images()
 };
 
 }    // namespace LAMMPS_NS

@@ -251,5 +251,5 @@ double griddem_engine_memory(const griddem_engine *e)
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_sum) + sizeof(int64_t) + sizeof(int)) +
-      (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);
+      (double) ch->image_cap * sizeof(int) + (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);
 }

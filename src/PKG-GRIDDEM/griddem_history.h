@@ -49,6 +49,54 @@ typedef struct griddem_history {
   int noverflow;
 } griddem_history;
 
+/* Contacts keyed by partner and periodic image. Where a periodic box is narrower than twice the
+ * largest contact distance along some axes (its image axes), a sphere can touch two images of one
+ * partner, or images of itself; each such contact keeps its own history under a key that holds,
+ * above the partner tag, the partner's periodic image relative to the particle's, per image axis
+ * modulo 2^GRIDDEM_IMAGE_BITS. A particle's image m (per axis: its shift from its owner's position
+ * minus its owner's LAMMPS image flag, so m = -image for an owned particle and each ghost adds its
+ * periodic shift) makes the pair's relative image m_partner - m_self, which does not change while
+ * the contact lasts (wraps across the boundary change shift and flag together), migrates and
+ * goes into restart files with the row. Images of one partner that touch one sphere at once differ
+ * by less than 2 contact distance / width per axis: told apart while an axis is at least 1/8 of
+ * the contact distance wide (GRIDDEM_IMAGE_MIN_WIDTH). Along other axes, and in boxes without image
+ * axes, the image is 0 and a key is the partner tag. Keys stay below 2^53 (exact in row messages)
+ * for tags below 2^GRIDDEM_KEY_TAG_BITS. */
+#define GRIDDEM_IMAGE_BITS 4
+#define GRIDDEM_IMAGE_MASK ((1 << GRIDDEM_IMAGE_BITS) - 1)
+#define GRIDDEM_IMAGE_MIN_WIDTH(contact) (2.0 * (contact) / (1 << GRIDDEM_IMAGE_BITS))
+#define GRIDDEM_KEY_TAG_BITS (53 - 3 * GRIDDEM_IMAGE_BITS)
+
+/* A particle's image m (3 integers) packed, its components along the image axes (bit d of axes:
+ * axis d) modulo 2^GRIDDEM_IMAGE_BITS, the others 0. */
+GRIDDEM_INLINE int griddem_image_code(const int *m, int axes)
+{
+  int code = 0;
+  for (int d = 0; d < 3; d++)
+    if (axes >> d & 1) code |= (m[d] & GRIDDEM_IMAGE_MASK) << (GRIDDEM_IMAGE_BITS * d);
+  return code;
+}
+
+/* The code of an image shifted by shift (3 integers: the periodic shift of a ghost made from it). */
+GRIDDEM_INLINE int griddem_image_shifted(int code, const int *shift, int axes)
+{
+  int m[3];
+  for (int d = 0; d < 3; d++) m[d] = (code >> (GRIDDEM_IMAGE_BITS * d)) + shift[d];
+  return griddem_image_code(m, axes);
+}
+
+/* The key of a contact with partner tag seen from a particle of image code self, the partner's
+ * being code partner: the tag, and above it the relative image (0 for the same images). */
+GRIDDEM_INLINE int64_t griddem_image_key(int64_t tag, int self, int partner)
+{
+  int relative = 0;
+  for (int d = 0; d < 3; d++) {
+    const int shift = GRIDDEM_IMAGE_BITS * d;
+    relative |= (((partner >> shift) - (self >> shift)) & GRIDDEM_IMAGE_MASK) << shift;
+  }
+  return tag | (int64_t) relative << GRIDDEM_KEY_TAG_BITS;
+}
+
 /* Room a sweep gives a row beyond its particle's last count: new contacts a step. */
 #define GRIDDEM_HISTORY_MARGIN 2
 

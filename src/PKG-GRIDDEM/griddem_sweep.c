@@ -34,8 +34,14 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
       return -1;
     ch->cap = cap;
   }
+  /* the images only in boxes that have image axes */
+  if (p->image && ch->cap > ch->image_cap) {
+    if (grow_aligned((void **) &ch->image, sizeof(int), ch->cap) != 0) return ch->image_cap = 0, -1;
+    ch->image_cap = ch->cap;
+  }
   ch->n = n;
   ch->p = p;
+  ch->keyed_by_image = p->image != NULL;
 #pragma omp parallel for schedule(static)
   for (int s = 0; s < n; s++) {
     const int i = b->order[s];
@@ -44,6 +50,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     ch->z[s] = p->x[3 * (size_t) i + 2];
     ch->r[s] = p->radius[i];
     ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
+    if (p->image) ch->image[s] = p->image[i];
     griddem_slot_sum *sum = &ch->sum[s];
     for (int d = 0; d < 3; d++) sum->f[d] = 0.0, sum->t[d] = 0.0;
     ch->ncontact[s] = 0;
@@ -53,7 +60,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->sum), free(ch->ncontact);
+  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->image), free(ch->sum), free(ch->ncontact);
   free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
@@ -66,6 +73,13 @@ static void record_fault(griddem_sweep_result *r, int fault, int i, int j)
     r->fault_i = i;
     r->fault_j = j;
   }
+}
+
+/* The history key of slot to's particle seen from slot from's: its tag, with the relative image
+ * where the box has image axes */
+static inline int64_t contact_key(const griddem_channels *ch, int from, int to)
+{
+  return ch->keyed_by_image ? griddem_image_key(ch->tag[to], ch->image[from], ch->image[to]) : ch->tag[to];
 }
 
 /* The laws a sweep's pair body is compiled for. Where every type pair's law is gran/hooke's or
@@ -148,7 +162,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
 
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
   const double ra = ch->r[a], rb = ch->r[b];
-  const double *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], ch->tag[b]) : NULL;
+  const int64_t key_b = track ? contact_key(ch, a, b) : 0;
+  const double *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ra, rb, stored != NULL))
     return;
@@ -168,11 +183,11 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
     const int stored_values = values >= 0 ? values : cx->hist->values;
-    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, ch->tag[b], hv);
+    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, key_b, hv);
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
       for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
-      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, ch->tag[a], hb);
+      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, contact_key(ch, b, a), hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }

@@ -27,6 +27,8 @@ typedef struct griddem_particles {
   const int *type;
   const int *mask;   /* group bits */
   int frozen_bit;    /* mask & frozen_bit marks a frozen particle (infinite mass); 0: none */
+  const int *image;  /* per particle: its periodic image (griddem_image_code), where the box has
+                        image axes; NULL: contacts are keyed by partner tag alone */
 } griddem_particles;
 
 /* Force and torque summed on a particle during the sweep. */
@@ -44,6 +46,8 @@ typedef struct griddem_channels {
   double *x, *y, *z, *r;       /* per slot */
   griddem_slot_sum *sum;
   int64_t *tag;
+  int *image;                  /* per slot: its particle's image code, if keyed_by_image */
+  int keyed_by_image, image_cap; /* the particles had images: contacts keyed by partner and image */
   int *ncontact;
   int *slab, *slots, *first;   /* cross-class pass: small spheres by slab of the coarse grid */
   int across_cap, first_cap;

@@ -35,7 +35,7 @@ static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), freeze_group_bit(0), exclusions(), heir(nullptr)
+    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), images(nullptr), freeze_group_bit(0), exclusions(), heir(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -447,28 +447,34 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
   rmax = -global[1];
   if (rmax > 0.0 && !(rmin > 0.0))
     error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", force->pair_style, rmin);
-  check_periodic_images();
+  find_image_axes();
 }
 
-/* The contact history is keyed by the partner's ID: where a periodic box is thinner than twice
-   the largest contact distance, a sphere can touch two images of one partner, or its own image,
-   and those contacts would share one history. Refused until history is keyed by image too. The
-   width is the distance between opposite faces (a triclinic box's too). */
+/* Where a periodic box is narrower than twice the largest contact distance, a sphere can touch
+   two images of one partner, or its own image: contacts are then keyed by partner ID and periodic
+   image along those axes (griddem_history.h), which costs a forward communication a step; wider
+   boxes key by ID alone. The width is the distance between opposite faces (a triclinic box's
+   too). */
 
-void PairGriddem::check_periodic_images()
+void PairGriddem::find_image_axes()
 {
+  image_axes = 0;
   if (!model.track_contacts || rmax == 0.0) return;
   const double contact = 2.0 * rmax + model.reach_extra;
   const double *hi = domain->h_inv;
   const double width[3] = {1.0 / sqrt(hi[0] * hi[0] + hi[5] * hi[5] + hi[4] * hi[4]),
                            1.0 / sqrt(hi[1] * hi[1] + hi[3] * hi[3]), 1.0 / hi[2]};
-  for (int d = 0; d < 3; d++)
-    if (domain->periodicity[d] && width[d] < 2.0 * contact)
-      error->all(FLERR, "Pair style {}: the periodic box is {} wide along {}, less than twice the largest contact "
-                 "distance {} (radius {}): a sphere could touch two periodic images of one partner, or its own "
-                 "image, whose contacts would share one history (kept per partner ID); make the box at least {} "
-                 "wide along {} (replicate it) or make that boundary non-periodic",
-                 force->pair_style, width[d], "xyz"[d], contact, rmax, 2.0 * contact, "xyz"[d]);
+  for (int d = 0; d < 3; d++) {
+    if (!domain->periodicity[d] || width[d] >= 2.0 * contact) continue;
+    image_axes |= 1 << d;
+    if (width[d] < GRIDDEM_IMAGE_MIN_WIDTH(contact))
+      error->all(FLERR, "Pair style {}: the periodic box is {} wide along {}, less than {} (1/8 of the largest contact "
+                 "distance {}, radius {}): a sphere would touch more images of one partner than the contact "
+                 "history (kept per partner ID and periodic image) tells apart; make the box at least {} wide "
+                 "along {} (replicate it) or make that boundary non-periodic",
+                 force->pair_style, width[d], "xyz"[d], GRIDDEM_IMAGE_MIN_WIDTH(contact), contact, rmax,
+                 GRIDDEM_IMAGE_MIN_WIDTH(contact), "xyz"[d]);
+  }
 }
 
 void PairGriddem::error_nonfinite(const char *what, int i, const double *value)
@@ -541,6 +547,7 @@ griddem_particles PairGriddem::host_particles()
   part.type = atom->type;
   part.mask = atom->mask;
   part.frozen_bit = freeze_group_bit;
+  part.image = nullptr;
   return part;
 }
 
@@ -600,7 +607,7 @@ void PairGriddem::check_grid_cost()
 void PairGriddem::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
-  check_periodic_images();    // the box may have changed since the radius range was found
+  find_image_axes();    // the box may have changed since the radius range was found
 
   double **x = atom->x;
   const int nlocal = atom->nlocal;
@@ -617,6 +624,7 @@ void PairGriddem::compute(int eflag, int vflag)
   if (neighbor->ago == 0) set_radius_range(scan.rmin, scan.rmax);
   if (rmax == 0.0) return;    // no atoms yet
   if (grid_cost_due()) check_grid_cost();
+  part.image = images = image_axes ? fix->periodic_images(image_axes) : nullptr;
 
   step.scan = &scan;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
@@ -670,7 +678,9 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   int owner_is_i = 1;
   if (model.track_contacts && (i < atom->nlocal || j < atom->nlocal)) {
     owner_is_i = i < atom->nlocal;
-    stored = fix->find_history(owner_is_i ? i : j, atom->tag[owner_is_i ? j : i]);
+    const int owner = owner_is_i ? i : j, other = owner_is_i ? j : i;
+    const int64_t tag = atom->tag[other];
+    stored = fix->find_history(owner, image_axes && images ? griddem_image_key(tag, images[owner], images[other]) : tag);
     for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : model.history_parity[m] * stored[m];
   }
   const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);

@@ -88,8 +88,12 @@ class PairGriddem : public Pair, public GriddemPairLink {
   bool grid_cost_due() const;
   void check_grid_cost();    // on the host's atoms
   griddem_particles host_particles();
-  // refuses a periodic box thinner than twice the largest contact distance (history styles)
-  void check_periodic_images();
+  // image_axes from the box and the radius range; refuses an axis too thin for the history keys
+  // to tell a partner's images apart
+  void find_image_axes();
+  int image_axes;    // bit d: periodic axis d narrower than twice the largest contact distance
+                     // (history styles): contacts keyed by partner and periodic image
+  const int *images;    // the keys' image codes of the last step's atoms (nullptr: no image axes)
 
  private:
   griddem_pair_params make_params(const griddem_pair_spec &s, int i, int j);

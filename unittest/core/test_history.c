@@ -2,14 +2,57 @@
  * is known (it sizes exchange messages); conversion between values per contact keeps the common
  * values and zeroes the new ones; a sweep's writes give each slot its own entries, with room for
  * its particle's last count plus the margin, and entries beyond the room are folded in; partner
- * tags stay exact integers beyond a double's 2^53. */
+ * tags stay exact integers beyond a double's 2^53. Image keys: a contact's key is the partner tag
+ * where the images match and in boxes without image axes, tells apart the images of one partner
+ * that can touch a sphere together, does not change when either atom wraps across the boundary,
+ * and stays exact as a double. */
 #include "check.h"
 #include "griddem_history.h"
 
 #include <string.h>
 
+/* keys of contacts between periodic images (griddem_history.h) */
+static void check_image_keys(void)
+{
+  const int z = 4; /* image axes: z alone */
+  const int zero[3] = {0, 0, 0}, up[3] = {0, 0, 1}, down[3] = {0, 0, -1}, x_shift[3] = {1, 0, 0};
+  const int64_t tag = 12345;
+  /* an owned atom of image flags (0, 0, 2): m = (0, 0, -2); its ghosts shifted by +-1 along z */
+  const int flags2[3] = {0, 0, -2};
+  const int self = griddem_image_code(flags2, z);
+  const int above = griddem_image_shifted(self, up, z), below = griddem_image_shifted(self, down, z);
+  CHECK(griddem_image_key(tag, self, self) == tag, "same image: the key is the tag");
+  CHECK(griddem_image_code(x_shift, z) == 0 && griddem_image_key(tag, 0, griddem_image_code(x_shift, z)) == tag,
+        "a shift along an axis that is not an image axis leaves the key the tag");
+  const int64_t k_up = griddem_image_key(tag, self, above), k_down = griddem_image_key(tag, self, below);
+  CHECK(k_up != tag && k_down != tag && k_up != k_down, "the images above and below have keys of their own");
+  CHECK(k_up == griddem_image_key(tag, 0, griddem_image_code(up, z)), "the key holds the relative image only");
+  /* the owned atom wraps (flags 2 -> 3, its position down a box): its ghosts' shifts grow by one */
+  const int flags3[3] = {0, 0, -3};
+  const int wrapped = griddem_image_code(flags3, z);
+  CHECK(griddem_image_key(tag, wrapped, griddem_image_shifted(above, down, z)) == k_up,
+        "a wrap of the atom keeps its contact's key");
+  CHECK(griddem_image_key(tag, self, griddem_image_shifted(self, zero, z)) == tag, "an unshifted ghost has the tag");
+  /* images up to 15 apart differ; 16 apart alias (the width limit keeps them from touching one sphere) */
+  int distinct = 1;
+  for (int a = 0; a < 16; a++)
+    for (int b = a + 1; b < 16; b++) {
+      const int ma[3] = {0, 0, a}, mb[3] = {0, 0, b};
+      distinct &= griddem_image_key(tag, 0, griddem_image_code(ma, z)) != griddem_image_key(tag, 0, griddem_image_code(mb, z));
+    }
+  const int m16[3] = {0, 0, 16};
+  CHECK(distinct && griddem_image_key(tag, 0, griddem_image_code(m16, 7)) == tag, "images 0..15 apart distinct, 16 aliased");
+  /* the largest key: tag below 2^GRIDDEM_KEY_TAG_BITS, every axis's image 15 */
+  const int m15[3] = {15, 15, 15};
+  const int64_t most = griddem_image_key(((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1, 0, griddem_image_code(m15, 7));
+  CHECK(most < ((int64_t) 1 << 53) && (int64_t) (double) most == most, "keys stay exact doubles: %lld", (long long) most);
+  CHECK((most & (((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1)) == ((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1,
+        "the tag is kept below the image");
+}
+
 int main(void)
 {
+  check_image_keys();
   griddem_history h;
   griddem_history_init(&h, 3);
   const double a[] = {7, 1, 2, 3, 9, 4, 5, 6}; /* partners 7 and 9 */

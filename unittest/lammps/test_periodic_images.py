@@ -1,76 +1,201 @@
-"""A periodic box thinner than twice the largest contact distance is refused by the history
-styles, by name, on 1 and 2 ranks: there a sphere can touch two periodic images of one partner,
-or its own image, and the contact history, kept per partner ID, would give those contacts one
-history (griddem/hooke/history differed from the same slab replicated along its thin axis by a
-factor 390 in kinetic energy on one such slab). The limit is 2 x (2 r_max + pull-off reach); a box
-just wider runs, a style without history runs in the thin box, and a box that fix deform shrinks
-past the limit stops at the step it crosses it."""
+"""Contacts keyed by partner and periodic image: in a periodic box narrower than twice the largest
+contact distance a sphere touches two images of one partner, and its own images, and each such
+contact keeps its own history. A thin slab (spheres of diameter 0.85-1.15 in a box 1.1 thick along
+z; also thin along y and z, and a triclinic one with xz and yz tilts) must move as the same slab
+replicated 3 times along its thin axes (3.3 wide: no two images of one partner reach one sphere
+there, so its distinct atoms are plain contacts): unwrapped positions, velocities, forces and
+torques of the original atoms after 300 steps of gran/hooke/history's laws (griddem/hooke/history
+and griddem/granular with linear_history tangential and sds rolling: 3 and 6 history values)
+agree to 1e-10 relative, on 1 and 2 ranks, with atoms wrapping across the thin boundary during the
+run, and a run restarted at step 150 (write_restart, read_restart) ends in the same state. The
+old key (partner ID alone) fails this by far. A box under 1/8 of
+the contact distance along a periodic axis (the images the key tells apart) is refused by name, and
+a style without history runs in any box."""
+import math
 import os
+import random
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 
-SLAB = """
+STEPS = 300
+THIN = 1.1          # < 2 x 1.15: the slab's thin axes
+WIDE = 3.0          # >= 2 x 1.15: the other axes
+HISTORY = "griddem/hooke/history 2000.0 NULL 50.0 NULL 0.5 0"
+GRANULAR = ("griddem/granular", "pair_coeff * * hooke 2000.0 50.0 tangential linear_history 571.0 1.0 0.5 "
+            "rolling sds 500.0 20.0 0.3")
+LAWS = {"hooke/history": (HISTORY, "pair_coeff * *"), "granular": GRANULAR}
+COLUMNS = ["xu", "yu", "zu", "vx", "vy", "vz", "fx", "fy", "fz", "tqx", "tqy", "tqz"]
+
+# (name, box edges, tilts xy xz yz, number of copies per axis in the twin)
+SLABS = [
+    ("z", (WIDE, WIDE, THIN), (0.0, 0.0, 0.0), (1, 1, 3)),
+    ("yz", (WIDE, THIN, THIN), (0.0, 0.0, 0.0), (1, 3, 3)),
+    ("z triclinic", (WIDE, WIDE, THIN), (0.0, 0.3, -0.2), (1, 1, 3)),
+]
+
+SCRIPT = """
 units lj
 atom_style sphere
 boundary p p p
 comm_modify vel yes
-region box block 0 6 0 6 0 {lz}
-create_box 1 box
-lattice sc 1.0
-create_atoms 1 box
-set type 1 diameter 0.9
-set type 1 density 1.0
-velocity all create 1.5 4928459 loop geom
+{start}
 pair_style {pair}
-pair_coeff * *
-{fix}
-timestep 1e-3
+{coeffs}
+timestep 5e-4
 fix integrate all nve/sphere
-thermo 10
-run {steps}
+thermo 50
+{run}
 """
-HISTORY = "griddem/hooke/history 2000.0 NULL 50.0 NULL 0.5 0"
-REFUSAL = (r"the periodic box is ([0-9.e+-]+) wide along z, less than twice the largest contact distance "
-           r"([0-9.e+-]+) .*at least ([0-9.e+-]+) wide along z")
+DUMP = ("write_dump all custom {dump} id xu yu zu vx vy vz fx fy fz tqx tqy tqz ix iy iz "
+        "modify sort id format float %.17g\n")
 
 
-def refused(out):
-    m = re.search(REFUSAL, out)
-    return (float(m.group(1)), float(m.group(2)), float(m.group(3))) if m else None
+def slab_atoms(n, edges, tilt, seed):
+    """n spheres at random in the box (fractional coordinates), overlapping no image of another by
+    more than 0.06 (their own images along the thin axes by up to 0.05), with random velocities
+    (the first one heading across the z boundary) and spins: [(diameter, frac, v, omega)]."""
+    rng = random.Random(seed)
+    atoms = []
+    while len(atoms) < n:
+        d = rng.uniform(0.85, 1.15)
+        f = [rng.random() for _ in range(3)]
+        if all(min_distance(f, g, edges, tilt) > 0.5 * (d + dg) - 0.06 for dg, g, _, _ in atoms):
+            v = [rng.uniform(-1.0, 1.0) for _ in range(3)]
+            if not atoms:
+                f[2], v[2] = 0.97, 1.5
+            atoms.append((d, f, v, [rng.uniform(-3.0, 3.0) for _ in range(3)]))
+    return atoms
+
+
+def cartesian(f, edges, tilt):
+    xy, xz, yz = tilt
+    return (f[0] * edges[0] + f[1] * xy + f[2] * xz, f[1] * edges[1] + f[2] * yz, f[2] * edges[2])
+
+
+def min_distance(f, g, edges, tilt):
+    best = math.inf
+    for s in ((a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)):
+        p = cartesian([g[k] + s[k] - f[k] for k in range(3)], edges, tilt)
+        best = min(best, math.sqrt(sum(x * x for x in p)))
+    return best
+
+
+def write_slab(path, atoms, edges, tilt, copies):
+    """The slab as a data file, copied copies[d] times along each box vector d (copy c of atom i
+    has ID i + c n, at its position plus the shifts); the box grows as many times."""
+    n = len(atoms)
+    big = [edges[d] * copies[d] for d in range(3)]
+    tilts = (tilt[0] * copies[1], tilt[1] * copies[2], tilt[2] * copies[2])
+    lines = ["thin slab", "", "%d atoms" % (n * copies[0] * copies[1] * copies[2]), "1 atom types", "",
+             "0 %.17g xlo xhi" % big[0], "0 %.17g ylo yhi" % big[1], "0 %.17g zlo zhi" % big[2]]
+    if any(tilt):
+        lines.append("%.17g %.17g %.17g xy xz yz" % tilts)
+    lines += ["", "Atoms # sphere", ""]
+    vel = ["", "Velocities", ""]
+    c = 0
+    for a in range(copies[0]):
+        for b in range(copies[1]):
+            for k in range(copies[2]):
+                for i, (d, f, v, w) in enumerate(atoms):
+                    x = cartesian([f[0] + a, f[1] + b, f[2] + k], edges, tilt)
+                    tag = 1 + i + c * n
+                    lines.append("%d 1 %.17g 1.0 %.17g %.17g %.17g" % (tag, d, x[0], x[1], x[2]))
+                    vel.append("%d %s" % (tag, " ".join("%.17g" % u for u in v + w)))
+                c += 1
+    with open(path, "w") as f:
+        f.write("\n".join(lines + vel) + "\n")
+
+
+def run_slab(wd, name, data, law, nprocs=1, extra=(), threads=None, restart_at=None):
+    """The slab run STEPS steps (in two runs with a restart file between them if restart_at);
+    returns the last snapshot and the thermo output."""
+    pair, coeffs = LAWS[law]
+    dump = os.path.join(wd, "dump." + name)
+    start = "read_data %s" % data
+    if restart_at is None:
+        text = SCRIPT.format(start=start, pair=pair, coeffs=coeffs, run="run %d\n" % STEPS + DUMP.format(dump=dump))
+    else:
+        restart = os.path.join(wd, "restart." + name)
+        first = SCRIPT.format(start=start, pair=pair, coeffs=coeffs, run="run %d\nwrite_restart %s\n" % (restart_at, restart))
+        rc, out = t.run_lmp(first, wd, nprocs, name="in." + name + "_a", extra=extra, threads=threads)
+        t.check(rc == 0, "%s: first part runs: %s" % (name, t.errors(out)[:1]))
+        text = SCRIPT.format(start="read_restart %s" % restart, pair=pair, coeffs=coeffs,
+                             run="run %d\n" % (STEPS - restart_at) + DUMP.format(dump=dump))
+    rc, out = t.run_lmp(text, wd, nprocs, name="in." + name, extra=extra, threads=threads)
+    t.check(rc == 0, "%s runs: %s" % (name, t.errors(out)[:1] or out[-500:]))
+    return (t.read_dump(dump) if rc == 0 else None), out
+
+
+def originals(snapshot, n):
+    """The snapshot's atoms 1..n (the slab's own atoms in a twin)."""
+    columns, atoms = snapshot
+    return columns, {k: v for k, v in atoms.items() if k <= n}
+
+
+def slab_files(wd, n=10, seed=7):
+    """{slab name: (thin data file, twin data file, n)} for SLABS."""
+    files = {}
+    for name, edges, tilt, copies in SLABS:
+        atoms = slab_atoms(n, edges, tilt, seed)
+        tag = name.replace(" ", "_")
+        thin, twin = os.path.join(wd, "data.thin_" + tag), os.path.join(wd, "data.twin_" + tag)
+        write_slab(thin, atoms, edges, tilt, (1, 1, 1))
+        write_slab(twin, atoms, edges, tilt, copies)
+        files[name] = (thin, twin, n)
+    return files
+
+
+def check_twin(wd, files):
+    for slab, (thin, twin, n) in files.items():
+        for law in LAWS:
+            label = "%s slab, %s" % (slab, law)
+            tag = re.sub(r"\W", "_", label)
+            ref, _ = run_slab(wd, "twin_" + tag, twin, law)
+            if ref is None:
+                continue
+            ref = originals(ref, n)
+            wrapped = sum(1 for v in ref[1].values() if v[-1] != 0)
+            t.check(wrapped > 0, "%s: an atom wraps across the z boundary during the run (image flags %s)" % (
+                label, [v[-3:] for v in ref[1].values()]))
+            runs = [("np %d" % p, dict(nprocs=p)) for p in (1, 2)] + [("restart at 150", dict(restart_at=150))]
+            for what, kw in runs:
+                got, out = run_slab(wd, "thin_%s_%s" % (tag, re.sub(r"\W", "_", what)), thin, law, **kw)
+                if got is None:
+                    continue
+                diff = t.max_rel_diff(got, ref, COLUMNS)
+                print("%s, %s: largest relative difference from the twin %.3g" % (label, what, diff))
+                t.check(diff < 1e-10, "%s, %s: the thin slab moves as its replicated twin (%.3g)" % (label, what, diff))
+
+
+def check_limits(wd):
+    slab = os.path.join(wd, "data.refused")
+    # 0.12 thick, contact distance up to 1.15: 1/8 of it is 0.14375
+    atoms = [(1.0, [0.3, 0.5, 0.5], [0.0] * 3, [0.0] * 3), (1.15, [0.62, 0.5, 0.5], [0.0] * 3, [0.0] * 3)]
+    write_slab(slab, atoms, (WIDE, WIDE, 0.12), (0.0, 0.0, 0.0), (1, 1, 1))
+    for nprocs in (1, 2):
+        text = SCRIPT.format(start="read_data %s" % slab, pair=HISTORY, coeffs="pair_coeff * *", run="run 10")
+        rc, out = t.run_lmp(text, wd, nprocs, name="in.refused%d" % nprocs)
+        said = re.search(r"the periodic box is ([0-9.e+-]+) wide along z, less than ([0-9.e+-]+) \(1/8 of the largest "
+                         r"contact distance ([0-9.e+-]+)", out)
+        t.check(rc != 0 and said is not None and "Step" not in out,
+                "np %d: a box 0.12 thick is refused before the first step: %s" % (nprocs, t.errors(out)[:1] or out[-300:]))
+        if said:
+            got = [float(g) for g in said.groups()]
+            t.check(abs(got[0] - 0.12) < 1e-12 and abs(got[1] - 0.14375) < 1e-12 and abs(got[2] - 1.15) < 1e-12,
+                    "np %d: the message names width 0.12, limit 0.14375, contact distance 1.15: %s" % (nprocs, got))
+        text = SCRIPT.format(start="read_data %s" % slab, pair="griddem/hooke 2000.0 NULL 50.0 NULL 0.5 0",
+                             coeffs="pair_coeff * *", run="run 10")
+        rc, out = t.run_lmp(text, wd, nprocs, name="in.nohistory%d" % nprocs)
+        t.check(rc == 0, "np %d: griddem/hooke (no history) runs in the box 0.12 thick: %s" % (nprocs, t.errors(out)[:1]))
 
 
 def main():
-    WD = t.workdir()
-    for nprocs in (1, 2):
-        rc, out = t.run_lmp(SLAB.format(lz=1.2, pair=HISTORY, fix="", steps=10), WD, nprocs, name="in.thin%d" % nprocs)
-        got = refused(out)
-        t.check(rc != 0 and got is not None, "np %d: a slab 1.2 thick with spheres of diameter 0.9 is refused: %s" % (
-            nprocs, t.errors(out)[:1] or out[-300:]))
-        if got:
-            width, contact, limit = got
-            t.check(abs(width - 1.2) < 1e-12 and abs(contact - 0.9) < 1e-12 and abs(limit - 1.8) < 1e-12,
-                    "np %d: the message names width 1.2, contact distance 0.9, limit 1.8: %s" % (nprocs, got))
-        t.check("Step" not in out, "np %d: refused before the first step is computed" % nprocs)
-
-        rc, out = t.run_lmp(SLAB.format(lz=1.85, pair=HISTORY, fix="", steps=10), WD, nprocs, name="in.wide%d" % nprocs)
-        t.check(rc == 0, "np %d: a slab 1.85 thick (above 2 x 0.9) runs: %s" % (nprocs, t.errors(out)[:1]))
-
-        rc, out = t.run_lmp(SLAB.format(lz=1.2, pair="griddem/hooke 2000.0 NULL 50.0 NULL 0.5 0", fix="", steps=10),
-                            WD, nprocs, name="in.nohistory%d" % nprocs)
-        t.check(rc == 0, "np %d: griddem/hooke (no history) runs in the thin slab: %s" % (nprocs, t.errors(out)[:1]))
-
-        # 3.0 shrinks to 1.0 over 100 steps: below 1.8 from step 60 on
-        rc, out = t.run_lmp(SLAB.format(lz=3.0, pair=HISTORY, fix="fix squeeze all deform 1 z final 0 1.0 remap x",
-                                        steps=100), WD, nprocs, name="in.deform%d" % nprocs)
-        got = refused(out)
-        steps = [int(line.split()[0]) for line in out.splitlines() if re.match(r"\s*\d+\s+[-0-9.e+]+\s", line)]
-        t.check(rc != 0 and got is not None and 1.7 < got[0] < 1.8,
-                "np %d: fix deform past the limit stops there: %s" % (nprocs, got or t.errors(out)[:1]))
-        t.check(steps and 50 <= steps[-1] <= 60, "np %d: the last thermo step before the refusal is 50 or 60: %s" % (
-            nprocs, steps[-3:]))
+    wd = t.workdir()
+    check_twin(wd, slab_files(wd))
+    check_limits(wd)
     t.finish()
 
 

@@ -180,7 +180,7 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
 }
 
 template <class DeviceType>
-const double *FixGriddemKokkos<DeviceType>::find_history(int i, tagint partner)
+const double *FixGriddemKokkos<DeviceType>::find_history(int i, int64_t partner)
 {
   sync_host();
   const long e = griddem_history_entry(k_partner[cur].h_view.data(), k_first[cur].h_view(i),

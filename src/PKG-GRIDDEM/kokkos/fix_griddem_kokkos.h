@@ -63,7 +63,7 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
 
   int history_values() const override { return nv; }
   void set_values(int values) override;
-  const double *find_history(int i, tagint partner) override;
+  const double *find_history(int i, int64_t partner) override;
   int get_message(int i, double *message) override;
   int message_length(int i) override;
   int longest_message() override;

@@ -540,6 +540,8 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   int nv;                // values per contact
   Kokkos::View<const Real *[7], Kokkos::LayoutRight, DeviceType> state;    // v, omega, mass
   typename AT::t_tagint_1d_randomread tag;                                // by atom index
+  int keyed_by_image;    // the box has image axes: contacts keyed by partner and periodic image
+  Kokkos::View<const int *, DeviceType> image;    // by atom index: image codes (keyed_by_image)
   Kokkos::View<const griddem_pair_params *, DeviceType> params;
   typename FixGriddemKokkos<DeviceType>::Rows rows;    // fix griddem/kk's rows
   Kokkos::View<int *, DeviceType> last;    // by atom index: its list's length, for the next layout
@@ -593,7 +595,8 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       const double dx = sep[0], dy = sep[1], dz = sep[2];
       const int jtype = this->tm(u, 0), jmask = this->tm(u, 1);
       const griddem_pair_params *law = &params(itype * (this->ntypes + 1) + jtype);
-      const int64_t partner = track ? tag(this->order(u)) : 0;
+      const int j = this->order(u);
+      const int64_t partner = !track ? 0 : keyed_by_image ? griddem_image_key(tag(j), image(i), image(j)) : tag(j);
       const long found = track ? find(i, partner) : -1;
       if (this->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, radi, radj, found >= 0)) continue;
 
@@ -689,6 +692,9 @@ class PairGriddemKokkos : public Base {
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;
+  // [nall] the history keys' image codes, where the box has image axes (upload_images)
+  Kokkos::View<int *, DeviceType> d_image;
+  typename Kokkos::View<int *, DeviceType>::HostMirror h_image;
   // candidates an atom may gain in a step without a repair of its list: in LAMMPS's chute
   // (32,000 atoms) more than one came to some atom in 967 of 1,000 steps, more than two in 13.
   // The history rows are laid out from the lists' true lengths, so the margin costs 4 bytes an
@@ -703,6 +709,7 @@ class PairGriddemKokkos : public Base {
 
   std::string history_fix_style() const override;
   void upload_tables();
+  void upload_images();
   void check_scan(const GriddemKKScanValue &sc);
   // fix griddem's cell mode takes a grid per size class (auto, classes), not one grid
   bool class_grids() const

@@ -80,7 +80,7 @@ template <class DeviceType, class Base> double PairGriddemKokkos<DeviceType, Bas
   add(d_cell), add(d_count), add(d_start), add(d_order), add(d_tm);
   add(d_slot_cell), add(d_list), add(d_list_first), add(d_list_count), add(d_last);
   add(d_near), add(channels_double.state), add(channels_single.state);
-  add(d_params), add(d_excl_type), add(d_excl_group);
+  add(d_params), add(d_excl_type), add(d_excl_group), add(d_image);
   return bytes;
 }
 
@@ -130,7 +130,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     ~ProfilingRegion() { Kokkos::Profiling::popRegion(); }
   } region;
   this->ev_init(eflag, vflag, 0);
-  this->check_periodic_images();    // the box may have changed since the radius range was found
+  this->find_image_axes();    // the box may have changed since the radius range was found
   if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared
     if ((int) k_vatom.extent(0) < this->maxvatom) {
       this->memoryKK->destroy_kokkos(k_vatom, this->vatom);
@@ -190,6 +190,10 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       boxes = griddem_kk_boxes(h_report(), grids.ncls, nall);
     }
 
+    // the history keys' images, once a step (every process takes part; a step computed again
+    // is this process's alone)
+    if (attempt == 0) upload_images();
+
     // 2. grids
     fit_grids(grids, boxes, margin);
     // the search distance's margin for round-off of positions relative to their cells
@@ -227,6 +231,24 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     close_step(grids, report);
     return;
   }
+}
+
+/* the history keys' image codes of the owned and ghost atoms on the device, where the box has
+   image axes (found on the host, as the CPU style does) */
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_images()
+{
+  this->images = nullptr;
+  if (!this->image_axes) return;
+  this->atomKK->sync(Host, IMAGE_MASK | TAG_MASK);
+  this->images = this->fix->periodic_images(this->image_axes);
+  const int nall = this->atom->nlocal + this->atom->nghost;
+  if (nall > (int) d_image.extent(0)) {
+    d_image = Kokkos::View<int *, DeviceType>("griddem/kk:image", MAX(nall, (int) (1.2 * d_image.extent(0))));
+    h_image = Kokkos::create_mirror_view(d_image);
+  }
+  for (int i = 0; i < nall; i++) h_image(i) = this->images[i];
+  Kokkos::deep_copy(d_image, h_image);
 }
 
 /* non-finite positions and velocities, and the NN4DEM rule (as the CPU style): no atom crosses
@@ -590,6 +612,8 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.nv = track ? history->history_values() : 0;
   sweep.state = chan.state;
   sweep.tag = atomKK->k_tag.template view<DeviceType>();
+  sweep.keyed_by_image = this->image_axes != 0;
+  sweep.image = d_image;
   sweep.params = d_params;
   sweep.last = d_last;
   sweep.f = atomKK->k_f.template view<DeviceType>();
