@@ -21,7 +21,7 @@ static void candidates(const griddem_model *m)
     for (int d = 0; d < 3; d++) x[3 * i + d] = 6.0 * check_uniform(), v[3 * i + d] = w[3 * i + d] = 0.0;
     rad[i] = 0.1 + 0.4 * check_uniform(), mass[i] = 1.0, tag[i] = i + 1, type[i] = 1, mask[i] = 1;
   }
-  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
   griddem_step s;
   memset(&s, 0, sizeof(s));
   s.particles = part, s.model = m, s.rmin = 0.1, s.rmax = 0.5, s.max_cells = 1000000;
@@ -80,7 +80,7 @@ int main(void)
   griddem_history_init(&h, 3);
   griddem_step s;
   memset(&s, 0, sizeof(s));
-  griddem_particles part = {2, 4, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  griddem_particles part = {2, 4, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
   s.particles = part;
   s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, 0.5, 0.5, 0.0);
   s.max_cells = 100000, s.rmax = 0.5, s.model = &m, s.dt = 1e-2, s.history_update = 1;

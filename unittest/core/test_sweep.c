@@ -107,7 +107,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
-  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
   griddem_exclusions excl = {excluded, 2, 0, NULL, 0, 0};
 
   griddem_history hist;
@@ -239,7 +239,7 @@ static void check_faults(void)
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
-  griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0};
+  griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0, NULL};
   double f[3 * M] = {0}, t[3 * M] = {0};
   int row_of[M];
   for (int i = 0; i < M; i++) row_of[i] = -1;
@@ -317,7 +317,7 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   griddem_history_init(&hist, m.history_size);
   griddem_step st;
   memset(&st, 0, sizeof(st));
-  const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0};
+  const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
   st.particles = part;
   st.size_classes = size_classes, st.rmin = 1e30, st.rmax = 0.0;
   for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
