@@ -524,15 +524,39 @@ def check_oddness(wd, _data):
 
 
 def check_periodic_images(wd, _data):
-    """A periodic box thinner than twice the largest contact distance: refused by the kk history
-    style in the CPU style's words (test_periodic_images.py), and a box just wider runs."""
-    from test_periodic_images import SLAB, HISTORY as SLAB_HISTORY
-    for lz, refused in ((1.2, True), (1.85, False)):
-        said = errors_of_cpu_and_kk(wd, "slab", SLAB.format(lz=lz, pair=SLAB_HISTORY, fix="", steps=10))
-        t.check(said["kk"] == said["cpu"] and said["kk"][0] == refused and
-                (not refused or "1.2 wide along z, less than twice the largest contact distance 0.9" in said["kk"][1][0]),
-                "slab %g thick: kk %s as the CPU style: %s vs %s" % (lz, "refuses" if refused else "runs",
-                                                                    said["kk"], said["cpu"]))
+    """Thin periodic slabs (test_periodic_images.py: z, yz and triclinic, narrower than twice the
+    contact distance, contacts keyed by partner and periodic image): the kk history styles give
+    the CPU style's positions, velocities, forces and torques after 300 steps to 1e-10, on
+    THREADS[-1] threads and 1 and 2 ranks (split along z) and from a restart file the kk run wrote;
+    and a box under 1/8 of the contact distance is refused in the CPU style's words."""
+    import test_periodic_images as slabs
+    files = slabs.slab_files(wd)
+    for slab, (thin, _twin, _n) in files.items():
+        for law in slabs.LAWS:
+            label = "%s slab, %s" % (slab, law)
+            tag = re.sub(r"\W", "_", label)
+            cpu, _ = slabs.run_slab(wd, "cpu_" + tag, thin, law)
+            if cpu is None:
+                continue
+            for ranks in RANKS:
+                for restarted in (False, True):
+                    what = "kk on %d rank%s%s" % (ranks, "s" if ranks > 1 else "", ", restarted" if restarted else "")
+                    kk, _ = slabs.run_slab(wd, "kk_%s_%d_%d" % (tag, ranks, restarted), thin, law, nprocs=ranks,
+                                           extra=kk_args(THREADS[-1]), threads=THREADS[-1], restarted=restarted)
+                    if kk is None:
+                        continue
+                    diffs = slabs.vector_diff(kk, cpu)
+                    print("%s, %s: relative difference from the CPU style %s" % (
+                        label, what, ", ".join("%s %.3g" % d for d in diffs.items())))
+                    t.check(max(diffs.values()) < 1e-10, "%s, %s: the CPU style's numbers: %s" % (label, what, diffs))
+    refused = os.path.join(wd, "data.too_thin")
+    atoms = [(1.0, [0.3, 0.5, 0.5], [0.0] * 3, [0.0] * 3), (1.15, [0.62, 0.5, 0.5], [0.0] * 3, [0.0] * 3)]
+    slabs.write_slab(refused, atoms, (slabs.WIDE, slabs.WIDE, 0.12), (0.0, 0.0, 0.0), (1, 1, 1))
+    said = errors_of_cpu_and_kk(wd, "too_thin", slabs.SCRIPT.format(
+        start="read_data " + refused, pair=slabs.HISTORY, coeffs="pair_coeff * *", run="run 10"))
+    t.check(said["kk"] == said["cpu"] and said["kk"][0] and
+            "0.12 wide along z, less than 0.14375 (1/8 of the largest contact distance 1.15" in said["kk"][1][0],
+            "a box 0.12 thick: kk refuses it as the CPU style: %s vs %s" % (said["kk"], said["cpu"]))
 
 
 def check_grid_cost(wd, _data):
