@@ -35,7 +35,7 @@ static const char AUTO_FIX_ID[] = "GRIDDEM";
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), images(nullptr), freeze_group_bit(0), exclusions(), heir(nullptr)
+    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), heir(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -458,8 +458,24 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
 
 void PairGriddem::find_image_axes()
 {
+  const int before = image_axes;
   image_axes = 0;
-  if (!model.track_contacts || rmax == 0.0) return;
+  if (model.track_contacts && rmax > 0.0) image_axes_of_box();
+  // contacts across a boundary that turns thin or wide are keyed anew: their history restarts
+  const int changed = image_axes_found ? before ^ image_axes : 0;
+  image_axes_found = 1;
+  if (changed && comm->me == 0)
+    for (int d = 0; d < 3; d++)
+      if (changed >> d & 1)
+        error->warning(FLERR, "Pair style {}: at step {} the periodic box became {} than twice the largest contact "
+                       "distance along {}: contacts with a partner's periodic image along {} restart their "
+                       "history (the contact history is kept per periodic image only in boxes that thin)",
+                       force->pair_style, update->ntimestep, image_axes >> d & 1 ? "narrower" : "wider",
+                       "xyz"[d], "xyz"[d]);
+}
+
+void PairGriddem::image_axes_of_box()
+{
   const double contact = 2.0 * rmax + model.reach_extra;
   const double *hi = domain->h_inv;
   const double width[3] = {1.0 / sqrt(hi[0] * hi[0] + hi[5] * hi[5] + hi[4] * hi[4]),

@@ -91,7 +91,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // image_axes from the box and the radius range; refuses an axis too thin for the history keys
   // to tell a partner's images apart
   void find_image_axes();
+  void image_axes_of_box();
   int image_axes;    // bit d: periodic axis d narrower than twice the largest contact distance
+  int image_axes_found;    // image_axes was found once (a change after that is warned of)
                      // (history styles): contacts keyed by partner and periodic image
   const int *images;    // the keys' image codes of the last step's atoms (nullptr: no image axes)
 

@@ -214,10 +214,37 @@ def check_limits(wd):
         t.check(rc == 0, "np %d: griddem/hooke (no history) runs in the box 0.12 thick: %s" % (nprocs, t.errors(out)[:1]))
 
 
+def check_transition(wd):
+    """A box squeezed along z from wide to thin (fix deform) past twice the contact distance (2.3)
+    and then widened again: each crossing is warned of once, naming the axis and the step, since
+    contacts across that boundary restart their history there; a style without history says
+    nothing."""
+    slab = os.path.join(wd, "data.transition")
+    atoms = slab_atoms(7, (WIDE, WIDE, WIDE), (0.0, 0.0, 0.0), 3)
+    write_slab(slab, atoms, (WIDE, WIDE, WIDE), (0.0, 0.0, 0.0), (1, 1, 1))
+    # z from 3.0 to 2.0 over 100 steps crosses 2.3 after 70 steps, back over the next 100 after 30
+    run = ("fix squeeze all deform 1 z final 0 2.0 remap x\nrun 100\nunfix squeeze\n"
+           "fix widen all deform 1 z final 0 3.0 remap x\nrun 100\n")
+    for pair, coeffs, expect in ((HISTORY, "pair_coeff * *", 2), ("griddem/hooke 2000.0 NULL 50.0 NULL 0.5 0", "pair_coeff * *", 0)):
+        text = SCRIPT.format(start="read_data %s" % slab, pair=pair, coeffs=coeffs, run=run)
+        rc, out = t.run_lmp(text, wd, 1, name="in.transition")
+        said = re.findall(r"WARNING: Pair style \S+: at step (\d+) the periodic box became (narrower|wider) than twice "
+                          r"the largest contact distance along z", out)
+        t.check(rc == 0, "%s: the squeezed and widened box runs: %s" % (pair.split()[0], t.errors(out)[:1]))
+        if expect == 0:
+            t.check(said == [], "%s (no history): no warning of the box's width: %s" % (pair.split()[0], said))
+            continue
+        steps = [int(step) for step, _ in said]
+        t.check([w for _, w in said] == ["narrower", "wider"] and 70 <= steps[0] <= 72 and 130 <= steps[1] <= 132,
+                "%s: warned once on becoming narrower (step 70-72) and once on becoming wider (130-132): %s"
+                % (pair.split()[0], said))
+
+
 def main():
     wd = t.workdir()
     check_twin(wd, slab_files(wd))
     check_limits(wd)
+    check_transition(wd)
     t.finish()
 
 
