@@ -31,7 +31,7 @@ using namespace FixConst;
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
-    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0),
+    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -72,6 +72,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
       if (reach_user < 0.0) error->all(FLERR, "Fix griddem/rom: keyword reach must be >= 0");
     }
     else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    else if (word == "freeze") freeze = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
   }
@@ -557,8 +558,9 @@ void FixGriddemRom::classify()
       made += !was;
       nkin += 1;
       mask[i] = (mask[i] | kinematic_bit) & ~dynamic_bit;
+      // freeze: the do-nothing baseline, the atoms the model would drive held at rest
       for (int d = 0; d < 3; d++) {
-        v[i][d] = u[3 * i + d];
+        v[i][d] = freeze ? 0.0 : u[3 * i + d];
         omega[i][d] = f[i][d] = torque[i][d] = 0.0;
       }
       umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));

@@ -74,6 +74,7 @@ class FixGriddemRom : public Fix {
   double reach_user;        // keyword reach, or -1: the most the ghost cutoff allows
   double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
   double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
+  bool freeze;              // keyword freeze: kinematic atoms get velocity 0, not the field
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
   int period;    // keyword every: the longest model step, in DEM steps

@@ -10,6 +10,8 @@
 - a uniform predicted field U (weights: bias only): a resting atom (|v - U| = |U| <= eps v0)
   becomes kinematic, its velocity is U exactly and it moves by U dt per step although gravity
   acts; an atom whose speed relative to U exceeds eps v0 stays dynamic and falls freely;
+- freeze yes (the do-nothing baseline): the same field classifies the atoms, a kinematic one is at
+  rest and in place; an atom at -U, slower than eps v0 but not within eps v0 of U, stays dynamic;
 - contacts: two resting kinematic atoms that overlap exert no force (the pair virial is exactly
   zero, and nonzero in the same scene without the fix), while a dynamic atom overlapping a
   kinematic one is pushed away by it and the kinematic one does not move; an atom overlapping
@@ -679,6 +681,37 @@ run 5
                 % (fraction, nkin, held, got))
 
 
+def frozen_field():
+    """freeze yes: the uniform field U of uniform_field classifies the atoms, but a kinematic atom
+    is held at rest; an atom moving at -U (|v| <= eps v0 < |v - U|) stays dynamic, as the field,
+    not a zero field, classifies it."""
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "uniform_frozen.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    g = 2.0
+    text = resting_spheres((1.5, 1.5, 3.0), (4.5, 4.5, 3.0), (1.5, 4.5, 3.0)) + """
+set atom 2 vx 0.9
+set atom 3 vx {ux} vy {uy} vz {uz}
+""".format(ux=-U[0], uy=-U[1], uz=-U[2]) + PAIR + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 freeze yes
+fix integrate rom_dynamic nve/sphere
+fix down all gravity {g} vector 0 0 -1
+dump d all custom 5 frozen.dump id x y z vx vy vz f_rom
+dump_modify d format float %.17g sort id
+run 25
+""".format(g=g, m=model)
+    t.run_ok(text, WD, name="in.frozen")
+    snaps = t.read_dumps(os.path.join(WD, "frozen.dump"))
+    s5, s25 = snaps[1][1], snaps[-1][1]
+    t.check(s5[1][6] == 1.0 and s25[1][6] == 1.0, "frozen: resting atom made kinematic by the field within eps v0")
+    t.check(s25[1][3:6] == [0.0, 0.0, 0.0] and s25[1][0:3] == s5[1][0:3],
+            "frozen: kinematic atom at rest and in place despite gravity: x %s v %s" % (s25[1][0:3], s25[1][3:6]))
+    t.check(all(s[1][2][6] == 0.0 and s[1][3][6] == 0.0 for s in snaps),
+            "frozen: atoms moving at more than eps v0 relative to the field stay dynamic, also one slower than eps v0")
+    dt = 0.001
+    t.check(abs(s25[2][5] - (-g * 25 * dt)) <= 1e-12, "frozen: dynamic atom falls freely: vz %.15g" % s25[2][5])
+
+
 def keyword_checks():
     model = os.path.join(WD, "rest_kw.model")
     t.write_rom_model(model, (3, 3, 3), BOX)
@@ -900,5 +933,6 @@ resolved_region()
 training()
 eps_zero()
 uniform_field()
+frozen_field()
 contacts()
 t.finish()

@@ -1,0 +1,135 @@
+"""bench/rom.py, the reduced-order study, and bench/romerror.py, its errors:
+- the baseline is the resolved pair style with the smaller median loop time (hand-fed times where
+  the fastest single run and the fastest median disagree);
+- each error is 0 for identical fields, and for a uniform offset the offset over the scale it is
+  relative to: velocity |dv| / V_c, temperature dT / T_c, surface height sum |dh| / sum h; V_c of a
+  uniform field is its speed; the worst tenth of a series is the mean of its largest tenth;
+- the same through error_series on hand-made grid frames (two voxel columns above the floor);
+- a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
+  with every field the issue names, a speed-up against the faster baseline of its own loop times,
+  the scanned skin that ran fastest, and a griddem resolved run that equals stock's of the same
+  seed (gran/hooke/history parity: accuracies 1 to 1e-8)."""
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import griddem_testlib as t
+
+t.require_modules(["numpy"], "bench/romerror.py needs numpy", skip=False)
+import numpy as np  # noqa: E402
+
+TOP = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(TOP, "bench"))
+sys.path.insert(0, os.path.join(TOP, "python"))
+import romerror  # noqa: E402
+from griddemtools.grid import GridFrame  # noqa: E402
+from rom import pick_baseline  # noqa: E402
+
+WD = t.workdir()
+
+
+def baseline():
+    # stock's fastest run (1.0) beats griddem's 1.5, its median (2.0) does not
+    t.check(pick_baseline({"gran/hooke/history": [3.0, 1.0, 2.0], "griddem/hooke/history": [1.5]}) ==
+            ("griddem/hooke/history", 1.5), "baseline: the smaller median, griddem's 1.5 against stock's 2.0")
+    t.check(pick_baseline({"granular": [3.0, 1.0, 2.0], "griddem/granular": [2.5]}) == ("granular", 2.0),
+            "baseline: stock's median 2.0 against griddem's 2.5")
+
+
+def errors():
+    rho = [0.2, 1.0, 0.6]
+    v = [[0.1, 0.0, -0.3], [0.5, 0.2, 0.0], [-0.4, 0.0, 0.7]]
+    dv = np.array([0.3, 0.0, -0.4])   # |dv| = 0.5
+    t.check(romerror.velocity_error(rho, v, v, 2.0) == 0.0, "velocity error 0 for identical fields")
+    e = romerror.velocity_error(rho, v, np.array(v) + dv, 2.0)
+    t.check(abs(e - 0.25) < 1e-15, "velocity error of a uniform offset 0.5 at V_c 2: %.17g (0.25)" % e)
+    temp = [0.01, 0.03, 0.02]
+    t.check(romerror.temperature_error(rho, temp, temp, 0.5) == 0.0, "temperature error 0 for identical fields")
+    e = romerror.temperature_error(rho, temp, np.array(temp) + 0.1, 0.5)
+    t.check(abs(e - 0.2) < 1e-15, "temperature error of an offset 0.1 at T_c 0.5: %.17g (0.2)" % e)
+    h = [1.0, 2.0, 3.0, 4.0]
+    t.check(romerror.height_error(h, h) == 0.0, "height error 0 for identical surfaces")
+    e = romerror.height_error(h, [1.5, 1.5, 3.5, 3.5])
+    t.check(abs(e - 0.2) < 1e-15, "height error: 4 columns off by 0.5 over a volume 10: %.17g (0.2)" % e)
+    s = romerror.characteristic_speed([rho, rho], [[[0.0, 3.0, 0.0]] * 3] * 2)
+    t.check(abs(s - 3.0) < 1e-15, "V_c of a uniform field of speed 3: %.17g" % s)
+    mean, worst = romerror.summary(list(range(1, 21)))
+    t.check(mean == 10.5 and worst == 19.5, "summary of 1..20: mean %g (10.5), worst tenth %g (19.5)" % (mean, worst))
+
+
+def frame(step, density, vx, temperature):
+    """A 2 x 1 x 2 grid dump frame over x 0..2, z -1..1: voxel row z < 0 below the floor."""
+    n = len(density)
+    return GridFrame(step, [0.0, 2.0, 0.0, 1.0, -1.0, 1.0], (2, 1, 2), [],
+                     dict(density=density, vx=vx, vy=[0.0] * n, vz=[0.0] * n, temperature=temperature))
+
+
+def series():
+    res = [frame(s, [0.3, 0.3, 0.6, 0.3], [0.0, 0.0, 2.0, 2.0], [0.1] * 4) for s in (0, 250)]
+    same = romerror.error_series(res, res)
+    t.check(same["steps"] == [0, 250] and all(max(same[k]) == 0.0 for k in ("velocity", "height", "temperature")),
+            "error series 0 against itself: %s" % {k: same[k] for k in ("velocity", "height", "temperature")})
+    # V_c: the density-weighted RMS speed, sqrt((0.6 * 4 + 0.3 * 4) / 1.5) = sqrt(2.4)
+    rom = [frame(s, [0.3, 0.3, 0.3, 0.6], [0.5, 0.5, 2.5, 2.5], [0.15] * 4) for s in (0, 250)]
+    e = romerror.error_series(res, rom)
+    t.check(abs(e["characteristic_speed"] - 2.4 ** 0.5) < 1e-14, "V_c %.17g (sqrt 2.4)" % e["characteristic_speed"])
+    t.check(all(abs(x - 0.5 / 2.4 ** 0.5) < 1e-14 for x in e["velocity"]),
+            "uniform vx offset 0.5: velocity error %s (0.5 / sqrt 2.4)" % e["velocity"])
+    # T_c = 0.1: offset 0.05 -> 0.5; heights above z = 0: columns 0.6, 0.3 against 0.3, 0.6 (over a
+    # bulk density): |dh| sums to 0.6, the volume 0.9
+    t.check(all(abs(x - 0.5) < 1e-14 for x in e["temperature"]), "temperature error %s (0.5)" % e["temperature"])
+    t.check(all(abs(x - 0.6 / 0.9) < 1e-14 for x in e["height"]), "height error %s (2/3)" % e["height"])
+    acc = romerror.accuracies(e)
+    t.check(abs(acc["velocity_accuracy"] - (1 - 0.5 / 2.4 ** 0.5)) < 1e-14 and
+            acc["height_accuracy_worst10"] == acc["height_accuracy"], "accuracies one minus the errors: %s" % acc)
+
+
+REQUIRED = ["build", "baseline", "speedup", "velocity_accuracy", "height_accuracy", "temperature_accuracy",
+            "do_nothing_velocity_accuracy", "do_nothing_height_accuracy", "left_out", "stock_skin", "skin_scan",
+            "noise_velocity_accuracy", "noise_height_accuracy", "velocity_accuracy_worst10", "height_accuracy_worst10"]
+
+
+def smoke():
+    out = os.path.join(WD, "rom.jsonl")
+    proc = subprocess.run([sys.executable, os.path.join(TOP, "bench", "rom.py"), "--lmp", t.LMP, "--steps", "1000",
+                           "--train", "3,6", "--scan-steps", "200", "--work", os.path.join(WD, "work"), "--out", out],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
+    if proc.returncode != 0:
+        print(proc.stdout[-3000:], file=sys.stderr)
+    t.check(proc.returncode == 0, "bench/rom.py pile smoke run (exit %d)" % proc.returncode)
+    if proc.returncode != 0:
+        return
+    with open(out) as f:
+        rec = [json.loads(line) for line in f]
+    t.check(len(rec) == 1, "one record")
+    r = rec[0]
+    missing = [k for k in REQUIRED if k not in r]
+    t.check(not missing and r["left_out"] == {}, "record has every field: missing %s, left out %s"
+            % (missing, r.get("left_out")))
+    if missing:
+        return
+    times = r["loop_s"]
+    medians = {s: statistics.median(times[s]) for s in ("gran/hooke/history", "griddem/hooke/history")}
+    fastest = min(medians, key=medians.get)
+    t.check(len(times["gran/hooke/history"]) == 3 and len(times["reduced"]) == 3 and "do_nothing" in times,
+            "three stock runs, three reduced, one do-nothing: %s" % times)
+    t.check(r["baseline"] == {"pair_style": fastest, "loop_s": medians[fastest]},
+            "baseline the faster resolved style %s: %s" % (medians, r["baseline"]))
+    t.check(abs(r["speedup"] - medians[fastest] / statistics.median(times["reduced"])) < 1e-12,
+            "speed-up against the baseline: %s" % r["speedup"])
+    scan = r["skin_scan"]["loop_s"]
+    t.check(float(min(scan, key=scan.get)) == r["stock_skin"], "the fastest scanned skin %s: %s" % (scan, r["stock_skin"]))
+    t.check(len(r["noise_velocity_accuracy"]) == 3, "noise floor: three pairs of seeds")
+    parity = [r["griddem_vs_stock_%s_accuracy" % k] for k in ("velocity", "height", "temperature")]
+    t.check(all(abs(1.0 - p) < 1e-8 for p in parity), "griddem resolved equals stock of its seed: %s" % parity)
+    t.check(all(np.isfinite(r[k]) for k in REQUIRED[3:8]), "accuracies finite")
+
+
+baseline()
+errors()
+series()
+smoke()
+t.finish()
