@@ -160,16 +160,10 @@ void griddem_cg_convolve_direct(const int m[3], const double *kernel, const doub
 int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *radius, double *count,
                         griddem_grid *g, griddem_bins *b)
 {
-  double rmax = 0.0;
-  for (int j = 0; j < nall; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
   for (int i = 0; i < nlocal; i++) count[i] = 0.0;
-  if (nall == 0 || rmax == 0.0) return 0;
-  const double anchor[3] = {0.0, 0.0, 0.0};
-  /* the edge may grow for a dilute set; the stencil of the partners within 2 rmax follows it */
-  griddem_grid_cover(g, anchor, nall, x, 2.0 * rmax * (1.0 + 1e-12), 8L * nall + 1024L);
-  if (griddem_bin_points(b, g, nall, x, NULL, 0) != 0) return -1;
-  griddem_stencil stencil;    /* reaches one cell: the edge is at least the distance */
-  griddem_stencil_build(&stencil, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
+  griddem_stencil stencil;
+  const int binned = griddem_bin_for_contacts(g, b, &stencil, nall, x, radius);
+  if (binned != 0) return binned < 0 ? -1 : 0;
   int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
   for (int i = 0; i < nlocal; i++) {
     const double *xi = x + 3 * (long) i;

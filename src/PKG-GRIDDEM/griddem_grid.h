@@ -206,6 +206,13 @@ void griddem_bins_free(griddem_bins *b);
 int griddem_stencil_runs(const griddem_stencil *s, const griddem_grid *g, const griddem_bins *b, long cell,
                          int *lo, int *hi);
 
+/* The n interleaved points binned for their contacts: on a grid of edge twice the largest of
+ * their radii (larger for a dilute set), anchored at the origin, with the full stencil of the
+ * contact distance. Returns 0, 1 where nothing can touch (no points, or no radius), or -1 without
+ * memory. */
+int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *s, int n, const double *x,
+                             const double *radius);
+
 #ifdef __cplusplus
 }
 #endif
