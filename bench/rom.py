@@ -290,7 +290,8 @@ def study(scene, a):
         here = os.getcwd()
         os.chdir(scene.wd)
         try:
-            record.update(force_accuracy(ref, rom_tags[0], "measured"), force_accuracy(ref, rom_tags[0], "predicted"))
+            for which in ("measured", "predicted"):
+                record.update(force_accuracy(ref, rom_tags[0], which))
             record["noise_force_accuracy"] = force_accuracy(stock_tags[0], stock_tags[1], "measured")[
                 "force_accuracy_measured"]
         finally:
