@@ -279,6 +279,39 @@ static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, c
     }
 }
 
+/* A hit list per sphere of a cluster, and the kernel's view of their slots */
+typedef struct cluster_hits {
+  hit_list hits[GRIDDEM_CLUSTER_MAX];
+  int *list[GRIDDEM_CLUSTER_MAX];
+} cluster_hits;
+
+static void cluster_hits_init(cluster_hits *h)
+{
+  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) h->list[c] = h->hits[c].slot, h->hits[c].n = 0;
+}
+
+/* The contacts of the cluster of slots i0 .. i0 + ni - 1 with the slots of the runs
+ * [lo[q], hi[q]) (at most total of them), each sphere's evaluated in slot order: the runs tested
+ * at once where every sphere's candidates fit its list, else sphere by sphere in parts. own: run 0
+ * is the cluster's own run, whose candidates of a sphere are the slots after it (lo[0] is then
+ * moved to each sphere's). */
+static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *h, int i0, int ni, int own,
+                           int *lo, const int *hi, int nruns, int total)
+{
+  if (total <= HITS_CAP) {
+    int nhit[GRIDDEM_CLUSTER_MAX];
+    for (int c = 0; c < ni; c++) nhit[c] = 0;
+    cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, h->list, nhit);
+    for (int c = 0; c < ni; c++)
+      if (nhit[c]) h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);
+  } else
+    for (int c = 0; c < ni; c++) {
+      if (own) lo[0] = i0 + c + 1;
+      collect_in_parts(cx, sums, i0 + c, lo, hi, nruns, &h->hits[0]);
+      if (h->hits[0].n) sweep_hits(cx, sums, i0 + c, &h->hits[0]);
+    }
+}
+
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t > s of their
  * forward stencil (slots of the channels are the class's slots + k->base). Each stencil row's
  * cells are found once per cell row. The row's slots are taken in clusters of consecutive slots
@@ -312,9 +345,8 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
     nvalid++;
   }
 
-  hit_list hits[GRIDDEM_CLUSTER_MAX];
-  int *list[GRIDDEM_CLUSTER_MAX], nhit[GRIDDEM_CLUSTER_MAX];
-  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) list[c] = hits[c].slot, hits[c].n = 0;
+  cluster_hits hits;
+  cluster_hits_init(&hits);
   int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
@@ -336,17 +368,7 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
         total += hi[q] - lo[q];
       }
     lo[0] = base + s0 + 1;
-    if (total <= HITS_CAP) {    /* room for every candidate of each sphere */
-      for (int c = 0; c < ni; c++) nhit[c] = 0;
-      cx->touching(&cx->spheres, cx->model->reach_extra, base + s0, ni, 1, lo, hi, nvalid, list, nhit);
-      for (int c = 0; c < ni; c++)
-        if (nhit[c]) hits[c].n = nhit[c], sweep_hits(cx, sums, base + s0 + c, &hits[c]);
-    } else
-      for (int c = 0; c < ni; c++) {
-        lo[0] = base + s0 + c + 1;
-        collect_in_parts(cx, sums, base + s0 + c, lo, hi, nvalid, &hits[0]);
-        if (hits[0].n) sweep_hits(cx, sums, base + s0 + c, &hits[0]);
-      }
+    search_cluster(cx, sums, &hits, base + s0, ni, 1, lo, hi, nvalid, total);
   }
 }
 
@@ -367,10 +389,8 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   const griddem_channels *ch = cx->ch;
-  const double extra = cx->model->reach_extra;
-  hit_list hits[GRIDDEM_CLUSTER_MAX];
-  int *list[GRIDDEM_CLUSTER_MAX], nhit[GRIDDEM_CLUSTER_MAX];
-  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) list[c] = hits[c].slot, hits[c].n = 0;
+  cluster_hits hits;
+  cluster_hits_init(&hits);
   int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
   int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n;) {
@@ -399,16 +419,7 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
         }
       memcpy(block, b, sizeof(b));
     }
-    if (total <= HITS_CAP) {    /* room for every candidate of each sphere */
-      for (int c = 0; c < ni; c++) nhit[c] = 0;
-      cx->touching(&cx->spheres, extra, s, ni, 0, lo, hi, nrange, list, nhit);
-      for (int c = 0; c < ni; c++)
-        if (nhit[c]) hits[c].n = nhit[c], sweep_hits(cx, sums, s + c, &hits[c]);
-    } else
-      for (int c = 0; c < ni; c++) {
-        collect_in_parts(cx, sums, s + c, lo, hi, nrange, &hits[0]);
-        if (hits[0].n) sweep_hits(cx, sums, s + c, &hits[0]);
-      }
+    search_cluster(cx, sums, &hits, s, ni, 0, lo, hi, nrange, total);
     q += ni;
   }
 }
