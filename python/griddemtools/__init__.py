@@ -1,6 +1,7 @@
 """GRIDDEM's Python tools for the examples' and the benchmarks' scripts: readers of LAMMPS's text
 outputs and the way those scripts start LAMMPS. Standard library only.
 
+  items     the ITEM headers of a text dump and the lines under each (dump and grid read them)
   dump      atom dumps (dump custom, atom): snapshots of per-atom columns
   grid      dump grid text files: per-cell columns of each frame
   chunks    fix ave/chunk files: the blocks of per-chunk rows

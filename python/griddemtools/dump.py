@@ -1,5 +1,7 @@
 """LAMMPS text dumps of atoms (dump custom, dump atom): each snapshot's step, box and per-atom rows."""
 
+from .items import read_items
+
 
 class Snapshot:
     """One snapshot: step, natoms, box (rows of the BOX BOUNDS item: [lo, hi] or [lo, hi, tilt]),
@@ -28,31 +30,22 @@ class Snapshot:
 def read_dump(path):
     """The snapshots of a dump file, in the file's order. Items other than TIMESTEP, NUMBER OF
     ATOMS, BOX BOUNDS and ATOMS (dump_modify time, units) are passed over."""
-    with open(path) as f:
-        lines = f.read().splitlines()
-    snapshots, k = [], 0
+    snapshots = []
     step = natoms = box = None
-    while k < len(lines):
-        line = lines[k]
-        if line.startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            k += 2
-        elif line.startswith("ITEM: NUMBER OF ATOMS"):
-            natoms = int(lines[k + 1])
-            k += 2
-        elif line.startswith("ITEM: BOX BOUNDS"):
-            box = [[float(v) for v in lines[k + 1 + d].split()] for d in range(3)]
-            k += 4
-        elif line.startswith("ITEM: ATOMS"):
-            columns = line.split()[2:]
-            rows = [[float(v) for v in row.split()] for row in lines[k + 1:k + 1 + natoms]]
+    for header, lines in read_items(path):
+        if header.startswith("TIMESTEP"):
+            step = int(lines[0])
+        elif header.startswith("NUMBER OF ATOMS"):
+            natoms = int(lines[0])
+        elif header.startswith("BOX BOUNDS"):
+            box = [[float(v) for v in row.split()] for row in lines[:3]]
+        elif header.startswith("ATOMS"):
+            columns = header.split()[1:]
+            rows = [[float(v) for v in row.split()] for row in lines[:natoms]]
             if len(rows) != natoms or any(len(r) != len(columns) for r in rows):
                 raise ValueError("%s: the snapshot of step %s has not %d rows of %d values"
                                  % (path, step, natoms, len(columns)))
             snapshots.append(Snapshot(step, natoms, box, columns, rows))
-            k += 1 + natoms
-        else:
-            k += 1
     return snapshots
 
 

@@ -1,6 +1,8 @@
 """LAMMPS dump grid text files written by one process (cells in order, x fastest, then y, z):
 each frame's step, box, grid size and per-cell columns."""
 
+from .items import read_items
+
 
 class GridFrame:
     """One frame: step, box (xlo xhi ylo yhi zlo zhi), n (nx, ny, nz), names (the GRID CELLS
@@ -20,34 +22,25 @@ def short_name(name):
 def read_grid_dump(path):
     """The frames of a dump grid text file, in the file's order. Two columns whose names end alike
     (c_a:grid:vx, c_b:grid:vx) are an error: their short names would clash."""
-    with open(path) as f:
-        lines = f.read().splitlines()
-    frames, k = [], 0
+    frames = []
     step = box = n = None
-    while k < len(lines):
-        line = lines[k]
-        if line.startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            k += 2
-        elif line.startswith("ITEM: BOX BOUNDS"):
-            box = [float(v) for row in lines[k + 1:k + 4] for v in row.split()[:2]]
-            k += 4
-        elif line.startswith("ITEM: GRID SIZE"):
-            n = tuple(int(v) for v in lines[k + 1].split())
-            k += 2
-        elif line.startswith("ITEM: GRID CELLS"):
-            names = line.split()[3:]
+    for header, lines in read_items(path):
+        if header.startswith("TIMESTEP"):
+            step = int(lines[0])
+        elif header.startswith("BOX BOUNDS"):
+            box = [float(v) for row in lines[:3] for v in row.split()[:2]]
+        elif header.startswith("GRID SIZE"):
+            n = tuple(int(v) for v in lines[0].split())
+        elif header.startswith("GRID CELLS"):
+            names = header.split()[2:]
             short = [short_name(c) for c in names]
             if len(set(short)) != len(short):
                 raise ValueError("%s: columns %s share a short name" % (path, " ".join(names)))
             cells = n[0] * n[1] * n[2]
-            rows = [[float(v) for v in row.split()] for row in lines[k + 1:k + 1 + cells]]
+            rows = [[float(v) for v in row.split()] for row in lines[:cells]]
             if len(rows) != cells or any(len(r) != len(names) for r in rows):
                 raise ValueError("%s: the frame of step %s has not %d cells of %d values"
                                  % (path, step, cells, len(names)))
             columns = {s: [r[j] for r in rows] for j, s in enumerate(short)}
             frames.append(GridFrame(step, box, n, names, columns))
-            k += 1 + cells
-        else:
-            k += 1
     return frames
