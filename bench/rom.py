@@ -93,6 +93,14 @@ def lmp_run(lmp, wd, inp, tag, variables, scene=None):
     lammps.run(lmp, args, wd, output=None, check=True)
 
 
+def trained(wd, script, model, inputs):
+    """The model file (in wd), made by the example's training script from inputs unless it is
+    there already."""
+    if not os.path.exists(os.path.join(wd, model)):
+        subprocess.run([sys.executable, script, model] + inputs, cwd=wd, check=True, stdout=subprocess.DEVNULL)
+    return model
+
+
 class Pile:
     """examples/rom-pile: the outlet width is the control."""
     pair = "griddem/hooke/history"
@@ -119,10 +127,7 @@ class Pile:
                 self.run(tag, dict(w=w))
             specs.append("cg.%s.txt:%s" % (tag, w))
         model = "rom.%s.s%d.model" % (self.a.train.replace(",", "_"), self.a.steps)
-        if not os.path.exists(os.path.join(self.wd, model)):
-            subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=self.wd,
-                           check=True, stdout=subprocess.DEVNULL)
-        return model
+        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
 
     def test(self, scan=False):
         """The test's variables (scan: cut to --scan-steps)."""
@@ -159,10 +164,7 @@ class Hopper:
                 self.run(tag, dict(rate=rates, seg=self.a.seg))
             specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
         model = "rom.%s.s%d.model" % (self.a.train_feed.replace(",", "_").replace("/", "-"), self.a.seg)
-        if not os.path.exists(os.path.join(self.wd, model)):
-            subprocess.run([sys.executable, os.path.join(EXAMPLE, "train_rom.py"), model] + specs, cwd=self.wd,
-                           check=True, stdout=subprocess.DEVNULL)
-        return model
+        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
 
     def test(self, scan=False):
         rates = self.a.test_feed.split(",")
@@ -196,10 +198,7 @@ class Blade:
                 self.run(tag, dict(zlow=zlow, push=push, adump=100))
             tags.append(tag)
         model = "rom.%s.model" % self.a.train_traj.replace(":", "_").replace(",", "-")
-        if not os.path.exists(os.path.join(self.wd, model)):
-            subprocess.run([sys.executable, os.path.join(BLADE, "train_blade.py"), model] + tags, cwd=self.wd,
-                           check=True, stdout=subprocess.DEVNULL)
-        return model
+        return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags)
 
     def test(self, scan=False):
         zlow, push = self.a.test_traj.split(":")
