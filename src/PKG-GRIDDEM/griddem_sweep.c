@@ -375,13 +375,13 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
 /* Most rows of a cross-class block: (2 reach + 1)^2 */
 #define MAX_BLOCK_ROWS ((2 * GRIDDEM_MAX_REACH + 1) * (2 * GRIDDEM_MAX_REACH + 1))
 
-/* Pairs of the slots slots[0..n-1] (of a smaller class) with the particles of the coarser class
- * grid l (l holds the larger spheres): the cells of l that the box of half-edge cut (the longest
- * contact distance between the two classes) around the slot's centre overlaps, the slot on its
- * own side. Consecutive slots whose centres lie within one cell edge of l of each other along
- * every axis form a cluster (up to the kernel's width), searched at once over the block around
- * their centres' box; consecutive clusters mostly share that block, whose non-empty row ranges
- * are then found once. A sphere's hits come in the order of its own block's rows. */
+/* Pairs of the slots slots[0..n-1] (of one size class) with the particles of another class's grid
+ * l: the cells of l that the box of half-edge cut (the longest contact distance between the two
+ * classes) around the slot's centre overlaps, the slot on its own side. Consecutive slots whose
+ * centres lie within one cell edge of l of each other along every axis form a cluster (up to the
+ * kernel's width), searched at once over the block around their centres' box; consecutive
+ * clusters mostly share that block, whose non-empty row ranges are then found once. A sphere's
+ * hits come in the order of its own block's rows. */
 static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
                          double cut, const int *slots, int n)
 {
@@ -400,9 +400,14 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
     for (; ni < cx->cluster && q + ni < n && slots[q + ni] == s + ni; ni++) {
       const double c[3] = {ch->x[s + ni], ch->y[s + ni], ch->z[s + ni]};
       int near = 1;
-      for (int d = 0; d < 3; d++) near &= fmax(box[3 + d], c[d]) - fmin(box[d], c[d]) <= g->h;
+      /* (centres are finite: the engine's scan stops a step on any that is not) */
+      double grown[6];
+      for (int d = 0; d < 3; d++) {
+        grown[d] = c[d] < box[d] ? c[d] : box[d], grown[3 + d] = c[d] > box[3 + d] ? c[d] : box[3 + d];
+        near &= grown[3 + d] - grown[d] <= g->h;
+      }
       if (!near) break;
-      for (int d = 0; d < 3; d++) box[d] = fmin(box[d], c[d]), box[3 + d] = fmax(box[3 + d], c[d]);
+      memcpy(box, grown, sizeof(box));
     }
     int b[6];
     for (int d = 0; d < 3; d++) {
@@ -483,6 +488,35 @@ static long row_slots(const griddem_grid *g, const griddem_bins *b, int x0, int 
   return b->cell_start[row + x1 + 1] - b->cell_start[row + x0];
 }
 
+/* The cross-class pass of classes a and b (either order): which class's spheres search which
+ * one's grid, the contact distance cut between them (with the margin of the grid searched) and its
+ * reach in that grid's cells. Either way finds the same pairs; the choice is the cheaper by an
+ * estimate of block rows and candidates per searching sphere (a few large spheres among many small
+ * ones search the fine grid, whose blocks are tight around them). Returns 0, or -1 where neither
+ * grid's reach is within GRIDDEM_MAX_REACH. */
+typedef struct across_pass {
+  const griddem_class_grid *from, *into;
+  double cut;
+  int reach;
+} across_pass;
+
+static int across_direction(const griddem_class_grid *a, const griddem_class_grid *b, double reach_extra,
+                            across_pass *pass)
+{
+  across_pass way[2] = {{a, b, 0.0, 0}, {b, a, 0.0, 0}};
+  double cost[2];
+  for (int w = 0; w < 2; w++) {
+    const griddem_grid *g = way[w].into->g;
+    way[w].cut = contact_reach(g, a->rmax, b->rmax, reach_extra);
+    way[w].reach = griddem_stencil_reach(g->h, way[w].cut);
+    const double side = 2.0 * way[w].reach + 1.0, occupancy = (double) way[w].into->b->n / (double) g->ncell;
+    cost[w] = way[w].reach > GRIDDEM_MAX_REACH ? INFINITY : way[w].from->b->n * (side * side + side * side * side * occupancy);
+  }
+  if (cost[0] == INFINITY && cost[1] == INFINITY) return -1;
+  *pass = way[cost[1] < cost[0]];
+  return 0;
+}
+
 double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double reach_extra)
 {
   double candidates = 0.0;
@@ -494,8 +528,13 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
     griddem_stencil_build(&stencil, g->h, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra),
                           GRIDDEM_STENCIL_FORWARD);
     int run_lo[GRIDDEM_STENCIL_MAX_ROWS], run_hi[GRIDDEM_STENCIL_MAX_ROWS];
-    double cut[kc + 1];    /* contact distance to each coarser class */
-    for (int lc = 0; lc < kc; lc++) cut[lc] = contact_reach(cls[lc].g, cls[kc].rmax, cls[lc].rmax, reach_extra);
+    /* the cross-class passes in which this class searches another's grid */
+    across_pass passes[ncls];
+    int npass = 0;
+    for (int lc = 0; lc < ncls; lc++)
+      if (lc != kc && across_direction(&cls[kc], &cls[lc], reach_extra, &passes[npass]) == 0 &&
+          passes[npass].from == &cls[kc])
+        npass++;
     const long nx = g->n[0], nxy = nx * g->n[1];
     for (int s = 0; s < b->n;) {    /* occupied cells only, through their slots */
       const long cell = b->cell[b->order[s]];
@@ -505,18 +544,19 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
       long reached = 0;
       for (int q = 0; q < nruns; q++) reached += run_hi[q] - run_lo[q];
       candidates += (double) n * reached - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
-      /* into each coarser class: the cells within the contact distance of this cell */
-      for (int lc = 0; lc < kc; lc++) {
-        const griddem_grid *gl = cls[lc].g;
+      /* across classes, from this class's cells where it searches the other: the cells of the
+         other grid within the contact distance of this cell */
+      for (int q = 0; q < npass; q++) {
+        const griddem_grid *gl = passes[q].into->g;
         int blo[3], bhi[3];
         for (int d = 0; d < 3; d++) {
           const double lo = g->lo[d] + k[d] * g->h;
-          blo[d] = griddem_axis_cell(lo - cut[lc], gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
-          bhi[d] = griddem_axis_cell(lo + g->h + cut[lc], gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          blo[d] = griddem_axis_cell(lo - passes[q].cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          bhi[d] = griddem_axis_cell(lo + g->h + passes[q].cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
         }
         long block = 0;
         for (int zz = blo[2]; zz <= bhi[2]; zz++)
-          for (int yy = blo[1]; yy <= bhi[1]; yy++) block += row_slots(gl, cls[lc].b, blo[0], bhi[0], yy, zz);
+          for (int yy = blo[1]; yy <= bhi[1]; yy++) block += row_slots(gl, passes[q].into->b, blo[0], bhi[0], yy, zz);
         candidates += (double) n * block;
       }
       s = b->cell_start[cell + 1];
@@ -583,24 +623,24 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     }
   }
 
-  /* pairs across classes, from the smaller sphere into the coarser grid. Threads take the small
-     spheres by slabs of the coarse grid's cell layers (at least the reach thick) in three colours:
-     the partners of slabs q and q+3 lie in disjoint slabs, so no two threads write one particle */
+  /* pairs across classes: the spheres of one class searched in the other's grid, in the cheaper
+     direction (across_direction). Threads take the searching spheres by slabs of the searched
+     grid's cell layers (at least the reach thick) in three colours: the partners of slabs q and
+     q+3 lie in disjoint slabs, so no two threads write one particle */
   for (int kc = 1; kc < ncls; kc++)
     for (int lc = 0; lc < kc; lc++) {
-      const griddem_class_grid *k = &cls[kc], *l = &cls[lc];
-      const int nk = k->b->n;
-      if (nk == 0 || l->b->n == 0) continue;
-      const griddem_grid *g = l->g;
-      const double cut = contact_reach(g, k->rmax, l->rmax, model->reach_extra);
-      const int reach = griddem_stencil_reach(g->h, cut);
-      if (reach > GRIDDEM_MAX_REACH) {
+      if (cls[kc].b->n == 0 || cls[lc].b->n == 0) continue;
+      across_pass pass;
+      if (across_direction(&cls[kc], &cls[lc], model->reach_extra, &pass) != 0) {
         result->fault = GRIDDEM_FAULT_STENCIL;
         return result->fault;
       }
-      const int thick = slab_thickness(g->n[2], nthreads, reach);
+      const griddem_class_grid *from = pass.from, *into = pass.into;
+      const int nk = from->b->n;
+      const griddem_grid *g = into->g;
+      const int thick = slab_thickness(g->n[2], nthreads, pass.reach);
       const int nslab = (g->n[2] + thick - 1) / thick;
-      /* the small spheres' slots by slab of the coarse grid (a stable counting sort) */
+      /* the searching spheres' slots by slab of the searched grid (a stable counting sort) */
       if (grow_across(ch, nk, nslab) != 0) {
         result->fault = GRIDDEM_FAULT_MEMORY;
         return result->fault;
@@ -609,19 +649,19 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       memset(first, 0, sizeof(int) * ((size_t) nslab + 1));
       const long nxy = (long) g->n[0] * g->n[1];
       for (int q = 0; q < nk; q++) {
-        const int t = k->base + q;
+        const int t = from->base + q;
         slab[q] = (int) (griddem_cell_of(g, ch->x[t], ch->y[t], ch->z[t]) / nxy) / thick;
         first[slab[q] + 1]++;
       }
       for (int q = 0; q < nslab; q++) first[q + 1] += first[q];
-      for (int q = 0; q < nk; q++) slots[first[slab[q]]++] = k->base + q;
+      for (int q = 0; q < nk; q++) slots[first[slab[q]]++] = from->base + q;
       for (int q = nslab; q > 0; q--) first[q] = first[q - 1];
       first[0] = 0;
       for (int colour = 0; colour < 3; colour++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
         for (int q = colour; q < nslab; q += 3) {
           sweep_sums sums = thread_sums(model, hist);
-          sweep_across(&cx, &sums, l, cut, slots + first[q], first[q + 1] - first[q]);
+          sweep_across(&cx, &sums, into, pass.cut, slots + first[q], first[q + 1] - first[q]);
           v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
           v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
           energy += sums.energy;

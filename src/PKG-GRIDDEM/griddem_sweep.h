@@ -83,8 +83,10 @@ typedef struct griddem_class_grid {
 } griddem_class_grid;
 
 /* One sweep over ncls size classes, cls[0] holding the largest spheres: pairs within a class on
- * its own grid (forward half stencil in sorted order), pairs across classes from the smaller
- * sphere into the coarser grid; order: the particle of each slot of the channels. Each pair in
+ * its own grid (forward half stencil in sorted order), pairs across two classes by searching the
+ * spheres of one in the other's grid, whichever direction costs fewer block rows and candidates
+ * (a few large spheres among many small ones search the small ones' grid); order: the particle of
+ * each slot of the channels. Each pair in
  * contact is evaluated once and its force and torques go to whichever of its two particles are
  * owned, so ghosts receive nothing (newton off across processes). Adds into f and torque
  * (3*nlocal), and half of del*f of each contact into vatom (6*nlocal) if not NULL; sums the virial
@@ -97,9 +99,9 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result);
 
 /* Candidate pairs griddem_sweep tests on the classes cls (what a grid layout costs): per class,
- * each cell's centres against its forward half stencil; across classes, each smaller sphere
- * against the coarser grid's cells within the contact distance of its cell (a bound on the
- * sweep's blocks around the sphere itself). Needs the bins only, not the channels. */
+ * each cell's centres against its forward half stencil; across two classes, each sphere of the
+ * searching class against the other grid's cells within the contact distance of its cell (a bound
+ * on the sweep's blocks around the sphere itself). Needs the bins only, not the channels. */
 double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double reach_extra);
 
 #ifdef __cplusplus

@@ -282,20 +282,32 @@ static void check_faults(void)
 
 /* The engine against the all-pairs evaluation: every contact, force, torque, the virial and the
  * history, over steps in which the history accumulates and the packing loosens.
- * Size classes (radii log-uniform in 0.012-0.24: three classes, pairs within each on its own grid
- * and across classes from the smaller sphere into the coarser grid), 1 and 3 threads.
+ * Size classes (three classes, pairs within each on its own grid and across classes the spheres of
+ * one class searched in the other's grid, whichever direction the sweep finds cheaper): radii
+ * log-uniform in 0.012-0.24 (SIZES_SPREAD); three large spheres among small ones (SIZES_FEW_LARGE,
+ * where the large ones search the small ones' grid); three small among large (SIZES_FEW_SMALL, the
+ * small ones search the large ones' grid); 1 and 3 threads.
  * Kinematic and lagging particles (fix griddem/rom's: the exclusions' both_bit, here x > 0.6, pairs
  * of two excluded; and its apart_bit, here x > 0.75, every pair with one excluded): the same forces
  * as the all-pairs evaluation with those pairs skipped, every lagging particle left out of the grid,
  * and a lagging particle's speed still enters the motion check. */
-static void engine_against_all_pairs(const char *law, int threads, int size_classes, int idle)
+enum { SIZES_ONE_CLASS, SIZES_SPREAD, SIZES_FEW_LARGE, SIZES_FEW_SMALL };
+
+static void engine_against_all_pairs(const char *law, int threads, int sizes, int idle)
 {
+  const int size_classes = sizes != SIZES_ONE_CLASS;
   if (size_classes) {
     make_configuration(0.012, 0.24);
     for (int i = 0; i < N; i++) {
-      rad[i] = i == 0 ? 0.012 : 0.24 * pow(0.05, check_uniform());
+      /* radius 0.012 (one sphere) sets the three classes; 0.24 the largest */
+      const double spread = 0.24 * pow(0.05, check_uniform()), small = 0.012 + 0.003 * check_uniform(),
+                   large = 0.2 + 0.04 * check_uniform();
+      rad[i] = i == 0 ? 0.012 : (i == 1 ? 0.24 : (sizes == SIZES_SPREAD ? spread : (sizes == SIZES_FEW_LARGE) == (i < 4) ? large : small));
       mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
     }
+    /* the small ones packed closer, so that each large one touches tens of them */
+    if (sizes == SIZES_FEW_LARGE)
+      for (int k = 0; k < 3 * N; k++) x[k] *= 0.4;
   } else
     make_configuration(0.05, 0.2);
   const int kinematic_bit = idle ? 2 : 0, lagging_bit = idle ? 4 : 0;
@@ -325,7 +337,8 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
   st.max_cells = 1L << 26, st.model = &m, st.excl = &excl, st.dt = 1e-4, st.history_update = 1;
   st.hist = &hist, st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
   char what[256];
-  snprintf(what, sizeof(what), "%s%s%s, %d threads", law, size_classes ? ", classes" : "", idle ? ", idle" : "", threads);
+  static const char *const SIZES[] = {"", ", classes", ", classes, few large", ", classes, few small"};
+  snprintf(what, sizeof(what), "%s%s%s, %d threads", law, SIZES[sizes], idle ? ", idle" : "", threads);
   for (int step = 0; step < 3; step++) {
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t));
     griddem_sweep_result res;
@@ -336,8 +349,8 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
     all_pairs(&m, NULL, kinematic_bit, lagging_bit, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     CHECK(e.nclass == (size_classes ? 3 : 1) && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", what,
           e.nclass, res.fault);
-    CHECK(res.contacts == contacts_ref && contacts_ref > (idle ? N / 4 : N), "%s step %d: %ld contacts, all-pairs %ld", what,
-          step, res.contacts, contacts_ref);
+    CHECK(res.contacts == contacts_ref && contacts_ref > (idle || sizes == SIZES_FEW_LARGE ? N / 4 : N),
+          "%s step %d: %ld contacts, all-pairs %ld", what, step, res.contacts, contacts_ref);
     double ferr = 0.0, terr = 0.0, verr = 0.0, herr = 0.0, hscale = 0.0;
     for (int k = 0; k < 3 * N; k++) ferr = fmax(ferr, fabs(f[k] - fr[k])), terr = fmax(terr, fabs(t[k] - tr[k]));
     for (int k = 0; k < 6; k++) verr = fmax(verr, fabs(res.virial[k] - vr[k]));
@@ -378,12 +391,16 @@ static void engine_against_all_pairs(const char *law, int threads, int size_clas
 /* Every check of this file, with the sweep's candidate test done by each kernel this processor runs */
 static void all_checks(void)
 {
-  engine_against_all_pairs(LAWS[0], 1, 1, 0);
-  engine_against_all_pairs(LAWS[3], 3, 1, 0);
-  engine_against_all_pairs(LAWS[5], 1, 1, 0);
-  engine_against_all_pairs(LAWS[0], 1, 0, 1);
-  engine_against_all_pairs(LAWS[5], 3, 0, 1);
-  engine_against_all_pairs(LAWS[3], 1, 1, 1);
+  engine_against_all_pairs(LAWS[0], 1, SIZES_SPREAD, 0);
+  engine_against_all_pairs(LAWS[3], 3, SIZES_SPREAD, 0);
+  engine_against_all_pairs(LAWS[5], 1, SIZES_SPREAD, 0);
+  for (int sizes = SIZES_FEW_LARGE; sizes <= SIZES_FEW_SMALL; sizes++) {
+    engine_against_all_pairs(LAWS[0], 1, sizes, 0);
+    engine_against_all_pairs(LAWS[3], 3, sizes, 0);
+  }
+  engine_against_all_pairs(LAWS[0], 1, SIZES_ONE_CLASS, 1);
+  engine_against_all_pairs(LAWS[5], 3, SIZES_ONE_CLASS, 1);
+  engine_against_all_pairs(LAWS[3], 1, SIZES_SPREAD, 1);
   make_configuration(0.05, 0.2); /* radius ratio up to 1:4 */
   static const unsigned char exclude_22[9] = {0, 0, 0, 0, 0, 0, 0, 0, 1};
   for (int mode = GRIDDEM_CELL_EXACT; mode <= GRIDDEM_CELL_FIXED; mode++) {
