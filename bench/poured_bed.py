@@ -6,9 +6,10 @@ ranks, in one job. The scene is the same for both: fix pour's random stream does
 the pair style. Appends one JSON line per run to bench/results/cpu.jsonl with the atoms present
 at the end.
 
-usage: bench/poured_bed.py [--steps 20000] [--ranks 1,2] [--lmp build/lmp] [--only LABEL,...]"""
+usage: bench/poured_bed.py [--steps 20000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]"""
 import argparse
 import os
+import subprocess
 import tempfile
 
 import benchlib
@@ -44,8 +45,11 @@ def main():
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
+    ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default=None)
     args = ap.parse_args()
+    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
+                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
     only = args.only.split(",") if args.only else None
     wd = tempfile.mkdtemp(prefix="griddem-bed-")
     for ranks in [int(r) for r in args.ranks.split(",")]:
@@ -55,7 +59,7 @@ def main():
             text = SCENE.format(style=style, fix=fix, steps=args.steps)
             loop, steps, atoms, _ = benchlib.run_lmp(args.lmp, wd, text, ranks)
             benchlib.record(os.path.join(HERE, "results", "cpu.jsonl"), "poured bed 1:10", label, ranks, 1,
-                            loop, steps, atoms)
+                            loop, steps, atoms, build=build)
 
 
 if __name__ == "__main__":

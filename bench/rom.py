@@ -8,6 +8,7 @@
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 50]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
+            [--figure PNG]
 
 Each scene's training runs and model are made once and kept in bench/work-rom/<scene folder>
 (ignored; --work another folder); then, all at the test's control and horizon, on one core, one after the other:
@@ -26,6 +27,7 @@ surface height above the container's floor and walls) are series over the run's 
 written to errors.TAG.txt; the record holds one minus their time mean (*_accuracy) and one minus
 the mean of their worst tenth (*_accuracy_worst10). One JSON line is appended to
 bench/results/rom.jsonl; what the study could not measure is named with its reason in left_out.
+The errors over time (bench/romfigure.py) go to the example's folder as errors.png.
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
 run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
@@ -43,6 +45,7 @@ import sys
 
 import benchlib
 import romerror
+import romfigure
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -104,6 +107,7 @@ def trained(wd, script, model, inputs):
 class Pile:
     """examples/rom-pile: the outlet width is the control."""
     pair = "griddem/hooke/history"
+    example = EXAMPLE
     skins = "0.1,0.2,0.4"
 
     def __init__(self, a, lmp):
@@ -140,6 +144,7 @@ class Pile:
 class Hopper:
     """examples/rom-hopper: the feed rate is the control, a history of --seg-step segments."""
     pair = "griddem/granular"
+    example = HOPPER
     skins = "0.03,0.06,0.12"
 
     def __init__(self, a, lmp):
@@ -177,6 +182,7 @@ class Hopper:
 class Blade:
     """examples/rom-blade: the blade's velocity is the control, the model's grid moves with it."""
     pair = "griddem/granular"
+    example = BLADE
     skins = "0.03,0.06,0.12"
 
     def __init__(self, a, lmp):
@@ -337,6 +343,7 @@ def main():
     ap.add_argument("--walls", default="rom_dynamic", help="pile: group of the walls in the reduced run (all: the "
                     "force rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
+    ap.add_argument("--figure", help="the errors-over-time figure (default: errors.png in the example's folder)")
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0), hopper=dict(steps=0, eps=0.3, every=50, v0=0.36),
@@ -345,10 +352,15 @@ def main():
         if getattr(a, k) is None:
             setattr(a, k, v)
     a.work = os.path.abspath(a.work)
-    line = study(SCENES[a.scene](a, os.path.abspath(a.lmp)), a)
+    scene = SCENES[a.scene](a, os.path.abspath(a.lmp))
+    line = study(scene, a)
     print(json.dumps(line))
     with open(a.out, "a") as f:
         f.write(json.dumps(line) + "\n")
+    figure = a.figure or os.path.join(scene.example, "errors.png")
+    romfigure.draw(scene.wd, figure, "%s: speed-up %.2f over %s" % (scene.name, line["speedup"],
+                                                                   line["baseline"]["pair_style"]))
+    print("errors over time:", figure)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
   with every field the issue names, a speed-up against the faster baseline of its own loop times,
   the scanned skin that ran fastest, and a griddem resolved run that equals stock's of the same
-  seed (gran/hooke/history parity: accuracies 1 to 1e-8)."""
+  seed (gran/hooke/history parity: accuracies 1 to 1e-8), and the figure of the errors over time
+  with the reduced run, the do-nothing run and the three pairs of stock seeds."""
 import json
 import os
 import statistics
@@ -25,6 +26,7 @@ TOP = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(TOP, "bench"))
 sys.path.insert(0, os.path.join(TOP, "python"))
 import romerror  # noqa: E402
+import romfigure  # noqa: E402
 from griddemtools.grid import GridFrame  # noqa: E402
 from rom import pick_baseline  # noqa: E402
 
@@ -95,7 +97,8 @@ REQUIRED = ["build", "baseline", "speedup", "velocity_accuracy", "height_accurac
 def smoke():
     out = os.path.join(WD, "rom.jsonl")
     proc = subprocess.run([sys.executable, os.path.join(TOP, "bench", "rom.py"), "--lmp", t.LMP, "--steps", "1000",
-                           "--train", "3,6", "--scan-steps", "200", "--work", os.path.join(WD, "work"), "--out", out],
+                           "--train", "3,6", "--scan-steps", "200", "--work", os.path.join(WD, "work"), "--out", out,
+                           "--figure", os.path.join(WD, "errors.png")],
                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
     if proc.returncode != 0:
         print(proc.stdout[-3000:], file=sys.stderr)
@@ -126,6 +129,11 @@ def smoke():
     parity = [r["griddem_vs_stock_%s_accuracy" % k] for k in ("velocity", "height", "temperature")]
     t.check(all(abs(1.0 - p) < 1e-8 for p in parity), "griddem resolved equals stock of its seed: %s" % parity)
     t.check(all(np.isfinite(r[k]) for k in REQUIRED[3:8]), "accuracies finite")
+    # the errors over time: the reduced and do-nothing runs and the three pairs of stock seeds
+    t.check(os.path.getsize(os.path.join(WD, "errors.png")) > 10000, "errors-over-time figure written")
+    drawn = romfigure.draw(os.path.join(WD, "work", os.listdir(os.path.join(WD, "work"))[0]), os.path.join(WD, "again.png"))
+    t.check(drawn == ["reduced", "do-nothing", "noise floor (stock seeds)", None, None],
+            "figure curves: %s" % drawn)
 
 
 baseline()
