@@ -58,6 +58,8 @@ sys.path.insert(0, EXAMPLE)
 sys.path.insert(0, BLADE)
 from blade_force import force_accuracy  # noqa: E402
 from compare import kinematic_fraction, near_fraction  # noqa: E402
+from romtools import read_model  # noqa: E402
+from train_blade import load_run  # noqa: E402
 from griddemtools import lammps, log  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
 
@@ -83,6 +85,24 @@ def build_name():
                               text=True, check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+
+
+def open_loop_accuracy(model, tag):
+    """The blade model's velocity field predicted from the densities and controls of resolved run
+    tag's snapshots (open loop, the paper's measure of its blade model), against that run's own
+    field on the model's grid: open_loop_velocity_accuracy and _worst10, as the forward runs'
+    (density-weighted, relative to the run's characteristic speed). Run where the files are."""
+    m = read_model(model)
+    X, Y, _ = load_run(tag)
+    nvox = m["n"][0] * m["n"][1] * m["n"][2]
+    rho = X[:, :nvox]
+    v_res = Y.reshape(len(Y), nvox, 3)
+    v_rom = (m["weights"][:, 0][None, :] + X @ m["weights"][:, 1:].T).reshape(len(Y), nvox, 3)
+    speed = romerror.characteristic_speed(rho, v_res)
+    errors = [romerror.velocity_error(rho[t], v_res[t], v_rom[t], speed) for t in range(len(Y))]
+    mean, worst = romerror.summary(errors)
+    return dict(open_loop_velocity_accuracy=1.0 - mean, open_loop_velocity_accuracy_worst10=1.0 - worst,
+                open_loop_frames=len(errors))
 
 
 def lmp_run(lmp, wd, inp, tag, variables, scene=None):
@@ -301,8 +321,16 @@ def study(scene, a):
                 "force_accuracy_measured"]
         finally:
             os.chdir(here)
-        left_out["open_loop_velocity_accuracy"] = ("not measured yet: needs the model's fields predicted from the "
-                                                   "resolved run's densities")
+        # open loop: the reference run again (the same trajectory: same seed and binary), with a
+        # snapshot every 100 steps; not timed
+        openloop = "%s.openloop" % ref
+        scene.run(openloop, dict(scene.test(), seed=seeds[0], adump=100))
+        here = os.getcwd()
+        os.chdir(scene.wd)
+        try:
+            record.update(open_loop_accuracy(model, openloop))
+        finally:
+            os.chdir(here)
     record["left_out"] = left_out
     text = log.text_of(os.path.join(scene.wd, "log." + ref))
     runs = log.loop_times(text)

@@ -1,4 +1,5 @@
-"""Writing the griddem/rom model file format (versions 1 and 2, doc/fix_griddem_rom.md)."""
+"""Writing and reading the griddem/rom model file format (versions 1 and 2, doc/fix_griddem_rom.md)."""
+import numpy as np
 
 
 def write_model(path, n, box, lam, weights, note="", frame=None, force=None):
@@ -28,3 +29,31 @@ def write_model(path, n, box, lam, weights, note="", frame=None, force=None):
             f.write("force 3 %d\n" % ncol)
             for row in force:
                 f.write(" ".join("%.10g" % w for w in row) + "\n")
+
+
+def read_model(path):
+    """The model file's grid n, box, frame (None or 'moving'), number of controls, lambda, weights
+    and force (None without a force block), as write_model takes them."""
+    with open(path) as f:
+        lines = [line.split() for line in f if line.strip() and not line.startswith("#")]
+    model = dict(frame=None, force=None)
+    k = 0
+    while k < len(lines):
+        key, rest = lines[k][0], lines[k][1:]
+        if key in ("weights", "force"):
+            nrow = int(rest[0])
+            model[key] = np.array([[float(w) for w in row] for row in lines[k + 1:k + 1 + nrow]])
+            k += 1 + nrow
+            continue
+        if key == "grid":
+            model["n"] = tuple(int(v) for v in rest)
+        elif key == "box":
+            model["box"] = tuple(float(v) for v in rest)
+        elif key == "frame":
+            model["frame"] = rest[0]
+        elif key == "controls":
+            model["controls"] = int(rest[0])
+        elif key == "lambda":
+            model["lambda"] = float(rest[0])
+        k += 1
+    return model

@@ -5,6 +5,8 @@
   relative to: velocity |dv| / V_c, temperature dT / T_c, surface height sum |dh| / sum h; V_c of a
   uniform field is its speed; the worst tenth of a series is the mean of its largest tenth;
 - the same through error_series on hand-made grid frames (two voxel columns above the floor);
+- the blade's open-loop accuracy of a model field off by a known offset, and the model file's
+  round trip;
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
   with every field the issue names, a speed-up against the faster baseline of its own loop times,
   the scanned skin that ran fastest, and a griddem resolved run that equals stock's of the same
@@ -89,6 +91,42 @@ def series():
             acc["height_accuracy_worst10"] == acc["height_accuracy"], "accuracies one minus the errors: %s" % acc)
 
 
+def open_loop():
+    """The blade's open-loop accuracy (bench/rom.py open_loop_accuracy) of a model whose field is
+    the snapshot's own plus 0.5 in x in every voxel: every atom moves at vx 1, so every filled voxel's
+    speed is 1, V_c is 1 and the error 0.5: accuracy 0.5. The model file survives a round trip."""
+    from rom import open_loop_accuracy
+    from romtools import read_model, write_model
+    from train_blade import FRAME_BOX, FRAME_N, load_run
+    wd = os.path.join(WD, "openloop")
+    os.makedirs(wd, exist_ok=True)
+    here = os.getcwd()
+    os.chdir(wd)
+    try:
+        atoms = [(1, 0.5, 0.5), (2, 3.2, 1.7), (3, 3.4, 1.9), (4, -2.0, 3.1)]   # id, x, z; blade at bx 0
+        with open("atoms.t.txt", "w") as f:
+            f.write("ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n%d\n" % len(atoms))
+            f.write("ITEM: BOX BOUNDS pp pp ff\n-10 30\n0 1\n0 6\nITEM: ATOMS id x z vx vz mass v_kin\n")
+            f.writelines("%d %g %g 1 0 %g 0\n" % (i, x, z, 0.5 + 0.1 * i) for i, x, z in atoms)
+        with open("controls.t.txt", "w") as f:
+            f.write("# step bx bz vbx vbz\n100 0 0 0.5 0\n")
+        with open("force.t.txt", "w") as f:
+            f.write("# step Fx Fz\n100 1 2\n")
+        X, Y, _ = load_run("t")
+        nvox = FRAME_N[0] * FRAME_N[1] * FRAME_N[2]
+        W = np.zeros((3 * nvox, 1 + nvox + 2))
+        W[:, 0] = Y[0] + np.tile([0.5, 0.0, 0.0], nvox)
+        write_model("m.model", FRAME_N, FRAME_BOX, 1.0, W, frame="moving", force=np.zeros((3, W.shape[1])))
+        m = read_model("m.model")
+        t.check(m["n"] == FRAME_N and m["box"] == FRAME_BOX and m["frame"] == "moving" and m["controls"] == 2 and
+                np.array_equal(m["weights"], W) and m["force"].shape == (3, W.shape[1]), "model file round trip")
+        acc = open_loop_accuracy("m.model", "t")
+        t.check(acc["open_loop_frames"] == 1 and abs(acc["open_loop_velocity_accuracy"] - 0.5) < 1e-12,
+                "open-loop accuracy of a field off by 0.5 at speed 1: %s (0.5)" % acc)
+    finally:
+        os.chdir(here)
+
+
 REQUIRED = ["build", "baseline", "speedup", "velocity_accuracy", "height_accuracy", "temperature_accuracy",
             "do_nothing_velocity_accuracy", "do_nothing_height_accuracy", "left_out", "stock_skin", "skin_scan",
             "noise_velocity_accuracy", "noise_height_accuracy", "velocity_accuracy_worst10", "height_accuracy_worst10"]
@@ -139,5 +177,6 @@ def smoke():
 baseline()
 errors()
 series()
+open_loop()
 smoke()
 t.finish()
