@@ -27,7 +27,7 @@ surface height above the container's floor and walls) are series over the run's 
 written to errors.TAG.txt; the record holds one minus their time mean (*_accuracy) and one minus
 the mean of their worst tenth (*_accuracy_worst10). One JSON line is appended to
 bench/results/rom.jsonl; what the study could not measure is named with its reason in left_out.
-The errors over time (bench/romfigure.py) go to the example's folder as errors.png.
+The errors over time (bench/romfigure.py) go to the example's reference/errors.png.
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
 run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
@@ -371,7 +371,7 @@ def main():
     ap.add_argument("--walls", default="rom_dynamic", help="pile: group of the walls in the reduced run (all: the "
                     "force rule watches kinematic atoms at walls)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "rom.jsonl"))
-    ap.add_argument("--figure", help="the errors-over-time figure (default: errors.png in the example's folder)")
+    ap.add_argument("--figure", help="the errors-over-time figure (default: the example's reference/errors.png)")
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0), hopper=dict(steps=0, eps=0.3, every=50, v0=0.36),
@@ -385,7 +385,7 @@ def main():
     print(json.dumps(line))
     with open(a.out, "a") as f:
         f.write(json.dumps(line) + "\n")
-    figure = a.figure or os.path.join(scene.example, "errors.png")
+    figure = a.figure or os.path.join(scene.example, "reference", "errors.png")
     romfigure.draw(scene.wd, figure, "%s: speed-up %.2f over %s" % (scene.name, line["speedup"],
                                                                    line["baseline"]["pair_style"]))
     print("errors over time:", figure)

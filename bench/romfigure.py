@@ -9,6 +9,7 @@ usage: bench/romfigure.py WORK_FOLDER OUT.png [--title TEXT]"""
 import argparse
 import glob
 import os
+import textwrap
 
 import matplotlib
 matplotlib.use("Agg")
@@ -53,7 +54,7 @@ def draw(work, out, title=""):
     axes[0, 0].legend(fontsize=8)
     axes[-1, 0].set_xlabel("step")
     if title:
-        axes[0, 0].set_title(title, fontsize=9)
+        axes[0, 0].set_title(textwrap.fill(title, 80), fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
