@@ -278,14 +278,16 @@ void FixGriddemKokkos<DeviceType>::sort_kokkos(Kokkos::BinSort<KeyViewType, BinO
 }
 
 /* Exchange on the device, in CommKokkos's layout: nsend offsets (as integer bits), then the
-   messages; the slot of each sent atom takes the row of its copylist atom */
+   messages; the slot of each sent atom takes the row of its copylist atom. The buffer is left
+   current in the space CommKokkos sends from (space: Host where exchange runs on the host, as
+   with MPI that cannot read device memory), as fix spring/self/kk and fix shake/kk leave it. */
 
 template <class DeviceType>
 int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
                                                        DAT::tdual_xfloat_2d &k_buf,
                                                        DAT::tdual_int_1d k_sendlist,
                                                        DAT::tdual_int_1d k_copylist,
-                                                       ExecutionSpace /*space*/)
+                                                       ExecutionSpace space)
 {
   sync_here(cur);
   k_buf.template sync<DeviceType>();
@@ -328,6 +330,9 @@ int FixGriddemKokkos<DeviceType>::pack_exchange_kokkos(const int &nsend,
       });
   k_first[cur].template modify<DeviceType>();
   k_count[cur].template modify<DeviceType>();
+  k_buf.template modify<DeviceType>();
+  if (space == Host) k_buf.template sync<LMPHostType>();
+  else k_buf.template sync<LMPDeviceType>();
   return nsend + total;
 }
 
