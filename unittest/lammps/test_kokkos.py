@@ -98,12 +98,12 @@ def compare(label, ref, test):
     parity_compare(label, ref, test)
 
 
-def run_cpu_and_kk(wd, label, text_for, kk_ranks=1):
+def run_cpu_and_kk(wd, label, text_for, kk_ranks=1, package=()):
     """The script text_for(name) run with the CPU styles on one rank as label_cpu, then with -sf kk
-    on THREADS[-1] threads and kk_ranks ranks as label_kk, each checked to finish:
-    [(name, output)] in that order."""
+    on THREADS[-1] threads and kk_ranks ranks (and the package kokkos keywords package) as
+    label_kk, each checked to finish: [(name, output)] in that order."""
     runs = []
-    for name, nprocs, extra in ((label + "_cpu", 1, ()), (label + "_kk", kk_ranks, kk_args(THREADS[-1]))):
+    for name, nprocs, extra in ((label + "_cpu", 1, ()), (label + "_kk", kk_ranks, kk_args(THREADS[-1]) + list(package))):
         rc, out = t.run_lmp(text_for(name), wd, nprocs=nprocs, name="in." + name, extra=extra,
                             threads=THREADS[-1] if extra else None)
         t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
@@ -772,18 +772,25 @@ def check_precision(wd, data):
 
 def check_migration(wd, data):
     # rows that migrate: atoms crossing between ranks and re-sorted in memory every 3 steps, with
-    # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank
+    # LAMMPS reneighbouring (exchange) every step, as the CPU style on one rank; the exchange on the
+    # device and on the host (package kokkos comm/exchange host, where MPI reads host memory: on a
+    # GPU the rows' messages must be in the host buffer CommKokkos sends; on the host they are)
     moving = ("neigh_modify every 1 delay 0 check no\natom_modify sort 3 0.5\n"
               "velocity all scale 30.0\ntimestep 1e-4\nfix integrate all nve/sphere\nrun 60\n"
               "dump snap all custom 1 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz\n"
               "dump_modify snap format float %.17g sort id\nrun 0\n")
     for law in (HISTORY, LAWS[-1]):
-        runs = run_cpu_and_kk(wd, "mv", lambda name: t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
-                              moving.format(name=name), kk_ranks=RANKS[-1])
-        got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
-        err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
-        print("%s/kk [%s] after 60 steps of exchange and sorting vs CPU: %.2g" % (law[1].split()[0], law[0], err))
-        t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms (%.3g)" % (law[1].split()[0], law[0], err))
+        for where in ("device", "host"):
+            label = "mv" if where == "device" else "mvh"
+            runs = run_cpu_and_kk(wd, label, lambda name: t.PERIODIC_SPHERES.format(data=data, pair=law[1], coeffs=law[3]) +
+                                  moving.format(name=name), kk_ranks=RANKS[-1],
+                                  package=("comm/exchange", where))
+            got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
+            err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
+            print("%s/kk [%s] after 60 steps of exchange (on the %s) and sorting vs CPU: %.2g"
+                  % (law[1].split()[0], law[0], where, err))
+            t.check(err <= 1e-10, "%s/kk [%s] rows migrate with their atoms, exchange on the %s (%.3g)"
+                    % (law[1].split()[0], law[0], where, err))
 
 
 def check_search(wd, data):
