@@ -2,6 +2,7 @@
 ranks and threads, one result recorded."""
 import os
 import platform
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))  # griddemtools
@@ -17,6 +18,12 @@ def device():
                 name = line.split(":", 1)[1].strip()
                 break
     return "%s, %d cores" % (name, os.cpu_count())
+
+
+def commit():
+    """The repository's commit (short), the build a result names unless told another."""
+    return subprocess.run(["git", "-C", os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."), "rev-parse",
+                           "--short", "HEAD"], stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
 
 
 def loop_time(out, what):

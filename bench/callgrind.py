@@ -102,8 +102,7 @@ def main():
     ap.add_argument("--keep", default=None, help="folder to keep the callgrind outputs in")
     ap.add_argument("--cell", default=None, help="griddem's cell mode or edge (fix griddem cell ...; default: the pair's)")
     args = ap.parse_args()
-    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
-                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    build = args.build or benchlib.commit()
     args.build_name = re.sub(r"[^\w.+-]", "_", build)
     for label in args.only.split(","):
         wd = tempfile.mkdtemp(prefix="griddem-callgrind-")

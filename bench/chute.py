@@ -11,7 +11,6 @@ import argparse
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -46,8 +45,7 @@ def main():
     with open(os.path.join(args.lammps_bench, "in.chute")) as f:
         stock = f.read()
     out_path = os.path.join(HERE, "results", "cpu.jsonl")
-    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
-                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    build = args.build or benchlib.commit()
     only = args.only.split(",") if args.only else None
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label, threads in VARIANTS:

@@ -157,7 +157,7 @@ def main():
                     notes.append("%s griddem: %g, reference log %g (judged against stock instead)"
                                  % (scene, value, ref))
             line = dict(date=datetime.date.today().isoformat(), device=benchlib.device(), scene=scene,
-                        style=variant or "griddem", ranks=ranks, loop_s=loop, number=value)
+                        style=variant or "griddem", ranks=ranks, build=benchlib.commit(), loop_s=loop, number=value)
             print(json.dumps(line), flush=True)
             with open(os.path.join(HERE, "results", "examples.jsonl"), "a") as f:
                 f.write(json.dumps(line) + "\n")

@@ -8,7 +8,6 @@ run to bench/results/cpu.jsonl.
 usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]"""
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -34,8 +33,7 @@ def main():
     ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default=None)
     args = ap.parse_args()
-    build = args.build or subprocess.run(["git", "-C", TOP, "rev-parse", "--short", "HEAD"],
-                                         stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    build = args.build or benchlib.commit()
     only = args.only.split(",") if args.only else None
     wd = tempfile.mkdtemp(prefix="griddem-squeeze-")
     data = os.path.join(wd, "data.squeeze")
