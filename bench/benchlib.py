@@ -20,10 +20,16 @@ def device():
     return "%s, %d cores" % (name, os.cpu_count())
 
 
-def commit():
-    """The repository's commit (short), the build a result names unless told another."""
-    return subprocess.run(["git", "-C", os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."), "rev-parse",
-                           "--short", "HEAD"], stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+def commit(dirty=False):
+    """The repository's commit (short), the build a result names unless told another; dirty: with
+    -dirty where the work tree differs from it. "unknown" outside a git checkout."""
+    top = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    args = ["describe", "--always", "--dirty"] if dirty else ["rev-parse", "--short", "HEAD"]
+    try:
+        return subprocess.run(["git", "-C", top] + args, stdout=subprocess.PIPE, universal_newlines=True,
+                              check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
 
 
 def loop_time(out, what):

@@ -36,6 +36,7 @@ run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile i
 speed P and raised (trajectory Z:P), its velocity the controls; adds the blade-force accuracies
 (examples/rom-blade/blade_force.py)."""
 import argparse
+import contextlib
 import datetime
 import json
 import os
@@ -60,6 +61,7 @@ from blade_force import force_accuracy  # noqa: E402
 from compare import kinematic_fraction, near_fraction  # noqa: E402
 from romtools import read_model  # noqa: E402
 from train_blade import load_run  # noqa: E402
+from train_rom import predict  # noqa: E402
 from griddemtools import lammps, log  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
 
@@ -78,13 +80,15 @@ def loop_seconds(wd, tag):
     return sum(run.seconds for run in log.loop_times(os.path.join(wd, "log." + tag)))
 
 
-def build_name():
-    """The repository's commit (with -dirty when the work tree differs from it)."""
+@contextlib.contextmanager
+def in_folder(wd):
+    """Work in folder wd (the examples' readers of a run's files open them where the runs are)."""
+    here = os.getcwd()
+    os.chdir(wd)
     try:
-        return subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True,
-                              text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
+        yield
+    finally:
+        os.chdir(here)
 
 
 def open_loop_accuracy(model, tag):
@@ -97,7 +101,7 @@ def open_loop_accuracy(model, tag):
     nvox = m["n"][0] * m["n"][1] * m["n"][2]
     rho = X[:, :nvox]
     v_res = Y.reshape(len(Y), nvox, 3)
-    v_rom = (m["weights"][:, 0][None, :] + X @ m["weights"][:, 1:].T).reshape(len(Y), nvox, 3)
+    v_rom = predict(m["weights"], X).reshape(len(Y), nvox, 3)
     speed = romerror.characteristic_speed(rho, v_res)
     errors = [romerror.velocity_error(rho[t], v_res[t], v_rom[t], speed) for t in range(len(Y))]
     mean, worst = romerror.summary(errors)
@@ -280,7 +284,7 @@ def study(scene, a):
     times = {stock: [loop_seconds(scene.wd, t) for t in stock_tags], scene.pair: [loop_seconds(scene.wd, ref)]}
     reduced = [loop_seconds(scene.wd, t) for t in rom_tags]
     style, seconds = pick_baseline(times)
-    record = dict(build=a.build or build_name(), baseline=dict(pair_style=style, loop_s=seconds),
+    record = dict(build=a.build or benchlib.commit(dirty=True), baseline=dict(pair_style=style, loop_s=seconds),
                   speedup=seconds / statistics.median(reduced),
                   loop_s={stock: times[stock], scene.pair: times[scene.pair], "reduced": reduced,
                           "do_nothing": loop_seconds(scene.wd, nothing)},
@@ -290,13 +294,9 @@ def study(scene, a):
     # accuracies against the griddem resolved run of the same seed (the reduced runs repeat one
     # run: the first is measured)
     left_out = {}
-    here = os.getcwd()
-    os.chdir(scene.wd)   # compare.py's readers of the logs work where the runs are
-    try:
+    with in_folder(scene.wd):
         record.update(kinematic_fraction=kinematic_fraction(rom_tags[0]), near_fraction=near_fraction(rom_tags[0]),
                       do_nothing_kinematic_fraction=kinematic_fraction(nothing))
-    finally:
-        os.chdir(here)
     s = series_of(scene.wd, ref, rom_tags[0])
     record.update(romerror.accuracies(s), characteristic_speed=s["characteristic_speed"], frames=len(s["steps"]))
     if "characteristic_temperature" in s:
@@ -312,25 +312,16 @@ def study(scene, a):
         left_out["temperature_accuracy"] = "the field dumps hold no temperature column"
 
     if isinstance(scene, Blade):
-        here = os.getcwd()
-        os.chdir(scene.wd)
-        try:
-            for which in ("measured", "predicted"):
-                record.update(force_accuracy(ref, rom_tags[0], which))
-            record["noise_force_accuracy"] = force_accuracy(stock_tags[0], stock_tags[1], "measured")[
-                "force_accuracy_measured"]
-        finally:
-            os.chdir(here)
         # open loop: the reference run again (the same trajectory: same seed and binary), with a
         # snapshot every 100 steps; not timed
         openloop = "%s.openloop" % ref
         scene.run(openloop, dict(scene.test(), seed=seeds[0], adump=100))
-        here = os.getcwd()
-        os.chdir(scene.wd)
-        try:
+        with in_folder(scene.wd):
+            for which in ("measured", "predicted"):
+                record.update(force_accuracy(ref, rom_tags[0], which))
+            record["noise_force_accuracy"] = force_accuracy(stock_tags[0], stock_tags[1], "measured")[
+                "force_accuracy_measured"]
             record.update(open_loop_accuracy(model, openloop))
-        finally:
-            os.chdir(here)
     record["left_out"] = left_out
     text = log.text_of(os.path.join(scene.wd, "log." + ref))
     runs = log.loop_times(text)
