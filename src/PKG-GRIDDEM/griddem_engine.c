@@ -31,42 +31,53 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   upper[ncls] = 0.0;
 }
 
-/* Grow the box lo, hi by point xi; poison becomes NaN if a coordinate is not finite (x * 0 is 0
- * for a finite x, NaN otherwise) */
-static inline void grow_box(const double *xi, double *lo, double *hi, double *poison)
+/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates may not be
+ * finite: their sum is finite where they all are (a sum that overflows only sends the caller to
+ * its exact check). The box is meaningless where a coordinate is NaN: the step then stops. */
+static int box_of(const double *x, int n, double *lo, double *hi)
 {
-  for (int d = 0; d < 3; d++) {
-    lo[d] = xi[d] < lo[d] ? xi[d] : lo[d];
-    hi[d] = xi[d] > hi[d] ? xi[d] : hi[d];
+  double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2, sum = 0.0;
+  /* each comparison with the running value on the left, which x86 does in place */
+  for (int i = 0; i < n; i++) {
+    const double a = x[3 * (size_t) i], b = x[3 * (size_t) i + 1], c = x[3 * (size_t) i + 2];
+    l0 = l0 < a ? l0 : a, h0 = h0 > a ? h0 : a;
+    l1 = l1 < b ? l1 : b, h1 = h1 > b ? h1 : b;
+    l2 = l2 < c ? l2 : c, h2 = h2 > c ? h2 : c;
+    sum += a + b + c;
   }
-  *poison += xi[0] * 0.0 + xi[1] * 0.0 + xi[2] * 0.0;
+  lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
+  return !isfinite(sum);
 }
 
 void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
 {
   const double *x = p->x;
   double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
-  if (p->nall > 0)
-    for (int d = 0; d < 3; d++) lo[d] = hi[d] = x[d];
-  double vmax2 = 0.0, rmin = INFINITY, rmax = 0.0, poison = 0.0;
-  int nonfinite_v = 0;
-  /* one pass: owned particles (position, velocity, radius), then ghosts (position) */
+  const int suspect = p->nall > 0 && box_of(x, p->nall, lo, hi);
+  /* owned particles: speed and radius */
+  double vmax2 = 0.0, vsum = 0.0, rmin = INFINITY, rmax = 0.0;
   for (int i = 0; i < p->nlocal; i++) {
-    grow_box(x + 3 * (size_t) i, lo, hi, &poison);
-    const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], r = p->radius[i];
-    nonfinite_v |= !isfinite(v2);
+    const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     vmax2 = v2 > vmax2 ? v2 : vmax2;
+    vsum += v2;
+  }
+  for (int i = 0; i < p->nlocal; i++) {
+    const double r = p->radius[i];
     rmin = r < rmin ? r : rmin;
     rmax = r > rmax ? r : rmax;
   }
-  for (int i = p->nlocal; i < p->nall; i++) grow_box(x + 3 * (size_t) i, lo, hi, &poison);
   scan->first_nonfinite = -1;
-  if (poison != poison) /* name the first one (a fault: the run stops) */
+  if (suspect) /* name the first one (a fault: the run stops) */
     for (int i = 0; i < p->nall && scan->first_nonfinite < 0; i++)
       if (!(isfinite(x[3 * i]) && isfinite(x[3 * i + 1]) && isfinite(x[3 * i + 2]))) scan->first_nonfinite = i;
   for (int d = 0; d < 3; d++) scan->lo[d] = lo[d], scan->hi[d] = hi[d];
   scan->vmax2 = vmax2;
-  scan->nonfinite_velocity = nonfinite_v;
+  scan->nonfinite_velocity = 0;
+  if (!isfinite(vsum)) /* some squared speed is not finite, or the sum overflowed */
+    for (int i = 0; i < p->nlocal && !scan->nonfinite_velocity; i++) {
+      const double *v = p->v + 3 * (size_t) i;
+      scan->nonfinite_velocity = !isfinite(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
   scan->rmin = rmin, scan->rmax = rmax;
 }
 
@@ -250,6 +261,6 @@ double griddem_engine_memory(const griddem_engine *e)
   double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
   for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
-  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(griddem_slot_sum) + sizeof(int64_t) + sizeof(int)) +
+  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(int64_t) + sizeof(int)) +
       (double) ch->image_cap * sizeof(int) + (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);
 }
