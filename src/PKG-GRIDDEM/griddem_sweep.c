@@ -29,7 +29,6 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
         grow_aligned((void **) &ch->z, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->r, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->tag, sizeof(int64_t), cap) != 0 ||
-        grow_aligned((void **) &ch->sum, sizeof(griddem_slot_sum), cap) != 0 ||
         grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
       return -1;
     ch->cap = cap;
@@ -51,8 +50,6 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
     ch->r[s] = p->radius[i];
     ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
     if (p->image) ch->image[s] = p->image[i];
-    griddem_slot_sum *sum = &ch->sum[s];
-    for (int d = 0; d < 3; d++) sum->f[d] = 0.0, sum->t[d] = 0.0;
     ch->ncontact[s] = 0;
   }
   return 0;
@@ -60,7 +57,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->image), free(ch->sum), free(ch->ncontact);
+  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->image), free(ch->ncontact);
   free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
@@ -115,6 +112,7 @@ typedef struct sweep_context {
   int history_update;
   griddem_history *hist;
   const int *row_of;
+  double *f, *torque;    /* of the particles, added into where owned */
   double *vatom;
   int want_virial;
   griddem_sweep_result *result;
@@ -137,12 +135,12 @@ typedef struct sweep_sums {
 #define SWEEP_SPECIALIZED static inline
 #endif
 
-/* Evaluate the contact of slots a and b (distance squared rsq, within reach) seen from a, which is
- * owned; b receives its share if it is owned too. classic (1: every law is classic, and nothing
- * interacts past touching) and values (the history values per contact, or -1: the model's, with
- * contacts kept as it says) are constants of each specialization. */
-SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, double rsq,
-                                  const int classic, const int values)
+/* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
+ * reach) seen from a, which is owned; b receives its share if it is owned too. classic (1: every
+ * law is classic, and nothing interacts past touching) and values (the history values per contact,
+ * or -1: the model's, with contacts kept as it says) are constants of each specialization. */
+SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
+                                  double rsq, const int classic, const int values)
 {
   griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -169,7 +167,6 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     return;
 
   griddem_contact c;
-  const double dx[3] = {ch->x[a] - ch->x[b], ch->y[a] - ch->y[b], ch->z[a] - ch->z[b]};
   griddem_contact_setup(&c, dx, rsq, ra, rb, p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
                         p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
                         (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
@@ -192,11 +189,12 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
-  griddem_slot_sum *sa = &ch->sum[a], *sb = &ch->sum[b];
-  for (int d = 0; d < 3; d++) sa->f[d] += fc[d], sa->t[d] += ta[d];
+  double *fa = cx->f + 3 * (size_t) ia, *ta_sum = cx->torque + 3 * (size_t) ia;
+  for (int d = 0; d < 3; d++) fa[d] += fc[d], ta_sum[d] += ta[d];
   ch->ncontact[a]++;
   if (b_owned) {
-    for (int d = 0; d < 3; d++) sb->f[d] -= fc[d], sb->t[d] += tb[d];
+    double *fb = cx->f + 3 * (size_t) ib, *tb_sum = cx->torque + 3 * (size_t) ib;
+    for (int d = 0; d < 3; d++) fb[d] -= fc[d], tb_sum[d] += tb[d];
     ch->ncontact[b]++;
   }
 
@@ -237,22 +235,26 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
     const int t = hits->slot[q];
     const int t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
-    const double dx = ch->x[s] - ch->x[t], dy = ch->y[s] - ch->y[t], dz = ch->z[s] - ch->z[t];
-    const double rsq = dx * dx + dy * dy + dz * dz;
-    if (s_owned) sweep_pair(cx, sums, s, t, rsq, classic, values);
-    else sweep_pair(cx, sums, t, s, rsq, classic, values);
+    const double dx[3] = {ch->x[s] - ch->x[t], ch->y[s] - ch->y[t], ch->z[s] - ch->z[t]};
+    const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    if (s_owned) sweep_pair(cx, sums, s, t, dx, rsq, classic, values);
+    else {    /* seen from t: the separation negated, exactly */
+      const double dt[3] = {-dx[0], -dx[1], -dx[2]};
+      sweep_pair(cx, sums, t, s, dt, rsq, classic, values);
+    }
   }
 }
 
-/* Evaluate slot s's touching candidates and empty the list. The partners' velocities and sums are
- * requested from memory first, so their loads overlap. */
+/* Evaluate slot s's touching candidates and empty the list. The partners' velocities and forces
+ * are requested from memory first, so their loads overlap. */
 static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
 {
 #ifdef __GNUC__
   const griddem_channels *ch = cx->ch;
   for (int q = 0; q < hits->n; q++) {
-    __builtin_prefetch(&ch->p->v[3 * (size_t) cx->order[hits->slot[q]]]);
-    __builtin_prefetch(&ch->sum[hits->slot[q]], 1);
+    const size_t i = (size_t) cx->order[hits->slot[q]];
+    __builtin_prefetch(&ch->p->v[3 * i]);
+    __builtin_prefetch(&cx->f[3 * i], 1);
   }
 #endif
   switch (cx->law) {
@@ -572,7 +574,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 {
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
-                            dt, history_update, hist, row_of, vatom, want_virial, result,
+                            dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
                             {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
   memset(result, 0, sizeof(*result));
   int nthreads = 1;
@@ -671,14 +673,12 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 
   if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
+  /* only owned particles' slots count contacts */
   long contacts = 0;
   int most = 0;
   for (int s = 0; s < nslot; s++) {
-    const int i = order[s];
-    if (i >= nlocal || ch->ncontact[s] == 0) continue;    /* no contact, no force */
-    for (int d = 0; d < 3; d++) f[3 * i + d] += ch->sum[s].f[d], torque[3 * i + d] += ch->sum[s].t[d];
     contacts += ch->ncontact[s];
-    if (ch->ncontact[s] > most) most = ch->ncontact[s];
+    most = ch->ncontact[s] > most ? ch->ncontact[s] : most;
   }
   result->virial[0] = v0, result->virial[1] = v1, result->virial[2] = v2;
   result->virial[3] = v3, result->virial[4] = v4, result->virial[5] = v5;

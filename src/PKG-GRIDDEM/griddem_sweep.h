@@ -31,11 +31,6 @@ typedef struct griddem_particles {
                         image axes; NULL: contacts are keyed by partner tag alone */
 } griddem_particles;
 
-/* Force and torque summed on a particle during the sweep. */
-typedef struct griddem_slot_sum {
-  double f[3], t[3];
-} griddem_slot_sum;
-
 /* The particles in sorted order (the channels): centre and radius per slot, one array each, which
  * the candidate search reads in runs of slots a vector at a time; a pair that touches reads the
  * rest (velocities, mass, type, mask) from the particles through the slot's index. Also the
@@ -44,11 +39,10 @@ typedef struct griddem_channels {
   int n, cap;
   const griddem_particles *p;  /* of the last fill */
   double *x, *y, *z, *r;       /* per slot */
-  griddem_slot_sum *sum;
   int64_t *tag;
   int *image;                  /* per slot: its particle's image code, if keyed_by_image */
   int keyed_by_image, image_cap; /* the particles had images: contacts keyed by partner and image */
-  int *ncontact;
+  int *ncontact;               /* per slot: contacts evaluated (of owned particles) */
   int *slab, *slots, *first;   /* cross-class pass: small spheres by slab of the coarse grid */
   int across_cap, first_cap;
 } griddem_channels;
