@@ -31,6 +31,7 @@ FixGriddemCPU::~FixGriddemCPU()
 
 void FixGriddemCPU::init()
 {
+  const int contacts = options.contacts;
   if (reserved || contacts == 0) return;
   const int n = atom->nlocal;
   if (griddem_history_reserve(&rows, n, (long) n * contacts) != 0)
@@ -62,7 +63,7 @@ void FixGriddemCPU::set_values(int values)
 {
   if (griddem_history_set_values(&rows, values) != 0)
     error->one(FLERR, "Fix griddem: out of memory converting the contact history to {} values per contact", values);
-  rows_written();
+  update_maxexchange();
 }
 
 const double *FixGriddemCPU::find_history(int i, int64_t partner)
@@ -90,10 +91,17 @@ void FixGriddemCPU::put_message(int i, const double *message)
   row_of[i] = griddem_history_put_message(&rows, message, rows.values);
   if (row_of[i] < 0)
     error->one(FLERR, "Fix griddem: out of memory for the contact history of atom {}", atom->tag[i]);
-  rows_written();
+  update_maxexchange();
 }
 
-void FixGriddemCPU::rows_written()
+void FixGriddemCPU::commit_step()
+{
+  update_maxexchange();
+}
+
+// the longest row sizes exchange messages
+
+void FixGriddemCPU::update_maxexchange()
 {
   maxexchange = griddem_history_longest_message(&rows);
 }

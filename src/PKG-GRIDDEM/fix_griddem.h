@@ -36,16 +36,14 @@ class FixGriddemCPU : public FixGriddem {
   int longest_message() override;
   void put_message(int i, const double *message) override;
 
-  // for the engine's step: the history and each atom's row in it (the step rewrites both);
-  // rows_written() after the step
-  griddem_history *history() { return &rows; }
-  int *row_of_atom() { return row_of; }
-  void rows_written();
+  griddem_history_rows begin_step() override { return griddem_history_rows{&rows, row_of}; }
+  void commit_step() override;
 
  private:
   griddem_history rows;
   int *row_of;          // per atom: its history row, or -1
   int reserved;         // history storage reserved for `contacts` per atom
+  void update_maxexchange();
 };
 
 }    // namespace LAMMPS_NS

@@ -36,44 +36,8 @@ static int choice(const char *word, std::initializer_list<std::pair<const char *
 }
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), cell_mode(GRIDDEM_CELL_AUTO), cell_edge(0.0), contacts(6),
-    precision(GRIDDEM_PRECISION_DOUBLE), search(GRIDDEM_SEARCH_AUTO), made_by_pair(0), stats_current(0),
-    step_stats(), image_axes(0)
+    Fix(lmp, narg, arg), options(parse_options(narg, arg)), made_by_pair(0), image_axes(0)
 {
-  int iarg = 3;
-  while (iarg < narg) {
-    if (strcmp(arg[iarg], "cell") == 0) {
-      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem cell", error);
-      cell_mode = choice(arg[iarg + 1], {{"auto", GRIDDEM_CELL_AUTO}, {"exact", GRIDDEM_CELL_EXACT},
-                                         {"multi", GRIDDEM_CELL_MULTI}, {"classes", GRIDDEM_CELL_CLASSES}});
-      if (cell_mode < 0) {
-        cell_mode = GRIDDEM_CELL_FIXED;
-        cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-        if (cell_edge <= 0.0)
-          error->all(FLERR, "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not {}",
-                     arg[iarg + 1]);
-      }
-      iarg += 2;
-    } else if (strcmp(arg[iarg], "contacts") == 0) {
-      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem contacts", error);
-      contacts = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (contacts < 0 || contacts > 10000)
-        error->all(FLERR, "Fix griddem contacts must be between 0 and 10000, not {}", contacts);
-      iarg += 2;
-    } else if (strcmp(arg[iarg], "precision") == 0) {
-      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem precision", error);
-      precision = choice(arg[iarg + 1], {{"double", GRIDDEM_PRECISION_DOUBLE}, {"single", GRIDDEM_PRECISION_SINGLE}});
-      if (precision < 0) error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
-      iarg += 2;
-    } else if (strcmp(arg[iarg], "search") == 0) {
-      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem search", error);
-      search = choice(arg[iarg + 1], {{"auto", GRIDDEM_SEARCH_AUTO}, {"thread", GRIDDEM_SEARCH_THREAD},
-                                      {"team", GRIDDEM_SEARCH_TEAM}});
-      if (search < 0) error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
-      iarg += 2;
-    } else
-      error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
-  }
   vector_flag = 1;
   size_vector = 7;
   global_freq = 1;
@@ -92,6 +56,51 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
   int in_place = 0;
   for (int k = 0; k < modify->nfix; k++) in_place |= modify->fix[k] == nullptr;
   if (auto pair = griddem_pair_link(force->pair)) pair->fix_made(this, in_place);
+}
+
+GriddemFixOptions FixGriddem::parse_options(int narg, char **arg)
+{
+  GriddemFixOptions o;
+  o.cell_mode = GRIDDEM_CELL_AUTO;
+  o.cell_edge = 0.0;
+  o.contacts = 6;
+  o.precision = GRIDDEM_PRECISION_DOUBLE;
+  o.search = GRIDDEM_SEARCH_AUTO;
+  int iarg = 3;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "cell") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem cell", error);
+      o.cell_mode = choice(arg[iarg + 1], {{"auto", GRIDDEM_CELL_AUTO}, {"exact", GRIDDEM_CELL_EXACT},
+                                           {"multi", GRIDDEM_CELL_MULTI}, {"classes", GRIDDEM_CELL_CLASSES}});
+      if (o.cell_mode < 0) {
+        o.cell_mode = GRIDDEM_CELL_FIXED;
+        o.cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+        if (o.cell_edge <= 0.0)
+          error->all(FLERR, "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not {}",
+                     arg[iarg + 1]);
+      }
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "contacts") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem contacts", error);
+      o.contacts = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (o.contacts < 0 || o.contacts > 10000)
+        error->all(FLERR, "Fix griddem contacts must be between 0 and 10000, not {}", o.contacts);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "precision") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem precision", error);
+      o.precision = choice(arg[iarg + 1], {{"double", GRIDDEM_PRECISION_DOUBLE}, {"single", GRIDDEM_PRECISION_SINGLE}});
+      if (o.precision < 0) error->all(FLERR, "Fix griddem precision must be single or double, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "search") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem search", error);
+      o.search = choice(arg[iarg + 1], {{"auto", GRIDDEM_SEARCH_AUTO}, {"thread", GRIDDEM_SEARCH_THREAD},
+                                        {"team", GRIDDEM_SEARCH_TEAM}});
+      if (o.search < 0) error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else
+      error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
+  }
+  return o;
 }
 
 FixGriddem::~FixGriddem()
@@ -120,7 +129,6 @@ void FixGriddem::put_history(int i, const double *record)
 void FixGriddem::drop_history()
 {
   for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
-  stats_current = 0;
 }
 
 /* An owned atom's image is minus its image flags (griddem_history.h); its keys hold partner IDs
@@ -209,19 +217,17 @@ int FixGriddem::maxsize_restart()
 
 double FixGriddem::compute_vector(int n)
 {
-  if (!stats_current) {
+  auto pair = griddem_pair_link(force->pair);
+  const griddem_engine_stats *stats = pair ? pair->step_stats(this, n == 0 || n == 1) : nullptr;
+  if (!stats) {
     const char *pair_style = force->pair_style ? force->pair_style : "none";
-    if (!griddem_pair_link(force->pair))
+    if (!pair)
       error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} is not a griddem pair style",
                  id, pair_style);
     error->all(FLERR, "Fix {}: its grid values are those of a griddem pair style's step, and pair style {} has run none with it yet",
                id, pair_style);
   }
-  // counted when asked: only the Kokkos styles leave it so, and their pair ran this step (the
-  // values are current), so force->pair is the style that can count it
-  if ((n == 0 || n == 1) && step_stats.occupied_cells < 0)
-    griddem_pair_link(force->pair)->count_occupancy(step_stats);
-  const griddem_engine_stats &s = step_stats;
+  const griddem_engine_stats &s = *stats;
   double value = 0.0, mine = 0.0;
   MPI_Op op = MPI_MAX;
   switch (n) {

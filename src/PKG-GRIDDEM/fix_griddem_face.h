@@ -1,6 +1,6 @@
 /* -*- c++ -*- ----------------------------------------------------------
-   GRIDDEM package: what every fix griddem is (options, diagnostics, the contact-history store's
-   face); the styles are fix_griddem.h (the CPU store) and kokkos/fix_griddem_kokkos.h.
+   GRIDDEM package: what every fix griddem is (options, the grid diagnostics of its pair style's
+   steps, the contact-history store's face); the styles are fix_griddem.h (the CPU store) and kokkos/fix_griddem_kokkos.h.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_FIX_GRIDDEM_FACE_H
@@ -20,8 +20,18 @@ enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
 enum { GRIDDEM_SEARCH_AUTO, GRIDDEM_SEARCH_THREAD, GRIDDEM_SEARCH_TEAM };
 
 
-/* What every fix griddem is: the grid options, the grid diagnostics (a global vector) and the
-   face of the contact-history store that the griddem pair styles read and write. The store keeps
+// fix griddem's options, as its keywords set them
+struct GriddemFixOptions {
+  int cell_mode;        // cell: enum griddem_cell_mode
+  double cell_edge;     // cell: the edge of GRIDDEM_CELL_FIXED
+  int contacts;         // contacts: expected per atom (initial history storage); 0: no history
+  int precision;        // precision: GRIDDEM_PRECISION_*, of the Kokkos styles' sorted particle data
+  int search;           // search: GRIDDEM_SEARCH_*, the Kokkos styles' search
+};
+
+/* What every fix griddem is: the grid options, the grid diagnostics of its pair style's last step
+   (a global vector, which the pair style gives: GriddemPairLink) and the face of the
+   contact-history store that the griddem pair styles read and write. The store keeps
    per atom the row of its contacts; rows migrate with their atoms and go into restart files as
    row messages (griddem_history.h), one format for both stores: FixGriddemCPU (fix griddem, a
    griddem_history in host memory, which the CPU styles' engine sweeps; fix_griddem.h) and FixGriddemKokkos (fix
@@ -54,6 +64,11 @@ class FixGriddem : public Fix {
   virtual int longest_message() = 0;
   // atom i takes the row of a message with history_values() values per contact
   virtual void put_message(int i, const double *message) = 0;
+  // a CPU style's step: the history and each atom's row in it, which the step rewrites (none
+  // where the rows live on a Kokkos device, whose styles sweep fix griddem/kk's pools); then
+  // commit_step() once the step has written them
+  virtual griddem_history_rows begin_step() { return griddem_history_rows{nullptr, nullptr}; }
+  virtual void commit_step() {}
 
   // the periodic image code (griddem_image_code) of each owned and ghost atom along the image
   // axes `axes` (bit d: axis d), for the history keys of a box thin along them; the ghosts' by a
@@ -64,25 +79,10 @@ class FixGriddem : public Fix {
 
   // atom i takes the row of a record laid out as pack_restart writes it
   void put_history(int i, const double *record);
-  // every atom's row emptied; the grid values are refused until a griddem pair style's next step
+  // every atom's row emptied
   void drop_history();
 
-  // the statistics of a griddem pair style's last step with this fix, its occupancy as -1
-  // where the pair style counts it when asked (GriddemPairLink)
-  const griddem_engine_stats &stats() const { return step_stats; }
-  void set_stats(const griddem_engine_stats &s)
-  {
-    step_stats = s;
-    stats_current = 1;
-  }
-
-  // grid options (keywords cell and contacts)
-  int cell_mode;        // enum griddem_cell_mode
-  double cell_edge;     // for GRIDDEM_CELL_FIXED
-  int contacts;         // expected contacts per atom (initial history storage); 0: no history
-  int precision;        // of the sorted particle data (the Kokkos styles); GRIDDEM_PRECISION_*
-  int search;           // the Kokkos styles' search; GRIDDEM_SEARCH_*
-
+  const GriddemFixOptions options;
   int made_by_pair;     // 1: the pair style's own fix, deleted with the pair style
 
  protected:
@@ -91,8 +91,7 @@ class FixGriddem : public Fix {
   void leave();
 
  private:
-  int stats_current;    // step_stats are of a griddem pair style's step with this fix
-  griddem_engine_stats step_stats;
+  GriddemFixOptions parse_options(int narg, char **arg);
   std::vector<int> image_codes;    // periodic_images()
   int image_axes;                  // of the last periodic_images()
 };

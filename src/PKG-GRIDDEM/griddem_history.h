@@ -163,6 +163,13 @@ GRIDDEM_INLINE const double *griddem_restart_message(const double *record)
   return record + GRIDDEM_RESTART_HEADER;
 }
 
+/* What one step of the CPU engine reads and rewrites of a store: the history and each particle's
+ * row in it (-1: none). */
+typedef struct griddem_history_rows {
+  griddem_history *hist;
+  int *row_of;
+} griddem_history_rows;
+
 void griddem_history_init(griddem_history *h, int values);
 void griddem_history_free(griddem_history *h);
 

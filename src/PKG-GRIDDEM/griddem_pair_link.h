@@ -13,15 +13,16 @@ namespace LAMMPS_NS {
    name, Pair::extract("griddem") (griddem_pair_link). */
 class GriddemPairLink {
  public:
-  // The contact history lives as long as the pair style (see pair_griddem.cpp). A fix griddem
+  // The contact history lives as long as the pair style (griddem_fix_keeper.h). A fix griddem
   // tells it when it is made (in_place: in the slot of the fix of its ID, which Modify has just
   // deleted) and when it goes.
   virtual void fix_made(class FixGriddem *made, int in_place) = 0;
   virtual void fix_leaving(class FixGriddem *leaving) = 0;
-  // the occupied cells and the most centres in one, of the last step's grid, where the style
-  // reported them as -1 (the Kokkos styles count them only when asked: a pass over every cell
-  // that most steps do not need)
-  virtual void count_occupancy(griddem_engine_stats &stats) = 0;
+  // the statistics of the style's last step with fix `of` (before its first step: those of a
+  // step without atoms), or nullptr where the style has not chosen that fix; occupancy: with the
+  // occupied cells and the most centres in one (the Kokkos styles count them only when asked: a
+  // pass over every cell that most steps do not need)
+  virtual const griddem_engine_stats *step_stats(const class FixGriddem *of, int occupancy) = 0;
 
  protected:
   ~GriddemPairLink() = default;    // not deleted through this interface

@@ -1,13 +1,8 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: the part every griddem pair style shares (see pair_griddem.h).
    Ghosts receive no force (newton off across processes), so no reverse communication is needed.
-
-   The contact history lives as long as the pair style, as stock's does: the style makes fix
-   GRIDDEM when it is defined (or read from a restart file) unless the script has a fix griddem,
-   and deletes it with itself; a fix griddem of the script's then keeps its options and loses its
-   rows. A fix griddem defined after a run takes the history of the one that ran: one of another
-   ID at the next init_style, one of the same ID (which Modify deletes before making the new one)
-   from the rows the old one left here, by atom ID.
+   The contact history lives in a fix griddem, which the keeper (griddem_fix_keeper.h) makes,
+   chooses and hands over as long as the pair style lives.
 ------------------------------------------------------------------------- */
 
 #include "pair_griddem.h"
@@ -16,7 +11,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_griddem.h"
+#include "fix_griddem_face.h"
 #include "force.h"
 #include "group.h"
 #include "math_const.h"
@@ -27,15 +22,12 @@
 
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 using namespace LAMMPS_NS;
 
-static const char AUTO_FIX_ID[] = "GRIDDEM";
-
 PairGriddem::PairGriddem(LAMMPS *lmp) :
-    Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), fix(nullptr),
-    cpu_rows(nullptr), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), heir(nullptr)
+    Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
+    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions()
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -50,15 +42,7 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
 PairGriddem::~PairGriddem()
 {
   if (copymode) return;
-  fix = heir = nullptr;    // nothing to keep for a successor
-  parked_id.clear();
-  for (auto f : modify->get_fix_by_style("^griddem$")) {
-    auto history = dynamic_cast<FixGriddem *>(f);
-    if (history->made_by_pair)
-      modify->delete_fix(history->id);
-    else
-      history->drop_history();
-  }
+  keeper.release();
   delete[] svector;
   griddem_engine_free(&engine);
   if (allocated) {
@@ -159,24 +143,9 @@ double PairGriddem::init_one(int i, int j)
   return type_radius[i] + type_radius[j] + pulloff;
 }
 
-/* fix GRIDDEM with default options, unless the script already defined a fix griddem; made when
-   the pair style is defined so that thermo_style can name f_GRIDDEM before the first run.
-   remake: made again even if it exists and suits (the one made before a restart file's atoms
-   were read takes their history so) */
-
-void PairGriddem::create_default_fix(int remake)
+void PairGriddem::create_default_fix()
 {
-  const std::string wanted = history_fix_style();
-  auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
-  if (existing && ((remake && existing->made_by_pair) ||
-                   (model.track_contacts &&
-                    (existing->contacts == 0 || existing->kokkosable != kokkosable))))
-    modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
-  else if (!modify->get_fix_by_style("^griddem$").empty())
-    return;
-  auto made = dynamic_cast<FixGriddem *>(
-      modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, wanted, model.track_contacts ? "" : " contacts 0")));
-  made->made_by_pair = 1;
+  keeper.make_default(history_fix_style(), kokkosable, model.track_contacts);
 }
 
 double PairGriddem::memory_usage()
@@ -190,110 +159,11 @@ void *PairGriddem::extract(const char *name, int &dim)
   return strcmp(name, "griddem") == 0 ? static_cast<GriddemPairLink *>(this) : nullptr;
 }
 
-void PairGriddem::fix_made(FixGriddem *made, int in_place)
+const griddem_engine_stats *PairGriddem::step_stats(const FixGriddem *of, int occupancy)
 {
-  if (in_place && !parked_id.empty() && parked_id == made->id)
-    heir = made;
-  else {    // a fix griddem made afresh: the history of one deleted before is dropped
-    heir = nullptr;
-    parked_id.clear();
-    parked.clear();
-  }
-}
-
-void PairGriddem::fix_leaving(FixGriddem *leaving)
-{
-  if (leaving == heir) {
-    heir = nullptr;
-    parked_id.clear();
-    parked.clear();
-  }
-  if (leaving != fix) return;
-  park_history(*leaving);
-  fix = nullptr;
-  cpu_rows = nullptr;
-}
-
-void PairGriddem::park_history(FixGriddem &from)
-{
-  parked.clear();
-  parked_id = from.id;
-  std::vector<double> record;
-  for (int i = 0; i < atom->nlocal; i++) {
-    record.resize(from.size_restart(i));
-    from.pack_restart(i, record.data());
-    if (record[2] == 0.0) continue;    // no contacts
-    parked.push_back((double) atom->tag[i]);
-    parked.insert(parked.end(), record.begin(), record.end());
-  }
-}
-
-/* each atom takes its parked row; atoms no longer on this process lose theirs, with a warning */
-
-void PairGriddem::unpark_history(FixGriddem &to)
-{
-  std::unordered_map<tagint, size_t> record_of;
-  for (size_t m = 0; m < parked.size(); m += 1 + (size_t) parked[m + 1])
-    record_of[(tagint) parked[m]] = m + 1;
-  for (int i = 0; i < atom->nlocal; i++) {
-    auto found = record_of.find(atom->tag[i]);
-    if (found == record_of.end()) continue;
-    to.put_history(i, &parked[found->second]);
-    record_of.erase(found);
-  }
-  bigint lost = record_of.size(), lost_all = 0;
-  MPI_Allreduce(&lost, &lost_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (lost_all && comm->me == 0)
-    error->warning(FLERR, "Pair style {}: fix {} takes the contact history of the fix it replaced, but {} atoms with contacts moved to another process or were deleted in between and lose theirs",
-                   force->pair_style, to.id, lost_all);
-  parked.clear();
-  parked_id.clear();
-  heir = nullptr;
-}
-
-/* the fix griddem of this init: the script's, else the pair style's own; one defined beside the
-   one that ran (or the pair style's own) replaces it and takes its history */
-
-FixGriddem *PairGriddem::choose_fix()
-{
-  auto fixes = modify->get_fix_by_style("^griddem$");
-  if (fixes.size() > 1) {
-    Fix *old = nullptr;
-    for (auto f : fixes)
-      if (f == fix) old = f;
-    for (auto f : fixes)
-      if (!old && dynamic_cast<FixGriddem *>(f)->made_by_pair) old = f;
-    std::vector<Fix *> others;
-    for (auto f : fixes)
-      if (f != old) others.push_back(f);
-    if (old && old == fix && others.size() == 1) {
-      park_history(*fix);
-      heir = dynamic_cast<FixGriddem *>(others.front());
-      fix = nullptr;
-      if (comm->me == 0)
-        utils::logmesg(lmp, "Fix {} replaces fix {} and takes its contact history\n", heir->id, old->id);
-    }
-    if (old && old != fix) {
-      modify->delete_fix(old->id);
-      fixes = others;
-    }
-  }
-  if (fixes.size() > 1)
-    error->all(FLERR, "Only one fix griddem may be defined (fixes {} and {}); one defined after a run replaces the one that ran",
-               fixes[0]->id, fixes[1]->id);
-  auto chosen = fixes.empty() ? nullptr : dynamic_cast<FixGriddem *>(fixes.front());
-  if (!chosen || chosen->made_by_pair) {
-    // until the first run after read_restart its per-atom data waits in atom->extra: the fix
-    // made before the atoms were read is made again to take its history from there
-    create_default_fix(chosen && chosen != fix && atom->nextra_store > 0 && !chosen->restart_reset);
-    chosen = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
-  }
-  if (heir == chosen) unpark_history(*chosen);
-  // Modify gives a fix the restart file's per-atom data only under the ID that wrote it
-  if (atom->nextra_store > 0 && !chosen->restart_reset && comm->me == 0)
-    error->warning(FLERR, "Pair style {}: the restart file holds no contact history of fix {}, so its contacts start without one; if a fix griddem of another ID wrote it, define that fix again after read_restart",
-                   force->pair_style, chosen->id);
-  return chosen;
+  if (!of || of != fix()) return nullptr;
+  if (occupancy && last_stats.occupied_cells < 0) count_occupancy(last_stats);
+  return &last_stats;
 }
 
 void PairGriddem::init_style()
@@ -315,22 +185,21 @@ void PairGriddem::init_style()
     if (ifix->rigid_flag)
       error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
 
-  fix = choose_fix();
-  fix->set_stats(griddem_engine_stats());    // the values of a step without atoms, which runs no sweep
-  if (model.track_contacts && fix->contacts == 0)
+  FixGriddem *fix = keeper.choose(history_fix_style(), kokkosable, model.track_contacts);
+  last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
+  if (model.track_contacts && fix->options.contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
-  if (fix->precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
+  if (fix->options.precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
     error->all(FLERR, "Pair style {}: fix {} precision single is implemented by the Kokkos styles only "
                "(griddem/.../kk); the CPU styles work in double", style, fix->id);
-  if (fix->search != GRIDDEM_SEARCH_AUTO && !kokkosable)
+  if (fix->options.search != GRIDDEM_SEARCH_AUTO && !kokkosable)
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
                "(griddem/.../kk); the CPU styles have one", style, fix->id,
-               fix->search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
+               fix->options.search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
   if (model.track_contacts && fix->kokkosable != kokkosable)
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
                history_fix_style(), fix->id, fix->kokkosable ? "griddem/kk" : "griddem");
-  cpu_rows = model.track_contacts && !kokkosable ? dynamic_cast<FixGriddemCPU *>(fix) : nullptr;
   if (fix->igroup != 0) error->all(FLERR, "Fix griddem {} must be defined for group all", fix->id);
   fix->set_values(model.history_size);
 
@@ -516,7 +385,7 @@ void PairGriddem::error_too_fast(int i, double speed, double h_nn4dem)
 
 void PairGriddem::check_motion(double h_nn4dem)
 {
-  const griddem_engine_stats &st = fix->stats();
+  const griddem_engine_stats &st = last_stats;
   const double moved = st.max_speed * update->dt;
   if (!st.nonfinite_velocity && !(moved > h_nn4dem)) return;
   // the engine found a fault; name the atom (the first non-finite one, else the fastest)
@@ -540,7 +409,7 @@ void PairGriddem::error_stencil_reach(double edge)
 void PairGriddem::report_fault(const griddem_sweep_result &r)
 {
   if (r.fault == GRIDDEM_FAULT_COINCIDENT) error_coincident(r.fault_i, r.fault_j);
-  if (r.fault == GRIDDEM_FAULT_STENCIL) error_stencil_reach(fix->stats().cell_edge);
+  if (r.fault == GRIDDEM_FAULT_STENCIL) error_stencil_reach(last_stats.cell_edge);
   if (r.fault == GRIDDEM_FAULT_MEMORY)
     error->one(FLERR, "Pair style {}: out of memory for the grid or the contact history of {} atoms", force->pair_style,
                atom->nlocal + atom->nghost);
@@ -575,14 +444,14 @@ griddem_particles PairGriddem::host_particles()
 
 bool PairGriddem::grid_cost_due() const
 {
-  const int mode = fix->cell_mode;
+  const int mode = fix()->options.cell_mode;
   if (cost_warned || mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES || rmax == 0.0) return false;
   return update->setupflag || atom->natoms != cost_natoms;
 }
 
 void PairGriddem::check_grid_cost()
 {
-  const int mode = fix->cell_mode;
+  const int mode = fix()->options.cell_mode;
   cost_natoms = atom->natoms;
 
   griddem_step step;
@@ -596,7 +465,7 @@ void PairGriddem::check_grid_cost()
   step.excl = &exclusions;
   griddem_engine probe;
   griddem_engine_init(&probe);
-  step.cell_edge = griddem_cell_edge(mode, rmin, rmax, fix->cell_edge);
+  step.cell_edge = griddem_cell_edge(mode, rmin, rmax, fix()->options.cell_edge);
   double local[2], total[2];
   local[0] = griddem_engine_candidates(&probe, &step);
   int most_local = probe.stats.max_occupancy, most;
@@ -611,12 +480,12 @@ void PairGriddem::check_grid_cost()
   if (here <= GRIDDEM_COST_RATIO_WARN * defaults && most <= GRIDDEM_OCCUPANCY_WARN) return;
   cost_warned = 1;
   const std::string name = mode == GRIDDEM_CELL_EXACT ? "exact" : mode == GRIDDEM_CELL_MULTI ? "multi"
-                                                                  : fmt::format("{}", fix->cell_edge);
+                                                                  : fmt::format("{}", fix()->options.cell_edge);
   if (comm->me == 0)
     error->warning(FLERR, "Pair style {}: fix {} cell {} tests {:.6g} candidate pairs per atom, {:.6g} times the {:.6g} "
                    "of cell auto, and holds up to {} centres in one cell (warned above {} times or {} centres); "
                    "use cell auto (the default), which gives each size class a grid of its own",
-                   force->pair_style, fix->id, name, here, here / MAX(defaults, 1e-300), defaults,
+                   force->pair_style, fix()->id, name, here, here / MAX(defaults, 1e-300), defaults,
                    most, GRIDDEM_COST_RATIO_WARN, GRIDDEM_OCCUPANCY_WARN);
 }
 
@@ -640,12 +509,14 @@ void PairGriddem::compute(int eflag, int vflag)
   if (neighbor->ago == 0) set_radius_range(scan.rmin, scan.rmax);
   if (rmax == 0.0) return;    // no atoms yet
   if (grid_cost_due()) check_grid_cost();
+  FixGriddem *fix = this->fix();
   part.image = images = image_axes ? fix->periodic_images(image_axes) : nullptr;
 
+  const GriddemFixOptions &options = fix->options;
   step.scan = &scan;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
-  step.cell_edge = griddem_cell_edge(fix->cell_mode, rmin, rmax, fix->cell_edge);
-  step.size_classes = fix->cell_mode == GRIDDEM_CELL_CLASSES || fix->cell_mode == GRIDDEM_CELL_AUTO;
+  step.cell_edge = griddem_cell_edge(options.cell_mode, rmin, rmax, options.cell_edge);
+  step.size_classes = options.cell_mode == GRIDDEM_CELL_CLASSES || options.cell_mode == GRIDDEM_CELL_AUTO;
   step.rmin = rmin;
   step.max_cells = GRIDDEM_ONE_GRID_MAX_CELLS(nall);
   step.rmax = rmax;
@@ -653,8 +524,9 @@ void PairGriddem::compute(int eflag, int vflag)
   step.excl = &exclusions;
   step.dt = update->dt;
   step.history_update = update->setupflag ? 0 : 1;
-  step.hist = cpu_rows ? cpu_rows->history() : nullptr;
-  step.row_of = cpu_rows ? cpu_rows->row_of_atom() : nullptr;
+  const griddem_history_rows rows = model.track_contacts ? fix->begin_step() : griddem_history_rows{nullptr, nullptr};
+  step.hist = rows.hist;
+  step.row_of = rows.row_of;
   step.f = atom->f[0];
   step.torque = atom->torque[0];
   step.vatom = vflag_atom ? vatom[0] : nullptr;
@@ -663,12 +535,12 @@ void PairGriddem::compute(int eflag, int vflag)
   griddem_sweep_result result;
   int coarsened = 0;
   griddem_engine_step(&engine, &step, &result, &coarsened);
-  fix->set_stats(engine.stats);
-  if (cpu_rows) cpu_rows->rows_written();
+  last_stats = engine.stats;
+  if (model.track_contacts) fix->commit_step();
   if (coarsened && !coarsened_warned) {
     coarsened_warned = 1;
     error->warning(FLERR, "Pair style {}: cell edge enlarged from {} to {} so that the grid over this process's atoms stays within {} cells",
-                   force->pair_style, step.cell_edge, fix->stats().cell_edge, step.max_cells);
+                   force->pair_style, step.cell_edge, last_stats.cell_edge, step.max_cells);
   }
   if (result.fault != GRIDDEM_FAULT_NONE) report_fault(result);
   if (vflag_global)
@@ -696,7 +568,7 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
     owner_is_i = i < atom->nlocal;
     const int owner = owner_is_i ? i : j, other = owner_is_i ? j : i;
     const int64_t tag = atom->tag[other];
-    stored = fix->find_history(owner, image_axes && images ? griddem_image_key(tag, images[owner], images[other]) : tag);
+    stored = fix()->find_history(owner, image_axes && images ? griddem_image_key(tag, images[owner], images[other]) : tag);
     for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : model.history_parity[m] * stored[m];
   }
   const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);

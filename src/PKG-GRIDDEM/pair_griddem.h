@@ -10,6 +10,7 @@
 #define LMP_PAIR_GRIDDEM_H
 
 #include "griddem_engine.h"
+#include "griddem_fix_keeper.h"
 #include "griddem_pair_link.h"
 #include "griddem_submodels.h"
 #include "pair.h"
@@ -36,10 +37,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   void *extract(const char *, int &) override;
   double memory_usage() override;
 
-  void fix_made(class FixGriddem *made, int in_place) override;
-  void fix_leaving(class FixGriddem *leaving) override;
-  // the CPU engine counts the occupancy every step: nothing to count when asked
-  void count_occupancy(griddem_engine_stats &) override {}
+  void fix_made(class FixGriddem *made, int in_place) override { keeper.fix_made(made, in_place); }
+  void fix_leaving(class FixGriddem *leaving) override { keeper.fix_leaving(leaving); }
+  const griddem_engine_stats *step_stats(const class FixGriddem *of, int occupancy) override;
 
  protected:
   griddem_model model;                         // what the engine evaluates
@@ -48,10 +48,13 @@ class PairGriddem : public Pair, public GriddemPairLink {
   double cutoff_global;                        // < 0: cutoffs from the radii
   int layout_set;                              // history layout fixed by a first spec
   int single_hooke_layout;                     // single() reports as gran/hooke/history
-  class FixGriddem *fix;    // the fix of the last init_style: it holds the history
-  class FixGriddemCPU *cpu_rows;    // that fix's CPU store, which the engine sweeps (nullptr:
-                                    // a model without history, or a Kokkos style)
+  GriddemFixKeeper keeper;    // which fix griddem holds the history
+  // the fix of the last init_style: the history and the grid options
+  class FixGriddem *fix() const { return keeper.fix(); }
   griddem_engine engine;    // the CPU styles' grids, bins and channels
+  griddem_engine_stats last_stats;    // of the last step (init_style: of a step without atoms)
+  // the occupancy of last_stats where a step left it -1 (the Kokkos styles count it when asked)
+  virtual void count_occupancy(griddem_engine_stats &) {}
   int coarsened_warned;
   int cost_warned;        // check_grid_cost() warned
   bigint cost_natoms;     // the atom count check_grid_cost() last measured
@@ -65,7 +68,7 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // makes fix GRIDDEM (when no fix griddem exists), so that it exists from the pair style's
   // settings, pair_coeff or restart on
   void allocate();
-  void create_default_fix(int remake = 0);
+  void create_default_fix();
   // the fix style that holds this style's contact history: "griddem", or a Kokkos variant (a
   // kokkosable pair style keeps it in a kokkosable fix, fix griddem/kk)
   virtual std::string history_fix_style() const { return "griddem"; }
@@ -105,14 +108,6 @@ class PairGriddem : public Pair, public GriddemPairLink {
   void find_radius_range();
   void check_motion(double h_nn4dem);
   void report_fault(const griddem_sweep_result &);
-
-  // the rows of a fix that went, by atom ID, for the fix that replaced it in place
-  std::vector<double> parked;    // per atom: its ID, then its restart record
-  std::string parked_id;         // the ID of the fix they came from
-  class FixGriddem *heir;        // the fix that takes them at the next init_style
-  void park_history(class FixGriddem &from);
-  void unpark_history(class FixGriddem &to);
-  class FixGriddem *choose_fix();
 };
 
 }    // namespace LAMMPS_NS

@@ -21,8 +21,8 @@
    4. sweep (griddem_kk_sweep.h): one thread per sorted owned particle evaluates the law over its list from its own
       side (griddem_contact_eval). The law is exactly odd under i <-> j, so each particle sums its
       own force and torque: no atomics, no colouring, no reverse communication. The global virial
-      (half of del*f per owned side) and fix griddem's statistics come back from its
-      parallel_reduce; the occupancy of the cells is counted only when fix griddem is asked.
+      (half of del*f per owned side) and the step's statistics (which fix griddem's vector reports)
+      come back from its parallel_reduce; the occupancy of the cells is counted only when asked.
 
    One blocking synchronisation a step: the kernels leave what the host needs in one report
    (GriddemKKStepReport, griddem_kk_report.h), copied back once after the sweep. Between reneighborings the grids are
@@ -130,7 +130,7 @@ class PairGriddemKokkos : public Base {
   // fix griddem's cell mode takes a grid per size class (auto, classes), not one grid
   bool class_grids() const
   {
-    return this->fix->cell_mode == GRIDDEM_CELL_AUTO || this->fix->cell_mode == GRIDDEM_CELL_CLASSES;
+    return this->fix()->options.cell_mode == GRIDDEM_CELL_AUTO || this->fix()->options.cell_mode == GRIDDEM_CELL_CLASSES;
   }
   void plan_classes(GriddemKKGrids &grids);
   void fit_grids(GriddemKKGrids &grids, const GriddemKKClassBoxes &boxes, double margin);

@@ -55,10 +55,10 @@ std::string PairGriddemKokkos<DeviceType, Base>::history_fix_style() const
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::init_style()
 {
   Base::init_style();
-  history = dynamic_cast<FixGriddemKokkos<DeviceType> *>(this->fix);
+  history = dynamic_cast<FixGriddemKokkos<DeviceType> *>(this->fix());
   if (this->model.track_contacts && !history)
     this->error->all(FLERR, "Pair style {} needs fix {} for its contact history, not fix {} {}",
-                     this->force->pair_style, history_fix_style(), this->fix->id, this->fix->style);
+                     this->force->pair_style, history_fix_style(), this->fix()->id, this->fix()->style);
   params_stale = 1;    // init_one() fills params after init_style()
 
   // NeighborKokkos checks displacements and keeps the reneighbouring reference positions on the
@@ -213,7 +213,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       this->error_stencil_reach(grids.g[0].h);
 
     // 3.-6. binning, lists, search, law: launched, then the step's one blocking copy
-    if (this->fix->precision == GRIDDEM_PRECISION_SINGLE)
+    if (this->fix()->options.precision == GRIDDEM_PRECISION_SINGLE)
       bin_and_sweep<float>(grids, slack);
     else
       bin_and_sweep<double>(grids, slack);
@@ -241,7 +241,7 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   this->images = nullptr;
   if (!this->image_axes) return;
   this->atomKK->sync(Host, IMAGE_MASK | TAG_MASK);
-  this->images = this->fix->periodic_images(this->image_axes);
+  this->images = this->fix()->periodic_images(this->image_axes);
   const int nall = this->atom->nlocal + this->atom->nghost;
   if (nall > (int) d_image.extent(0)) {
     d_image = Kokkos::View<int *, DeviceType>("griddem/kk:image", MAX(nall, (int) (1.2 * d_image.extent(0))));
@@ -326,7 +326,7 @@ void PairGriddemKokkos<DeviceType, Base>::fit_grids(GriddemKKGrids &grids,
                                                     const GriddemKKClassBoxes &boxes,
                                                     double margin)
 {
-  const int mode = this->fix->cell_mode;
+  const int mode = this->fix()->options.cell_mode;
   const bool classes = class_grids();
   const double *boxlo = this->domain->boxlo;
   long total = 0;
@@ -340,7 +340,7 @@ void PairGriddemKokkos<DeviceType, Base>::fit_grids(GriddemKKGrids &grids,
                                            : GRIDDEM_CLASS_MAX_CELLS(boxes.count[c]);
     griddem_grid fitted;
     const double edge = classes ? griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, grids.upper[c], 0.0)
-                                : griddem_cell_edge(mode, this->rmin, this->rmax, this->fix->cell_edge);
+                                : griddem_cell_edge(mode, this->rmin, this->rmax, this->fix()->options.cell_edge);
     const int coarsened = griddem_grid_fit(&fitted, boxlo, lo, hi, edge, max_cells);
     if (coarsened && !coarsened_warned_kk) {
       coarsened_warned_kk = 1;
@@ -634,7 +634,7 @@ void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType,
   const int nall = this->atom->nlocal + this->atom->nghost;
   constexpr bool on_host =
       std::is_same<typename DeviceType::execution_space, Kokkos::DefaultHostExecutionSpace>::value;
-  const int mode = this->fix->search;
+  const int mode = this->fix()->options.search;
   if (mode == GRIDDEM_SEARCH_THREAD || (mode == GRIDDEM_SEARCH_AUTO && on_host)) {
     griddem_kk_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
     return;
@@ -695,7 +695,7 @@ void PairGriddemKokkos<DeviceType, Base>::close_step(const GriddemKKGrids &grids
   stats.max_speed = last_speed;
   stats.max_cells_moved = stats.max_speed * this->update->dt / grids.g[grids.ncls - 1].h;
   stats.nonfinite_velocity = 0;
-  this->fix->set_stats(stats);
+  this->last_stats = stats;
   ncell_counted = grids.offset[grids.ncls];
 }
 
