@@ -49,7 +49,7 @@ static int box_of(const double *x, int n, double *lo, double *hi)
   return !isfinite(sum);
 }
 
-void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
+void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *scan)
 {
   const double *x = p->x;
   double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
@@ -61,7 +61,7 @@ void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
     vmax2 = v2 > vmax2 ? v2 : vmax2;
     vsum += v2;
   }
-  for (int i = 0; i < p->nlocal; i++) {
+  for (int i = 0; radii && i < p->nlocal; i++) {
     const double r = p->radius[i];
     rmin = r < rmin ? r : rmin;
     rmax = r > rmax ? r : rmax;
@@ -78,7 +78,7 @@ void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan)
       const double *v = p->v + 3 * (size_t) i;
       scan->nonfinite_velocity = !isfinite(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
-  scan->rmin = rmin, scan->rmax = rmax;
+  scan->rmin = radii ? rmin : NAN, scan->rmax = radii ? rmax : NAN;
 }
 
 static int grow_work(griddem_engine *e, int n)
@@ -211,7 +211,7 @@ double griddem_engine_candidates(griddem_engine *e, const griddem_step *s)
   int coarsened;
   griddem_scan own_scan;
   const griddem_scan *scan = s->scan;
-  if (!scan) griddem_engine_scan(&s->particles, &own_scan), scan = &own_scan;
+  if (!scan) griddem_engine_scan(&s->particles, 0, &own_scan), scan = &own_scan;
   if (engine_bin(e, s, scan, cls, &all, &coarsened) != GRIDDEM_FAULT_NONE) return -1.0;
   count_occupancy(e);
   return griddem_sweep_candidates(cls, e->nclass, s->model->reach_extra);
@@ -227,7 +227,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   const int apart_bit = s->excl ? s->excl->apart_bit : 0;
   griddem_scan own_scan;
   const griddem_scan *scan = s->scan;
-  if (!scan) griddem_engine_scan(p, &own_scan), scan = &own_scan;
+  if (!scan) griddem_engine_scan(p, 0, &own_scan), scan = &own_scan;
   result->fault = engine_bin(e, s, scan, cls, &all, coarsened);
   if (result->fault || griddem_channels_fill(&e->channels, &all, p) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;

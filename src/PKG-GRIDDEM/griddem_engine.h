@@ -70,16 +70,17 @@ typedef struct griddem_engine {
 
 /* The engine's first pass: one sweep over the particles finds what the step needs to know before
  * it bins them. Positions and the box cover all particles (nall), velocities and radii the owned
- * ones. */
+ * ones; the radius range only where radii is 1 (it changes only as atoms come and go). */
 typedef struct griddem_scan {
   int first_nonfinite;    /* first particle with a non-finite position, or -1 */
   double lo[3], hi[3];    /* box of the positions (meaningless without particles) */
   double vmax2;           /* largest squared speed of an owned particle */
   int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
-  double rmin, rmax;      /* radius range of the owned particles (INFINITY, 0 without) */
+  double rmin, rmax;      /* radius range of the owned particles (INFINITY, 0 without; NaN
+                             where radii is 0) */
 } griddem_scan;
 
-void griddem_engine_scan(const griddem_particles *p, griddem_scan *scan);
+void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *scan);
 
 /* One step's input. Particles hold owned ones first, then ghosts. */
 typedef struct griddem_step {

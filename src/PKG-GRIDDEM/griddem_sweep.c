@@ -301,8 +301,7 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
                            int *lo, const int *hi, int nruns, int total)
 {
   if (total <= HITS_CAP) {
-    int nhit[GRIDDEM_CLUSTER_MAX];
-    for (int c = 0; c < ni; c++) nhit[c] = 0;
+    int nhit[GRIDDEM_CLUSTER_MAX] = {0};    /* all lanes: a constant size, cleared in place */
     cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, h->list, nhit);
     for (int c = 0; c < ni; c++)
       if (nhit[c]) h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);

@@ -502,11 +502,12 @@ void PairGriddem::compute(int eflag, int vflag)
   griddem_particles &part = step.particles;
   part = host_particles();
 
-  // one pass: non-finite positions, the box, the fastest atom, the radius range
+  // one pass: non-finite positions, the box, the fastest atom (the radius range where it can change)
   griddem_scan scan;
-  griddem_engine_scan(&part, &scan);
+  const int radii = neighbor->ago == 0;    // atoms come and go only where LAMMPS reneighbors
+  griddem_engine_scan(&part, radii, &scan);
   if (scan.first_nonfinite >= 0) error_nonfinite("position", scan.first_nonfinite, x[scan.first_nonfinite]);
-  if (neighbor->ago == 0) set_radius_range(scan.rmin, scan.rmax);
+  if (radii) set_radius_range(scan.rmin, scan.rmax);
   if (rmax == 0.0) return;    // no atoms yet
   if (grid_cost_due()) check_grid_cost();
   FixGriddem *fix = this->fix();

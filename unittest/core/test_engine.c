@@ -124,32 +124,34 @@ int main(void)
   v[3] = 0.0;
   rad[3] = 2.0, rad[1] = 0.25;
   griddem_scan scan;
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.first_nonfinite == -1, "positions finite");
   CHECK(scan.lo[0] == -0.9 && scan.hi[0] == 5.0 && scan.lo[1] == 0.0 && scan.hi[2] == 5.0, "box of all four");
   CHECK(scan.vmax2 == 1.0 && scan.nonfinite_velocity == 0, "fastest owned speed^2 %g (the ghosts' 2 and 3 left out)",
         scan.vmax2);
   CHECK(scan.rmin == 0.25 && scan.rmax == 0.5, "radius range of the owned: %g %g", scan.rmin, scan.rmax);
+  griddem_engine_scan(&part, 0, &scan);
+  CHECK(isnan(scan.rmin) && isnan(scan.rmax) && scan.vmax2 == 1.0, "no radius range unless asked");
   /* finite positions whose sum overflows, and speeds whose squares do not: none flagged */
   const double x0 = x[0], x3 = x[3], v0 = v[0];
   x[0] = x[3] = 1.5e308, v[0] = 0x1p500;
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.first_nonfinite == -1 && scan.hi[0] == 1.5e308, "huge finite positions are finite (%d)", scan.first_nonfinite);
   CHECK(scan.nonfinite_velocity == 0 && scan.vmax2 == 0x1p1000, "a huge finite speed is finite");
   const double v1 = v[1], v3 = v[3], v4 = v[4];
   v[0] = v[1] = v[3] = v[4] = 0x1p511;    /* two finite squared speeds, 2^1023 each, whose sum is not */
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.nonfinite_velocity == 0 && scan.vmax2 == 0x1p1023, "finite squared speeds whose sum overflows are finite");
   v[1] = v1, v[3] = v3, v[4] = v4;
   v[0] = 0x1p520;    /* its square is not */
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.nonfinite_velocity == 1, "a squared speed past the doubles is flagged");
   x[0] = x0, x[3] = x3, v[0] = v0;
   x[7] = NAN, x[11] = INFINITY;
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.first_nonfinite == 2, "first non-finite position: particle %d", scan.first_nonfinite);
   x[7] = 0.0;    /* an infinite coordinate alone */
-  griddem_engine_scan(&part, &scan);
+  griddem_engine_scan(&part, 1, &scan);
   CHECK(scan.first_nonfinite == 3, "first non-finite position: particle %d", scan.first_nonfinite);
   griddem_engine_free(&e);
   griddem_history_free(&h);
