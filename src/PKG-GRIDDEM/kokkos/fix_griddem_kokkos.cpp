@@ -60,6 +60,16 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_host()
   each_array(cur, [](auto &k) { k.modify_host(); });
 }
 
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_heads_host()
+{
+  each_head(cur, [](auto &k) { k.sync_host(); });
+}
+
+template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_heads_host()
+{
+  each_head(cur, [](auto &k) { k.modify_host(); });
+}
+
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::sync_here(int p)
 {
   each_array(p, [](auto &k) { k.template sync<DeviceType>(); });
@@ -192,9 +202,9 @@ const double *FixGriddemKokkos<DeviceType>::find_history(int i, int64_t partner)
 
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_arrays(int i)
 {
-  sync_host();
+  sync_heads_host();
   k_first[cur].h_view(i) = k_count[cur].h_view(i) = 0;
-  modify_host();
+  modify_heads_host();
 }
 
 /* atom j takes atom i's row (i leaves: its entries become a hole until the next sweep) */
@@ -202,10 +212,10 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_arrays(int i)
 template <class DeviceType>
 void FixGriddemKokkos<DeviceType>::copy_arrays(int i, int j, int /*delflag*/)
 {
-  sync_host();
+  sync_heads_host();
   k_first[cur].h_view(j) = k_first[cur].h_view(i);
   k_count[cur].h_view(j) = k_count[cur].h_view(i);
-  modify_host();
+  modify_heads_host();
 }
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::get_message(int i, double *message)
@@ -221,7 +231,7 @@ template <class DeviceType> int FixGriddemKokkos<DeviceType>::get_message(int i,
 
 template <class DeviceType> int FixGriddemKokkos<DeviceType>::message_length(int i)
 {
-  sync_host();
+  sync_heads_host();
   return GRIDDEM_ROW_MESSAGE_LENGTH(k_count[cur].h_view(i), nv);
 }
 

@@ -92,17 +92,26 @@ template <class DeviceType> class FixGriddemKokkos : public FixGriddem, public K
   int nv;           // history values per contact
   int longest;      // most entries of one row
   double found[GRIDDEM_MAX_HISTORY];    // find_history's copy
+  // make the current rows' arrays current on the host / mark them written there; heads only:
+  // first and count alone (a row moved or emptied leaves the pool as it is, so the pool is not
+  // copied to the other side for it)
   void sync_host();
   void modify_host();
+  void sync_heads_host();
+  void modify_heads_host();
   // make pool p's arrays current on DeviceType / mark them written there
   void sync_here(int p);
   void modify_here(int p);
+  template <class F> void each_head(int p, F f)
+  {
+    f(k_first[p]);
+    f(k_count[p]);
+  }
   template <class F> void each_array(int p, F f)
   {
     f(k_partner[p]);
     f(k_value[p]);
-    f(k_first[p]);
-    f(k_count[p]);
+    each_head(p, f);
   }
   // room for `entries` in pool p, its first `keep` entries kept
   void reserve_pool(int p, long entries, long keep);
