@@ -12,7 +12,7 @@ void griddem_engine_init(griddem_engine *e)
 
 void griddem_engine_free(griddem_engine *e)
 {
-  for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++) griddem_bins_free(&e->bins[c]);
+  for (int c = 0; c < GRIDDEM_MAX_GRIDS; c++) griddem_bins_free(&e->bins[c]);
   free(e->member), free(e->order), free(e->xc), free(e->keyc);
   griddem_channels_free(&e->channels);
   memset(e, 0, sizeof(*e));
@@ -110,16 +110,18 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
 }
 
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
- * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; order: the
- * particle of each slot, classes one after the other from the largest spheres. Left out: ghosts
- * out of reach of every owned particle, and particles with apart_bit (0: none), which touch nothing
- * this step (the scan saw the speed of every owned particle).
+ * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest, and the
+ * particles with kinematic_bit (0: none) of class c on grid ncls + c (e->ngrid grids); order:
+ * the particle of each slot, grids one after the other from the largest spheres. Left out:
+ * ghosts out of reach of every owned particle, and particles with apart_bit (0: none), which
+ * touch nothing this step (the scan saw the speed of every owned particle).
  * Returns the number of slots, or -1 without memory. */
-static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit, griddem_class_grid *cls,
-                        int *coarsened)
+static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit, int kinematic_bit,
+                        griddem_class_grid *cls, int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
+  e->ngrid = kinematic_bit ? 2 * ncls : ncls;
   if (grow_work(e, n) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
   griddem_class_bounds(s->rmax, ncls, upper);
@@ -133,19 +135,19 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
       lo[d] = (i == 0 || v < lo[d]) ? v : lo[d];
       hi[d] = (i == 0 || v > hi[d]) ? v : hi[d];
     }
-  /* class of each particle to be binned (-1: left out), counted per class */
-  int base[GRIDDEM_MAX_CLASSES + 1] = {0};
+  /* grid of each particle to be binned (-1: left out), counted per grid */
+  int base[GRIDDEM_MAX_GRIDS + 1] = {0};
   for (int i = 0; i < n; i++) {
     int c = -1;
     if (!(p->mask[i] & apart_bit) && within_reach(p, i, lo, hi, reach)) {
-      c = griddem_class_of(p->radius[i], upper, ncls);
+      c = griddem_class_of(p->radius[i], upper, ncls) + ((p->mask[i] & kinematic_bit) ? ncls : 0);
       base[c + 1]++;
     }
     e->order[i] = c;
   }
-  for (int c = 0; c < ncls; c++) base[c + 1] += base[c];
-  int next[GRIDDEM_MAX_CLASSES];
-  for (int c = 0; c < ncls; c++) next[c] = base[c];
+  for (int c = 0; c < e->ngrid; c++) base[c + 1] += base[c];
+  int next[GRIDDEM_MAX_GRIDS];
+  for (int c = 0; c < e->ngrid; c++) next[c] = base[c];
   for (int i = 0; i < n; i++) {
     if (e->order[i] < 0) continue;
     const int m = next[e->order[i]]++;
@@ -153,19 +155,21 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
     for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
     e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
   }
-  for (int c = 0; c < ncls; c++) {
-    const int nc = base[c + 1] - base[c];
+  for (int c = 0; c < e->ngrid; c++) {
+    const int nc = base[c + 1] - base[c], size = c % ncls;
     const double *xc = e->xc + 3 * (size_t) base[c];
     if (ncls == 1)
-      *coarsened = griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, s->cell_edge, s->max_cells);
+      *coarsened |= griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, s->cell_edge, s->max_cells);
     else
-      griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[c], 0.0),
+      griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0),
                          GRIDDEM_CLASS_MAX_CELLS(nc));
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
-    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c], cls[c].rmax = ncls == 1 ? s->rmax : upper[c];
+    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c];
+    cls[c].rmax = ncls == 1 ? s->rmax : upper[size];
+    cls[c].kinematic = c >= ncls;
   }
-  return base[ncls];
+  return base[e->ngrid];
 }
 
 /* Bin the particles (scanned into scan) into e's grids as s says: cls gets the classes, all the
@@ -175,21 +179,21 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
 {
   const griddem_particles *p = &s->particles;
   *coarsened = 0;
-  e->nclass = s->size_classes ? griddem_class_count(s->rmin, s->rmax) : 1;
+  e->nclass = e->ngrid = s->size_classes ? griddem_class_count(s->rmin, s->rmax) : 1;
   memset(all, 0, sizeof(*all));
   all->n = p->nall;
-  const int apart_bit = s->excl ? s->excl->apart_bit : 0;
-  if (e->nclass == 1 && !apart_bit) {
+  const int apart_bit = s->excl ? s->excl->apart_bit : 0, kinematic_bit = s->excl ? s->excl->both_bit : 0;
+  if (e->nclass == 1 && !apart_bit && !kinematic_bit) {
     /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
     *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
                              : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
     if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
       return GRIDDEM_FAULT_MEMORY;
-    cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax;
+    cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax, cls[0].kinematic = 0;
     all->order = e->bins[0].order;
     return GRIDDEM_FAULT_NONE;
   }
-  all->n = bin_gathered(e, s, apart_bit, cls, coarsened);
+  all->n = bin_gathered(e, s, apart_bit, kinematic_bit, cls, coarsened);
   all->order = e->order;
   return all->n < 0 ? GRIDDEM_FAULT_MEMORY : GRIDDEM_FAULT_NONE;
 }
@@ -198,7 +202,7 @@ static void count_occupancy(griddem_engine *e)
 {
   e->stats.occupied_cells = 0;
   e->stats.max_occupancy = 0;
-  for (int c = 0; c < e->nclass; c++) {
+  for (int c = 0; c < e->ngrid; c++) {
     e->stats.occupied_cells += e->bins[c].occupied;
     if (e->bins[c].max_occupancy > e->stats.max_occupancy) e->stats.max_occupancy = e->bins[c].max_occupancy;
   }
@@ -206,7 +210,7 @@ static void count_occupancy(griddem_engine *e)
 
 double griddem_engine_candidates(griddem_engine *e, const griddem_step *s)
 {
-  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
+  griddem_class_grid cls[GRIDDEM_MAX_GRIDS];
   griddem_bins all;
   int coarsened;
   griddem_scan own_scan;
@@ -214,7 +218,7 @@ double griddem_engine_candidates(griddem_engine *e, const griddem_step *s)
   if (!scan) griddem_engine_scan(&s->particles, 0, &own_scan), scan = &own_scan;
   if (engine_bin(e, s, scan, cls, &all, &coarsened) != GRIDDEM_FAULT_NONE) return -1.0;
   count_occupancy(e);
-  return griddem_sweep_candidates(cls, e->nclass, s->model->reach_extra);
+  return griddem_sweep_candidates(cls, e->ngrid, s->model->reach_extra);
 }
 
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
@@ -222,7 +226,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
 {
   const griddem_particles *p = &s->particles;
   memset(result, 0, sizeof(*result));
-  griddem_class_grid cls[GRIDDEM_MAX_CLASSES];
+  griddem_class_grid cls[GRIDDEM_MAX_GRIDS];
   griddem_bins all; /* the channels' order of particles */
   const int apart_bit = s->excl ? s->excl->apart_bit : 0;
   griddem_scan own_scan;
@@ -233,7 +237,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
-  griddem_sweep(cls, e->nclass, all.order, &e->channels, p->nlocal, s->model, s->excl,
+  griddem_sweep(cls, e->ngrid, all.order, &e->channels, p->nlocal, s->model, s->excl,
                         s->dt, s->history_update, s->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
   /* the history's row of slot k is k; owned particles left out have none */
@@ -259,7 +263,7 @@ double griddem_engine_memory(const griddem_engine *e)
 {
   const griddem_channels *ch = &e->channels;
   double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
-  for (int c = 0; c < GRIDDEM_MAX_CLASSES; c++)
+  for (int c = 0; c < GRIDDEM_MAX_GRIDS; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
   return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(int64_t) + sizeof(int)) +
       (double) ch->image_cap * sizeof(int) + (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);

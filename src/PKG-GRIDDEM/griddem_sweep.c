@@ -525,16 +525,19 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
     const griddem_grid *g = cls[kc].g;
     const griddem_bins *b = cls[kc].b;
     if (b->n == 0) continue;
-    griddem_stencil stencil;    /* no rows (no candidates) past GRIDDEM_MAX_REACH */
-    griddem_stencil_build(&stencil, g->h, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra),
-                          GRIDDEM_STENCIL_FORWARD);
+    griddem_stencil stencil;    /* no rows (no candidates) past GRIDDEM_MAX_REACH; none among
+                                   kinematic particles */
+    stencil.nrows = 0;
+    if (!cls[kc].kinematic)
+      griddem_stencil_build(&stencil, g->h, contact_reach(g, cls[kc].rmax, cls[kc].rmax, reach_extra),
+                            GRIDDEM_STENCIL_FORWARD);
     int run_lo[GRIDDEM_STENCIL_MAX_ROWS], run_hi[GRIDDEM_STENCIL_MAX_ROWS];
     /* the cross-class passes in which this class searches another's grid */
     across_pass passes[ncls];
     int npass = 0;
     for (int lc = 0; lc < ncls; lc++)
-      if (lc != kc && across_direction(&cls[kc], &cls[lc], reach_extra, &passes[npass]) == 0 &&
-          passes[npass].from == &cls[kc])
+      if (lc != kc && !(cls[kc].kinematic && cls[lc].kinematic) &&
+          across_direction(&cls[kc], &cls[lc], reach_extra, &passes[npass]) == 0 && passes[npass].from == &cls[kc])
         npass++;
     const long nx = g->n[0], nxy = nx * g->n[1];
     for (int s = 0; s < b->n;) {    /* occupied cells only, through their slots */
@@ -544,7 +547,7 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
       const int nruns = griddem_stencil_runs(&stencil, g, b, cell, run_lo, run_hi);
       long reached = 0;
       for (int q = 0; q < nruns; q++) reached += run_hi[q] - run_lo[q];
-      candidates += (double) n * reached - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
+      if (nruns) candidates += (double) n * reached - 0.5 * (double) n * (n + 1);    /* a cell's own pairs once */
       /* across classes, from this class's cells where it searches the other: the cells of the
          other grid within the contact distance of this cell */
       for (int q = 0; q < npass; q++) {
@@ -593,7 +596,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     const griddem_class_grid *k = &cls[kc];
     const griddem_grid *g = k->g;
     const griddem_bins *b = k->b;
-    if (b->n == 0) continue;
+    if (b->n == 0 || k->kinematic) continue;
     const long nxy = (long) g->n[0] * g->n[1];
     griddem_stencil stencil;
     if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, k->rmax, model->reach_extra),
@@ -630,7 +633,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
      q+3 lie in disjoint slabs, so no two threads write one particle */
   for (int kc = 1; kc < ncls; kc++)
     for (int lc = 0; lc < kc; lc++) {
-      if (cls[kc].b->n == 0 || cls[lc].b->n == 0) continue;
+      if (cls[kc].b->n == 0 || cls[lc].b->n == 0 || (cls[kc].kinematic && cls[lc].kinematic)) continue;
       across_pass pass;
       if (across_direction(&cls[kc], &cls[lc], model->reach_extra, &pass) != 0) {
         result->fault = GRIDDEM_FAULT_STENCIL;

@@ -68,12 +68,15 @@ typedef struct griddem_sweep_result {
 } griddem_sweep_result;
 
 /* One size class: its particles binned on its own grid g (b's slots are slots base.. of the
- * channels), and the largest radius it may hold. One class is the plain single grid. */
+ * channels), and the largest radius it may hold. One class is the plain single grid. kinematic:
+ * its particles are kinematic, and no pair of two kinematic particles interacts (the sweep
+ * searches no such pair: neither within the class nor across two kinematic classes). */
 typedef struct griddem_class_grid {
   const griddem_grid *g;
   const griddem_bins *b;
   int base;
   double rmax;
+  int kinematic;
 } griddem_class_grid;
 
 /* One sweep over ncls size classes, cls[0] holding the largest spheres: pairs within a class on

@@ -133,7 +133,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     griddem_bin_points(&b, &g, N, x, tag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
-    const griddem_class_grid one = {&g, &b, 0, rmax};
+    const griddem_class_grid one = {&g, &b, 0, rmax, 0};
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
     all_pairs(m, excluded, 0, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
@@ -250,7 +250,7 @@ static void check_faults(void)
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  const griddem_class_grid one = {&g, &b, 0, 1.0};
+  const griddem_class_grid one = {&g, &b, 0, 1.0, 0};
   griddem_sweep(&one, 1, b.order, &ch, 3, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
   CHECK(res.fault_i == 1 || res.fault_i == 2, "first particle of the coincident pair");
@@ -289,8 +289,9 @@ static void check_faults(void)
  * small ones search the large ones' grid); 1 and 3 threads.
  * Kinematic and lagging particles (fix griddem/rom's: the exclusions' both_bit, here x > 0.6, pairs
  * of two excluded; and its apart_bit, here x > 0.75, every pair with one excluded): the same forces
- * as the all-pairs evaluation with those pairs skipped, every lagging particle left out of the grid,
- * and a lagging particle's speed still enters the motion check. */
+ * as the all-pairs evaluation with those pairs skipped, the kinematic particles binned on grids of
+ * their own (which only the others search), every lagging particle left out of the grid, and a
+ * lagging particle's speed still enters the motion check. */
 enum { SIZES_ONE_CLASS, SIZES_SPREAD, SIZES_FEW_LARGE, SIZES_FEW_SMALL };
 
 static void engine_against_all_pairs(const char *law, int threads, int sizes, int idle)
@@ -376,6 +377,13 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
       }
       CHECK(lagging > N / 10 && e.channels.n == N - lagging, "%s step %d: %d particles binned, %d lagging", what,
             step, e.channels.n, lagging);
+      int kinematic = 0;
+      long on_kinematic_grids = 0;
+      for (int i = 0; i < N; i++) kinematic += (mask[i] & kinematic_bit) && !(mask[i] & lagging_bit);
+      for (int c = e.nclass; c < e.ngrid; c++) on_kinematic_grids += e.bins[c].n;
+      CHECK(e.ngrid == 2 * e.nclass && kinematic >= 10 && on_kinematic_grids == kinematic,
+            "%s step %d: the %d kinematic particles on grids of their own (%d grids, %ld on them)", what, step,
+            kinematic, e.ngrid, on_kinematic_grids);
       for (int i = 0; i < N; i++)
         CHECK(!m.track_contacts || !(mask[i] & lagging_bit) || row_of[i] == -1, "%s step %d: lagging particle %d has history row %d",
               what, step, i, row_of[i]);
