@@ -109,19 +109,35 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
+/* Grow the box lo, hi (meaningless where seen is 0) by the points from .. to - 1 of x; returns
+ * their number */
+static int grow_box_by(const double *x, int from, int to, double *lo, double *hi, int seen)
+{
+  for (int i = from; i < to; i++)
+    for (int d = 0; d < 3; d++) {
+      const double v = x[3 * (size_t) i + d];
+      lo[d] = (!seen && i == from) || v < lo[d] ? v : lo[d];
+      hi[d] = (!seen && i == from) || v > hi[d] ? v : hi[d];
+    }
+  return to - from;
+}
+
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
- * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest, and the
- * particles with kinematic_bit (0: none) of class c on grid ncls + c (e->ngrid grids); order:
- * the particle of each slot, grids one after the other from the largest spheres. Left out:
- * ghosts out of reach of every owned particle, and particles with apart_bit (0: none), which
- * touch nothing this step (the scan saw the speed of every owned particle).
- * Returns the number of slots, or -1 without memory. */
+ * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; where the last
+ * step binned at least as many particles with kinematic_bit (0: none) as without it
+ * (e->kinematic_grids), those of class c go on grid ncls + c (e->ngrid grids). With fewer, their
+ * pairs among themselves are too few to pay for the second set of grids and the search across it
+ * (measured on fix griddem/rom's blade and hopper), and they share the others' grids. order: the
+ * particle of each slot, grids one after the other from the largest spheres. Left out: ghosts
+ * out of reach of every owned particle, and particles with apart_bit (0: none), which touch
+ * nothing this step (the scan saw the speed of every owned particle). Returns the number of
+ * slots, or -1 without memory. */
 static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit, int kinematic_bit,
                         griddem_class_grid *cls, int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
-  e->ngrid = kinematic_bit ? 2 * ncls : ncls;
+  e->ngrid = kinematic_bit && e->kinematic_grids ? 2 * ncls : ncls;
   if (grow_work(e, n) != 0) return -1;
   double upper[GRIDDEM_MAX_CLASSES + 1];
   griddem_class_bounds(s->rmax, ncls, upper);
@@ -136,16 +152,20 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
       hi[d] = (i == 0 || v > hi[d]) ? v : hi[d];
     }
   /* grid of each particle to be binned (-1: left out), counted per grid */
-  int base[GRIDDEM_MAX_GRIDS + 1] = {0};
+  int base[GRIDDEM_MAX_GRIDS + 1] = {0}, kinematic = 0;
+  const int twin = e->ngrid > ncls ? ncls : 0;    /* grid offset of a kinematic particle */
   for (int i = 0; i < n; i++) {
     int c = -1;
     if (!(p->mask[i] & apart_bit) && within_reach(p, i, lo, hi, reach)) {
-      c = griddem_class_of(p->radius[i], upper, ncls) + ((p->mask[i] & kinematic_bit) ? ncls : 0);
+      const int kinematic_i = (p->mask[i] & kinematic_bit) != 0;
+      c = griddem_class_of(p->radius[i], upper, ncls) + (kinematic_i ? twin : 0);
+      kinematic += kinematic_i;
       base[c + 1]++;
     }
     e->order[i] = c;
   }
   for (int c = 0; c < e->ngrid; c++) base[c + 1] += base[c];
+  e->kinematic_grids = kinematic_bit && kinematic >= base[e->ngrid] - kinematic;
   int next[GRIDDEM_MAX_GRIDS];
   for (int c = 0; c < e->ngrid; c++) next[c] = base[c];
   for (int i = 0; i < n; i++) {
@@ -158,11 +178,19 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
   for (int c = 0; c < e->ngrid; c++) {
     const int nc = base[c + 1] - base[c], size = c % ncls;
     const double *xc = e->xc + 3 * (size_t) base[c];
+    /* a class and its kinematic twin over the same cells, the box of both, so that the twin is
+       searched through the class's own cell rows */
+    double box_lo[3], box_hi[3];
+    int in_box = 0;
+    for (int same = size; same < e->ngrid; same += ncls)
+      in_box += grow_box_by(e->xc, base[same], base[same + 1], box_lo, box_hi, in_box);
+    if (!in_box)
+      for (int d = 0; d < 3; d++) box_lo[d] = box_hi[d] = s->anchor[d];
     if (ncls == 1)
-      *coarsened |= griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, s->cell_edge, s->max_cells);
+      *coarsened |= griddem_grid_fit(&e->grid[c], s->anchor, box_lo, box_hi, s->cell_edge, s->max_cells);
     else
-      griddem_grid_cover(&e->grid[c], s->anchor, nc, xc, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0),
-                         GRIDDEM_CLASS_MAX_CELLS(nc));
+      griddem_grid_fit(&e->grid[c], s->anchor, box_lo, box_hi, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0),
+                       GRIDDEM_CLASS_MAX_CELLS(in_box));
     if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
     for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
     cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c];

@@ -30,10 +30,10 @@ typedef struct griddem_engine_stats {
  * faster than 2 on the 1:4 squeeze and a 1:10 pour); the last class takes all smaller ones. */
 #define GRIDDEM_CLASS_SHIFT 2
 #define GRIDDEM_MAX_CLASSES 8
-/* Grids of a step: one per size class, and as many again where some particles are kinematic (the
- * exclusions' both_bit: fix griddem/rom's model-driven particles), which touch only the others:
- * each class's kinematic particles get a grid of their own, which the sweep searches only from
- * the other particles, so no pair of two kinematic particles is ever a candidate. */
+/* Grids of a step: one per size class, and as many again where the particles binned last are
+ * mostly kinematic (the exclusions' both_bit: fix griddem/rom's model-driven particles), which touch
+ * only the others: each class's kinematic particles then get a grid of their own, which the sweep
+ * searches only from the other particles, so no pair of two kinematic particles is a candidate. */
 #define GRIDDEM_MAX_GRIDS (2 * GRIDDEM_MAX_CLASSES)
 /* Most cells of the one grid (no size classes) over n particles, owned and ghosts: a dilute
  * scene gets larger cells rather than a grid it does not fill (cleared every step); the edge
@@ -62,6 +62,8 @@ GRIDDEM_INLINE int griddem_class_of(double r, const double *upper, int ncls)
 typedef struct griddem_engine {
   int nclass;                           /* size classes of the last step (1: one grid) */
   int ngrid;                            /* its grids: nclass, or twice that with kinematic ones */
+  int kinematic_grids;                  /* 1: the last step binned at least as many kinematic
+                                           particles as others; this one gives them grids */
   griddem_grid grid[GRIDDEM_MAX_GRIDS]; /* one per size class, largest spheres first; then as
                                            many for the kinematic particles of each */
   griddem_bins bins[GRIDDEM_MAX_GRIDS];
@@ -120,8 +122,9 @@ void griddem_engine_free(griddem_engine *e);
  * ratios rmax/rmin below 4 keep one grid (the one-grid path, cell_edge), each further factor 4
  * adds a class, up to GRIDDEM_MAX_CLASSES. Particles with the exclusions' apart_bit (in no pair
  * this step) are not binned: their owned rows become -1 and only their speed is checked. Where
- * the exclusions have a both_bit, the particles with it are binned on grids of their own
- * (GRIDDEM_MAX_GRIDS), from which only the others search partners. */
+ * the exclusions have a both_bit and the last step binned at least as many particles with it as
+ * without, those are binned on grids of their own (GRIDDEM_MAX_GRIDS), from which only the others
+ * search partners. */
 int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_result *result,
                         int *coarsened);
 

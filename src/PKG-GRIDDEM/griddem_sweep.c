@@ -313,32 +313,35 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
     }
 }
 
-/* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t > s of their
- * forward stencil (slots of the channels are the class's slots + k->base). Each stencil row's
- * cells are found once per cell row. The row's slots are taken in clusters of consecutive slots
- * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
- * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
- * slot order, each in the order its candidates were found. */
+/* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
+ * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
+ * laid over the same cells (own 0: the full stencil; griddem_same_cells). Slots of the channels
+ * are a class's slots + its base. Each stencil row's cells are found once per cell row. The row's
+ * slots are taken in clusters of consecutive slots (the kernel's width), whose stencil rows' slot
+ * ranges cover the cells of all its spheres: a candidate is loaded once for the cluster. A
+ * cluster's spheres then evaluate their contacts in slot order, each in the order its candidates
+ * were found. */
 static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
-                           const griddem_stencil *stencil, int y, int z)
+                           const griddem_class_grid *into, const griddem_stencil *stencil, int own, int y, int z)
 {
   const griddem_stencil_row *rows = stencil->row;
   const int nrows = stencil->nrows;
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
-  const int *start = b->cell_start, base = k->base, nx = g->n[0];
+  const int *start = b->cell_start, *partners = into->b->cell_start, base = k->base, into_base = into->base,
+            nx = g->n[0];
   const long nxy = (long) nx * g->n[1], rowcell = nx * (long) y + nxy * z;
   const int first = start[rowcell], last = start[rowcell + nx];
   if (first == last) return;
 
   /* the stencil rows inside the grid: where the slots of cell x's first and past its last
-     stencil cell begin, offset by x (row 0, the cell's own row, comes first) */
+     stencil cell begin, offset by x (of the forward stencil, row 0 is the cell's own row) */
   const int *lo_at[GRIDDEM_STENCIL_MAX_ROWS], *hi_at[GRIDDEM_STENCIL_MAX_ROWS];
   int dxlo[GRIDDEM_STENCIL_MAX_ROWS], dxhi[GRIDDEM_STENCIL_MAX_ROWS], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
   for (int r = 0; r < nrows; r++) {
     const int yy = y + rows[r].dy, zz = z + rows[r].dz;
-    if (yy < 0 || yy >= g->n[1] || zz >= g->n[2]) continue;
-    const int *row = start + nx * (long) yy + nxy * zz;
+    if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
+    const int *row = partners + nx * (long) yy + nxy * zz;
     dxlo[nvalid] = rows[r].dxlo, dxhi[nvalid] = rows[r].dxhi;
     lo_at[nvalid] = row + rows[r].dxlo, hi_at[nvalid] = row + rows[r].dxhi + 1;
     if (-rows[r].dxlo > xsafe_lo) xsafe_lo = -rows[r].dxlo;
@@ -352,24 +355,24 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
     const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
-    /* slot ranges of the stencil rows from the first sphere's cell to the last's; row 0 starts
-       after the first sphere (the kernel starts each sphere's after itself). Only clusters at
-       the ends of the row clamp their stencil to the grid */
+    /* slot ranges of the stencil rows from the first sphere's cell to the last's; the own row
+       starts after the first sphere (the kernel starts each sphere's after itself). Only
+       clusters at the ends of the row clamp their stencil to the grid */
     int total = 0;
     if (xa >= xsafe_lo && xb <= xsafe_hi)
       for (int q = 0; q < nvalid; q++) {
-        lo[q] = base + lo_at[q][xa], hi[q] = base + hi_at[q][xb];
+        lo[q] = into_base + lo_at[q][xa], hi[q] = into_base + hi_at[q][xb];
         total += hi[q] - lo[q];
       }
     else
       for (int q = 0; q < nvalid; q++) {
         const int x0 = xa + dxlo[q] < 0 ? 0 : xa + dxlo[q];
         const int x1 = xb + dxhi[q] >= nx ? nx - 1 : xb + dxhi[q];
-        lo[q] = base + lo_at[q][x0 - dxlo[q]], hi[q] = base + hi_at[q][x1 - dxhi[q]];
+        lo[q] = into_base + lo_at[q][x0 - dxlo[q]], hi[q] = into_base + hi_at[q][x1 - dxhi[q]];
         total += hi[q] - lo[q];
       }
-    lo[0] = base + s0 + 1;
-    search_cluster(cx, sums, &hits, base + s0, ni, 1, lo, hi, nvalid, total);
+    if (own) lo[0] = base + s0 + 1;
+    search_cluster(cx, sums, &hits, base + s0, ni, own, lo, hi, nvalid, total);
   }
 }
 
@@ -518,6 +521,56 @@ static int across_direction(const griddem_class_grid *a, const griddem_class_gri
   return 0;
 }
 
+/* Whether two grids have the same cells (edge, faces and extent), so that a cell's index is the
+ * same in both */
+static int same_cells(const griddem_grid *a, const griddem_grid *b)
+{
+  for (int d = 0; d < 3; d++)
+    if (a->anchor[d] != b->anchor[d] || a->k0[d] != b->k0[d] || a->n[d] != b->n[d]) return 0;
+  return a->h == b->h;
+}
+
+/* The pairs of class k's particles with those of `into` over the same cells, by k's occupied cell
+ * rows: within k (into = k) over the forward stencil, or with a kinematic twin over the full one.
+ * Threads take slabs of cell layers along z, at least the stencil's reach thick, in colours whose
+ * slabs' partners lie in disjoint slabs: two for the forward stencil (slab q reaches q + 1), three
+ * for the full one (q - 1 to q + 1), so no two threads write one particle. totals: the virial (6)
+ * and the energy. 0, or -1 where the contact distance spans more than GRIDDEM_MAX_REACH cells. */
+static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, const griddem_class_grid *into,
+                      int nthreads, double *totals)
+{
+  const griddem_grid *g = k->g;
+  const griddem_bins *b = k->b;
+  const long nxy = (long) g->n[0] * g->n[1];
+  const int own = into == k;
+  griddem_stencil stencil;
+  if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, into->rmax, cx->model->reach_extra),
+                            own ? GRIDDEM_STENCIL_FORWARD : GRIDDEM_STENCIL_FULL) != 0)
+    return -1;
+  const int reach = stencil.row[stencil.nrows - 1].dz;    /* the last layer it visits */
+  const int thick = slab_thickness(g->n[2], nthreads, reach), colours = own ? 2 : 3;
+  const int nslab = (g->n[2] + thick - 1) / thick;
+  double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
+  for (int colour = 0; colour < colours; colour++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
+    for (int q = colour; q < nslab; q += colours) {
+      sweep_sums sums = thread_sums(cx->model, cx->hist);
+      const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
+      /* occupied cell rows only, found through their slots: a dilute grid costs nothing extra */
+      for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
+        const long row = b->cell[b->order[s]] / g->n[0];
+        sweep_cell_row(cx, &sums, k, into, &stencil, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
+        s = b->cell_start[(row + 1) * g->n[0]];
+      }
+      v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
+      v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
+      energy += sums.energy;
+    }
+  }
+  totals[0] = v0, totals[1] = v1, totals[2] = v2, totals[3] = v3, totals[4] = v4, totals[5] = v5, totals[6] = energy;
+  return 0;
+}
+
 double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double reach_extra)
 {
   double candidates = 0.0;
@@ -594,37 +647,14 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   for (int kc = 0; kc < ncls; kc++) {
     /* pairs within class kc on its own grid */
     const griddem_class_grid *k = &cls[kc];
-    const griddem_grid *g = k->g;
-    const griddem_bins *b = k->b;
-    if (b->n == 0 || k->kinematic) continue;
-    const long nxy = (long) g->n[0] * g->n[1];
-    griddem_stencil stencil;
-    if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, k->rmax, model->reach_extra),
-                              GRIDDEM_STENCIL_FORWARD) != 0) {
+    if (k->b->n == 0 || k->kinematic) continue;
+    double totals[7];
+    if (sweep_rows(&cx, k, k, nthreads, totals) != 0) {
       result->fault = GRIDDEM_FAULT_STENCIL;
       return result->fault;
     }
-    const int reach = stencil.row[stencil.nrows - 1].dz;    /* the last layer it visits */
-
-    /* slabs of cell layers along z, thick enough that a slot's pairs stay within the next slab */
-    const int thick = slab_thickness(g->n[2], nthreads, reach);
-    const int nslab = (g->n[2] + thick - 1) / thick;
-    for (int colour = 0; colour < 2; colour++) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
-      for (int q = colour; q < nslab; q += 2) {
-        sweep_sums sums = thread_sums(model, hist);
-        const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
-        /* occupied cell rows only, found through their slots: a dilute grid costs nothing extra */
-        for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
-          const long row = b->cell[b->order[s]] / g->n[0];
-          sweep_cell_row(&cx, &sums, k, &stencil, (int) (row % g->n[1]), (int) (row / g->n[1]));
-          s = b->cell_start[(row + 1) * g->n[0]];
-        }
-        v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
-        v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
-        energy += sums.energy;
-      }
-    }
+    v0 += totals[0], v1 += totals[1], v2 += totals[2], v3 += totals[3], v4 += totals[4], v5 += totals[5];
+    energy += totals[6];
   }
 
   /* pairs across classes: the spheres of one class searched in the other's grid, in the cheaper
@@ -634,6 +664,19 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   for (int kc = 1; kc < ncls; kc++)
     for (int lc = 0; lc < kc; lc++) {
       if (cls[kc].b->n == 0 || cls[lc].b->n == 0 || (cls[kc].kinematic && cls[lc].kinematic)) continue;
+      if (cls[kc].kinematic != cls[lc].kinematic && same_cells(cls[kc].g, cls[lc].g)) {
+        /* a class and its kinematic twin over the same cells: the twin searched from the class's
+           cell rows */
+        double totals[7];
+        if (sweep_rows(&cx, cls[kc].kinematic ? &cls[lc] : &cls[kc], cls[kc].kinematic ? &cls[kc] : &cls[lc],
+                       nthreads, totals) != 0) {
+          result->fault = GRIDDEM_FAULT_STENCIL;
+          return result->fault;
+        }
+        v0 += totals[0], v1 += totals[1], v2 += totals[2], v3 += totals[3], v4 += totals[4], v5 += totals[5];
+        energy += totals[6];
+        continue;
+      }
       across_pass pass;
       if (across_direction(&cls[kc], &cls[lc], model->reach_extra, &pass) != 0) {
         result->fault = GRIDDEM_FAULT_STENCIL;
