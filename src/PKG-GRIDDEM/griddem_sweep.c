@@ -315,7 +315,7 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
 
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
  * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
- * laid over the same cells (own 0: the full stencil; griddem_same_cells). Slots of the channels
+ * laid over the same cells (own 0: the full stencil; same_cells below). Slots of the channels
  * are a class's slots + its base. Each stencil row's cells are found once per cell row. The row's
  * slots are taken in clusters of consecutive slots (the kernel's width), whose stencil rows' slot
  * ranges cover the cells of all its spheres: a candidate is loaded once for the cluster. A
