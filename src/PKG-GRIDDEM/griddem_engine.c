@@ -109,23 +109,12 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
-/* Grow the box lo, hi (meaningless where seen is 0) by the points from .. to - 1 of x; returns
- * their number */
-static int grow_box_by(const double *x, int from, int to, double *lo, double *hi, int seen)
-{
-  for (int i = from; i < to; i++)
-    for (int d = 0; d < 3; d++) {
-      const double v = x[3 * (size_t) i + d];
-      lo[d] = (!seen && i == from) || v < lo[d] ? v : lo[d];
-      hi[d] = (!seen && i == from) || v > hi[d] ? v : hi[d];
-    }
-  return to - from;
-}
-
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
  * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; where the last
  * step binned at least as many particles with kinematic_bit (0: none) as without it
- * (e->kinematic_grids), those of class c go on grid ncls + c (e->ngrid grids). With fewer, their
+ * (e->kinematic_grids), those of class c go on a grid of their own after class c's, over the
+ * same cells (grids 2c and 2c + 1 of e->ngrid: so the twin is searched through the class's own
+ * cell rows, and the two are gathered next to each other, covered as one). With fewer, their
  * pairs among themselves are too few to pay for the second set of grids and the search across it
  * (measured on fix griddem/rom's blade and hopper), and they share the others' grids. order: the
  * particle of each slot, grids one after the other from the largest spheres. Left out: ghosts
@@ -153,12 +142,12 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
     }
   /* grid of each particle to be binned (-1: left out), counted per grid */
   int base[GRIDDEM_MAX_GRIDS + 1] = {0}, kinematic = 0;
-  const int twin = e->ngrid > ncls ? ncls : 0;    /* grid offset of a kinematic particle */
+  const int stride = e->ngrid / ncls;    /* grids per size class: 2 with kinematic grids */
   for (int i = 0; i < n; i++) {
     int c = -1;
     if (!(p->mask[i] & apart_bit) && within_reach(p, i, lo, hi, reach)) {
       const int kinematic_i = (p->mask[i] & kinematic_bit) != 0;
-      c = griddem_class_of(p->radius[i], upper, ncls) + (kinematic_i ? twin : 0);
+      c = griddem_class_of(p->radius[i], upper, ncls) * stride + (kinematic_i && stride == 2);
       kinematic += kinematic_i;
       base[c + 1]++;
     }
@@ -175,27 +164,25 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
     for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
     e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
   }
-  for (int c = 0; c < e->ngrid; c++) {
-    const int nc = base[c + 1] - base[c], size = c % ncls;
-    const double *xc = e->xc + 3 * (size_t) base[c];
-    /* a class and its kinematic twin over the same cells, the box of both, so that the twin is
-       searched through the class's own cell rows */
-    double box_lo[3], box_hi[3];
-    int in_box = 0;
-    for (int same = size; same < e->ngrid; same += ncls)
-      in_box += grow_box_by(e->xc, base[same], base[same + 1], box_lo, box_hi, in_box);
-    if (!in_box)
-      for (int d = 0; d < 3; d++) box_lo[d] = box_hi[d] = s->anchor[d];
+  for (int size = 0; size < ncls; size++) {
+    /* the class's grids (its kinematic twin's too) cover the class's particles */
+    const int first = size * stride, nboth = base[first + stride] - base[first];
+    const double *xboth = e->xc + 3 * (size_t) base[first];
     if (ncls == 1)
-      *coarsened |= griddem_grid_fit(&e->grid[c], s->anchor, box_lo, box_hi, s->cell_edge, s->max_cells);
+      *coarsened |= griddem_grid_cover(&e->grid[first], s->anchor, nboth, xboth, s->cell_edge, s->max_cells);
     else
-      griddem_grid_fit(&e->grid[c], s->anchor, box_lo, box_hi, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0),
-                       GRIDDEM_CLASS_MAX_CELLS(in_box));
-    if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, xc, e->keyc + base[c], 8) != 0) return -1;
-    for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
-    cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c];
-    cls[c].rmax = ncls == 1 ? s->rmax : upper[size];
-    cls[c].kinematic = c >= ncls;
+      griddem_grid_cover(&e->grid[first], s->anchor, nboth, xboth,
+                         griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0), GRIDDEM_CLASS_MAX_CELLS(nboth));
+    for (int c = first; c < first + stride; c++) {
+      const int nc = base[c + 1] - base[c];
+      if (c > first) e->grid[c] = e->grid[first];    /* the twin: the same cells */
+      if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, e->xc + 3 * (size_t) base[c], e->keyc + base[c], 8) != 0)
+        return -1;
+      for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
+      cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c];
+      cls[c].rmax = ncls == 1 ? s->rmax : upper[size];
+      cls[c].kinematic = c > first;
+    }
   }
   return base[e->ngrid];
 }
@@ -277,7 +264,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
   e->stats.max_speed = sqrt(scan->vmax2);
-  e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->nclass - 1].h;
+  e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->ngrid - 1].h;
   e->stats.nonfinite_velocity = scan->nonfinite_velocity;
   count_occupancy(e);
   e->stats.cell_edge = e->grid[0].h;

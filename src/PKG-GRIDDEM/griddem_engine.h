@@ -64,8 +64,8 @@ typedef struct griddem_engine {
   int ngrid;                            /* its grids: nclass, or twice that with kinematic ones */
   int kinematic_grids;                  /* 1: the last step binned at least as many kinematic
                                            particles as others; this one gives them grids */
-  griddem_grid grid[GRIDDEM_MAX_GRIDS]; /* one per size class, largest spheres first; then as
-                                           many for the kinematic particles of each */
+  griddem_grid grid[GRIDDEM_MAX_GRIDS]; /* one per size class, largest spheres first, each
+                                           followed by its kinematic twin where there are twins */
   griddem_bins bins[GRIDDEM_MAX_GRIDS];
   griddem_channels channels;
   griddem_engine_stats stats;

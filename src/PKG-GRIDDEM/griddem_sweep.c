@@ -530,12 +530,19 @@ static int same_cells(const griddem_grid *a, const griddem_grid *b)
   return a->h == b->h;
 }
 
+/* Whether t is class k's kinematic twin: its kinematic particles over the same cells */
+static int twins(const griddem_class_grid *k, const griddem_class_grid *t)
+{
+  return !k->kinematic && t->kinematic && same_cells(k->g, t->g);
+}
+
 /* The pairs of class k's particles with those of `into` over the same cells, by k's occupied cell
  * rows: within k (into = k) over the forward stencil, or with a kinematic twin over the full one.
  * Threads take slabs of cell layers along z, at least the stencil's reach thick, in colours whose
  * slabs' partners lie in disjoint slabs: two for the forward stencil (slab q reaches q + 1), three
- * for the full one (q - 1 to q + 1), so no two threads write one particle. totals: the virial (6)
- * and the energy. 0, or -1 where the contact distance spans more than GRIDDEM_MAX_REACH cells. */
+ * for the full one (q - 1 to q + 1), so no two threads write one particle. Adds the virial (6)
+ * and the energy into totals. 0, or -1 where the contact distance spans more than
+ * GRIDDEM_MAX_REACH cells. */
 static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, const griddem_class_grid *into,
                       int nthreads, double *totals)
 {
@@ -567,7 +574,8 @@ static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, cons
       energy += sums.energy;
     }
   }
-  totals[0] = v0, totals[1] = v1, totals[2] = v2, totals[3] = v3, totals[4] = v4, totals[5] = v5, totals[6] = energy;
+  totals[0] += v0, totals[1] += v1, totals[2] += v2, totals[3] += v3, totals[4] += v4, totals[5] += v5;
+  totals[6] += energy;
   return 0;
 }
 
@@ -643,19 +651,19 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     return result->fault;
   }
 
-  double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
+  double totals[7] = {0.0};    /* the virial's six components and the energy, of the row passes */
   for (int kc = 0; kc < ncls; kc++) {
-    /* pairs within class kc on its own grid */
-    const griddem_class_grid *k = &cls[kc];
+    /* pairs within class kc on its own grid, and with its kinematic twin (the class after it) */
+    const griddem_class_grid *k = &cls[kc], *twin = kc + 1 < ncls && twins(k, &cls[kc + 1]) ? &cls[kc + 1] : NULL;
     if (k->b->n == 0 || k->kinematic) continue;
-    double totals[7];
-    if (sweep_rows(&cx, k, k, nthreads, totals) != 0) {
+    if (sweep_rows(&cx, k, k, nthreads, totals) != 0 ||
+        (twin && twin->b->n && sweep_rows(&cx, k, twin, nthreads, totals) != 0)) {
       result->fault = GRIDDEM_FAULT_STENCIL;
       return result->fault;
     }
-    v0 += totals[0], v1 += totals[1], v2 += totals[2], v3 += totals[3], v4 += totals[4], v5 += totals[5];
-    energy += totals[6];
   }
+  double v0 = totals[0], v1 = totals[1], v2 = totals[2], v3 = totals[3], v4 = totals[4], v5 = totals[5],
+         energy = totals[6];
 
   /* pairs across classes: the spheres of one class searched in the other's grid, in the cheaper
      direction (across_direction). Threads take the searching spheres by slabs of the searched
@@ -663,20 +671,9 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
      q+3 lie in disjoint slabs, so no two threads write one particle */
   for (int kc = 1; kc < ncls; kc++)
     for (int lc = 0; lc < kc; lc++) {
-      if (cls[kc].b->n == 0 || cls[lc].b->n == 0 || (cls[kc].kinematic && cls[lc].kinematic)) continue;
-      if (cls[kc].kinematic != cls[lc].kinematic && same_cells(cls[kc].g, cls[lc].g)) {
-        /* a class and its kinematic twin over the same cells: the twin searched from the class's
-           cell rows */
-        double totals[7];
-        if (sweep_rows(&cx, cls[kc].kinematic ? &cls[lc] : &cls[kc], cls[kc].kinematic ? &cls[kc] : &cls[lc],
-                       nthreads, totals) != 0) {
-          result->fault = GRIDDEM_FAULT_STENCIL;
-          return result->fault;
-        }
-        v0 += totals[0], v1 += totals[1], v2 += totals[2], v3 += totals[3], v4 += totals[4], v5 += totals[5];
-        energy += totals[6];
+      if (cls[kc].b->n == 0 || cls[lc].b->n == 0 || (cls[kc].kinematic && cls[lc].kinematic) ||
+          (lc == kc - 1 && twins(&cls[lc], &cls[kc])))    /* twins: swept above */
         continue;
-      }
       across_pass pass;
       if (across_direction(&cls[kc], &cls[lc], model->reach_extra, &pass) != 0) {
         result->fault = GRIDDEM_FAULT_STENCIL;

@@ -83,7 +83,8 @@ typedef struct griddem_class_grid {
  * its own grid (forward half stencil in sorted order), pairs across two classes by searching the
  * spheres of one in the other's grid, whichever direction costs fewer block rows and candidates
  * (a few large spheres among many small ones search the small ones' grid), and a class with its
- * kinematic twin laid over the same cells through the class's cell rows and the full stencil;
+ * kinematic twin (the class after it, laid over the same cells) through the class's cell rows and
+ * the full stencil;
  * order: the particle of each slot of the channels. Each pair in
  * contact is evaluated once and its force and torques go to whichever of its two particles are
  * owned, so ghosts receive nothing (newton off across processes). Adds into f and torque

@@ -386,13 +386,13 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
       int kinematic = 0;
       long on_kinematic_grids = 0;
       for (int i = 0; i < N; i++) kinematic += (mask[i] & kinematic_bit) && !(mask[i] & lagging_bit);
-      for (int c = e.nclass; c < e.ngrid; c++) on_kinematic_grids += e.bins[c].n;
+      for (int c = 1; e.ngrid == 2 * e.nclass && c < e.ngrid; c += 2) on_kinematic_grids += e.bins[c].n;    /* twins */
       /* grids of their own from the step after one that binned mostly kinematic particles */
       const int own_grids = mostly_kinematic;
       mostly_kinematic = kinematic >= e.channels.n - kinematic;
       int twins_share_cells = 1;    /* each class's kinematic grid over the class's own cells */
       for (int c = 0; own_grids && c < e.nclass; c++) {
-        const griddem_grid *a = &e.grid[c], *k = &e.grid[e.nclass + c];
+        const griddem_grid *a = &e.grid[2 * c], *k = &e.grid[2 * c + 1];
         twins_share_cells &= a->h == k->h && memcmp(a->k0, k->k0, sizeof(a->k0)) == 0 && memcmp(a->n, k->n, sizeof(a->n)) == 0;
       }
       CHECK(kinematic >= 10 && (own_grids ? e.ngrid == 2 * e.nclass && on_kinematic_grids == kinematic : e.ngrid == e.nclass) &&
