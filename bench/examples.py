@@ -35,6 +35,7 @@ from griddemtools import echo, lammps, log  # noqa: E402
 #         run against its reference log, tolerance of griddem against stock; both absolute)
 SCENES = {
     "pour": (1, [(None, [])], None, None, None),
+    "pour-2d": (1, [(None, [])], None, None, None),
     "free-fall": (1, [("damped", []), ("undamped", ["eta 0"]), ("stock", ["style granular"])],
                   None, None, None),
     "sliding": (1, [(None, [])], None, None, None),

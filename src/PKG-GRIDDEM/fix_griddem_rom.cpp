@@ -195,6 +195,7 @@ void FixGriddemRom::init()
     error->all(FLERR, "Fix griddem/rom needs a griddem pair style (it skips kinematic-kinematic "
                "pairs through the pair's exclusions); pair style is {}",
                force->pair ? force->pair_style : "none");
+  if (domain->dimension != 3) error->all(FLERR, "Fix griddem/rom requires a 3d simulation (its voxels are 3d)");
   // a model box in the simulation box equals it; a moving frame may be any box, but along a
   // periodic axis it is the box's period, and it does not move there
   for (int d = 0; d < 3; d++) {

@@ -177,8 +177,6 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {} requires atom attributes radius, rmass, omega (atom_style sphere)", style);
   if (comm->ghost_velocity == 0)
     error->all(FLERR, "Pair style {} requires ghost atoms store velocity: use comm_modify vel yes", style);
-  if (domain->dimension != 3)
-    error->all(FLERR, "Pair style {} supports 3d simulations only", style);
   if (atom->molecular != Atom::ATOMIC)
     error->all(FLERR, "Pair style {} does not support molecular systems (special bonds)", style);
   for (const auto &ifix : modify->get_fix_list())
@@ -349,7 +347,8 @@ void PairGriddem::image_axes_of_box()
   const double *hi = domain->h_inv;
   const double width[3] = {1.0 / sqrt(hi[0] * hi[0] + hi[5] * hi[5] + hi[4] * hi[4]),
                            1.0 / sqrt(hi[1] * hi[1] + hi[3] * hi[3]), 1.0 / hi[2]};
-  for (int d = 0; d < 3; d++) {
+  // in 2d LAMMPS makes no images along z
+  for (int d = 0; d < domain->dimension; d++) {
     if (!domain->periodicity[d] || width[d] >= 2.0 * contact) continue;
     image_axes |= 1 << d;
     if (width[d] < GRIDDEM_IMAGE_MIN_WIDTH(contact))

@@ -97,7 +97,11 @@ run 5
 """, WD, name="in.stencil_reach")
 t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in out and "use fix griddem cell auto" in out,
         "stencil_reach: error names the ratio and the remedy")
-case("two_d", "supports 3d simulations only", dim=2)
+# 2d runs with the pair styles (test_stock_parity.py); the reduced-order model's voxels are 3d
+flat_model = os.path.join(WD, "flat.model")
+t.write_rom_model(flat_model, (2, 2, 1), (0.0, 4.0, 0.0, 4.0, -0.5, 0.5))
+case("rom_two_d", "Fix griddem/rom requires a 3d simulation", dim=2,
+     post="fix rom all griddem/rom model %s eps 0.1 v0 1 every 1" % flat_model)
 case("no_ghost_velocity", "comm_modify vel yes", comm="")
 case("arg_count", "expects Kn Kt gamma_n gamma_t xmu dampflag", pair="griddem/hooke/history 1e3 NULL 10")
 case("negative_kn", "Kn must be >= 0", pair="griddem/hooke -5 NULL 10 NULL 0.5 1")

@@ -2,7 +2,8 @@
 free-fall (NN4DEM set I) apex heights against the analytic e^2 per bounce (0.1%) and against
 stock pair granular (1e-8); sliding distance against the solution for the curved floor (0.1%);
 the default pour scene's packing fraction against stock gran/hooke/history (0.01, a chaotic
-pour) and a random packing's range. Each also against the reference log in the example (1e-6
+pour) and a random packing's range; the 2d pour's area fraction against stock's (0.01) and a
+random packing of discs' range. Each also against the reference log in the example (1e-6
 for the single particles, 0.005 for the pour). Every example's reference log echoes its current
 input."""
 import glob
@@ -86,6 +87,18 @@ def pour(wd):
     t.check(abs(phi - phi_ref) <= 0.005, "pour: %.3f, reference log %.3f" % (phi, phi_ref))
 
 
+def pour_2d(wd):
+    pattern = r"area fraction ([0-9.]+)"
+    phi = float(re.findall(pattern, run_example("pour-2d", wd))[-1])
+    phi_stock = float(re.findall(pattern, run_example("pour-2d", wd, "style gran/hooke/history", "tag stock"))[-1])
+    with open(reference_log(os.path.join(EXAMPLES, "pour-2d"))) as f:
+        phi_ref = float(re.findall(pattern, f.read())[-1])
+    # between random loose packing of frictional discs and random close packing of polydisperse ones
+    t.check(0.77 <= phi <= 0.85, "pour-2d: area fraction %.3f of a random packing of discs" % phi)
+    t.check(abs(phi - phi_stock) <= 0.01, "pour-2d: %.3f, stock gran/hooke/history %.3f" % (phi, phi_stock))
+    t.check(abs(phi - phi_ref) <= 0.005, "pour-2d: %.3f, reference log %.3f" % (phi, phi_ref))
+
+
 def reference_logs_echo_inputs():
     """Every reference log in examples/ (log.DATE.NAME[.variant].N) is the output of the current
     examples/NAME/in.NAME: it echoes each of its commands in order and no other."""
@@ -107,6 +120,7 @@ def main():
     free_fall(wd)
     sliding(wd)
     pour(wd)
+    pour_2d(wd)
     t.finish()
 
 

@@ -73,11 +73,12 @@ def kk_args(threads):
     return ["-k", "on"] + device + ["-sf", "kk", "-pk", "kokkos", "newton", "off", "neigh", "half"]
 
 
-def run(wd, name, data, pair, coeffs, nprocs=1, threads=None, extra=""):
+def run(wd, name, data, pair, coeffs, nprocs=1, threads=None, extra="", dimension=3):
     """parity_run (test_stock_parity) with Kokkos options when threads is given."""
     if threads is None and nprocs == 1:
-        return parity_run(wd, name, data, pair, extra, coeffs)
-    text = TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name)
+        return parity_run(wd, name, data, pair, extra, coeffs, dimension)
+    head = "dimension 2\n" if dimension == 2 else ""
+    text = head + TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name)
     rc, out = t.run_lmp(text, wd, nprocs=nprocs, name="in." + name,
                         extra=kk_args(threads) if threads else (), threads=threads)
     if rc != 0:
@@ -559,6 +560,24 @@ def check_periodic_images(wd, _data):
             "a box 0.12 thick: kk refuses it as the CPU style: %s vs %s" % (said["kk"], said["cpu"]))
 
 
+def check_two_d(wd, _data):
+    """2d (discs in a periodic plane with fix enforce2d, test_stock_parity.py): the kk styles give
+    stock's and the CPU style's forces, torques, 20-step trajectories and virial, on 1 and 2 ranks."""
+    flat = os.path.join(wd, "data.flat")
+    t.write_random_spheres(flat, 700, (8.0, 8.0, 1.0), 0.1, 0.3, seed=17, vscale=1.0, wscale=5.0, ntypes=2, flat=True)
+    # every run reneighbors as stock's must (FROZEN_LIST, check_laws), so atoms wrap at the same steps
+    plane = "fix plane all enforce2d\n" + FROZEN_LIST
+    for k, (label, griddem, stock, coeffs) in enumerate((LAWS[0], HISTORY, LAWS[-1])):
+        ref = run(wd, "stock_2d_%d" % k, flat, stock, coeffs, extra=plane, dimension=2)
+        cpu = run(wd, "cpu_2d_%d" % k, flat, griddem, coeffs, extra=plane, dimension=2)
+        for nprocs in RANKS:
+            kk = run(wd, "kk_2d_%d_%d" % (k, nprocs), flat, griddem, coeffs, nprocs, THREADS[-1], extra=plane,
+                     dimension=2)
+            what = "2d %s/kk [%s], %d rank(s)" % (griddem.split()[0], label, nprocs)
+            compare(what + " vs stock " + stock.split()[0], ref, kk)
+            compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
+
+
 def check_grid_cost(wd, _data):
     """fix griddem cell multi at 1:100 (test_grid_cost.py's scene): the kk style warns with the CPU
     style's numbers, which it measures on the same layouts."""
@@ -921,7 +940,7 @@ def check_replanned(wd, data):
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
-    check_reach, check_periodic_images, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_reach, check_periodic_images, check_two_d, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 

@@ -1,7 +1,7 @@
 """Forces, torques, virial and 20-step trajectories of griddem/hooke/history and griddem/hooke
 equal those of stock gran/hooke/history and gran/hooke to 1e-10 relative, on a dense random
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
-with limit_damping, dampflag 0, fix freeze, and a triclinic box."""
+with limit_damping, dampflag 0, fix freeze, a triclinic box, and in 2d."""
 import os
 import sys
 
@@ -25,10 +25,11 @@ FORCES = ["fx", "fy", "fz", "tqx", "tqy", "tqz"]
 STATE = ["x", "y", "z", "vx", "vy", "vz"]
 
 
-def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *"):
+def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *", dimension=3):
     if pair.startswith("griddem/hooke/history") and "griddem" not in extra:
         extra += "\nfix grid all griddem contacts 64"
-    out = t.run_ok(TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name), wd,
+    head = "dimension 2\n" if dimension == 2 else ""
+    out = t.run_ok(head + TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name), wd,
                    name="in." + name)
     return t.read_dumps(os.path.join(wd, "dump." + name)), out
 
@@ -99,6 +100,19 @@ def main():
 
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
+
+    # 2d, as the stock styles run it: discs in a periodic plane with fix enforce2d; also with the
+    # box's z width under 1/8 of the contact distance, which a periodic axis may not have in 3d
+    # (in 2d LAMMPS makes no periodic images along z)
+    plane = "fix plane all enforce2d"
+    for label, zwidth in (("2d", 1.0), ("2d, z width 0.05", 0.05)):
+        flat = os.path.join(wd, "data.flat")
+        t.write_random_spheres(flat, 700, (8.0, 8.0, zwidth), 0.1, 0.3, seed=17, vscale=1.0, wscale=5.0, flat=True)
+        for law in ("gran/hooke/history " + hist, "gran/hooke " + hist):
+            name = law.split()[0].replace("/", "_") + ("_thin" if zwidth < 1.0 else "")
+            compare("%s %s" % (law.split()[0].replace("gran/", ""), label),
+                    run(wd, "stock_2d_" + name, flat, law, plane, dimension=2),
+                    run(wd, "grid_2d_" + name, flat, law.replace("gran/", "griddem/"), plane, dimension=2))
     t.finish()
 
 
