@@ -27,7 +27,7 @@ using namespace LAMMPS_NS;
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
-    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions()
+    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions()
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   single_enable = 1;
@@ -179,9 +179,12 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {} requires ghost atoms store velocity: use comm_modify vel yes", style);
   if (atom->molecular != Atom::ATOMIC)
     error->all(FLERR, "Pair style {} does not support molecular systems (special bonds)", style);
-  for (const auto &ifix : modify->get_fix_list())
+  radii_vary = false;
+  for (const auto &ifix : modify->get_fix_list()) {
     if (ifix->rigid_flag)
       error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
+    radii_vary |= ifix->diam_flag != 0;
+  }
 
   FixGriddem *fix = keeper.choose(history_fix_style(), kokkosable, model.track_contacts);
   last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
@@ -304,6 +307,11 @@ void PairGriddem::find_radius_range()
   set_radius_range(local[0], local[1]);
 }
 
+bool PairGriddem::radius_range_due() const
+{
+  return neighbor->ago == 0 || radii_vary;
+}
+
 /* rmin, rmax over all processes from this process's (INFINITY, 0 without atoms) */
 
 void PairGriddem::set_radius_range(double local_min, double local_max)
@@ -315,6 +323,34 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
   if (rmax > 0.0 && !(rmin > 0.0))
     error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", force->pair_style, rmin);
   find_image_axes();
+}
+
+/* A contact with a ghost atom is found only where LAMMPS keeps that ghost: it keeps atoms within
+   its ghost cutoff (from the pair cutoffs, made from the radii at the run's start, plus the
+   neighbor skin) and rebuilds the ghosts when an atom has moved half the skin, so every pair
+   closer than the cutoff less the skin is present. Radii that grow during a run (fix adapt) can
+   outgrow either bound; stock's neighbor lists have the same two. */
+
+void PairGriddem::check_ghost_reach()
+{
+  if (rmax == 0.0) return;
+  const double contact = 2.0 * rmax + model.reach_extra, cutghost = comm->get_comm_cutoff();
+  const double tolerance = 1e-10 * contact;
+  if (contact > cutghost + tolerance)
+    error->all(FLERR, "Pair style {}: the largest contact distance {} (radius {}) exceeds the ghost cutoff {}: "
+               "contacts with atoms of other processes and periodic images would be lost; radii grew during "
+               "the run (fix adapt): set comm_modify cutoff to at least {} plus the neighbor skin {}, or let them "
+               "grow over several runs", force->pair_style, contact, rmax, cutghost, contact, neighbor->skin);
+  if (contact > cutghost - neighbor->skin + tolerance && !ghost_reach_warned) {
+    ghost_reach_warned = 1;
+    if (comm->me == 0)
+      error->warning(FLERR, "Pair style {}: at step {} the largest contact distance {} (radius {}) exceeds the ghost "
+                     "cutoff {} less the neighbor skin {}: contacts with ghost atoms are certain only while atoms "
+                     "move less than {} between reneighborings (stock's neighbor lists have the same limit); "
+                     "comm_modify cutoff {} makes them certain",
+                     force->pair_style, update->ntimestep, contact, rmax, cutghost, neighbor->skin,
+                     0.5 * (cutghost - contact), contact + neighbor->skin);
+  }
 }
 
 /* Where a periodic box is narrower than twice the largest contact distance, a sphere can touch
@@ -503,10 +539,13 @@ void PairGriddem::compute(int eflag, int vflag)
 
   // one pass: non-finite positions, the box, the fastest atom (the radius range where it can change)
   griddem_scan scan;
-  const int radii = neighbor->ago == 0;    // atoms come and go only where LAMMPS reneighbors
+  const int radii = radius_range_due();
   griddem_engine_scan(&part, radii, &scan);
   if (scan.first_nonfinite >= 0) error_nonfinite("position", scan.first_nonfinite, x[scan.first_nonfinite]);
-  if (radii) set_radius_range(scan.rmin, scan.rmax);
+  if (radii) {
+    set_radius_range(scan.rmin, scan.rmax);
+    check_ghost_reach();
+  }
   if (rmax == 0.0) return;    // no atoms yet
   if (grid_cost_due()) check_grid_cost();
   FixGriddem *fix = this->fix();

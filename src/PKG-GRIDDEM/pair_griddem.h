@@ -58,7 +58,12 @@ class PairGriddem : public Pair, public GriddemPairLink {
   int coarsened_warned;
   int cost_warned;        // check_grid_cost() warned
   bigint cost_natoms;     // the atom count check_grid_cost() last measured
-  double rmin, rmax;            // smallest and largest radius of all atoms, refreshed on reneighbor
+  double rmin, rmax;            // smallest and largest radius of all atoms (radius_range_due())
+  // where rmin and rmax are found anew: at reneighborings (atoms come and go), and every step
+  // where a fix may change radii (diam_flag: fix adapt's diameter)
+  bool radius_range_due() const;
+  bool radii_vary;
+  int ghost_reach_warned;
 
   int freeze_group_bit;
   std::vector<unsigned char> excluded_types;
@@ -83,6 +88,8 @@ class PairGriddem : public Pair, public GriddemPairLink {
 
   // shared by the CPU and Kokkos styles, so both name the same faults in the same words
   void set_radius_range(double local_min, double local_max);
+  // in a step: refuses (warns of) a contact distance the ghost atoms do not (may not) cover
+  void check_ghost_reach();
   void error_nonfinite(const char *what, int i, const double *value);
   void error_too_fast(int i, double speed, double h_nn4dem);
   void error_coincident(int i, int j);

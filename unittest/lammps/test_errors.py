@@ -97,6 +97,32 @@ run 5
 """, WD, name="in.stencil_reach")
 t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in out and "use fix griddem cell auto" in out,
         "stencil_reach: error names the ratio and the remedy")
+# radii that outgrow the ghost cutoff (fix adapt doubles them in 400 steps; ghosts are kept
+# within 2 r + skin of the start): stopped with the cause and the remedy, where stock's lists
+# would lose contacts with ghost atoms without a word
+rc, out = t.run_lmp("""
+units lj
+atom_style sphere 1
+boundary p p p
+comm_modify vel yes
+lattice sc 0.5
+region box block 0 4 0 4 0 4
+create_box 1 box
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+pair_style griddem/hooke/history 1e3 NULL 10 NULL 0.5 1
+pair_coeff * *
+neighbor 0.2 bin
+variable grow equal 1+step/400
+fix grow all adapt 1 atom diameter v_grow scale yes reset no
+fix integrate all nve/sphere
+run 400
+""", WD, name="in.outgrown")
+t.check(rc != 0 and "exceeds the ghost cutoff 1.2: contacts with atoms of other processes" in out
+        and "set comm_modify cutoff to at least" in out and "WARNING" in out and "less the neighbor skin 0.2" in out,
+        "outgrown: radii growing past the ghost cutoff warned of, then stopped: %s" % t.errors(out)[:2])
+
 # 2d runs with the pair styles (test_stock_parity.py); the reduced-order model's voxels are 3d
 flat_model = os.path.join(WD, "flat.model")
 t.write_rom_model(flat_model, (2, 2, 1), (0.0, 4.0, 0.0, 4.0, -0.5, 0.5))

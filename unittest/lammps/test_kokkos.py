@@ -25,7 +25,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 from test_granular_parity import FROZEN_LIST, MODELS
-from test_stock_parity import FORCES, STATE, TEMPLATE, compare as parity_compare, run as parity_run
+from test_stock_parity import FORCES, STATE, TEMPLATE, compare as parity_compare, growing_text, run as parity_run
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
 from gpu import POLY  # noqa: E402  (bench/gpu.py's polydisperse scene)
@@ -578,6 +578,21 @@ def check_two_d(wd, _data):
             compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
 
 
+def check_growing(wd, data):
+    """Radii that grow during the run (test_stock_parity.growing_text): the kk styles follow the
+    largest radius every step, and give stock's numbers, on 1 and 2 ranks."""
+    runs = {}
+    for name, pair, nprocs, extra in [("stock_grow", "gran/hooke/history", 1, ())] + [
+            ("kk_grow_%d" % n, "griddem/hooke/history", n, kk_args(THREADS[-1])) for n in RANKS]:
+        rc, out = t.run_lmp(growing_text(data, pair + " 1e4 NULL 50 NULL 0.5 1", name), wd, nprocs=nprocs,
+                            name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        runs[name] = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+    for n in RANKS:
+        compare("griddem/hooke/history/kk, radii growing, %d rank(s) vs stock" % n, runs["stock_grow"],
+                runs["kk_grow_%d" % n])
+
+
 def check_grid_cost(wd, _data):
     """fix griddem cell multi at 1:100 (test_grid_cost.py's scene): the kk style warns with the CPU
     style's numbers, which it measures on the same layouts."""
@@ -940,7 +955,7 @@ def check_replanned(wd, data):
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
-    check_reach, check_periodic_images, check_two_d, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_reach, check_periodic_images, check_two_d, check_growing, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 

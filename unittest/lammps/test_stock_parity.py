@@ -1,7 +1,8 @@
 """Forces, torques, virial and 20-step trajectories of griddem/hooke/history and griddem/hooke
 equal those of stock gran/hooke/history and gran/hooke to 1e-10 relative, on a dense random
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
-with limit_damping, dampflag 0, fix freeze, a triclinic box, and in 2d."""
+with limit_damping, dampflag 0, fix freeze, a triclinic box, radii that grow during the run (fix
+adapt), and in 2d."""
 import os
 import sys
 
@@ -32,6 +33,15 @@ def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *", dimension=3):
     out = t.run_ok(head + TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name), wd,
                    name="in." + name)
     return t.read_dumps(os.path.join(wd, "dump." + name)), out
+
+
+def growing_text(data, pair, name):
+    """TEMPLATE with radii that grow by a fifth in its 20 steps (fix adapt, atom_style sphere 1),
+    and a skin that covers the growth (stock's lists need it)."""
+    text = TEMPLATE.format(data=data, pair=pair, coeffs="pair_coeff * *", name=name, extra=(
+        "neighbor 0.5 bin\nvariable grow equal 1+0.01*step\n"
+        "fix grow all adapt 1 atom diameter v_grow scale yes reset no"))
+    return text.replace("atom_style sphere\n", "atom_style sphere 1\n")
 
 
 def compare(label, ref, test):
@@ -100,6 +110,14 @@ def main():
 
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
+
+    # radii that grow during the run: the grid follows the largest radius every step, not only
+    # where LAMMPS reneighbors
+    def growing(name, pair):
+        out = t.run_ok(growing_text(data, pair, name), wd, name="in." + name)
+        return t.read_dumps(os.path.join(wd, "dump." + name)), out
+    compare("hooke/history, radii growing", growing("stock_grow", "gran/hooke/history " + hist),
+            growing("grid_grow", "griddem/hooke/history " + hist))
 
     # 2d, as the stock styles run it: discs in a periodic plane with fix enforce2d; also with the
     # box's z width under 1/8 of the contact distance, which a periodic axis may not have in 3d

@@ -151,7 +151,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   const int nall = this->atom->nlocal + this->atom->nghost;
 
   // the grids planned from the last step's boxes, between reneighborings
-  bool planned = this->neighbor->ago != 0 && boxes_known;
+  bool planned = !this->radius_range_due() && boxes_known;
   for (int attempt = 0;; attempt++) {
     if (attempt == max_attempts)
       this->error->one(FLERR, "Pair style {}: a step still found its room short after {} "
@@ -175,8 +175,10 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
       check_scan(sc);
       // the radius range, refreshed as the CPU style does: once, as every process takes part
       // (a step computed again is this process's alone)
-      if (this->neighbor->ago == 0 && attempt == 0)
+      if (this->radius_range_due() && attempt == 0) {
         this->set_radius_range(this->atom->nlocal ? sc.rmin : INFINITY, sc.rmax);
+        this->check_ghost_reach();
+      }
       if (this->rmax == 0.0) return;    // no atoms yet
       if (attempt == 0 && this->grid_cost_due()) {
         atomKK->sync(Host, X_MASK | V_MASK | RADIUS_MASK | TAG_MASK | MASK_MASK);
