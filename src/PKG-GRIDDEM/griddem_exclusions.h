@@ -1,10 +1,12 @@
-/* Pairs that must not interact (LAMMPS neigh_modify exclude type / group, and fix griddem/rom's
- * kinematic and lagging particles), and the test both the CPU sweep and the Kokkos search make of a
- * pair. */
+/* Pairs that must not interact (LAMMPS neigh_modify exclude type / group / molecule, and fix
+ * griddem/rom's kinematic and lagging particles), and the test both the CPU sweep and the Kokkos
+ * search make of a pair (molecules: the CPU sweep's alone). */
 #ifndef GRIDDEM_EXCLUSIONS_H
 #define GRIDDEM_EXCLUSIONS_H
 
 #include "griddem_portable.h"
+
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -20,6 +22,9 @@ typedef struct griddem_exclusions {
   int apart_bit;                  /* pairs where either mask has this bit: particles that can touch
                                    * nothing this step (fix griddem/rom's lagging particles, which
                                    * its reach test keeps out of every contact); 0: none */
+  int nmolecule;                  /* neigh_modify exclude molecule/intra and molecule/inter */
+  const int *molecule_bits;       /* [nmolecule]: the group bit of each */
+  const int *molecule_intra;      /* [nmolecule]: 1: pairs of one molecule, 0: of two */
 } griddem_exclusions;
 
 /* Whether particles of types ta, tb and group masks ma, mb must not interact. */
@@ -31,6 +36,15 @@ GRIDDEM_INLINE int griddem_excluded(const griddem_exclusions *e, int ta, int ma,
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];
     if (((ma & b1) && (mb & b2)) || ((ma & b2) && (mb & b1))) return 1;
   }
+  return 0;
+}
+
+/* Whether particles of molecules a and b, of group masks ma and mb, must not interact by the
+ * molecule exclusions (both in the group, and in one molecule or in two, as LAMMPS's lists). */
+GRIDDEM_INLINE int griddem_excluded_molecules(const griddem_exclusions *e, int64_t a, int ma, int64_t b, int mb)
+{
+  for (int k = 0; k < e->nmolecule; k++)
+    if ((ma & mb & e->molecule_bits[k]) && (a == b) == (e->molecule_intra[k] != 0)) return 1;
   return 0;
 }
 

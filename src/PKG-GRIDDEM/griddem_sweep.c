@@ -156,7 +156,11 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   }
   const griddem_particles *p = ch->p;
   const int type_a = p->type[ia], type_b = p->type[ib], ma = p->mask[ia], mb = p->mask[ib];
-  if (cx->excl && griddem_excluded(cx->excl, type_a, ma, type_b, mb)) return;
+  const griddem_exclusions *excl = cx->excl;
+  if (excl && (griddem_excluded(excl, type_a, ma, type_b, mb) ||
+               (excl->nmolecule && griddem_excluded_molecules(excl, griddem_key_at(p->molecule, p->tag_bytes, ia), ma,
+                                                              griddem_key_at(p->molecule, p->tag_bytes, ib), mb))))
+    return;
 
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
   const double ra = ch->r[a], rb = ch->r[b];
@@ -636,7 +640,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
-                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->both_bit || excl->apart_bit)) ? excl : NULL,
+                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit))
+                                ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
                             {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
   memset(result, 0, sizeof(*result));

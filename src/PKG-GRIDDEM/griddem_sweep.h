@@ -29,6 +29,8 @@ typedef struct griddem_particles {
   int frozen_bit;    /* mask & frozen_bit marks a frozen particle (infinite mass); 0: none */
   const int *image;  /* per particle: its periodic image (griddem_image_code), where the box has
                         image axes; NULL: contacts are keyed by partner tag alone */
+  const void *molecule; /* per particle, tag_bytes wide: its molecule, where the exclusions name
+                           molecules; NULL otherwise */
 } griddem_particles;
 
 /* The particles in sorted order (the channels): centre and radius per slot, one array each, which

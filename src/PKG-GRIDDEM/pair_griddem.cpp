@@ -27,9 +27,10 @@ using namespace LAMMPS_NS;
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
-    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions()
+    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
+  comm_forward = 1;               // rigid bodies' masses (contact_masses())
   single_enable = 1;
   // what single() reports besides the force, as the stock styles: tangential force and its size,
   // then hooke: normal and tangential relative velocity; granular: rolling force and its size,
@@ -180,11 +181,18 @@ void PairGriddem::init_style()
   if (atom->molecular != Atom::ATOMIC)
     error->all(FLERR, "Pair style {} does not support molecular systems (special bonds)", style);
   radii_vary = false;
+  fix_rigid = nullptr;
   for (const auto &ifix : modify->get_fix_list()) {
-    if (ifix->rigid_flag)
-      error->all(FLERR, "Pair style {} does not support rigid bodies (fix {})", style, ifix->style);
+    if (ifix->rigid_flag) {
+      if (fix_rigid) error->all(FLERR, "Pair style {}: only one fix rigid at a time (fix {} and fix {})", style,
+                                fix_rigid->id, ifix->id);
+      fix_rigid = ifix;
+    }
     radii_vary |= ifix->diam_flag != 0;
   }
+  if (fix_rigid && kokkosable)
+    error->all(FLERR, "Pair style {} does not support rigid bodies (fix {}) yet: run the CPU style {}", style,
+               fix_rigid->style, utils::strip_style_suffix(style, lmp));
 
   FixGriddem *fix = keeper.choose(history_fix_style(), kokkosable, model.track_contacts);
   last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
@@ -258,9 +266,18 @@ void PairGriddem::setup_exclusions()
     excluded_groups.push_back(group->bitmask[neighbor->ex1_group[k]]);
     excluded_groups.push_back(group->bitmask[neighbor->ex2_group[k]]);
   }
-  if (neighbor->nex_mol)
-    error->all(FLERR, "Pair style {} does not support neigh_modify exclude molecule/inter or molecule/intra",
-               force->pair_style);
+  excluded_molecule_bits.clear();
+  excluded_molecule_intra.clear();
+  for (int k = 0; k < neighbor->nex_mol; k++) {
+    excluded_molecule_bits.push_back(group->bitmask[neighbor->ex_mol_group[k]]);
+    excluded_molecule_intra.push_back(neighbor->ex_mol_intra[k]);
+  }
+  if (neighbor->nex_mol && kokkosable)
+    error->all(FLERR, "Pair style {} does not support neigh_modify exclude molecule/inter or molecule/intra yet: "
+               "run the CPU style {}", force->pair_style, utils::strip_style_suffix(force->pair_style, lmp));
+  exclusions.nmolecule = neighbor->nex_mol;
+  exclusions.molecule_bits = excluded_molecule_bits.data();
+  exclusions.molecule_intra = excluded_molecule_intra.data();
   exclusions.type_pair = excluded_types.empty() ? nullptr : excluded_types.data();
   exclusions.ntypes = atom->ntypes;
   exclusions.ngroup_pairs = neighbor->nex_group;
@@ -468,7 +485,41 @@ griddem_particles PairGriddem::host_particles()
   part.mask = atom->mask;
   part.frozen_bit = freeze_group_bit;
   part.image = nullptr;
+  part.molecule = exclusions.nmolecule ? atom->molecule : nullptr;
   return part;
+}
+
+/* Each atom's mass in a contact, as stock's: its rigid body's total where it belongs to one (the
+   bodies' atoms change only where LAMMPS reneighbors; sent to the ghosts then), else its own. */
+
+const double *PairGriddem::contact_masses()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  if (neighbor->ago == 0) {
+    int dim;
+    auto body = (int *) fix_rigid->extract("body", dim);
+    auto mass_body = (double *) fix_rigid->extract("masstotal", dim);
+    if (!body || !mass_body)
+      error->all(FLERR, "Pair style {}: fix {} gives no body masses at step {}", force->pair_style, fix_rigid->id,
+                 update->ntimestep);
+    body_mass.assign(atom->nmax, 0.0);
+    for (int i = 0; i < nlocal; i++) body_mass[i] = body[i] >= 0 ? mass_body[body[i]] : 0.0;
+    comm->forward_comm(this);
+  }
+  contact_mass.resize(nall);
+  for (int i = 0; i < nall; i++) contact_mass[i] = body_mass[i] > 0.0 ? body_mass[i] : atom->rmass[i];
+  return contact_mass.data();
+}
+
+int PairGriddem::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  for (int k = 0; k < n; k++) buf[k] = body_mass[list[k]];
+  return n;
+}
+
+void PairGriddem::unpack_forward_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) body_mass[first + k] = buf[k];
 }
 
 /* A cell mode with one grid (multi, exact, a given edge) can cost far more than the default's
@@ -536,6 +587,7 @@ void PairGriddem::compute(int eflag, int vflag)
   griddem_step step;
   griddem_particles &part = step.particles;
   part = host_particles();
+  if (fix_rigid) part.rmass = contact_masses();
 
   // one pass: non-finite positions, the box, the fastest atom (the radius range where it can change)
   griddem_scan scan;
@@ -618,9 +670,10 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
   const int *mask = atom->mask;
   griddem_contact c;
-  griddem_contact_setup(&c, dx, rsq, radius[i], radius[j], v[i], v[j], omega[i], omega[j], atom->rmass[i],
-                        atom->rmass[j], (mask[i] & freeze_group_bit) != 0, (mask[j] & freeze_group_bit) != 0,
-                        update->dt, 0);
+  // the contact masses of the last step (with rigid bodies: their bodies')
+  const double *mass = fix_rigid && (int) contact_mass.size() > MAX(i, j) ? contact_mass.data() : atom->rmass;
+  griddem_contact_setup(&c, dx, rsq, radius[i], radius[j], v[i], v[j], omega[i], omega[j], mass[i], mass[j],
+                        (mask[i] & freeze_group_bit) != 0, (mask[j] & freeze_group_bit) != 0, update->dt, 0);
   c.fr[0] = c.fr[1] = c.fr[2] = 0.0;    // set by a rolling model only, reported by all
 
   double f[3], ti[3], tj[3];

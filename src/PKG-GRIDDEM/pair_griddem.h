@@ -36,6 +36,8 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // "griddem": this style's GriddemPairLink, for fix griddem
   void *extract(const char *, int &) override;
   double memory_usage() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
 
   void fix_made(class FixGriddem *made, int in_place) override { keeper.fix_made(made, in_place); }
   void fix_leaving(class FixGriddem *leaving) override { keeper.fix_leaving(leaving); }
@@ -68,7 +70,14 @@ class PairGriddem : public Pair, public GriddemPairLink {
   int freeze_group_bit;
   std::vector<unsigned char> excluded_types;
   std::vector<int> excluded_groups;
+  std::vector<int> excluded_molecule_bits, excluded_molecule_intra;
   griddem_exclusions exclusions;
+
+  // rigid bodies (fix rigid, rigid/small): a contact takes an atom's body's mass, as stock's
+  class Fix *fix_rigid;
+  std::vector<double> body_mass;       // per atom and ghost: its body's mass, 0 outside bodies
+  std::vector<double> contact_mass;    // per atom and ghost: the mass its contacts take
+  const double *contact_masses();
 
   // makes fix GRIDDEM (when no fix griddem exists), so that it exists from the pair style's
   // settings, pair_coeff or restart on

@@ -145,8 +145,6 @@ case("search_cpu", "search team chooses among the Kokkos styles' searches",
      pre="fix grid all griddem search team")
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
-case("exclude_molecule", "does not support neigh_modify exclude molecule",
-     pre="fix mols all property/atom mol\nneigh_modify exclude molecule/intra all")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
 
 

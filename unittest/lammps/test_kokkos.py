@@ -25,7 +25,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
 from test_granular_parity import FROZEN_LIST, MODELS
-from test_stock_parity import FORCES, STATE, TEMPLATE, compare as parity_compare, growing_text, run as parity_run
+from test_stock_parity import CLUMP, CLUMPS, FORCES, STATE, TEMPLATE, compare as parity_compare, growing_text, \
+    run as parity_run
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
 from gpu import POLY  # noqa: E402  (bench/gpu.py's polydisperse scene)
@@ -593,6 +594,26 @@ def check_growing(wd, data):
                 runs["kk_grow_%d" % n])
 
 
+def check_not_yet(wd, _data):
+    """What the CPU styles run and the kk styles do not yet: rigid clumps (fix rigid/small) and
+    molecule exclusions stop a kk run with an error that names the CPU style; the CPU style runs
+    them (test_stock_parity.py)."""
+    path = os.path.join(wd, "clump.mol")
+    with open(path, "w") as f:
+        f.write(CLUMP)
+    hist = "griddem/hooke/history 1e4 NULL 50 NULL 0.5 1"
+    rigid = CLUMPS.format(clump=path, pair=hist, name="kk_clumps")
+    molecules = rigid.replace("fix bodies all rigid/small molecule\n", "")
+    for label, text, expect in (("rigid clumps", rigid, "does not support rigid bodies (fix rigid/small) yet: "
+                                 "run the CPU style griddem/hooke/history"),
+                                ("molecule exclusions", molecules, "does not support neigh_modify exclude "
+                                 "molecule/inter or molecule/intra yet: run the CPU style griddem/hooke/history")):
+        said = errors_of_cpu_and_kk(wd, re.sub(r"\W", "_", label), text)
+        t.check(not said["cpu"][0], "%s: the CPU style runs them: %s" % (label, said["cpu"]))
+        t.check(said["kk"][0] and any(expect in line for line in said["kk"][1]),
+                "%s: the kk style stops naming the CPU style: %s" % (label, said["kk"]))
+
+
 def check_grid_cost(wd, _data):
     """fix griddem cell multi at 1:100 (test_grid_cost.py's scene): the kk style warns with the CPU
     style's numbers, which it measures on the same layouts."""
@@ -955,7 +976,7 @@ def check_replanned(wd, data):
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
-    check_reach, check_periodic_images, check_two_d, check_growing, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_reach, check_periodic_images, check_two_d, check_growing, check_not_yet, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 

@@ -1,8 +1,9 @@
 """Forces, torques, virial and 20-step trajectories of griddem/hooke/history and griddem/hooke
 equal those of stock gran/hooke/history and gran/hooke to 1e-10 relative, on a dense random
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
-with limit_damping, dampflag 0, fix freeze, a triclinic box, radii that grow during the run (fix
-adapt), and in 2d."""
+with limit_damping, dampflag 0, fix freeze, a triclinic box, rigid clumps (fix rigid/small, neigh_modify
+exclude molecule/intra), radii that grow during the run (fix adapt), and in 2d."""
+import math
 import os
 import sys
 
@@ -44,7 +45,75 @@ def growing_text(data, pair, name):
     return text.replace("atom_style sphere\n", "atom_style sphere 1\n")
 
 
-def compare(label, ref, test):
+CLUMP = """# three overlapping spheres (density 1)
+
+3 atoms
+
+Coords
+
+1 0.0 0.0 0.0
+2 0.35 0.0 0.0
+3 0.15 0.3 0.05
+
+Types
+
+1 1
+2 1
+3 1
+
+Diameters
+
+1 0.5
+2 0.5
+3 0.4
+
+Masses
+
+1 %.17g
+2 %.17g
+3 %.17g
+""" % (math.pi / 6 * 0.125, math.pi / 6 * 0.125, math.pi / 6 * 0.064)
+
+# rigid clumps (fix rigid/small) of three spheres each, at random in a periodic box, their
+# spheres of one clump excluded from each other by molecule (fix property/atom mol)
+CLUMPS = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+region box block 0 3.5 0 3.5 0 3.5 units box
+create_box 1 box
+fix mols all property/atom mol ghost yes
+molecule clump {clump}
+create_atoms 0 random 80 4711 NULL mol clump 9876
+pair_style {pair}
+pair_coeff * *
+neigh_modify exclude molecule/intra all
+velocity all create 1.0 8765 loop geom
+timestep 1e-4
+fix bodies all rigid/small molecule
+compute virial all pressure NULL pair
+thermo_style custom step c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6]
+thermo_modify format float %.17g
+thermo 10
+dump snap all custom 20 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
+dump_modify snap format float %.17g sort id
+run 20
+"""
+# (the bodies take more degrees of freedom than their spheres' translations give a temperature:
+# no thermo column from one)
+
+
+def clumps(wd, name, pair):
+    path = os.path.join(wd, "clump.mol")
+    with open(path, "w") as f:
+        f.write(CLUMP)
+    out = t.run_ok(CLUMPS.format(clump=path, pair=pair, name=name), wd, name="in." + name)
+    return t.read_dumps(os.path.join(wd, "dump." + name)), out
+
+
+def compare(label, ref, test, thermo=("Press", "c_virial[1]", "c_virial[4]", "c_virial[6]")):
     (ref_snaps, ref_out), (snaps, out) = ref, test
     t.check(len(snaps) == 2 and len(ref_snaps) == 2, label + ": two snapshots (steps 0 and 20)")
     for k, step in enumerate((0, 20)):
@@ -52,7 +121,7 @@ def compare(label, ref, test):
         t.check(err <= 1e-10, "%s step %d: force/torque relative error %.3g" % (label, step, err))
     err = t.max_rel_diff(snaps[1], ref_snaps[1], STATE)
     t.check(err <= 1e-10, "%s step 20: position/velocity relative error %.3g" % (label, err))
-    for col in ["Press", "c_virial[1]", "c_virial[4]", "c_virial[6]"]:
+    for col in thermo:
         a, b = t.thermo_values(out, col), t.thermo_values(ref_out, col)
         t.check(len(a) == len(b) == 3, "%s: thermo %s printed 3 times" % (label, col))
         scale = max(abs(v) for v in b) or 1.0
@@ -110,6 +179,10 @@ def main():
 
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
+
+    # rigid clumps: a contact takes the masses of the two bodies, as stock's
+    compare("hooke/history, rigid clumps", clumps(wd, "stock_clumps", "gran/hooke/history " + hist),
+            clumps(wd, "grid_clumps", "griddem/hooke/history " + hist), thermo=("c_virial[1]", "c_virial[4]", "c_virial[6]"))
 
     # radii that grow during the run: the grid follows the largest radius every step, not only
     # where LAMMPS reneighbors
