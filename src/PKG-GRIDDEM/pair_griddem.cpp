@@ -499,7 +499,7 @@ const double *PairGriddem::contact_masses()
     int dim;
     auto body = (int *) fix_rigid->extract("body", dim);
     auto mass_body = (double *) fix_rigid->extract("masstotal", dim);
-    if (!body || !mass_body)
+    if (nlocal && (!body || !mass_body))
       error->all(FLERR, "Pair style {}: fix {} gives no body masses at step {}", force->pair_style, fix_rigid->id,
                  update->ntimestep);
     body_mass.assign(atom->nmax, 0.0);
