@@ -190,9 +190,6 @@ void PairGriddem::init_style()
     }
     radii_vary |= ifix->diam_flag != 0;
   }
-  if (fix_rigid && kokkosable)
-    error->all(FLERR, "Pair style {} does not support rigid bodies (fix {}) yet: run the CPU style {}", style,
-               fix_rigid->style, utils::strip_style_suffix(style, lmp));
 
   FixGriddem *fix = keeper.choose(history_fix_style(), kokkosable, model.track_contacts);
   last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
@@ -272,9 +269,6 @@ void PairGriddem::setup_exclusions()
     excluded_molecule_bits.push_back(group->bitmask[neighbor->ex_mol_group[k]]);
     excluded_molecule_intra.push_back(neighbor->ex_mol_intra[k]);
   }
-  if (neighbor->nex_mol && kokkosable)
-    error->all(FLERR, "Pair style {} does not support neigh_modify exclude molecule/inter or molecule/intra yet: "
-               "run the CPU style {}", force->pair_style, utils::strip_style_suffix(force->pair_style, lmp));
   exclusions.nmolecule = neighbor->nex_mol;
   exclusions.molecule_bits = excluded_molecule_bits.data();
   exclusions.molecule_intra = excluded_molecule_intra.data();

@@ -594,24 +594,31 @@ def check_growing(wd, data):
                 runs["kk_grow_%d" % n])
 
 
-def check_not_yet(wd, _data):
-    """What the CPU styles run and the kk styles do not yet: rigid clumps (fix rigid/small) and
-    molecule exclusions stop a kk run with an error that names the CPU style; the CPU style runs
-    them (test_stock_parity.py)."""
+def check_clumps(wd, _data):
+    """Rigid clumps (test_stock_parity.CLUMPS: fix rigid/small, neigh_modify exclude
+    molecule/intra): the kk history style gives stock's forces, torques, 20-step trajectory and
+    virial on 1 and 2 ranks (a contact takes the bodies' masses, and no sphere touches another of
+    its clump)."""
     path = os.path.join(wd, "clump.mol")
     with open(path, "w") as f:
         f.write(CLUMP)
-    hist = "griddem/hooke/history 1e4 NULL 50 NULL 0.5 1"
-    rigid = CLUMPS.format(clump=path, pair=hist, name="kk_clumps")
-    molecules = rigid.replace("fix bodies all rigid/small molecule\n", "")
-    for label, text, expect in (("rigid clumps", rigid, "does not support rigid bodies (fix rigid/small) yet: "
-                                 "run the CPU style griddem/hooke/history"),
-                                ("molecule exclusions", molecules, "does not support neigh_modify exclude "
-                                 "molecule/inter or molecule/intra yet: run the CPU style griddem/hooke/history")):
-        said = errors_of_cpu_and_kk(wd, re.sub(r"\W", "_", label), text)
-        t.check(not said["cpu"][0], "%s: the CPU style runs them: %s" % (label, said["cpu"]))
-        t.check(said["kk"][0] and any(expect in line for line in said["kk"][1]),
-                "%s: the kk style stops naming the CPU style: %s" % (label, said["kk"]))
+    runs = {}
+    for name, pair, nprocs, extra in [("stock_clumps", "gran/hooke/history", 1, ())] + [
+            ("kk_clumps_%d" % n, "griddem/hooke/history", n, kk_args(THREADS[-1])) for n in RANKS]:
+        rc, out = t.run_lmp(CLUMPS.format(clump=path, pair=pair + " 1e4 NULL 50 NULL 0.5 1", name=name), wd,
+                            nprocs=nprocs, name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        runs[name] = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+    # the same clumps on 2 ranks get other IDs (create_atoms random): stock on 2 ranks for those
+    for n in RANKS:
+        ref = runs["stock_clumps"]
+        if n > 1:
+            rc, out = t.run_lmp(CLUMPS.format(clump=path, pair="gran/hooke/history 1e4 NULL 50 NULL 0.5 1",
+                                              name="stock_clumps_%d" % n), wd, nprocs=n, name="in.stock_clumps_%d" % n)
+            t.check(rc == 0, "stock_clumps_%d runs" % n)
+            ref = (t.read_dumps(os.path.join(wd, "dump.stock_clumps_%d" % n)), out)
+        parity_compare("griddem/hooke/history/kk, rigid clumps, %d rank(s) vs stock" % n, ref,
+                       runs["kk_clumps_%d" % n], thermo=("c_virial[1]", "c_virial[4]", "c_virial[6]"))
 
 
 def check_grid_cost(wd, _data):
@@ -976,7 +983,7 @@ def check_replanned(wd, data):
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
     check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
-    check_reach, check_periodic_images, check_two_d, check_growing, check_not_yet, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
+    check_reach, check_periodic_images, check_two_d, check_growing, check_clumps, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}
 

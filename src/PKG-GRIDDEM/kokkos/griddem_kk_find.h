@@ -32,6 +32,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
   long capacity;         // entries of `list`
   Kokkos::View<const int *, DeviceType> start;                      // first slot of each cell
   griddem_exclusions excl;    // the CPU style's, its tables on the device
+  Kokkos::View<const tagint *, DeviceType> molecule;    // by slot, where excl names molecules
 
   KOKKOS_INLINE_FUNCTION void operator()(const int s) const
   {
@@ -120,7 +121,9 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
                                    (long) i << 32 | (long) (unsigned) this->order(u));
                 continue;
               }
-              if (griddem_excluded(&excl, itype, imask, this->tm(u, 0), this->tm(u, 1))) continue;
+              if (griddem_excluded(&excl, itype, imask, this->tm(u, 0), this->tm(u, 1)) ||
+                  (excl.nmolecule && griddem_excluded_molecules(&excl, molecule(s), imask, molecule(u), this->tm(u, 1))))
+                continue;
               if (n < room) this->list(head + n) = u;
               n++;
             }

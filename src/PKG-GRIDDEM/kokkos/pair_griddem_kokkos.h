@@ -95,6 +95,7 @@ class PairGriddemKokkos : public Base {
   GriddemKKChannels<DeviceType, double> &channels(double) { return channels_double; }
   GriddemKKChannels<DeviceType, float> &channels(float) { return channels_single; }
   Kokkos::View<int *[2], Kokkos::LayoutRight, DeviceType> d_tm;
+  Kokkos::View<tagint *, DeviceType> d_molecule;    // by slot, where the exclusions name molecules
   Kokkos::View<GriddemKKStepReport, DeviceType> d_report;
   typename Kokkos::View<GriddemKKStepReport, DeviceType>::HostMirror h_report;
   // the boxes of the last step's scan and its fastest atom, to plan the next step's grids
@@ -108,6 +109,11 @@ class PairGriddemKokkos : public Base {
   Kokkos::View<griddem_pair_params *, DeviceType> d_params;
   Kokkos::View<unsigned char *, DeviceType> d_excl_type;
   Kokkos::View<int *, DeviceType> d_excl_group;
+  // molecule exclusions: their group bits, then their intra flags (griddem_exclusions)
+  Kokkos::View<int *, DeviceType> d_excl_molecule;
+  // [nall] each atom's contact mass, with rigid bodies (PairGriddem::contact_masses)
+  Kokkos::View<double *, DeviceType> d_contact_mass;
+  void upload_contact_masses();
   // [nall] the history keys' image codes, where the box has image axes (upload_images)
   Kokkos::View<int *, DeviceType> d_image;
   typename Kokkos::View<int *, DeviceType>::HostMirror h_image;

@@ -110,7 +110,29 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   auto h_excl_group = Kokkos::create_mirror_view(d_excl_group);
   for (int k = 0; k < ngroup; k++) h_excl_group(k) = this->excluded_groups[k];
   Kokkos::deep_copy(d_excl_group, h_excl_group);
+
+  const int nmolecule = this->exclusions.nmolecule;
+  d_excl_molecule = Kokkos::View<int *, DeviceType>("griddem/kk:excl_molecule", 2 * nmolecule);
+  auto h_excl_molecule = Kokkos::create_mirror_view(d_excl_molecule);
+  for (int k = 0; k < nmolecule; k++)
+    h_excl_molecule(k) = this->excluded_molecule_bits[k],
+    h_excl_molecule(nmolecule + k) = this->excluded_molecule_intra[k];
+  Kokkos::deep_copy(d_excl_molecule, h_excl_molecule);
   params_stale = 0;
+}
+
+/* the contact masses of rigid bodies' atoms, found on the host (a non-Kokkos fix rigid's bodies,
+   the pair's forward communication) and copied to the device each step */
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_contact_masses()
+{
+  this->atomKK->sync(Host, RMASS_MASK);
+  const double *mass = this->contact_masses();
+  const int nall = this->atom->nlocal + this->atom->nghost;
+  if ((int) d_contact_mass.extent(0) < nall)
+    d_contact_mass = Kokkos::View<double *, DeviceType>("griddem/kk:contact_mass", this->atom->nmax);
+  Kokkos::View<const double *, LMPHostType, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h_mass(mass, nall);
+  Kokkos::deep_copy(Kokkos::subview(d_contact_mass, std::make_pair(0, nall)), h_mass);
 }
 
 template <class DeviceType, class Base>
@@ -146,7 +168,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
   }
 
   AtomKokkos *atomKK = this->atomKK;
-  atomKK->sync(this->execution_space, this->datamask_read);
+  atomKK->sync(this->execution_space, this->datamask_read | (this->exclusions.nmolecule ? MOLECULE_MASK : 0));
   atomKK->modified(this->execution_space, this->datamask_modify);
   const int nall = this->atom->nlocal + this->atom->nghost;
 
@@ -195,6 +217,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     // the history keys' images, once a step (every process takes part; a step computed again
     // is this process's alone)
     if (attempt == 0) upload_images();
+    if (attempt == 0 && this->fix_rigid) upload_contact_masses();
 
     // 2. grids
     fit_grids(grids, boxes, margin);
@@ -442,6 +465,15 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   auto state = chan.state;
   auto tm = d_tm;
   auto report = d_report;
+  // with rigid bodies the contact masses (bodies' masses), else the atoms'
+  const bool rigid = this->fix_rigid != nullptr;
+  auto contact_mass = d_contact_mass;
+  // the molecules by slot, where the exclusions name molecules
+  const bool molecules = this->exclusions.nmolecule > 0;
+  if (molecules && (int) d_molecule.extent(0) < nall)
+    d_molecule = Kokkos::View<tagint *, DeviceType>("griddem/kk:molecule", nmax_atoms);
+  auto molecule = d_molecule;
+  auto atom_molecule = molecules ? atomKK->k_molecule.template view<DeviceType>() : decltype(atomKK->k_molecule.template view<DeviceType>())();
   griddem_kk_for(
       "griddem/kk:report_reset", Kokkos::RangePolicy<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
         report().retry = 0;
@@ -500,8 +532,9 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
         if (!inside) Kokkos::atomic_fetch_or(&report().retry, (int) GRIDDEM_KK_RETRY_GRID);
         near(slot, 3) = (float) radius(i);
         for (int d = 0; d < 3; d++) state(slot, d) = v(i, d), state(slot, 3 + d) = omega(i, d);
-        state(slot, 6) = rmass(i);
+        state(slot, 6) = rigid ? contact_mass(i) : rmass(i);
         tm(slot, 0) = type(i), tm(slot, 1) = mask(i);
+        if (molecules) molecule(slot) = atom_molecule(i);
       });
 }
 
@@ -580,6 +613,9 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   find.excl = this->exclusions;
   find.excl.type_pair = d_excl_type.extent(0) ? d_excl_type.data() : nullptr;
   find.excl.group_bits = d_excl_group.data();
+  find.excl.molecule_bits = d_excl_molecule.data();
+  find.excl.molecule_intra = d_excl_molecule.data() + this->exclusions.nmolecule;
+  find.molecule = d_molecule;
   search<Real>(find);
 
   // the new history rows: room for each owned atom's list, slot by slot, in the other pool
