@@ -7,7 +7,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
-from test_stock_parity import CLUMP
+from test_stock_parity import CLUMP, clump_box
 
 POUR = """
 units lj
@@ -35,17 +35,7 @@ run 6000
 
 # fix pour of rigid clumps of three spheres (test_stock_parity.CLUMP): no body exists at the
 # first step, the bodies' masses are taken as they come
-POUR_CLUMPS = """
-units lj
-atom_style sphere
-atom_modify map array
-boundary p p fm
-comm_modify vel yes
-region box block 0 6 0 6 0 12 units box
-create_box 1 box
-fix mols all property/atom mol ghost yes
-molecule clump {clump}
-pair_style {pair} 2000.0 NULL 50.0 NULL 0.5 1
+POUR_CLUMPS = clump_box("p p fm", 6, 12) + """pair_style {pair} 2000.0 NULL 50.0 NULL 0.5 1
 pair_coeff * *
 neigh_modify exclude molecule/intra all
 timestep 0.001

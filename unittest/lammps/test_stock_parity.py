@@ -74,19 +74,27 @@ Masses
 3 %.17g
 """ % (math.pi / 6 * 0.125, math.pi / 6 * 0.125, math.pi / 6 * 0.064)
 
-# rigid clumps (fix rigid/small) of three spheres each, at random in a periodic box, their
-# spheres of one clump excluded from each other by molecule (fix property/atom mol)
-CLUMPS = """
+
+
+def clump_box(boundary, width, height):
+    """The start of a script with clumps: a box, molecule IDs (fix property/atom mol) and the
+    template CLUMP as molecule `clump` (format key {clump}: its file)."""
+    return """
 units lj
 atom_style sphere
 atom_modify map array
-boundary p p p
+boundary %s
 comm_modify vel yes
-region box block 0 3.5 0 3.5 0 3.5 units box
+region box block 0 %g 0 %g 0 %g units box
 create_box 1 box
 fix mols all property/atom mol ghost yes
 molecule clump {clump}
-create_atoms 0 random 80 4711 NULL mol clump 9876
+""" % (boundary, width, width, height)
+
+
+# rigid clumps (fix rigid/small) of three spheres each, at random in a periodic box, their
+# spheres of one clump excluded from each other by molecule (fix property/atom mol)
+CLUMPS = clump_box("p p p", 3.5, 3.5) + """create_atoms 0 random 80 4711 NULL mol clump 9876
 pair_style {pair}
 pair_coeff * *
 neigh_modify exclude molecule/intra all
