@@ -1,6 +1,6 @@
 /* Pairs that must not interact (LAMMPS neigh_modify exclude type / group / molecule, and fix
  * griddem/rom's kinematic and lagging particles), and the test both the CPU sweep and the Kokkos
- * search make of a pair (molecules: the CPU sweep's alone). */
+ * search make of a pair. */
 #ifndef GRIDDEM_EXCLUSIONS_H
 #define GRIDDEM_EXCLUSIONS_H
 

@@ -344,14 +344,17 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
 
 void PairGriddem::check_ghost_reach()
 {
-  if (rmax == 0.0) return;
+  // one process in a box without periodic images (in 2d none along z) has no ghosts to lose
+  const bool ghosts = comm->nprocs > 1 || domain->xperiodic || domain->yperiodic ||
+      (domain->dimension == 3 && domain->zperiodic);
+  if (rmax == 0.0 || !ghosts) return;
   const double contact = 2.0 * rmax + model.reach_extra, cutghost = comm->get_comm_cutoff();
   const double tolerance = 1e-10 * contact;
   if (contact > cutghost + tolerance)
     error->all(FLERR, "Pair style {}: the largest contact distance {} (radius {}) exceeds the ghost cutoff {}: "
-               "contacts with atoms of other processes and periodic images would be lost; radii grew during "
-               "the run (fix adapt): set comm_modify cutoff to at least {} plus the neighbor skin {}, or let them "
-               "grow over several runs", force->pair_style, contact, rmax, cutghost, contact, neighbor->skin);
+               "contacts with atoms of other processes and periodic images would be lost (radii grew during "
+               "the run, or a pair cutoff is below the contact distance): set comm_modify cutoff to at least {} "
+               "plus the neighbor skin {}", force->pair_style, contact, rmax, cutghost, contact, neighbor->skin);
   if (contact > cutghost - neighbor->skin + tolerance && !ghost_reach_warned) {
     ghost_reach_warned = 1;
     if (comm->me == 0)

@@ -100,10 +100,10 @@ t.check(rc != 0 and "spans more than 32 cells" in out and "radius ratio 100" in 
 # radii that outgrow the ghost cutoff (fix adapt doubles them in 400 steps; ghosts are kept
 # within 2 r + skin of the start): stopped with the cause and the remedy, where stock's lists
 # would lose contacts with ghost atoms without a word
-rc, out = t.run_lmp("""
+OUTGROWN = """
 units lj
 atom_style sphere 1
-boundary p p p
+boundary {boundary}
 comm_modify vel yes
 lattice sc 0.5
 region box block 0 4 0 4 0 4
@@ -118,10 +118,14 @@ variable grow equal 1+step/400
 fix grow all adapt 1 atom diameter v_grow scale yes reset no
 fix integrate all nve/sphere
 run 400
-""", WD, name="in.outgrown")
+"""
+rc, out = t.run_lmp(OUTGROWN.format(boundary="p p p"), WD, name="in.outgrown")
 t.check(rc != 0 and "exceeds the ghost cutoff 1.2: contacts with atoms of other processes" in out
         and "set comm_modify cutoff to at least" in out and "WARNING" in out and "less the neighbor skin 0.2" in out,
         "outgrown: radii growing past the ghost cutoff warned of, then stopped: %s" % t.errors(out)[:2])
+# one process and no periodic boundary: no ghosts, nothing to lose, no word
+rc, out = t.run_lmp(OUTGROWN.format(boundary="m m m"), WD, name="in.outgrown_alone")
+t.check(rc == 0 and "ghost cutoff" not in out, "outgrown_alone: runs without ghosts: %s" % t.errors(out)[:2])
 
 # 2d runs with the pair styles (test_stock_parity.py); the reduced-order model's voxels are 3d
 flat_model = os.path.join(WD, "flat.model")
