@@ -127,6 +127,19 @@ t.check(rc != 0 and "exceeds the ghost cutoff 1.2: contacts with atoms of other 
 rc, out = t.run_lmp(OUTGROWN.format(boundary="m m m"), WD, name="in.outgrown_alone")
 t.check(rc == 0 and "ghost cutoff" not in out, "outgrown_alone: runs without ghosts: %s" % t.errors(out)[:2])
 
+# two rigid-body fixes: a contact takes one fix's body masses, as stock's styles (which refuse
+# two as well)
+from test_stock_parity import CLUMP, CLUMPS
+clump_file = os.path.join(WD, "clump.mol")
+with open(clump_file, "w") as f:
+    f.write(CLUMP)
+rc, out = t.run_lmp(CLUMPS.format(clump=clump_file, pair="griddem/hooke/history 1e4 NULL 50 NULL 0.5 1", name="two_rigid")
+                    .replace("fix bodies all rigid/small molecule\n",
+                             "group front id <= 120\ngroup back id > 120\nfix front front rigid/small molecule\n"
+                             "fix back back rigid/small molecule\n"), WD, name="in.two_rigid")
+t.check(rc != 0 and "only one fix rigid at a time (fix front and fix back)" in out,
+        "two_rigid: two rigid-body fixes refused by name: %s" % t.errors(out)[:2])
+
 # 2d runs with the pair styles (test_stock_parity.py); the reduced-order model's voxels are 3d
 flat_model = os.path.join(WD, "flat.model")
 t.write_rom_model(flat_model, (2, 2, 1), (0.0, 4.0, 0.0, 4.0, -0.5, 0.5))
