@@ -473,7 +473,7 @@ void PairGriddemKokkos<DeviceType, Base>::bin(const GriddemKKGrids &grids)
   if (molecules && (int) d_molecule.extent(0) < nall)
     d_molecule = Kokkos::View<tagint *, DeviceType>("griddem/kk:molecule", nmax_atoms);
   auto molecule = d_molecule;
-  auto atom_molecule = molecules ? atomKK->k_molecule.template view<DeviceType>() : decltype(atomKK->k_molecule.template view<DeviceType>())();
+  auto atom_molecule = atomKK->k_molecule.template view<DeviceType>();    // read only where molecules
   griddem_kk_for(
       "griddem/kk:report_reset", Kokkos::RangePolicy<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
         report().retry = 0;
