@@ -1,14 +1,15 @@
 /* GRIDDEM contact law: the sub-models of one type pair (one header per axis: griddem_normal.h,
- * griddem_damping.h, griddem_tangential.h, griddem_rolling.h, griddem_twisting.h) composed in the
- * order of LAMMPS's GranularModel::calculate_forces, written operation for operation as the stock
- * styles so that results agree to round-off. Static inline functions shared by the C core, the
- * LAMMPS styles and the Kokkos kernels. Which sub-models exist, their coefficients, history sizes
+ * griddem_damping.h, griddem_tangential.h, griddem_rolling.h, griddem_twisting.h, griddem_heat.h)
+ * composed in the order of LAMMPS's GranularModel::calculate_forces, written operation for
+ * operation as the stock styles so that results agree to round-off. Static inline functions shared
+ * by the C core, the LAMMPS styles and the Kokkos kernels. Which sub-models exist, their coefficients, history sizes
  * and mixing rules are listed in one table (griddem_submodels.c). */
 #ifndef GRIDDEM_CONTACT_H
 #define GRIDDEM_CONTACT_H
 
 #include "griddem_classic.h"
 #include "griddem_damping.h"
+#include "griddem_heat.h"
 #include "griddem_normal.h"
 #include "griddem_rolling.h"
 #include "griddem_tangential.h"
@@ -25,6 +26,7 @@ typedef struct griddem_pair_params {
   griddem_tangential_params tangential;
   griddem_rolling_params rolling;
   griddem_twisting_params twisting;
+  griddem_heat_params heat;
   int limit_damping;        /* 1: no attractive normal force from damping */
   int need_contact_radius;  /* some sub-model reads c->contact_radius */
   int classic;              /* 1: gran/hooke(/history)'s own arithmetic (griddem_classic.h) */
@@ -102,9 +104,10 @@ GRIDDEM_INLINE double griddem_classic_eval(const griddem_pair_params *p, griddem
 
 /* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
  * set in c; returns the elastic energy stored in its springs (c->fr is set only with a rolling
- * model). hist holds the pair's history
- * values seen from i (read, and advanced if c->history_update). Seen from j every output and the
- * odd history values change sign exactly, so one evaluation serves both atoms. */
+ * model; c->heat is the heat into i from c's temperatures, which only a heat model reads). hist
+ * holds the pair's history values seen from i (read, and advanced if c->history_update). Seen from
+ * j every output and the odd history values change sign exactly, so one evaluation serves both
+ * atoms. */
 GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
                                            double *hist, double *f, double *ti, double *tj)
 {
@@ -112,6 +115,7 @@ GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem
   c->energy = 0.0;
   griddem_contact_kinematics(c);
   if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&p->normal, c);
+  c->heat = p->heat.model != GRIDDEM_HEAT_NONE ? griddem_heat_flow(&p->heat, c) : 0.0;
   griddem_normal_force(&p->normal, c);
   c->fntot = c->fnormal + griddem_damping_force(&p->damping, c);
   if (p->limit_damping && c->fntot < 0.0) c->fntot = 0.0;

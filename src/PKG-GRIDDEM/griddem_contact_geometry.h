@@ -19,6 +19,7 @@ typedef struct griddem_contact {
   double wi[3], wj[3];      /* angular velocities */
   double dt;
   int history_update;       /* 1: advance the history values by dt */
+  double temp_i, temp_j;    /* temperatures (read by a heat model only) */
   /* geometry and kinematics (griddem_contact_kinematics) */
   double r, rinv, radsum, reff, delta, dR, n[3];
   double vnnr, vt[3], vtr[3], vrel;
@@ -32,6 +33,7 @@ typedef struct griddem_contact {
   double fs[3], fr[3];      /* tangential and rolling forces */
   double magtwist, magtortwist;
   double energy;            /* elastic energy stored in the contact's springs */
+  double heat;              /* heat flowing into i (a heat model's; else 0) */
 } griddem_contact;
 
 GRIDDEM_INLINE double griddem_dot3(const double *a, const double *b)

@@ -204,6 +204,19 @@ static int setup_none(const griddem_pair_spec *s, griddem_pair_params *p, char *
   return 0;
 }
 
+/* ---- heat ---- */
+
+/* radius: conductivity; area: heat transfer coefficient. The law's arithmetic is not the classic
+ * styles' (they conduct no heat). */
+static int setup_heat(const griddem_pair_spec *s, griddem_pair_params *p, char *why, size_t nwhy)
+{
+  (void) why, (void) nwhy;
+  p->heat.model = s->sub[GRIDDEM_AXIS_HEAT]->model;
+  p->heat.k = s->coeffs[GRIDDEM_AXIS_HEAT][0];
+  p->classic = 0;
+  return 0;
+}
+
 /* ---- the table ---- */
 
 #define ODD3 {-1, -1, -1, 0}
@@ -211,7 +224,7 @@ static int setup_none(const griddem_pair_spec *s, griddem_pair_params *p, char *
 #define MATERIAL_MIX {GRIDDEM_MIX_YOUNG, GRIDDEM_MIX_GEOM, GRIDDEM_MIX_GEOM, GRIDDEM_MIX_GEOM}
 #define MINDLIN_MIX {GRIDDEM_MIX_GEOM_NULL, GRIDDEM_MIX_GEOM, GRIDDEM_MIX_GEOM, GRIDDEM_MIX_GEOM}
 enum { N = GRIDDEM_AXIS_NORMAL, D = GRIDDEM_AXIS_DAMPING, T = GRIDDEM_AXIS_TANGENTIAL,
-       R = GRIDDEM_AXIS_ROLLING, W = GRIDDEM_AXIS_TWISTING };
+       R = GRIDDEM_AXIS_ROLLING, W = GRIDDEM_AXIS_TWISTING, H = GRIDDEM_AXIS_HEAT };
 enum { MAT = GRIDDEM_SUBMODEL_MATERIAL, COH = GRIDDEM_SUBMODEL_COHESIVE,
        BEYOND = GRIDDEM_SUBMODEL_BEYOND_CONTACT, RAD = GRIDDEM_SUBMODEL_CONTACT_RADIUS,
        NOCOH = GRIDDEM_SUBMODEL_NO_COHESION, INTERNAL = GRIDDEM_SUBMODEL_INTERNAL };
@@ -286,17 +299,23 @@ static const griddem_submodel SUBMODELS[] = {
     {W, "none", GRIDDEM_TWISTING_NONE, 0, 0, {0}, {0}, 0, setup_none, EXAMPLE(NULL, NULL)},
     {W, "sds", GRIDDEM_TWISTING_SDS, 3, 1, {1}, {0}, 0, setup_twisting_sds, EXAMPLE(NULL, NULL)},
     {W, "marshall", GRIDDEM_TWISTING_MARSHALL, 0, 1, {1}, {0}, RAD, setup_marshall, EXAMPLE(NULL, NULL)},
+    {H, "none", GRIDDEM_HEAT_NONE, 0, 0, {0}, {0}, 0, setup_none, EXAMPLE(NULL, NULL)},
+    {H, "radius", GRIDDEM_HEAT_RADIUS, 1, 0, {0}, {0}, RAD, setup_heat,
+     EXAMPLE("hertz 1e5 20 tangential linear_history 3e4 0.5 0.5 heat radius 2.0",
+             "hertz 2e5 10 tangential linear_history 2e4 0.6 0.4 heat radius 0.5")},
+    {H, "area", GRIDDEM_HEAT_AREA, 1, 0, {0}, {0}, RAD, setup_heat,
+     EXAMPLE("hooke 1e4 50 damping mass_velocity tangential linear_nohistory 0.5 0.5 heat area 30.0",
+             "hooke 2e4 30 damping mass_velocity tangential linear_nohistory 0.4 0.3 heat area 10.0")},
 };
 
 /* pair granular's models that have no row */
 static const griddem_stock_only STOCK_ONLY[] = {
     {"normal", "mdr"}, {"normal", "none"}, {"damping", "none"}, {"tangential", "none"},
-    {"heat", "radius"}, {"heat", "area"},
 };
 
 const char *griddem_axis_name(int axis)
 {
-  static const char *const names[GRIDDEM_NAXES] = {"normal", "damping", "tangential", "rolling", "twisting"};
+  static const char *const names[GRIDDEM_NAXES] = {"normal", "damping", "tangential", "rolling", "twisting", "heat"};
   return axis >= 0 && axis < GRIDDEM_NAXES ? names[axis] : "?";
 }
 
@@ -323,6 +342,7 @@ void griddem_spec_init(griddem_pair_spec *s)
   s->sub[GRIDDEM_AXIS_DAMPING] = griddem_submodel_find(GRIDDEM_AXIS_DAMPING, "viscoelastic");
   s->sub[GRIDDEM_AXIS_ROLLING] = griddem_submodel_find(GRIDDEM_AXIS_ROLLING, "none");
   s->sub[GRIDDEM_AXIS_TWISTING] = griddem_submodel_find(GRIDDEM_AXIS_TWISTING, "none");
+  s->sub[GRIDDEM_AXIS_HEAT] = griddem_submodel_find(GRIDDEM_AXIS_HEAT, "none");
   s->cutoff = -1.0;
 }
 

@@ -20,6 +20,7 @@ enum griddem_axis {
   GRIDDEM_AXIS_TANGENTIAL,
   GRIDDEM_AXIS_ROLLING,
   GRIDDEM_AXIS_TWISTING,
+  GRIDDEM_AXIS_HEAT,
   GRIDDEM_NAXES
 };
 
@@ -63,7 +64,7 @@ typedef struct griddem_submodel {
 
 /* A model pair granular has that this table does not evaluate: refused naming it. */
 typedef struct griddem_stock_only {
-  const char *keyword; /* an axis's name, or heat */
+  const char *keyword; /* an axis's name */
   const char *name;
 } griddem_stock_only;
 
@@ -87,8 +88,8 @@ const griddem_submodel *griddem_submodel_at(size_t k);
 /* Entry k of the models pair granular has and this table does not, or NULL past the last. */
 const griddem_stock_only *griddem_stock_only_at(size_t k);
 
-/* A spec with pair granular's defaults: damping viscoelastic, rolling and twisting none, no
- * normal or tangential model yet. */
+/* A spec with pair granular's defaults: damping viscoelastic, rolling, twisting and heat none,
+ * no normal or tangential model yet. */
 void griddem_spec_init(griddem_pair_spec *s);
 
 /* Mix the specs of two like type pairs as pair granular does. Returns -1, or the first axis whose

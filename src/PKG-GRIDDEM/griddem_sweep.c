@@ -174,6 +174,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   griddem_contact_setup(&c, dx, rsq, ra, rb, p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
                         p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
                         (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
+  const int heat = !classic && p->heatflow;    /* the classic laws conduct no heat */
+  if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
 
   double hv[GRIDDEM_MAX_HISTORY];
   for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
@@ -200,6 +202,10 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     double *fb = cx->f + 3 * (size_t) ib, *tb_sum = cx->torque + 3 * (size_t) ib;
     for (int d = 0; d < 3; d++) fb[d] -= fc[d], tb_sum[d] += tb[d];
     ch->ncontact[b]++;
+  }
+  if (heat) {
+    p->heatflow[ia] += c.heat;
+    if (b_owned) p->heatflow[ib] -= c.heat;
   }
 
   /* a pair shared with another process is tallied half here, half there */

@@ -31,6 +31,8 @@ typedef struct griddem_particles {
                         image axes; NULL: contacts are keyed by partner tag alone */
   const void *molecule; /* per particle, tag_bytes wide: its molecule, where the exclusions name
                            molecules; NULL otherwise */
+  const double *temperature; /* per particle, where some type pair conducts heat; NULL otherwise */
+  double *heatflow;          /* per particle, with temperature: the contacts' heat added (owned ones) */
 } griddem_particles;
 
 /* The particles in sorted order (the channels): centre and radius per slot, one array each, which

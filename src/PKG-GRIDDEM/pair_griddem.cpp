@@ -27,7 +27,7 @@ using namespace LAMMPS_NS;
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
-    coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
+    conducts_heat(false), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   comm_forward = 1;               // rigid bodies' masses (contact_masses())
@@ -180,6 +180,34 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {} requires ghost atoms store velocity: use comm_modify vel yes", style);
   if (atom->molecular != Atom::ATOMIC)
     error->all(FLERR, "Pair style {} does not support molecular systems (special bonds)", style);
+  // heat conduction, as pair granular: temperatures read, heat added to the atoms' heatflow
+  const int n = atom->ntypes + 1;
+  int conducting = 0, insulating = 0;
+  for (int i = 1; i < n; i++)
+    for (int j = i; allocated && j < n; j++)
+      if (setflag[i][j]) (specs[i * n + j].sub[GRIDDEM_AXIS_HEAT]->model != GRIDDEM_HEAT_NONE ? conducting : insulating)++;
+  conducts_heat = conducting > 0;
+  if (conducting && insulating && comm->me == 0)
+    error->warning(FLERR, "Pair style {}: {} of the pair_coeff lines give a heat model and {} do not; those "
+                   "type pairs conduct no heat (pair granular asks for a heat model on every pair)", style,
+                   conducting, insulating);
+  if (conducts_heat) {
+    if (kokkosable)
+      error->all(FLERR, "Pair style {} does not conduct heat (heat model in pair_coeff): use {} without the "
+                 "Kokkos suffix", style, utils::strip_style_suffix(style, lmp));
+    if (!atom->temperature_flag)
+      error->all(FLERR, "Heat conduction in pair style {} requires atom style with temperature property", style);
+    if (!atom->heatflow_flag)
+      error->all(FLERR, "Heat conduction in pair style {} requires atom style with heatflow property", style);
+  }
+  // pair granular's single() reports the heat model's heat after its 12 values
+  const int extra = conducts_heat ? 13 : (single_hooke_layout ? 10 : 12);
+  if (extra != single_extra) {
+    delete[] svector;
+    single_extra = extra;
+    svector = new double[single_extra];
+  }
+
   radii_vary = false;
   fix_rigid = nullptr;
   for (const auto &ifix : modify->get_fix_list()) {
@@ -483,6 +511,8 @@ griddem_particles PairGriddem::host_particles()
   part.frozen_bit = freeze_group_bit;
   part.image = nullptr;
   part.molecule = exclusions.nmolecule ? atom->molecule : nullptr;
+  part.temperature = conducts_heat ? atom->temperature : nullptr;
+  part.heatflow = conducts_heat ? atom->heatflow : nullptr;
   return part;
 }
 
@@ -672,6 +702,8 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   griddem_contact_setup(&c, dx, rsq, radius[i], radius[j], v[i], v[j], omega[i], omega[j], mass[i], mass[j],
                         (mask[i] & freeze_group_bit) != 0, (mask[j] & freeze_group_bit) != 0, update->dt, 0);
   c.fr[0] = c.fr[1] = c.fr[2] = 0.0;    // set by a rolling model only, reported by all
+  c.temp_i = conducts_heat ? atom->temperature[i] : 0.0;
+  c.temp_j = conducts_heat ? atom->temperature[j] : 0.0;
 
   double f[3], ti[3], tj[3];
   griddem_contact_eval(law, &c, hv, f, ti, tj);
@@ -685,6 +717,7 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
     svector[7] = griddem_len3(c.fr);
     svector[8] = law->twisting.model != GRIDDEM_TWISTING_NONE ? c.magtortwist : 0.0;
     for (int k = 0; k < 3; k++) svector[9 + k] = c.dx[k];
+    if (conducts_heat) svector[12] = c.heat;
   }
   return 0.0;
 }

@@ -50,6 +50,7 @@ class PairGriddem : public Pair, public GriddemPairLink {
   double cutoff_global;                        // < 0: cutoffs from the radii
   int layout_set;                              // history layout fixed by a first spec
   int single_hooke_layout;                     // single() reports as gran/hooke/history
+  bool conducts_heat;                          // some type pair has a heat model
   GriddemFixKeeper keeper;    // which fix griddem holds the history
   // the fix of the last init_style: the history and the grid options
   class FixGriddem *fix() const { return keeper.fix(); }

@@ -116,13 +116,6 @@ void PairGriddemGranular::coeff(int narg, char **arg)
       s.cutoff = utils::numeric(FLERR, arg[iarg], false, lmp);
       if (s.cutoff <= 0.0) error->all(FLERR, "Pair coeff for griddem/granular: cutoff must be > 0, not {}", arg[iarg]);
       iarg++;
-    } else if (strcmp(keyword, "heat") == 0) {
-      if (stock_only("heat", arg[iarg]))
-        error->all(FLERR, "Pair style griddem/granular does not support heat model {} (supported: {})", arg[iarg],
-                   supported_models());
-      if (strcmp(arg[iarg], "none") != 0)
-        error->all(FLERR, "Pair coeff for griddem/granular: unknown heat model {}", arg[iarg]);
-      iarg++;
     } else {
       error->all(FLERR, "Pair coeff for griddem/granular: unknown keyword {}", keyword);
     }

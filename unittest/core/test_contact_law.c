@@ -101,14 +101,14 @@ static void mirror(const char *text)
                wj[3] = {-0.5, 0.25, 1.5};
   for (int d = 0; d < 3; d++) ij.dx[d] = dx[d], ij.vr[d] = vr[d], ij.wi[d] = wi[d], ij.wj[d] = wj[d];
   ij.rsq = griddem_dot3(dx, dx), ij.radi = 0.42, ij.radj = 0.37, ij.meff = 0.8;
-  ij.dt = 1e-3, ij.history_update = 1;
+  ij.dt = 1e-3, ij.history_update = 1, ij.temp_i = 3.25, ij.temp_j = 1.5;
   double hi[GRIDDEM_MAX_HISTORY] = {1e-3, 2e-3, -1e-3, 0.0, 4e-4, -2e-4, 1e-4, 3e-4}, hj[GRIDDEM_MAX_HISTORY];
   for (int k = 0; k < nv; k++) hj[k] = parity[k] * hi[k];
   int capped = 0;
   for (int step = 0; step < 24; step++) {
     griddem_contact ji = ij;
     for (int d = 0; d < 3; d++) ji.dx[d] = -ij.dx[d], ji.vr[d] = -ij.vr[d], ji.wi[d] = ij.wj[d], ji.wj[d] = ij.wi[d];
-    ji.radi = ij.radj, ji.radj = ij.radi;
+    ji.radi = ij.radj, ji.radj = ij.radi, ji.temp_i = ij.temp_j, ji.temp_j = ij.temp_i;
     double fi[3], fj[3], ti[3], tj[3], ti2[3], tj2[3];
     griddem_contact ci = ij, cj = ji;
     const double ei = griddem_contact_eval(&law, &ci, hi, fi, ti, tj);
@@ -117,7 +117,10 @@ static void mirror(const char *text)
     for (int d = 0; d < 3; d++)
       same = same && fi[d] == -fj[d] && ti[d] == ti2[d] && tj[d] == tj2[d] && isfinite(fi[d]);
     for (int k = 0; k < nv; k++) same = same && hi[k] == parity[k] * hj[k];
+    same = same && ci.heat == -cj.heat && isfinite(ci.heat);
     CHECK(same, "'%s' step %d: j's view mirrors i's", text, step);
+    if (law.heat.model != GRIDDEM_HEAT_NONE)    /* i is the hotter: heat flows out of it */
+      CHECK(ci.heat < 0.0, "'%s' step %d: heat %g flows out of the hotter i", text, step, ci.heat);
     /* Coulomb: |fs| <= mu * fncrit */
     capped += griddem_len3(ci.fs) >= 0.999999 * law.tangential.mu * ci.fncrit && law.tangential.mu > 0;
     CHECK(griddem_len3(ci.fs) <= law.tangential.mu * ci.fncrit * (1 + 1e-12) + 1e-300,
@@ -150,6 +153,28 @@ static void jkr_reach(void)
   CHECK(griddem_pair_reach_extra(&hertz, radi, radj) == 0.0, "hertz: no reach past touching");
 }
 
+/* heat through a head-on contact of two spheres of radius 0.5 overlapping by 0.02 (contact radius
+ * a = sqrt(0.02 * 0.25)): radius 2 k a (T_j - T_i), area k pi a^2 (T_j - T_i) */
+static void heat_conduction(void)
+{
+  const double a = sqrt(0.02 * 0.25);
+  const struct {
+    const char *text;
+    double heat;
+  } cases[] = {{"hooke 1e4 50 tangential linear_nohistory 0.5 0.5 heat radius 2.5", 2 * 2.5 * a * (1.0 - 4.0)},
+               {"hertz 1e5 20 tangential linear_history 3e4 0.5 0.5 heat area 7.0", 7.0 * M_PI * a * a * (1.0 - 4.0)},
+               {"hooke 1e4 50 tangential linear_nohistory 0.5 0.5", 0.0}};
+  for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); k++) {
+    const griddem_pair_params law = law_from_text(cases[k].text);
+    griddem_contact c;
+    set_head_on(&c, 0.98, 0.0, 1.0, 1e-3);
+    c.temp_i = 4.0, c.temp_j = 1.0;
+    double h[GRIDDEM_MAX_HISTORY] = {0}, f[3], ti[3], tj[3];
+    griddem_contact_eval(&law, &c, h, f, ti, tj);
+    CHECK_CLOSE(c.heat, cases[k].heat, 1e-14, 0.0);
+  }
+}
+
 int main(void)
 {
 #if defined(GRIDDEM_TEST_FMA) && GRIDDEM_TEST_FMA
@@ -171,5 +196,6 @@ int main(void)
     for (int type = 0; type < 2; type++)
       if (griddem_submodel_at(k)->example[type]) mirror(griddem_submodel_at(k)->example[type]);
   jkr_reach();
+  heat_conduction();
   return check_summary();
 }

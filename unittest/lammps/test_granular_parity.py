@@ -8,6 +8,7 @@ interacting beyond contact at step 20 (separated after touching, inside the pull
 checked), so that this range is compared too. The models pair granular has and the table does
 not are refused by name, bad arguments with a message naming them, and a restart file naming an
 unknown sub-model stops read_restart naming it."""
+import math
 import os
 import struct
 import sys
@@ -24,9 +25,88 @@ MODELS, STOCK_ONLY = t.submodel_table()
 JKR = next(m for m in MODELS if m[0] == "normal jkr")
 
 
+# a law with a heat model: temperatures varying across the box, conducted by fix heat/flow; each
+# atom's temperature and heatflow dumped beside the forces
+HEAT = """fix heat_store all property/atom temperature heatflow
+variable temperature atom 1.0+x+0.5*y*z
+set group all temperature v_temperature
+fix conduct all heat/flow constant 0.3
+compute heat all property/atom temperature heatflow
+dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]
+dump_modify heat format float %.17g sort id"""
+
+
 def run(wd, name, data, pair, c1, c2, extra=""):
     coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
+    if " heat " in c1:
+        extra += "\n" + HEAT.format(name=name)
     return parity_run(wd, name, data, pair, extra + "\n" + FROZEN_LIST, coeffs)
+
+
+def heat_reference(data, c1, c2):
+    """Each atom's heatflow at step 0 from pair granular's documented heat models, written here:
+    over the pairs that overlap (minimum image in the periodic cube), radius: 2 k a (T_j - T_i),
+    area: k pi a^2 (T_j - T_i), with a = sqrt(delta R_eff) (hooke and hertz), k of the like types
+    and its geometric mean for unlike ones, and HEAT's temperatures."""
+    with open(data) as f:
+        lines = f.read().splitlines()
+    side = float(next(l for l in lines if l.endswith("xlo xhi")).split()[1])
+    start = lines.index("Atoms # sphere") + 2
+    atoms = {}
+    for line in lines[start:]:
+        words = line.split()
+        if not words:
+            break
+        x, y, z = (float(v) for v in words[4:7])
+        atoms[int(words[0])] = (int(words[1]), 0.5 * float(words[2]), (x, y, z), 1.0 + x + 0.5 * y * z)
+    model = c1.split(" heat ")[1].split()[0]
+    k = {1: float(c1.split(" heat ")[1].split()[1]), 2: float(c2.split(" heat ")[1].split()[1])}
+    ncell = int(side // 0.6)    # cells at least as wide as the longest contact (radii <= 0.3)
+    h = side / ncell
+
+    def cell(x):
+        return tuple(int(v / h) % ncell for v in x)
+
+    cells = {}
+    for tag, (_, _, x, _) in atoms.items():
+        cells.setdefault(cell(x), []).append(tag)
+    flow = {}
+    for tag, (ti, ri, xi, temp_i) in atoms.items():
+        home, total = cell(xi), 0.0
+        near = [((home[0] + a) % ncell, (home[1] + b) % ncell, (home[2] + c) % ncell)
+                for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)]
+        for other in {j for c in near for j in cells.get(c, [])} - {tag}:
+            tj, rj, xj, temp_j = atoms[other]
+            d = [a - b - side * round((a - b) / side) for a, b in zip(xi, xj)]
+            r = math.sqrt(sum(v * v for v in d))
+            if r >= ri + rj:
+                continue
+            a = math.sqrt((ri + rj - r) * ri * rj / (ri + rj))
+            kij = k[ti] if ti == tj else math.sqrt(k[1] * k[2])
+            total += 2 * kij * a * (temp_j - temp_i) if model == "radius" else kij * math.pi * a * a * (temp_j - temp_i)
+        flow[tag] = total
+    return flow
+
+
+def compare_heat(label, wd, ref_name, name, reference):
+    """Each atom's heatflow at step 0 against the formula (heat_reference), and its temperature
+    and heatflow at step 20 (c_heat[1], c_heat[2]) against stock's. (Stock's heatflow of the setup
+    step differs from the formula for the atoms within reach of a periodic face; from step 1 on it
+    follows it.) Heat flows through most atoms and changes their temperatures."""
+    ref = t.read_dumps(os.path.join(wd, "dump.heat." + ref_name))
+    test = t.read_dumps(os.path.join(wd, "dump.heat." + name))
+    t.check(len(ref) == len(test) == 2, label + ": heat dumped at steps 0 and 20")
+    names, step0 = test[0]
+    column = names.index("c_heat[2]")
+    scale = max(abs(v) for v in reference.values())
+    err = max(abs(step0[tag][column] - q) for tag, q in reference.items()) / scale
+    t.check(err <= 1e-10, "%s step 0: heatflow against the formula, relative error %.3g" % (label, err))
+    err = t.max_rel_diff(test[1], ref[1], ["c_heat[1]", "c_heat[2]"])
+    t.check(err <= 1e-10, "%s step 20: temperature/heatflow against stock, relative error %.3g" % (label, err))
+    t.check(sum(1 for q in reference.values() if q != 0) > 0.9 * len(reference), label + ": heat flows through most atoms")
+    first = {tag: v[names.index("c_heat[1]")] for tag, v in step0.items()}
+    moved = max(abs(v[names.index("c_heat[1]")] - first[tag]) for tag, v in test[1][1].items())
+    t.check(moved > 1e-6, "%s: temperatures change over 20 steps (largest change %.3g)" % (label, moved))
 
 
 # stock's pairs at step 20: the stock pair style's force for each pair in its neighbor list
@@ -77,10 +157,14 @@ def main():
                            ntypes=2)
     for k, (label, c1, c2) in enumerate(MODELS):
         ref = run(wd, "stock_%d" % k, data, "granular", c1, c2)
+        reference = heat_reference(data, c1, c2) if " heat " in c1 else None
         for cell in ["exact", "multi", "classes"]:
             compare("granular %s, cell %s" % (label, cell), ref,
                     run(wd, "grid_%d_%s" % (k, cell), data, "griddem/granular", c1, c2,
                         "fix grid all griddem contacts 64 cell " + cell))
+            if " heat " in c1:
+                compare_heat("granular %s, cell %s" % (label, cell), wd, "stock_%d" % k,
+                             "grid_%d_%s" % (k, cell), reference)
 
     # the JKR case compares pairs beyond contact: stock has a visible number of them at step 20
     forced, beyond = beyond_contact(wd, data, JKR[1], JKR[2])
@@ -140,8 +224,48 @@ def main():
                             % (style, coeffs), wd, name="in.bad")
         t.check(rc != 0 and "ERROR" in out and expect in out,
                 "'%s' refused with '%s': %s" % (coeffs.splitlines()[0], expect, out.strip().splitlines()[-1:]))
+    heat_settings(wd)
+    heat_restart(wd, data)
     unknown_in_restart(wd)
     t.finish()
+
+
+def heat_restart(wd, data):
+    """The heat model survives a restart: 10 steps, write_restart, read_restart and 10 more (the
+    property/atom and heat/flow fixes defined again with their IDs) give each atom's temperature
+    and heatflow of the run that wrote the file and went on for 10 steps (a new run's setup step
+    reads the contact history without advancing it, so the reference has one too), bit for bit."""
+    label, c1, c2 = next(m for m in MODELS if m[0] == "heat radius")
+    head = t.PERIODIC_SPHERES.format(data=data, pair="griddem/granular",
+                                     coeffs="pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
+    fixes = ("fix heat_store all property/atom temperature heatflow\n{set}fix conduct all heat/flow constant 0.3\n"
+             "fix integrate all nve/sphere\ntimestep 1e-5\ncompute heat all property/atom temperature heatflow\n")
+    temperature = "variable temperature atom 1.0+x+0.5*y*z\nset group all temperature v_temperature\n"
+    dump = "dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]\ndump_modify heat format float %.17g sort id\n"
+    t.run_ok(head + fixes.format(set=temperature) + dump.format(name="whole") +
+             "run 10\nwrite_restart restart.heat\nrun 10\n", wd, name="in.heat_whole")
+    t.run_ok("read_restart restart.heat\ncomm_modify vel yes\n" + fixes.format(set="") + dump.format(name="second") +
+             "run 10\n", wd, name="in.heat_second")
+    whole = t.read_dumps(os.path.join(wd, "dump.heat.whole"))[-1]
+    second = t.read_dumps(os.path.join(wd, "dump.heat.second"))[-1]
+    t.check(second[1] == whole[1], "heat radius across a restart: temperature and heatflow at step 20 identical")
+    t.check(any(v[1] != 0.0 for v in whole[1].values()), "heat radius across a restart: heat flows")
+
+
+def heat_settings(wd):
+    """A heat model needs the atoms' temperature and heatflow (refused naming the missing one, in
+    pair granular's words), and type pairs left without one are warned of."""
+    box = "units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 2 b\ncomm_modify vel yes\n"
+    heat = "pair_style griddem/granular\npair_coeff * * hooke 1e4 5 tangential linear_nohistory 1 1 heat area 1.0\n"
+    for store, missing in (("", "temperature"), ("fix store all property/atom temperature\n", "heatflow")):
+        rc, out = t.run_lmp(box + store + heat + "run 0\n", wd, name="in.heat_store")
+        t.check(rc != 0 and any("Heat conduction in pair style griddem/granular requires atom style with %s property"
+                                % missing in l for l in t.errors(out)),
+                "heat without %s refused naming it: %s" % (missing, t.errors(out)[:1]))
+    rc, out = t.run_lmp(box + "fix store all property/atom temperature heatflow\n" + heat +
+                        "pair_coeff 1 2 hooke 1e4 5 tangential linear_nohistory 1 1\nrun 0\n", wd, name="in.heat_some")
+    t.check(rc == 0 and "2 of the pair_coeff lines give a heat model and 1 do not" in out,
+            "a type pair without a heat model among ones with it is warned of: %s" % out.strip().splitlines()[-1:])
 
 
 def unknown_in_restart(wd):

@@ -150,7 +150,7 @@ LAWS = [
     ("hooke/history dampflag 0 limit_damping", "griddem/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping",
      "gran/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping", "pair_coeff * *"),
 ] + [("granular " + label, "griddem/granular", "granular", "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
-     for label, c1, c2 in MODELS if "nohistory" not in c1]  # the laws with history (the sub-model table's examples)
+     for label, c1, c2 in MODELS if "nohistory" not in c1 and " heat " not in c1]  # the laws with history (the sub-model table's examples; heat is the CPU style's)
 HISTORY = LAWS[5]
 
 
@@ -449,6 +449,18 @@ def check_mismatch(wd, data):
         rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
         t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
                 "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
+
+
+    # heat conduction is the CPU style's: the kk style refuses it naming the style to use
+    heat = next(m for m in MODELS if m[0] == "heat radius")
+    text = t.PERIODIC_SPHERES.format(data=data, pair="griddem/granular/kk",
+                                     coeffs="pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (heat[1], heat[2]))
+    text = text.replace("atom_style sphere", "atom_style sphere/kk") + (
+        "fix heat_store all property/atom temperature heatflow\nfix conduct all heat/flow constant 1.0\nrun 0\n")
+    rc, out = t.run_lmp(text, wd, name="in.heat_kk", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
+    t.check(rc != 0 and any("griddem/granular/kk does not conduct heat" in l and "use griddem/granular" in l
+                            for l in t.errors(out)),
+            "griddem/granular/kk with a heat model refused naming griddem/granular: %s" % t.errors(out)[:1])
 
 
 def check_extremes(wd, data):
