@@ -1,9 +1,11 @@
-/* The laws of gran/hooke and gran/hooke/history, written operation for operation as LAMMPS's
- * pair_gran_hooke_history.cpp, so that the renamed styles give stock's forces to the last bit
- * pair by pair (the composed law reaches the same values through other roundings, which a long
- * chaotic run amplifies). Reads the normal hooke stiffness, the mass_velocity damping (gamma_n),
- * and the tangential model gran/hooke/history, gran/hooke or none with k = Kt, gamma_mass =
- * gamma_t, mu = xmu. Same contract as griddem_contact_eval. */
+/* The laws of gran/hooke, gran/hooke/history and gran/hertz/history, written operation for
+ * operation as LAMMPS's pair_gran_hooke_history.cpp and pair_gran_hertz_history.cpp, so that the
+ * renamed styles give stock's forces to the last bit pair by pair (the composed law reaches the
+ * same values through other roundings, which a long chaotic run amplifies). Reads the normal
+ * stiffness, the mass_velocity damping (gamma_n), and the tangential model gran/hooke/history,
+ * gran/hooke or none with k = Kt, gamma_mass = gamma_t, mu = xmu. hertz (gran/hertz/history): the
+ * normal force and the friction scaled by sqrt(delta R_eff), as that style does (its Coulomb cap's
+ * history rescaling is hooke's). Same contract as griddem_contact_eval. */
 #ifndef GRIDDEM_CLASSIC_H
 #define GRIDDEM_CLASSIC_H
 
@@ -18,8 +20,8 @@ extern "C" {
 GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
                                            const griddem_damping_params *dp,
                                            const griddem_tangential_params *tp, int limit_damping,
-                                           griddem_contact *c, double *shear, double *f, double *ti,
-                                           double *tj)
+                                           const int hertz, griddem_contact *c, double *shear, double *f,
+                                           double *ti, double *tj)
 {
   const double r = sqrt(c->rsq), rinv = 1.0 / r, rsqinv = 1.0 / c->rsq;
   const double radsum = c->radi + c->radj;
@@ -42,6 +44,8 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
   /* normal force = Hookean contact + normal velocity damping */
   const double damp = c->meff * dp->damp * vnnr * rsqinv;
   double ccel = np->k * (radsum - r) * rinv - damp;
+  const double polyhertz = hertz ? sqrt((radsum - r) * c->radi * c->radj / radsum) : 1.0;
+  if (hertz) ccel *= polyhertz;
   if (limit_damping && (ccel < 0.0)) ccel = 0.0;
   c->fntot = ccel * r;
   c->fncrit = fabs(c->fntot);
@@ -72,9 +76,15 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
       }
 
       /* tangential forces = shear + tangential velocity damping */
-      fs1 = -(tp->k * shear[0] + mg * vtr1);
-      fs2 = -(tp->k * shear[1] + mg * vtr2);
-      fs3 = -(tp->k * shear[2] + mg * vtr3);
+      if (hertz) {
+        fs1 = -polyhertz * (tp->k * shear[0] + mg * vtr1);
+        fs2 = -polyhertz * (tp->k * shear[1] + mg * vtr2);
+        fs3 = -polyhertz * (tp->k * shear[2] + mg * vtr3);
+      } else {
+        fs1 = -(tp->k * shear[0] + mg * vtr1);
+        fs2 = -(tp->k * shear[1] + mg * vtr2);
+        fs3 = -(tp->k * shear[2] + mg * vtr3);
+      }
 
       /* Coulomb cap: rescale frictional displacements and forces */
       const double fs = sqrt(fs1 * fs1 + fs2 * fs2 + fs3 * fs3);
@@ -90,7 +100,7 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
           fs1 = fs2 = fs3 = 0.0;
         }
       }
-      c->energy += 0.5 * tp->k * (shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+      c->energy += 0.5 * polyhertz * tp->k * (shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
     } else {
       /* velocity-only friction, capped by Coulomb */
       const double vrel = sqrt(vtr1 * vtr1 + vtr2 * vtr2 + vtr3 * vtr3);
@@ -111,7 +121,8 @@ GRIDDEM_INLINE void griddem_classic_contact(const griddem_normal_params *np,
   const double tor3 = rinv * (delx * fs2 - dely * fs1);
   ti[0] = -(c->radi * tor1), ti[1] = -(c->radi * tor2), ti[2] = -(c->radi * tor3);
   tj[0] = -(c->radj * tor1), tj[1] = -(c->radj * tor2), tj[2] = -(c->radj * tor3);
-  c->energy += 0.5 * np->k * c->delta * c->delta;
+  /* hertz: the integral of k sqrt(R_eff) delta^(3/2), 2/5 k sqrt(delta R_eff) delta^2 */
+  c->energy += (hertz ? 0.4 * polyhertz : 0.5) * np->k * c->delta * c->delta;
 }
 
 #ifdef __cplusplus

@@ -93,13 +93,20 @@ GRIDDEM_INLINE int griddem_contact_touch(const griddem_pair_params *p, double rs
 }
 
 /* griddem_contact_eval of a pair whose law is classic (p->classic): called directly by a sweep
- * that knows every pair is, so that the composed sub-models are not compiled into it */
+ * that knows every pair is, so that the composed sub-models are not compiled into it; hertz: the
+ * pair's normal model is hertz (gran/hertz/history), which a sweep passes as a constant */
 GRIDDEM_INLINE double griddem_classic_eval(const griddem_pair_params *p, griddem_contact *c,
-                                           double *hist, double *f, double *ti, double *tj)
+                                           double *hist, double *f, double *ti, double *tj, const int hertz)
 {
   c->energy = 0.0;
-  griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, c, hist, f, ti, tj);
+  griddem_classic_contact(&p->normal, &p->damping, &p->tangential, p->limit_damping, hertz, c, hist, f, ti, tj);
   return c->energy;
+}
+
+/* Whether a classic pair's law is gran/hertz/history's */
+GRIDDEM_INLINE int griddem_classic_hertz(const griddem_pair_params *p)
+{
+  return p->normal.model == GRIDDEM_NORMAL_HERTZ;
 }
 
 /* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
@@ -111,7 +118,7 @@ GRIDDEM_INLINE double griddem_classic_eval(const griddem_pair_params *p, griddem
 GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
                                            double *hist, double *f, double *ti, double *tj)
 {
-  if (p->classic) return griddem_classic_eval(p, c, hist, f, ti, tj);
+  if (p->classic) return griddem_classic_eval(p, c, hist, f, ti, tj, griddem_classic_hertz(p));
   c->energy = 0.0;
   griddem_contact_kinematics(c);
   if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&p->normal, c);

@@ -79,24 +79,33 @@ static inline int64_t contact_key(const griddem_channels *ch, int from, int to)
   return ch->keyed_by_image ? griddem_image_key(ch->tag[to], ch->image[from], ch->image[to]) : ch->tag[to];
 }
 
-/* The laws a sweep's pair body is compiled for. Where every type pair's law is gran/hooke's or
- * gran/hooke/history's own arithmetic (classic), the body calls it directly, with the history size
- * of those styles as a constant; every other model (and a mix of laws across type pairs) takes the
- * composed law, the reference the tests compare the others with. */
+/* The laws a sweep's pair body is compiled for. Where every type pair's law is one of the gran
+ * styles' own arithmetic (classic: gran/hooke, gran/hooke/history, gran/hertz/history), the body
+ * calls it directly, with the normal model and the history size of those styles as constants;
+ * every other model (and a mix of laws across type pairs) takes the composed law, the reference
+ * the tests compare the others with. */
 enum sweep_law {
   SWEEP_COMPOSED,
-  SWEEP_CLASSIC_SHEAR,      /* gran/hooke/history: 3 shear values per contact */
-  SWEEP_CLASSIC_NO_HISTORY  /* gran/hooke: no history, no contacts kept */
+  SWEEP_HOOKE_SHEAR,        /* gran/hooke/history: 3 shear values per contact */
+  SWEEP_HOOKE_NO_HISTORY,   /* gran/hooke (or no friction): no history, no contacts kept */
+  SWEEP_HERTZ_SHEAR,        /* gran/hertz/history */
+  SWEEP_HERTZ_NO_HISTORY    /* gran/hertz/history without friction */
 };
+
+/* The pair body's classic argument: which classic law, or none */
+enum { COMPOSED = 0, CLASSIC_HOOKE = 1, CLASSIC_HERTZ = 2 };
 
 static int sweep_law_of(const griddem_model *m, const griddem_history *hist)
 {
   if (m->reach_extra != 0.0) return SWEEP_COMPOSED;
+  const int hertz = griddem_classic_hertz(griddem_model_pair(m, 1, 1));
   for (int i = 1; i <= m->ntypes; i++)
-    for (int j = 1; j <= m->ntypes; j++)
-      if (!griddem_model_pair(m, i, j)->classic) return SWEEP_COMPOSED;
-  if (m->track_contacts && m->history_size == 3 && hist->values == 3) return SWEEP_CLASSIC_SHEAR;
-  if (!m->track_contacts && m->history_size == 0) return SWEEP_CLASSIC_NO_HISTORY;
+    for (int j = 1; j <= m->ntypes; j++) {
+      const griddem_pair_params *p = griddem_model_pair(m, i, j);
+      if (!p->classic || griddem_classic_hertz(p) != hertz) return SWEEP_COMPOSED;
+    }
+  if (m->track_contacts && m->history_size == 3 && hist->values == 3) return hertz ? SWEEP_HERTZ_SHEAR : SWEEP_HOOKE_SHEAR;
+  if (!m->track_contacts && m->history_size == 0) return hertz ? SWEEP_HERTZ_NO_HISTORY : SWEEP_HOOKE_NO_HISTORY;
   return SWEEP_COMPOSED;
 }
 
@@ -135,10 +144,29 @@ typedef struct sweep_sums {
 #define SWEEP_SPECIALIZED static inline
 #endif
 
+/* The classic law out of line once per normal model, with hertz a constant in each copy */
+#ifdef __GNUC__
+#define CLASSIC_LAW static __attribute__((noinline, flatten))
+#else
+#define CLASSIC_LAW static
+#endif
+CLASSIC_LAW double classic_hooke(const griddem_pair_params *p, griddem_contact *c, double *hist, double *f, double *ti,
+                                 double *tj)
+{
+  return griddem_classic_eval(p, c, hist, f, ti, tj, 0);
+}
+
+CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *c, double *hist, double *f, double *ti,
+                                 double *tj)
+{
+  return griddem_classic_eval(p, c, hist, f, ti, tj, 1);
+}
+
 /* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
- * reach) seen from a, which is owned; b receives its share if it is owned too. classic (1: every
- * law is classic, and nothing interacts past touching) and values (the history values per contact,
- * or -1: the model's, with contacts kept as it says) are constants of each specialization. */
+ * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
+ * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED)
+ * and values (the history values per contact, or -1: the model's, with contacts kept as it says)
+ * are constants of each specialization. */
 SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
                                   double rsq, const int classic, const int values)
 {
@@ -181,8 +209,9 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
 
   double fc[3], ta[3], tb[3];
-  const double energy = classic ? griddem_classic_eval(law, &c, hv, fc, ta, tb)
-                                : griddem_contact_eval(law, &c, hv, fc, ta, tb);
+  const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
+                        : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
+                                                   : griddem_contact_eval(law, &c, hv, fc, ta, tb);
   if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
     const int stored_values = values >= 0 ? values : cx->hist->values;
@@ -268,9 +297,11 @@ static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_lis
   }
 #endif
   switch (cx->law) {
-    case SWEEP_CLASSIC_SHEAR: evaluate_hits(cx, sums, s, hits, 1, 3); break;
-    case SWEEP_CLASSIC_NO_HISTORY: evaluate_hits(cx, sums, s, hits, 1, 0); break;
-    default: evaluate_hits(cx, sums, s, hits, 0, -1);
+    case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 3); break;
+    case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
+    case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 3); break;
+    case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 0); break;
+    default: evaluate_hits(cx, sums, s, hits, COMPOSED, -1);
   }
   hits->n = 0;
 }

@@ -1,8 +1,9 @@
 /* ----------------------------------------------------------------------
    GRIDDEM package: pair style griddem/hooke/history, the grid twin of gran/hooke/history (and,
-   without shear history, of gran/hooke). Takes their arguments and expresses them as sub-models:
-   normal hooke (Kn, gamma_n) with mass_velocity damping and the gran/hooke(/history) tangential
-   law (Kt, gamma_t, xmu), the same for all type pairs.
+   without shear history, of gran/hooke; with a Hertzian normal force, of gran/hertz/history).
+   Takes their arguments and expresses them as sub-models: normal hooke or hertz (Kn, gamma_n)
+   with mass_velocity damping and the gran/hooke(/history) tangential law (Kt, gamma_t, xmu), the
+   same for all type pairs.
 ------------------------------------------------------------------------- */
 
 #include "pair_griddem_hooke_history.h"
@@ -18,7 +19,7 @@ using namespace LAMMPS_NS;
 
 PairGriddemHookeHistory::PairGriddemHookeHistory(LAMMPS *lmp) :
     PairGriddem(lmp), kn(0.0), kt(0.0), gamman(0.0), gammat(0.0), xmu(0.0), dampflag(1),
-    limit_damping(0), shear_history(1)
+    limit_damping(0), shear_history(1), hertz(0)
 {
   single_hooke_layout = 1;
   single_extra = 10;    // tangential force (3) and its size, normal and tangential velocity (3+3)
@@ -32,7 +33,7 @@ griddem_pair_spec PairGriddemHookeHistory::style_spec() const
 {
   griddem_pair_spec s;
   griddem_spec_init(&s);
-  s.sub[GRIDDEM_AXIS_NORMAL] = griddem_submodel_find(GRIDDEM_AXIS_NORMAL, "hooke");
+  s.sub[GRIDDEM_AXIS_NORMAL] = griddem_submodel_find(GRIDDEM_AXIS_NORMAL, hertz ? "hertz" : "hooke");
   s.coeffs[GRIDDEM_AXIS_NORMAL][0] = kn;
   s.coeffs[GRIDDEM_AXIS_NORMAL][1] = gamman;
   s.sub[GRIDDEM_AXIS_DAMPING] = griddem_submodel_find(GRIDDEM_AXIS_DAMPING, "mass_velocity");
@@ -90,6 +91,8 @@ void PairGriddemHookeHistory::settings(int narg, char **arg)
     error->all(FLERR, "Pair style {}: xmu must be in [0,10000], not {}", force->pair_style, arg[4]);
   if (dampflag < 0 || dampflag > 1)
     error->all(FLERR, "Pair style {}: dampflag must be 0 or 1, not {}", force->pair_style, arg[5]);
+  // gran/hertz/history takes Kn and Kt in pressure units
+  if (hertz) kn /= force->nktv2p, kt /= force->nktv2p;
   griddem_pair_params p;
   char why[256];
   const griddem_pair_spec s = style_spec();

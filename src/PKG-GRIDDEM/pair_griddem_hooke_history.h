@@ -29,6 +29,7 @@ class PairGriddemHookeHistory : public PairGriddem {
   double kn, kt, gamman, gammat, xmu;
   int dampflag, limit_damping;
   int shear_history;    // 1: gran/hooke/history's shear spring, 0: gran/hooke's damping only
+  int hertz;            // 1: gran/hertz/history's Hertzian normal force and friction
   griddem_pair_spec style_spec() const;
   void adopt_style_spec();
 };

@@ -1,7 +1,9 @@
-"""Forces, torques, virial and 20-step trajectories of griddem/hooke/history and griddem/hooke
-equal those of stock gran/hooke/history and gran/hooke to 1e-10 relative, on a dense random
+"""Forces, torques, virial and 20-step trajectories of griddem/hooke/history, griddem/hooke and
+griddem/hertz/history equal those of stock gran/hooke/history, gran/hooke and gran/hertz/history to
+1e-10 relative, on a dense random
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
-with limit_damping, dampflag 0, fix freeze, a triclinic box, rigid clumps (fix rigid/small, neigh_modify
+with limit_damping, dampflag 0, no friction, units metal (hertz: Kn, Kt in pressure units), fix
+freeze, a triclinic box, rigid clumps (fix rigid/small, neigh_modify
 exclude molecule/intra), radii that grow during the run (fix adapt), and in 2d."""
 import math
 import os
@@ -27,12 +29,12 @@ FORCES = ["fx", "fy", "fz", "tqx", "tqy", "tqz"]
 STATE = ["x", "y", "z", "vx", "vy", "vz"]
 
 
-def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *", dimension=3):
+def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *", dimension=3, units="lj"):
     if pair.startswith("griddem/hooke/history") and "griddem" not in extra:
         extra += "\nfix grid all griddem contacts 64"
     head = "dimension 2\n" if dimension == 2 else ""
-    out = t.run_ok(head + TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name), wd,
-                   name="in." + name)
+    text = TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name)
+    out = t.run_ok(head + text.replace("units lj\n", "units %s\n" % units), wd, name="in." + name)
     return t.read_dumps(os.path.join(wd, "dump." + name)), out
 
 
@@ -147,6 +149,7 @@ def main():
     t.write_random_spheres(tri, 1200, (4.2, 4.2, 4.2), 0.1, 0.3, seed=11, triclinic=(0.8, -0.5, 0.3))
 
     hist = "1e4 NULL 50 NULL 0.5 1"
+    nofric = "1e4 NULL 50 NULL 0.0 1"
     ref = run(wd, "stock_hh", data, "gran/hooke/history " + hist)
     for cell in ["exact", "multi", "0.37", "classes"]:
         compare("hooke/history cell " + cell, ref,
@@ -168,11 +171,25 @@ def main():
             run(wd, "grid_h2", data, "griddem/hooke " + hist, "fix grid all griddem cell multi"))
 
     # no friction: the tangential model is skipped (nothing stored, nothing evaluated)
-    nofric = "1e4 NULL 50 NULL 0.0 1"
     compare("hooke/history xmu 0", run(wd, "stock_nf", data, "gran/hooke/history " + nofric),
             run(wd, "grid_nf", data, "griddem/hooke/history " + nofric))
     compare("hooke dampflag 0", run(wd, "stock_nd", data, "gran/hooke 1e4 NULL 50 NULL 0.5 0"),
             run(wd, "grid_nd", data, "griddem/hooke 1e4 NULL 50 NULL 0.5 0"))
+
+    # gran/hertz/history: the normal force and the friction scaled by sqrt(delta R_eff)
+    hertz = "2e5 NULL 50 NULL 0.5 1"
+    ref = run(wd, "stock_hz", data, "gran/hertz/history " + hertz)
+    for cell in ["exact", "multi", "classes"]:
+        compare("hertz/history cell " + cell, ref,
+                run(wd, "grid_hz_" + cell, data, "griddem/hertz/history " + hertz,
+                    "fix grid all griddem contacts 64 cell " + cell))
+    compare("hertz/history dampflag 0 limit_damping", run(wd, "stock_hzld", data, "gran/hertz/history " + args),
+            run(wd, "grid_hzld", data, "griddem/hertz/history " + args))
+    compare("hertz/history xmu 0", run(wd, "stock_hznf", data, "gran/hertz/history " + nofric),
+            run(wd, "grid_hznf", data, "griddem/hertz/history " + nofric))
+    # Kn and Kt in pressure units, converted as stock does (units metal: nktv2p = 1.6e6)
+    compare("hertz/history units metal", run(wd, "stock_hzm", data, "gran/hertz/history 2e7 NULL 5 NULL 0.5 1", units="metal"),
+            run(wd, "grid_hzm", data, "griddem/hertz/history 2e7 NULL 5 NULL 0.5 1", units="metal"))
 
     # pairs excluded from the neighbor list do not interact, as with stock
     exclude = "group low id <= 700\nneigh_modify exclude group low low"

@@ -8,7 +8,7 @@ import griddem_testlib as t
 
 out = subprocess.run([t.LMP, "-h"], stdout=subprocess.PIPE, universal_newlines=True).stdout
 words = out.split()
-for style in ["griddem/hooke/history", "griddem/hooke", "gran/hooke/history", "gran/hooke"]:
+for style in ["griddem/hooke/history", "griddem/hooke", "griddem/hertz/history", "gran/hooke/history", "gran/hooke"]:
     t.check(style in words, "pair style %s listed by lmp -h" % style)
 t.check("griddem" in out.split("* Fix styles")[1].split("* ")[0].split(),
         "fix style griddem listed by lmp -h")

@@ -102,7 +102,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       for (int h = 0; h < nhist; h++)
         hist[h] = (found >= 0 && h < nv) ? rows.value(found * nv + h) : 0.0;
       double fc[3], ti[3], tj[3];
-      const double uel = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj)
+      const double uel = Classic ? griddem_classic_eval(law, &c, hist, fc, ti, tj, griddem_classic_hertz(law))
                                  : griddem_contact_eval(law, &c, hist, fc, ti, tj);
       if (track) {    // griddem_history_put's layout, its loop bound constant (hist stays in registers)
         const long o = out + stored++;
