@@ -149,6 +149,8 @@ LAWS = [
      "pair_coeff * *"),
     ("hooke/history dampflag 0 limit_damping", "griddem/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping",
      "gran/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping", "pair_coeff * *"),
+    ("hertz/history", "griddem/hertz/history 2e5 NULL 50 NULL 0.5 1", "gran/hertz/history 2e5 NULL 50 NULL 0.5 1",
+     "pair_coeff * *"),
 ] + [("granular " + label, "griddem/granular", "granular", "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
      for label, c1, c2 in MODELS if "nohistory" not in c1 and " heat " not in c1]  # the laws with history (the sub-model table's examples; heat is the CPU style's)
 HISTORY = LAWS[5]
