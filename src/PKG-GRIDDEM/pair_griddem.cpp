@@ -192,9 +192,6 @@ void PairGriddem::init_style()
                    "type pairs conduct no heat (pair granular asks for a heat model on every pair)", style,
                    conducting, insulating);
   if (conducts_heat) {
-    if (kokkosable)
-      error->all(FLERR, "Pair style {} does not conduct heat (heat model in pair_coeff): use {} without the "
-                 "Kokkos suffix", style, utils::strip_style_suffix(style, lmp));
     if (!atom->temperature_flag)
       error->all(FLERR, "Heat conduction in pair style {} requires atom style with temperature property", style);
     if (!atom->heatflow_flag)

@@ -381,6 +381,35 @@ def check_laws(wd, data):
                 compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
 
 
+def check_heat(wd, data):
+    """The heat models of the sub-model table (heat radius, heat area) through griddem/granular/kk:
+    each atom's temperature and heatflow at steps 0 and 20 equal the CPU style's (which
+    test_granular_parity checks against the formula and stock) on 1 and 2 ranks and threads, and
+    heat flows."""
+    heat = ("fix heat_store all property/atom temperature heatflow\n"
+            "variable temperature atom 1.0+x+0.5*y*z\nset group all temperature v_temperature\n"
+            "fix conduct all heat/flow constant 0.3\ncompute heat all property/atom temperature heatflow\n"
+            "dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]\n"
+            "dump_modify heat format float %.17g sort id")
+    for label, c1, c2 in (m for m in MODELS if m[0].startswith("heat ")):
+        coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
+        name = "heat_cpu_" + label.split()[1]
+        run(wd, name, data, "griddem/granular", coeffs, extra=heat.format(name=name))
+        cpu = t.read_dumps(os.path.join(wd, "dump.heat." + name))
+        t.check(len(cpu) == 2 and any(v[1] != 0.0 for v in cpu[1][1].values()), "%s: CPU heat dumped, heat flows" % label)
+        for nprocs in RANKS:
+            for threads in THREADS:
+                name = "heat_kk_%s_%d_%d" % (label.split()[1], nprocs, threads)
+                run(wd, name, data, "griddem/granular", coeffs, nprocs, threads, extra=heat.format(name=name))
+                kk = t.read_dumps(os.path.join(wd, "dump.heat." + name))
+                t.check(len(kk) == 2, "%s kk: heat dumped at steps 0 and 20" % label)
+                err = max(t.max_rel_diff(a, b, ["c_heat[1]", "c_heat[2]"]) for a, b in zip(kk, cpu))
+                print("griddem/granular/kk [%s], %d rank(s), %d thread(s) vs CPU: temperature/heatflow %.2g"
+                      % (label, nprocs, threads, err))
+                t.check(err <= 1e-10, "%s kk, %d rank(s), %d thread(s): temperature/heatflow relative error %.3g"
+                        % (label, nprocs, threads, err))
+
+
 def check_active(wd, data):
     # the kk styles really ran: with -sf kk the pair style is the kk one
     for law in (LAWS[0], LAWS[2], HISTORY):
@@ -451,18 +480,6 @@ def check_mismatch(wd, data):
         rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
         t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
                 "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
-
-
-    # heat conduction is the CPU style's: the kk style refuses it naming the style to use
-    heat = next(m for m in MODELS if m[0] == "heat radius")
-    text = t.PERIODIC_SPHERES.format(data=data, pair="griddem/granular/kk",
-                                     coeffs="pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (heat[1], heat[2]))
-    text = text.replace("atom_style sphere", "atom_style sphere/kk") + (
-        "fix heat_store all property/atom temperature heatflow\nfix conduct all heat/flow constant 1.0\nrun 0\n")
-    rc, out = t.run_lmp(text, wd, name="in.heat_kk", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
-    t.check(rc != 0 and any("griddem/granular/kk does not conduct heat" in l and "use griddem/granular" in l
-                            for l in t.errors(out)),
-            "griddem/granular/kk with a heat model refused naming griddem/granular: %s" % t.errors(out)[:1])
 
 
 def check_extremes(wd, data):
@@ -996,7 +1013,7 @@ def check_replanned(wd, data):
 # GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
-    check_laws, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
+    check_laws, check_heat, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
     check_reach, check_periodic_images, check_two_d, check_growing, check_clumps, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}

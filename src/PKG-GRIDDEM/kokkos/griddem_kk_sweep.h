@@ -40,6 +40,10 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   Kokkos::View<int *, DeviceType> last;    // by atom index: its list's length, for the next layout
   typename AT::t_f_array f, torque;
   typename AT::t_virial_array vatom;
+  int heat;    // some type pair conducts heat (the composed law only): by atom index, the
+               // temperatures read and each owned atom's heat from its contacts written
+  Kokkos::View<const double *, DeviceType> temperature;
+  Kokkos::View<double *, DeviceType> heatflow;
 
   KOKKOS_INLINE_FUNCTION void init(value_type &s) const
   {
@@ -80,6 +84,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     const int head = this->first(s), n = this->count(s);
     const int out = track ? rows.first_out(i) : 0;
     int stored = 0, ncontact = 0;
+    double heat_in = 0.0;
 
     for (int e = head; e < head + n; e++) {
       const int u = this->list(e);
@@ -98,6 +103,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       const double vj[3] = {state(u, 0), state(u, 1), state(u, 2)}, wj[3] = {state(u, 3), state(u, 4), state(u, 5)};
       griddem_contact_setup(&c, sep, rsq, radi, radj, vi, vj, wi, wj, mi, state(u, 6), (imask & frozen_bit) != 0,
                             (jmask & frozen_bit) != 0, dt, history_update);
+      if (!Classic && heat) c.temp_i = temperature(i), c.temp_j = temperature(j);
       double hist[nhist];
       for (int h = 0; h < nhist; h++)
         hist[h] = (found >= 0 && h < nv) ? rows.value(found * nv + h) : 0.0;
@@ -111,6 +117,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
           if (h < nv) rows.value_out(o * nv + h) = hist[h];
       }
       for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
+      if (!Classic && heat) heat_in += c.heat;
       energy += 0.5 * uel;
       ncontact++;
       if (vflag_global || vflag_atom) {
@@ -124,6 +131,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
     sum.contacts += ncontact;
     if (ncontact > sum.most) sum.most = ncontact;
     for (int d = 0; d < 3; d++) f(i, d) += fsum[d], torque(i, d) += tsum[d];
+    if (!Classic && heat) heatflow(i) = heat_in;
     sum.energy += energy;
     if (vflag_global)
       for (int k = 0; k < 6; k++) sum.v[k] += w[k];

@@ -114,6 +114,11 @@ class PairGriddemKokkos : public Base {
   // [nall] each atom's contact mass, with rigid bodies (PairGriddem::contact_masses)
   Kokkos::View<double *, DeviceType> d_contact_mass;
   void upload_contact_masses();
+  // heat conduction: the atoms' temperatures (host arrays of fix property/atom) copied to the
+  // device each step, and each owned atom's heat from its contacts added to its heatflow on the host
+  Kokkos::View<double *, DeviceType> d_temperature, d_heat;
+  void upload_temperatures();
+  void add_heat();
   // [nall] the history keys' image codes, where the box has image axes (upload_images)
   Kokkos::View<int *, DeviceType> d_image;
   typename Kokkos::View<int *, DeviceType>::HostMirror h_image;

@@ -135,6 +135,26 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   Kokkos::deep_copy(Kokkos::subview(d_contact_mass, std::make_pair(0, nall)), h_mass);
 }
 
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_temperatures()
+{
+  const int nall = this->atom->nlocal + this->atom->nghost;
+  if ((int) d_temperature.extent(0) < nall) {
+    d_temperature = Kokkos::View<double *, DeviceType>("griddem/kk:temperature", this->atom->nmax);
+    d_heat = Kokkos::View<double *, DeviceType>("griddem/kk:heat", this->atom->nmax);
+  }
+  Kokkos::View<const double *, LMPHostType, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h_temperature(
+      this->atom->temperature, nall);
+  Kokkos::deep_copy(Kokkos::subview(d_temperature, std::make_pair(0, nall)), h_temperature);
+}
+
+template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::add_heat()
+{
+  const int nlocal = this->atom->nlocal;
+  auto h_heat = Kokkos::create_mirror_view_and_copy(LMPHostType(), Kokkos::subview(d_heat, std::make_pair(0, nlocal)));
+  double *heatflow = this->atom->heatflow;
+  for (int i = 0; i < nlocal; i++) heatflow[i] += h_heat(i);
+}
+
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::report_coincident(int i, int j)
 {
@@ -218,6 +238,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     // is this process's alone)
     if (attempt == 0) upload_images();
     if (attempt == 0 && this->fix_rigid) upload_contact_masses();
+    if (attempt == 0 && this->conducts_heat) upload_temperatures();
 
     // 2. grids
     fit_grids(grids, boxes, margin);
@@ -254,6 +275,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     last_speed = report.scan.ivmax >= 0 ? sqrt(report.scan.vmax2) : 0.0;
     boxes_known = 1;
     close_step(grids, report);
+    if (this->conducts_heat) add_heat();
     return;
   }
 }
@@ -658,6 +680,9 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   sweep.torque = atomKK->k_torque.template view<DeviceType>();
   if (this->vflag_atom) sweep.vatom = k_vatom.template view<DeviceType>();
   sweep.rows = rows;
+  sweep.heat = this->conducts_heat;
+  sweep.temperature = d_temperature;
+  sweep.heatflow = d_heat;
   griddem_kk_reduce(
       "griddem/kk:sweep", Kokkos::RangePolicy<DeviceType>(0, nall), sweep,
       Kokkos::View<GriddemKKSweepValue, DeviceType, Kokkos::MemoryUnmanaged>(&report_at->sums));
