@@ -20,6 +20,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -37,6 +38,7 @@ PairGriddem::PairGriddem(LAMMPS *lmp) :
   // twisting torque (0: no twisting model), separation vector
   single_extra = 12;
   svector = new double[single_extra];
+  type_contact = 0.0;
   griddem_engine_init(&engine);
 }
 
@@ -139,6 +141,7 @@ double PairGriddem::init_one(int i, int j)
 
   const double pulloff = griddem_pair_reach_extra(&params[i * n + j], type_radius[i], type_radius[j]);
   model.reach_extra = MAX(model.reach_extra, pulloff);
+  type_contact = MAX(type_contact, type_radius[i] + type_radius[j] + pulloff);
   if (s.cutoff > 0.0) return s.cutoff;
   if (cutoff_global > 0.0) return cutoff_global;
   return type_radius[i] + type_radius[j] + pulloff;
@@ -242,6 +245,7 @@ void PairGriddem::init_style()
   model.reach_extra = 0.0;    // init_one() finds it per type pair
   find_radius_range();
   type_radius = max_radius_by_type();
+  type_contact = 0.0;    // init_one() finds it per type pair
 
   // NN4DEM stability rule: dt <= pi/5 sqrt(m/k) for the lightest atom
   double mlocal = INFINITY, mmin;
@@ -373,7 +377,11 @@ void PairGriddem::check_ghost_reach()
   const bool ghosts = comm->nprocs > 1 || domain->xperiodic || domain->yperiodic ||
       (domain->dimension == 3 && domain->zperiodic);
   if (rmax == 0.0 || !ghosts) return;
-  const double contact = 2.0 * rmax + model.reach_extra, cutghost = comm->get_comm_cutoff();
+  // the type pairs' own distances while no radius outgrew its type's (radii that grew during the
+  // run: bounded by the largest radius twice and the largest pull-off distance)
+  const double typed = *std::max_element(type_radius.begin(), type_radius.end());
+  const double contact = rmax <= typed ? type_contact : 2.0 * rmax + model.reach_extra;
+  const double cutghost = comm->get_comm_cutoff();
   const double tolerance = 1e-10 * contact;
   if (contact > cutghost + tolerance)
     error->all(FLERR, "Pair style {}: the largest contact distance {} (radius {}) exceeds the ghost cutoff {}: "

@@ -95,6 +95,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // largest radius per type of the atoms present and those fix pour/deposit will add, found
   // once per init_style() for init_one()
   std::vector<double> type_radius;
+  // the largest contact distance of the type pairs at their largest radii (with a pull-off
+  // distance where the pair's model has one), found by init_one
+  double type_contact;
 
   // shared by the CPU and Kokkos styles, so both name the same faults in the same words
   void set_radius_range(double local_min, double local_max);

@@ -106,18 +106,19 @@ void PairGriddemGranular::coeff(int narg, char **arg)
       iarg++;
       continue;
     }
-    if (iarg + 1 >= narg) error->all(FLERR, "Pair coeff for griddem/granular: {} needs a model name", keyword);
-    iarg++;
     int axis = GRIDDEM_AXIS_DAMPING;
     while (axis < GRIDDEM_NAXES && strcmp(keyword, griddem_axis_name(axis)) != 0) axis++;
-    if (axis < GRIDDEM_NAXES) {
-      read_submodel(axis);
-    } else if (strcmp(keyword, "cutoff") == 0) {
+    const bool cutoff = strcmp(keyword, "cutoff") == 0;
+    if (axis == GRIDDEM_NAXES && !cutoff) error->all(FLERR, "Pair coeff for griddem/granular: unknown keyword {}", keyword);
+    if (iarg + 1 >= narg)
+      error->all(FLERR, "Pair coeff for griddem/granular: {} needs {}", keyword, cutoff ? "a value" : "a model name");
+    iarg++;
+    if (cutoff) {
       s.cutoff = utils::numeric(FLERR, arg[iarg], false, lmp);
       if (s.cutoff <= 0.0) error->all(FLERR, "Pair coeff for griddem/granular: cutoff must be > 0, not {}", arg[iarg]);
       iarg++;
     } else {
-      error->all(FLERR, "Pair coeff for griddem/granular: unknown keyword {}", keyword);
+      read_submodel(axis);
     }
   }
   set_specs(arg[0], arg[1], s);

@@ -127,6 +127,33 @@ t.check(rc != 0 and "exceeds the ghost cutoff 1.2: contacts with atoms of other 
 rc, out = t.run_lmp(OUTGROWN.format(boundary="m m m"), WD, name="in.outgrown_alone")
 t.check(rc == 0 and "ghost cutoff" not in out, "outgrown_alone: runs without ghosts: %s" % t.errors(out)[:2])
 
+# a pull-off distance of one type pair (jkr, small spheres) is not added to another's contact
+# distance (large spheres, hertz): no warning where every type pair's contact is within the cutoff
+rc, out = t.run_lmp("""
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block -3 3 -3 3 -3 3
+create_box 2 box
+create_atoms 1 single 0 0 0
+create_atoms 2 single 0.3 0.1 1.05
+create_atoms 2 single -1.5 -1.5 -1.5
+set type 1 diameter 1.0
+set type 2 diameter 0.8
+set group all density 1.0
+pair_style griddem/granular
+pair_coeff 1 * hertz/material 1e5 0.2 0.3 tangential mindlin NULL 1.0 0.5 damping tsuji
+pair_coeff 2 2 jkr 1e5 0.1 0.3 50 tangential mindlin NULL 1.0 0.5
+neighbor 0.2 bin
+fix 1 all nve/sphere
+timestep 0.0005
+run 200
+""", WD, name="in.pulloff_of_one_pair")
+t.check(rc == 0 and "ghost cutoff" not in out,
+        "pulloff_of_one_pair: no ghost-cutoff warning where each type pair's contact is within reach: %s"
+        % [l for l in out.splitlines() if "WARNING" in l][:1])
+
 # two rigid-body fixes: a contact takes one fix's body masses, as stock's styles (which refuse
 # two as well)
 from test_stock_parity import CLUMP, CLUMPS

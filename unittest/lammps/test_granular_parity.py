@@ -202,6 +202,9 @@ def main():
             ("", "* * hooke 1e4 5 tangential", "tangential needs a model name"),
             ("", "* * hooke 1e4 5 cutoff -2 " + tangential, "cutoff must be > 0, not -2"),
             ("", "* * hooke 1e4 5 %s bogus 1" % tangential, "unknown keyword bogus"),
+            # an unknown keyword last (a newer LAMMPS's synchronized_verlet) named as unknown
+            ("", "* * hooke 1e4 5 %s synchronized_verlet" % tangential, "unknown keyword synchronized_verlet"),
+            ("", "* * hooke 1e4 5 %s cutoff" % tangential, "cutoff needs a value"),
             ("", "* * hooke 1e4 5 damping foo " + tangential, "unknown damping model foo"),
             ("", "* * hooke 1e4 5", "a tangential model is required"),
             ("", "1 1 hooke 1e4 5 %s\npair_coeff 2 2 hooke 1e4 5 tangential linear_nohistory 1 1" % tangential,
