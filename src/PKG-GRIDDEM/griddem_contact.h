@@ -19,6 +19,8 @@
 extern "C" {
 #endif
 
+#define GRIDDEM_MAX_HISTORY 8 /* tangential 4 + rolling 3 + twisting 1 */
+
 /* The contact law of one pair of atom types. */
 typedef struct griddem_pair_params {
   griddem_normal_params normal;
@@ -31,16 +33,17 @@ typedef struct griddem_pair_params {
   int need_contact_radius;  /* some sub-model reads c->contact_radius */
   int classic;              /* 1: gran/hooke(/history)'s own arithmetic (griddem_classic.h) */
   int hist_rolling, hist_twisting; /* offsets of the rolling and twisting history values */
+  double parity[GRIDDEM_MAX_HISTORY]; /* a history value seen from j = parity * seen from i (0
+                                         past the pair's own values) */
 } griddem_pair_params;
 
-#define GRIDDEM_MAX_HISTORY 8 /* tangential 4 + rolling 3 + twisting 1 */
 
-/* What a sweep evaluates: the laws of all type pairs and the history layout they share. */
+/* What a sweep evaluates: the laws of all type pairs and the room for their history (each type
+ * pair lays its values out in it as its sub-models say, griddem_pair_params). */
 typedef struct griddem_model {
   int ntypes;
   const griddem_pair_params *pair; /* [(ntypes+1)^2], [itype*(ntypes+1)+jtype] */
-  int history_size;                /* values per contact; 0: none */
-  double history_parity[GRIDDEM_MAX_HISTORY]; /* value seen from j = parity * value seen from i */
+  int history_size;                /* values per contact, the most of any type pair; 0: none */
   int track_contacts;              /* keep who touched whom even without values (jkr) */
   double reach_extra;              /* largest distance beyond touching at which pairs interact */
 } griddem_model;

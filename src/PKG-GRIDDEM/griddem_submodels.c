@@ -407,6 +407,7 @@ int griddem_spec_to_params(const griddem_pair_spec *s, griddem_pair_params *p, c
     offset += m->history;
   }
   p->limit_damping = s->limit_damping;
+  griddem_spec_history(s, p->parity);
   return 0;
 }
 

@@ -218,7 +218,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, key_b, hv);
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
-      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = m->history_parity[v] * hv[v];
+      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = law->parity[v] * hv[v];
       failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, contact_key(ch, b, a), hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);

@@ -70,19 +70,13 @@ void PairGriddem::allocate()
 /* the history layout of a spec: every type pair must keep the same history values per contact,
    so that one atom's row has one layout; the first spec sets it */
 
-void PairGriddem::adopt_layout(const griddem_pair_spec &s, const std::string &types)
+void PairGriddem::adopt_layout(const griddem_pair_spec &s)
 {
-  double parity[GRIDDEM_MAX_HISTORY];
-  const int size = griddem_spec_history(&s, parity);
+  const int size = griddem_spec_history(&s, nullptr);
   const int track = size > 0 || griddem_spec_beyond_contact(&s);
-  if (layout_set && (size != model.history_size || track != model.track_contacts ||
-                     memcmp(parity, model.history_parity, sizeof(double) * size) != 0))
-    error->all(FLERR, "Pair coeff for {}: types {} keep {} history values per contact, laid out otherwise than the earlier pair_coeff lines chose; all type pairs must share it (same tangential, rolling and twisting history)",
-               force->pair_style, types, size);
+  model.history_size = layout_set ? MAX(model.history_size, size) : size;
+  model.track_contacts = layout_set ? (model.track_contacts || track) : track;
   layout_set = 1;
-  model.history_size = size;
-  model.track_contacts = track;
-  for (int k = 0; k < size; k++) model.history_parity[k] = parity[k];
 }
 
 /* pair_coeff: spec s for the type pairs of two LAMMPS type ranges */
@@ -94,7 +88,7 @@ void PairGriddem::set_specs(const char *irange, const char *jrange, const gridde
   utils::bounds(FLERR, irange, 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, jrange, 1, atom->ntypes, jlo, jhi, error);
   make_params(s, ilo, jlo);    // refuse what cannot be evaluated now, naming the types
-  adopt_layout(s, fmt::format("{} {}", irange, jrange));
+  adopt_layout(s);
   create_default_fix();
 
   const int n = atom->ntypes + 1;
@@ -686,15 +680,15 @@ double PairGriddem::single(int i, int j, int itype, int jtype, double rsq, doubl
   double hv[GRIDDEM_MAX_HISTORY] = {0.0};
   const int nv = model.history_size;
   const double *stored = nullptr;
+  const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);
   int owner_is_i = 1;
   if (model.track_contacts && (i < atom->nlocal || j < atom->nlocal)) {
     owner_is_i = i < atom->nlocal;
     const int owner = owner_is_i ? i : j, other = owner_is_i ? j : i;
     const int64_t tag = atom->tag[other];
     stored = fix()->find_history(owner, image_axes && images ? griddem_image_key(tag, images[owner], images[other]) : tag);
-    for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : model.history_parity[m] * stored[m];
+    for (int m = 0; stored && m < nv; m++) hv[m] = owner_is_i ? stored[m] : law->parity[m] * stored[m];
   }
-  const griddem_pair_params *law = griddem_model_pair(&model, itype, jtype);
   const double *radius = atom->radius;
   if (!griddem_contact_touch(law, rsq, radius[i], radius[j], stored != nullptr)) return 0.0;
 

@@ -89,9 +89,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   virtual std::string history_fix_style() const { return "griddem"; }
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
-  // take the history layout of s (the first spec sets it, later ones must match; types: for
-  // the message)
-  void adopt_layout(const griddem_pair_spec &s, const std::string &types);
+  // make room for the history of s (the first spec of the style sets it, later ones widen it;
+  // each type pair lays its values out as its sub-models say)
+  void adopt_layout(const griddem_pair_spec &s);
   // largest radius per type of the atoms present and those fix pour/deposit will add, found
   // once per init_style() for init_one()
   std::vector<double> type_radius;

@@ -203,7 +203,7 @@ void PairGriddemGranular::read_restart(FILE *fp)
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
       if (!setflag[i][j]) continue;
       specs[i * n + j] = specs[j * n + i] = read_spec(fp);
-      adopt_layout(specs[i * n + j], fmt::format("{} {}", i, j));
+      adopt_layout(specs[i * n + j]);
     }
 }
 

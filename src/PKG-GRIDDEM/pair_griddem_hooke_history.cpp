@@ -53,7 +53,7 @@ void PairGriddemHookeHistory::adopt_style_spec()
 {
   const griddem_pair_spec s = style_spec();
   layout_set = 0;
-  adopt_layout(s, "* *");
+  adopt_layout(s);
   if (!allocated) return;
   const int n = atom->ntypes + 1;
   for (int i = 1; i < n; i++)

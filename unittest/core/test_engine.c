@@ -68,7 +68,6 @@ int main(void)
   griddem_model m;
   memset(&m, 0, sizeof(m));
   m.ntypes = 1, m.pair = table, m.history_size = 3, m.track_contacts = 1;
-  for (int k = 0; k < 3; k++) m.history_parity[k] = -1.0;
 
   /* a row of three: particle 0 between 1 and 2, 3 apart; 2 and 3 are ghosts */
   double x[12] = {0, 0, 0, 0.9, 0, 0, -0.9, 0, 0, 5, 5, 5}, v[12] = {0, 1, 0, 0, -1, 0, 0, 0, 2, 3, 0, 0};

@@ -210,7 +210,7 @@ static griddem_model model_of(const char *format)
       table[a * 3 + b] = law_from_text(text);
       griddem_pair_spec s;
       spec_from_text(text, &s);
-      m.history_size = griddem_spec_history(&s, m.history_parity);
+      m.history_size = griddem_spec_history(&s, NULL);
       m.track_contacts = m.history_size > 0 || griddem_spec_beyond_contact(&s);
       m.reach_extra = fmax(m.reach_extra, griddem_pair_reach_extra(&table[a * 3 + b], 0.2, 0.2));
     }

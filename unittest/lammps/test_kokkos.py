@@ -151,6 +151,10 @@ LAWS = [
      "gran/hooke/history 2e4 3e3 80 20 0.3 0 limit_damping", "pair_coeff * *"),
     ("hertz/history", "griddem/hertz/history 2e5 NULL 50 NULL 0.5 1", "gran/hertz/history 2e5 NULL 50 NULL 0.5 1",
      "pair_coeff * *"),
+    ("granular, a history layout per type pair", "griddem/granular", "granular",
+     "pair_coeff 1 1 hertz 1e5 20 tangential linear_history 3e4 0.5 0.5 rolling sds 500 5 0.1\n"
+     "pair_coeff 2 2 hertz 2e5 10 tangential mindlin_rescale 2e4 0.6 0.4 twisting sds 100 0.005 0.2\n"
+     "pair_coeff 1 2 hooke 1.5e4 30 damping mass_velocity tangential linear_nohistory 0.5 0.5"),
 ] + [("granular " + label, "griddem/granular", "granular", "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
      for label, c1, c2 in MODELS if "nohistory" not in c1 and " heat " not in c1]  # the laws with history (the sub-model table's examples; heat is the CPU style's)
 HISTORY = LAWS[5]

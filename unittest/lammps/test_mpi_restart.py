@@ -1,8 +1,9 @@
 """MPI-decomposition invariance and restarts, for griddem/hooke/history and for griddem/granular
 on two atom types with tangential and rolling history (hertz, linear_history, sds), with JKR
 (contacts held beyond touching; mindlin_rescale with k from the material, rolling sds, twisting
-marshall), with DMT (mindlin_rescale/force, twisting sds), cohesion weak enough for a gas, and
-with mindlin, mindlin/force, linear_history_classic and coeff_restitution damping.
+marshall), with DMT (mindlin_rescale/force, twisting sds), cohesion weak enough for a gas, with
+mindlin, mindlin/force, linear_history_classic and coeff_restitution damping, and with a history
+layout per type pair.
 1, 2 and 4 ranks give the same 100-step trajectory (atoms migrate between ranks and keep their
 contact history), and so do 2 OpenMP threads on one rank; a run continued from a restart file
 reproduces the uninterrupted run bit for bit. A sphere with ~1000 contacts crosses between ranks
@@ -55,6 +56,11 @@ PAIRS = {
                "pair_coeff 1 2 hertz/material 1.7e4 0.75 0.28 damping coeff_restitution tangential mindlin 9e3 0.45 0.4",
     "classic": "pair_style griddem/granular\n"
                "pair_coeff * * hooke 2e3 0.8 damping coeff_restitution tangential linear_history_classic 1e4 0.5 0.5",
+    # a history layout per type pair: rolling on type 1, twisting on type 2, none between them
+    "mixed": "pair_style griddem/granular\n"
+             "pair_coeff 1 1 hertz 4e4 20 tangential linear_history 1e4 0.5 0.5 rolling sds 100 1 0.2\n"
+             "pair_coeff 2 2 hertz 2e4 10 tangential mindlin_rescale 8e3 0.4 0.3 twisting sds 1 0.002 0.1\n"
+             "pair_coeff 1 2 hooke 3e3 20 damping mass_velocity tangential linear_nohistory 0.5 0.5",
 }
 
 
