@@ -3,8 +3,10 @@ free-fall (NN4DEM set I) apex heights against the analytic e^2 per bounce (0.1%)
 stock pair granular (1e-8); sliding distance against the solution for the curved floor (0.1%);
 the default pour scene's packing fraction against stock gran/hooke/history (0.01, a chaotic
 pour) and a random packing's range; the 2d pour's area fraction against stock's (0.01) and a
-random packing of discs' range. Each also against the reference log in the example (1e-6
-for the single particles, 0.005 for the pour). Every example's reference log echoes its current
+random packing of discs' range; the heat-bed's steady heat flux and temperature against the
+linear profile (1e-5) and its transient against stock pair granular (1e-10). Each also against the
+reference log in the example (1e-6 for the single particles, 0.005 for the pours, 1e-8 for the
+heat). Every example's reference log echoes its current
 input."""
 import glob
 import math
@@ -99,6 +101,28 @@ def pour_2d(wd):
     t.check(abs(phi - phi_ref) <= 0.005, "pour-2d: %.3f, reference log %.3f" % (phi, phi_ref))
 
 
+def heat_bed(wd):
+    """The heat-bed's steady state against the linear profile: the flux per column G / 7 (G = 2 k a,
+    a = sqrt(0.02 R_eff)) and layer 3 at 2 - 3/7 (1e-5 relative); the flux through the transient
+    against stock pair granular's, step by step (1e-10), and the reference log's (1e-8)."""
+    pattern = r"flux per column ([0-9.]+) \(steady state ([0-9.]+)\), layer 3 at ([0-9.]+)"
+    out = run_example("heat-bed", wd)
+    flux, steady, layer3 = (float(v) for v in re.findall(pattern, out)[-1])
+    expected = 2 * 1.0 * math.sqrt(0.02 * 0.51 * 0.51 / 1.02) / 7
+    t.check(abs(steady - expected) <= 1e-7 * expected, "heat-bed: the script's steady flux %.8g is G/7 %.8g" % (steady, expected))
+    t.check(abs(flux - expected) <= 1e-5 * expected, "heat-bed: flux per column %.8g, steady state %.8g" % (flux, expected))
+    t.check(abs(layer3 - (2 - 3 / 7)) <= 1e-5, "heat-bed: layer 3 at %.8g, steady state %.8g" % (layer3, 2 - 3 / 7))
+    stock = run_example("heat-bed", wd, "style granular", "tag stock")
+    with open(reference_log(os.path.join(EXAMPLES, "heat-bed"))) as f:
+        logged = f.read()
+    ours = thermo(out, "v_flux")
+    t.check(len(ours) == 13 and ours[6] > 0.5 * expected, "heat-bed: flux printed through the transient (%s)" % ours[:3])
+    for other, what, tolerance in ((thermo(stock, "v_flux"), "stock pair granular", 1e-10),
+                                   (thermo(logged, "v_flux"), "the reference log", 1e-8)):
+        worst = max(abs(a - b) for a, b in zip(ours, other)) / expected if len(ours) == len(other) else 1.0
+        t.check(worst <= tolerance, "heat-bed: flux against %s, relative difference %.3g" % (what, worst))
+
+
 def reference_logs_echo_inputs():
     """Every reference log in examples/ (log.DATE.NAME[.variant].N) is the output of the current
     examples/NAME/in.NAME: it echoes each of its commands in order and no other."""
@@ -121,6 +145,7 @@ def main():
     sliding(wd)
     pour(wd)
     pour_2d(wd)
+    heat_bed(wd)
     t.finish()
 
 
