@@ -15,7 +15,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
-from test_stock_parity import compare, run as parity_run
+from test_stock_parity import TEMPLATE, compare, run as parity_run
 
 # stock's list is built once: a pair keeps its i/j order, so its rolling history keeps its sign
 FROZEN_LIST = "neighbor 0.3 bin\nneigh_modify every 1000 delay 0 check no"
@@ -165,6 +165,18 @@ def main():
             if " heat " in c1:
                 compare_heat("granular %s, cell %s" % (label, cell), wd, "stock_%d" % k,
                              "grid_%d_%s" % (k, cell), reference)
+        if " heat " in c1:    # on 2 ranks and 2 threads (contacts with ghosts), as on one
+            for nprocs, threads, tag in ((2, None, "np2"), (1, 2, "omp2")):
+                name = "grid_%d_%s" % (k, tag)
+                text = TEMPLATE.format(data=data, pair="griddem/granular", name=name,
+                                       coeffs="pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2),
+                                       extra=HEAT.format(name=name) + "\n" + FROZEN_LIST)
+                t.run_ok(text, wd, nprocs=nprocs, name="in." + name, threads=threads)
+                one = t.read_dumps(os.path.join(wd, "dump.heat.grid_%d_exact" % k))
+                other = t.read_dumps(os.path.join(wd, "dump.heat." + name))
+                err = max(t.max_rel_diff(a, b, ["c_heat[1]", "c_heat[2]"]) for a, b in zip(other, one)) \
+                    if len(other) == len(one) == 2 else 1.0
+                t.check(err <= 1e-10, "granular %s, %s vs 1 rank: temperature/heatflow relative error %.3g" % (label, tag, err))
 
     # the JKR case compares pairs beyond contact: stock has a visible number of them at step 20
     forced, beyond = beyond_contact(wd, data, JKR[1], JKR[2])
