@@ -185,8 +185,8 @@ void PairGriddem::init_style()
       if (setflag[i][j]) (specs[i * n + j].sub[GRIDDEM_AXIS_HEAT]->model != GRIDDEM_HEAT_NONE ? conducting : insulating)++;
   conducts_heat = conducting > 0;
   if (conducting && insulating && comm->me == 0)
-    error->warning(FLERR, "Pair style {}: {} of the pair_coeff lines give a heat model and {} do not; those "
-                   "type pairs conduct no heat (pair granular asks for a heat model on every pair)", style,
+    error->warning(FLERR, "Pair style {}: {} type pairs given in pair_coeff have a heat model and {} do not; "
+                   "those conduct no heat (pair granular asks for a heat model on every pair)", style,
                    conducting, insulating);
   if (conducts_heat) {
     if (!atom->temperature_flag)

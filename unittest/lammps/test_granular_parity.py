@@ -288,7 +288,7 @@ def heat_settings(wd):
                 "heat without %s refused naming it: %s" % (missing, t.errors(out)[:1]))
     rc, out = t.run_lmp(box + "fix store all property/atom temperature heatflow\n" + heat +
                         "pair_coeff 1 2 hooke 1e4 5 tangential linear_nohistory 1 1\nrun 0\n", wd, name="in.heat_some")
-    t.check(rc == 0 and "2 of the pair_coeff lines give a heat model and 1 do not" in out,
+    t.check(rc == 0 and "2 type pairs given in pair_coeff have a heat model and 1 do not" in out,
             "a type pair without a heat model among ones with it is warned of: %s" % out.strip().splitlines()[-1:])
 
 
