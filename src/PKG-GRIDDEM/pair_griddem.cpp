@@ -18,6 +18,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "pair_hybrid.h"
 #include "update.h"
 
 #include <algorithm>
@@ -167,10 +168,22 @@ const griddem_engine_stats *PairGriddem::step_stats(const FixGriddem *of, int oc
 void PairGriddem::init_style()
 {
   const char *style = force->pair_style;
-  // the sweep finds every pair on the grid, whatever pair hybrid would assign to other styles
-  if (force->pair != this)
-    error->all(FLERR, "The griddem pair styles cannot be sub-styles of pair {}: they find all contacts on their own grid",
-               style);
+  // the sweep finds every pair on the grid: as a sub-style of pair hybrid, only as the one style
+  // of every type pair (the same as the style alone)
+  if (force->pair != this) {
+    char *keyword = force->pair_match_ptr(this);
+    auto hybrid = dynamic_cast<PairHybrid *>(force->pair);
+    bool alone = keyword && hybrid && utils::strip_style_suffix(force->pair_style, lmp) == "hybrid" &&
+        force->pair_match(keyword, 1) == this;
+    for (int i = 1; alone && i <= atom->ntypes; i++)
+      for (int j = i; alone && j <= atom->ntypes; j++) alone = hybrid->check_ijtype(i, j, keyword);
+    if (!alone)
+      error->all(FLERR, "The griddem pair styles find all contacts on their own grid: as a sub-style of pair {} "
+                 "a griddem style must be its only style, on every type pair (pair_style hybrid {} ... with "
+                 "pair_coeff * * {})", force->pair_style, keyword ? keyword : "griddem/...",
+                 keyword ? keyword : "griddem/...");
+    style = keyword;
+  }
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag)
     error->all(FLERR, "Pair style {} requires atom attributes radius, rmass, omega (atom_style sphere)", style);
   if (comm->ghost_velocity == 0)

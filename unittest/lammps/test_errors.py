@@ -75,7 +75,24 @@ pair_coeff 1 1 griddem/hooke/history
 pair_coeff * 2 lj/cut 1.0 1.0
 run 0
 """, WD, name="in.hybrid")
-t.check(rc != 0 and "cannot be sub-styles of pair hybrid" in out, "hybrid: griddem as a sub-style refused")
+t.check(rc != 0 and "as a sub-style of pair hybrid a griddem style must be its only style, on every type pair" in out,
+        "hybrid: griddem beside another sub-style refused: %s" % t.errors(out)[:1])
+# two instances of one griddem style, each on some type pairs: both would find every contact
+rc, out = t.run_lmp("""
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 4 0 4 0 4
+create_box 2 box
+create_atoms 1 single 1 1 1
+create_atoms 2 single 2 1 1
+pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 griddem/hooke/history 2e3 NULL 10 NULL 0.5 1
+pair_coeff * * griddem/hooke/history 1
+pair_coeff 2 2 griddem/hooke/history 2
+run 0
+""", WD, name="in.hybrid_twice")
+t.check(rc != 0 and "must be its only style" in out, "hybrid_twice: two griddem sub-styles refused: %s" % t.errors(out)[:1])
 
 # radius ratio 1:100 in NN4DEM cells: the contact distance spans more cells than the stencil holds
 rc, out = t.run_lmp("""
