@@ -61,7 +61,8 @@ case("nan_speed", "atom 2 has a non-finite velocity", nan_expected=True,
      pre='variable bad atom "(id==2)*(1e308*1e308-1e308*1e308)"\nset atom 2 vx v_bad')
 case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
 case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic")
-rc, out = t.run_lmp("""
+# pair hybrid: a griddem style only as its one style on every type pair
+TWO_ATOMS = """
 units lj
 atom_style sphere
 boundary p p p
@@ -70,7 +71,8 @@ region box block 0 4 0 4 0 4
 create_box 2 box
 create_atoms 1 single 1 1 1
 create_atoms 2 single 2 1 1
-pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 lj/cut 1.0
+"""
+rc, out = t.run_lmp(TWO_ATOMS + """pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 lj/cut 1.0
 pair_coeff 1 1 griddem/hooke/history
 pair_coeff * 2 lj/cut 1.0 1.0
 run 0
@@ -78,16 +80,7 @@ run 0
 t.check(rc != 0 and "as a sub-style of pair hybrid a griddem style must be its only style, on every type pair" in out,
         "hybrid: griddem beside another sub-style refused: %s" % t.errors(out)[:1])
 # two instances of one griddem style, each on some type pairs: both would find every contact
-rc, out = t.run_lmp("""
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-region box block 0 4 0 4 0 4
-create_box 2 box
-create_atoms 1 single 1 1 1
-create_atoms 2 single 2 1 1
-pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 griddem/hooke/history 2e3 NULL 10 NULL 0.5 1
+rc, out = t.run_lmp(TWO_ATOMS + """pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 griddem/hooke/history 2e3 NULL 10 NULL 0.5 1
 pair_coeff * * griddem/hooke/history 1
 pair_coeff 2 2 griddem/hooke/history 2
 run 0
