@@ -68,8 +68,8 @@ void PairGriddem::allocate()
   create_default_fix();
 }
 
-/* the history layout of a spec: every type pair must keep the same history values per contact,
-   so that one atom's row has one layout; the first spec sets it */
+/* the room per contact for a spec's history: as many values as the type pair that keeps the most
+   (each pair lays out its own, griddem_pair_params.parity); the first spec of the style sets it */
 
 void PairGriddem::adopt_layout(const griddem_pair_spec &s)
 {

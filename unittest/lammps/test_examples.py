@@ -81,24 +81,26 @@ def pour(wd):
         stock_text = f.read().replace("griddem/hooke/history", "gran/hooke/history")
     stock_text = stock_text.replace(" f_GRIDDEM[5] f_GRIDDEM[2]", "").replace(", $(f_GRIDDEM[5]) contacts", "")
     out = t.run_ok(stock_text, wd, name="in.pour.stock")
-    phi_stock = float(re.findall(pattern, out)[-1])
-    with open(reference_log(os.path.join(EXAMPLES, "pour"))) as f:
-        phi_ref = float(re.findall(pattern, f.read())[-1])
-    t.check(0.58 <= phi <= 0.66, "pour: packing fraction %.3f of a random packing of spheres" % phi)
-    t.check(abs(phi - phi_stock) <= 0.01, "pour: %.3f, stock gran/hooke/history %.3f" % (phi, phi_stock))
-    t.check(abs(phi - phi_ref) <= 0.005, "pour: %.3f, reference log %.3f" % (phi, phi_ref))
+    check_packing("pour", pattern, phi, float(re.findall(pattern, out)[-1]), (0.58, 0.66), "packing fraction",
+                  "a random packing of spheres")
 
 
 def pour_2d(wd):
     pattern = r"area fraction ([0-9.]+)"
     phi = float(re.findall(pattern, run_example("pour-2d", wd))[-1])
     phi_stock = float(re.findall(pattern, run_example("pour-2d", wd, "style gran/hooke/history", "tag stock"))[-1])
-    with open(reference_log(os.path.join(EXAMPLES, "pour-2d"))) as f:
-        phi_ref = float(re.findall(pattern, f.read())[-1])
     # between random loose packing of frictional discs and random close packing of polydisperse ones
-    t.check(0.77 <= phi <= 0.85, "pour-2d: area fraction %.3f of a random packing of discs" % phi)
-    t.check(abs(phi - phi_stock) <= 0.01, "pour-2d: %.3f, stock gran/hooke/history %.3f" % (phi, phi_stock))
-    t.check(abs(phi - phi_ref) <= 0.005, "pour-2d: %.3f, reference log %.3f" % (phi, phi_ref))
+    check_packing("pour-2d", pattern, phi, phi_stock, (0.77, 0.85), "area fraction", "a random packing of discs")
+
+
+def check_packing(name, pattern, phi, phi_stock, bounds, what, packing):
+    """A pour's packing fraction phi in its range, against stock gran/hooke/history's (0.01, a
+    chaotic pour) and the last the example's reference log prints by pattern (0.005)."""
+    with open(reference_log(os.path.join(EXAMPLES, name))) as f:
+        phi_ref = float(re.findall(pattern, f.read())[-1])
+    t.check(bounds[0] <= phi <= bounds[1], "%s: %s %.3f of %s" % (name, what, phi, packing))
+    t.check(abs(phi - phi_stock) <= 0.01, "%s: %.3f, stock gran/hooke/history %.3f" % (name, phi, phi_stock))
+    t.check(abs(phi - phi_ref) <= 0.005, "%s: %.3f, reference log %.3f" % (name, phi, phi_ref))
 
 
 def heat_bed(wd):

@@ -27,13 +27,13 @@ JKR = next(m for m in MODELS if m[0] == "normal jkr")
 
 # a law with a heat model: temperatures varying across the box, conducted by fix heat/flow; each
 # atom's temperature and heatflow dumped beside the forces
-HEAT = """fix heat_store all property/atom temperature heatflow
-variable temperature atom 1.0+x+0.5*y*z
-set group all temperature v_temperature
-fix conduct all heat/flow constant 0.3
-compute heat all property/atom temperature heatflow
-dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]
-dump_modify heat format float %.17g sort id"""
+# (HEAT's parts: a restart defines the store and the conduction again, without the temperatures)
+HEAT_STORE = "fix heat_store all property/atom temperature heatflow\n"
+HEAT_TEMPERATURES = "variable temperature atom 1.0+x+0.5*y*z\nset group all temperature v_temperature\n"
+HEAT_FLOW = "fix conduct all heat/flow constant 0.3\ncompute heat all property/atom temperature heatflow\n"
+HEAT_DUMP = ("dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]\n"
+             "dump_modify heat format float %.17g sort id\n")
+HEAT = HEAT_STORE + HEAT_TEMPERATURES + HEAT_FLOW + HEAT_DUMP
 
 
 def run(wd, name, data, pair, c1, c2, extra=""):
@@ -262,14 +262,11 @@ def heat_restart(wd, data):
     label, c1, c2 = next(m for m in MODELS if m[0] == "heat radius")
     head = t.PERIODIC_SPHERES.format(data=data, pair="griddem/granular",
                                      coeffs="pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2))
-    fixes = ("fix heat_store all property/atom temperature heatflow\n{set}fix conduct all heat/flow constant 0.3\n"
-             "fix integrate all nve/sphere\ntimestep 1e-5\ncompute heat all property/atom temperature heatflow\n")
-    temperature = "variable temperature atom 1.0+x+0.5*y*z\nset group all temperature v_temperature\n"
-    dump = "dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]\ndump_modify heat format float %.17g sort id\n"
-    t.run_ok(head + fixes.format(set=temperature) + dump.format(name="whole") +
-             "run 10\nwrite_restart restart.heat\nrun 10\n", wd, name="in.heat_whole")
-    t.run_ok("read_restart restart.heat\ncomm_modify vel yes\n" + fixes.format(set="") + dump.format(name="second") +
-             "run 10\n", wd, name="in.heat_second")
+    integrate = "fix integrate all nve/sphere\ntimestep 1e-5\n"
+    t.run_ok(head + HEAT.format(name="whole") + integrate + "run 10\nwrite_restart restart.heat\nrun 10\n", wd,
+             name="in.heat_whole")
+    t.run_ok("read_restart restart.heat\ncomm_modify vel yes\n" + HEAT_STORE + HEAT_FLOW + HEAT_DUMP.format(name="second") +
+             integrate + "run 10\n", wd, name="in.heat_second")
     whole = t.read_dumps(os.path.join(wd, "dump.heat.whole"))[-1]
     second = t.read_dumps(os.path.join(wd, "dump.heat.second"))[-1]
     t.check(second[1] == whole[1], "heat radius across a restart: temperature and heatflow at step 20 identical")

@@ -24,7 +24,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
-from test_granular_parity import FROZEN_LIST, MODELS
+from test_granular_parity import FROZEN_LIST, HEAT, MODELS
 from test_stock_parity import CLUMP, CLUMPS, FORCES, STATE, TEMPLATE, compare as parity_compare, growing_text, \
     run as parity_run
 
@@ -390,21 +390,16 @@ def check_heat(wd, data):
     each atom's temperature and heatflow at steps 0 and 20 equal the CPU style's (which
     test_granular_parity checks against the formula and stock) on 1 and 2 ranks and threads, and
     heat flows."""
-    heat = ("fix heat_store all property/atom temperature heatflow\n"
-            "variable temperature atom 1.0+x+0.5*y*z\nset group all temperature v_temperature\n"
-            "fix conduct all heat/flow constant 0.3\ncompute heat all property/atom temperature heatflow\n"
-            "dump heat all custom 20 dump.heat.{name} id c_heat[1] c_heat[2]\n"
-            "dump_modify heat format float %.17g sort id")
     for label, c1, c2 in (m for m in MODELS if m[0].startswith("heat ")):
         coeffs = "pair_coeff 1 1 %s\npair_coeff 2 2 %s" % (c1, c2)
         name = "heat_cpu_" + label.split()[1]
-        run(wd, name, data, "griddem/granular", coeffs, extra=heat.format(name=name))
+        run(wd, name, data, "griddem/granular", coeffs, extra=HEAT.format(name=name))
         cpu = t.read_dumps(os.path.join(wd, "dump.heat." + name))
         t.check(len(cpu) == 2 and any(v[1] != 0.0 for v in cpu[1][1].values()), "%s: CPU heat dumped, heat flows" % label)
         for nprocs in RANKS:
             for threads in THREADS:
                 name = "heat_kk_%s_%d_%d" % (label.split()[1], nprocs, threads)
-                run(wd, name, data, "griddem/granular", coeffs, nprocs, threads, extra=heat.format(name=name))
+                run(wd, name, data, "griddem/granular", coeffs, nprocs, threads, extra=HEAT.format(name=name))
                 kk = t.read_dumps(os.path.join(wd, "dump.heat." + name))
                 t.check(len(kk) == 2, "%s kk: heat dumped at steps 0 and 20" % label)
                 err = max(t.max_rel_diff(a, b, ["c_heat[1]", "c_heat[2]"]) for a, b in zip(kk, cpu))
