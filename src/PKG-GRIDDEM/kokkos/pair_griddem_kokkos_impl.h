@@ -121,30 +121,33 @@ template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>
   params_stale = 0;
 }
 
+/* a per-atom host array of the first n atoms and ghosts copied into view, which grows to nmax
+   where it is shorter */
+template <class DeviceType>
+static void griddem_kk_upload(Kokkos::View<double *, DeviceType> &view, const std::string &label,
+                              const double *host, int n, int nmax)
+{
+  if ((int) view.extent(0) < n) view = Kokkos::View<double *, DeviceType>(label, nmax);
+  Kokkos::View<const double *, LMPHostType, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h_view(host, n);
+  Kokkos::deep_copy(Kokkos::subview(view, std::make_pair(0, n)), h_view);
+}
+
 /* the contact masses of rigid bodies' atoms, found on the host (a non-Kokkos fix rigid's bodies,
    the pair's forward communication) and copied to the device each step */
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_contact_masses()
 {
   this->atomKK->sync(Host, RMASS_MASK);
-  const double *mass = this->contact_masses();
-  const int nall = this->atom->nlocal + this->atom->nghost;
-  if ((int) d_contact_mass.extent(0) < nall)
-    d_contact_mass = Kokkos::View<double *, DeviceType>("griddem/kk:contact_mass", this->atom->nmax);
-  Kokkos::View<const double *, LMPHostType, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h_mass(mass, nall);
-  Kokkos::deep_copy(Kokkos::subview(d_contact_mass, std::make_pair(0, nall)), h_mass);
+  griddem_kk_upload(d_contact_mass, "griddem/kk:contact_mass", this->contact_masses(),
+                    this->atom->nlocal + this->atom->nghost, this->atom->nmax);
 }
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::upload_temperatures()
 {
-  const int nall = this->atom->nlocal + this->atom->nghost;
-  if ((int) d_temperature.extent(0) < nall) {
-    d_temperature = Kokkos::View<double *, DeviceType>("griddem/kk:temperature", this->atom->nmax);
+  griddem_kk_upload(d_temperature, "griddem/kk:temperature", this->atom->temperature,
+                    this->atom->nlocal + this->atom->nghost, this->atom->nmax);
+  if ((int) d_heat.extent(0) < this->atom->nlocal)
     d_heat = Kokkos::View<double *, DeviceType>("griddem/kk:heat", this->atom->nmax);
-  }
-  Kokkos::View<const double *, LMPHostType, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h_temperature(
-      this->atom->temperature, nall);
-  Kokkos::deep_copy(Kokkos::subview(d_temperature, std::make_pair(0, nall)), h_temperature);
 }
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::add_heat()
