@@ -609,16 +609,24 @@ def check_two_d(wd, _data):
             compare(what + " vs CPU " + griddem.split()[0], cpu, kk)
 
 
+def stock_and_kk(wd, scene, text_of):
+    """text_of(pair style with its arguments, run name) run with stock gran/hooke/history on one
+    rank (stock_SCENE) and griddem/hooke/history/kk on each of RANKS (kk_SCENE_N): {name: (dumps,
+    screen output)}."""
+    runs = {}
+    for name, pair, nprocs, extra in [("stock_" + scene, "gran/hooke/history", 1, ())] + [
+            ("kk_%s_%d" % (scene, n), "griddem/hooke/history", n, kk_args(THREADS[-1])) for n in RANKS]:
+        rc, out = t.run_lmp(text_of(pair + " 1e4 NULL 50 NULL 0.5 1", name), wd, nprocs=nprocs, name="in." + name,
+                            extra=extra, threads=THREADS[-1] if extra else None)
+        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
+        runs[name] = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+    return runs
+
+
 def check_growing(wd, data):
     """Radii that grow during the run (test_stock_parity.growing_text): the kk styles follow the
     largest radius every step, and give stock's numbers, on 1 and 2 ranks."""
-    runs = {}
-    for name, pair, nprocs, extra in [("stock_grow", "gran/hooke/history", 1, ())] + [
-            ("kk_grow_%d" % n, "griddem/hooke/history", n, kk_args(THREADS[-1])) for n in RANKS]:
-        rc, out = t.run_lmp(growing_text(data, pair + " 1e4 NULL 50 NULL 0.5 1", name), wd, nprocs=nprocs,
-                            name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
-        runs[name] = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+    runs = stock_and_kk(wd, "grow", lambda pair, name: growing_text(data, pair, name))
     for n in RANKS:
         compare("griddem/hooke/history/kk, radii growing, %d rank(s) vs stock" % n, runs["stock_grow"],
                 runs["kk_grow_%d" % n])
@@ -632,13 +640,7 @@ def check_clumps(wd, _data):
     path = os.path.join(wd, "clump.mol")
     with open(path, "w") as f:
         f.write(CLUMP)
-    runs = {}
-    for name, pair, nprocs, extra in [("stock_clumps", "gran/hooke/history", 1, ())] + [
-            ("kk_clumps_%d" % n, "griddem/hooke/history", n, kk_args(THREADS[-1])) for n in RANKS]:
-        rc, out = t.run_lmp(CLUMPS.format(clump=path, pair=pair + " 1e4 NULL 50 NULL 0.5 1", name=name), wd,
-                            nprocs=nprocs, name="in." + name, extra=extra, threads=THREADS[-1] if extra else None)
-        t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
-        runs[name] = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+    runs = stock_and_kk(wd, "clumps", lambda pair, name: CLUMPS.format(clump=path, pair=pair, name=name))
     # the same clumps on 2 ranks get other IDs (create_atoms random): stock on 2 ranks for those
     for n in RANKS:
         ref = runs["stock_clumps"]
