@@ -375,6 +375,16 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
+  // fix griddem/rom's store brings its atoms back at dump steps only: elsewhere the fields would
+  // miss them
+  for (const auto &rom : modify->get_fix_by_style("^griddem/rom$")) {
+    int dim = 0;
+    auto held = (const double *) rom->extract("stored_atoms", dim);
+    if (held && *held > 0.0)
+      error->all(FLERR, "Compute griddem/cg: at step {} fix {} holds {} atoms out of LAMMPS (its keyword store): "
+                 "invoke this compute at dump steps, where they are back, or use store no",
+                 update->ntimestep, rom->id, (bigint) *held);
+  }
   if (slot[VIRIAL] >= 0) {
     ask_for_virial();
     gather_virial();

@@ -7,6 +7,7 @@
 #include "griddem_rom_model.h"
 
 #include "atom.h"
+#include "atom_vec.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -16,6 +17,7 @@
 #include "input.h"
 #include "memory.h"
 #include "modify.h"
+#include "output.h"
 #include "region.h"
 #include "pair.h"
 #include "update.h"
@@ -31,11 +33,12 @@ using namespace FixConst;
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
-    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false),
+    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false), store_wanted(true), store_active(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
-    counts()
+    counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), stored_maxtag(0), fresh_mintag(MAXTAGINT),
+    store_at(-1), return_at(-1), reach_due(false)
 {
   std::string model_file;
   int every = 0;
@@ -73,6 +76,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     }
     else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "freeze") freeze = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+    else if (word == "store") store_wanted = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
   }
@@ -110,7 +114,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 0;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = NCOUNTER + 3;
+  size_vector = NCOUNTER + 5;
   global_freq = 1;
   extvector = 0;
   comm_forward = 1;
@@ -118,6 +122,8 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   pergrid_freq = every;
 
   create_attribute = 1;
+  force_reneighbor = 1;    // the store's steps: its atoms leave and return before LAMMPS's exchange
+  next_reneighbor = -1;
 
   FixGriddemRom::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -138,7 +144,7 @@ FixGriddemRom::~FixGriddemRom()
 
 int FixGriddemRom::setmask()
 {
-  return INITIAL_INTEGRATE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
+  return INITIAL_INTEGRATE | PRE_EXCHANGE | POST_NEIGHBOR | PRE_REVERSE | END_OF_STEP | POST_RUN;
 }
 
 /* The model file (griddem_rom_model.h), read and checked on rank 0 and sent to all. */
@@ -256,6 +262,16 @@ void FixGriddemRom::init()
     if (ifix != this && (ifix->setmask() & POST_FORCE) && ifix->groupbit != dynamic_bit &&
         !utils::strmatch(ifix->style, "^gravity"))
       force_each_step = true;
+  // the store holds lagging atoms on the process that took them out and leaves the force rule of
+  // other fixes nothing to watch: not with those fixes, nor with sub-domains that fix balance moves
+  store_active = store_wanted && !force_each_step;
+  if (store_active && !modify->get_fix_by_style("^balance").empty()) {
+    store_active = false;
+    if (comm->me == 0)
+      error->warning(FLERR, "Fix griddem/rom: fix balance moves sub-domains while lagging atoms are held out of "
+                     "LAMMPS on the process that took them out; they stay in LAMMPS's arrays (keyword store "
+                     "ignored)");
+  }
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
@@ -290,6 +306,8 @@ void FixGriddemRom::setup(int)
   if (next_model <= update->ntimestep) next_model = update->ntimestep + model_step;
   comm->forward_comm(this);
   mark_near();
+  store_active = store_active && cap > 0.0;    // without reach no atom lags
+  plan_store();
   fill_state();
 }
 
@@ -314,11 +332,30 @@ void FixGriddemRom::initial_integrate(int)
    of a lagging one, so the reach test runs before the pair sees it. */
 void FixGriddemRom::post_neighbor()
 {
-  int mine = fresh ? 1 : 0, any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
-  if (any) {
+  if (reach_due) {    // the skin rule fired: the stored atoms are back and brought up to date
+    reach_due = false;
     mark_near();
     counts[REACH_TESTS] += 1;
+    plan_store();
+    return;
+  }
+  int mine = fresh ? 1 : 0, any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+  if (any && nstored_all > 0.0) {
+    // a new atom has budget 0: the skin rule fires at this step's end and the reach test runs
+    // with the stored atoms back, at the next step; an ID it was given must not be one held here
+    tagint lowest = MAXTAGINT;
+    MPI_Allreduce(&fresh_mintag, &lowest, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+    if (lowest <= stored_maxtag)
+      error->all(FLERR, "Fix griddem/rom: a new atom got ID {}, which an atom held out of LAMMPS (keyword store) "
+                 "has: the atom with the largest ID was deleted while it held atoms with IDs up to {}; use "
+                 "store no with fixes that both delete and create atoms", lowest, stored_maxtag);
+    fresh_mintag = MAXTAGINT;
+    fill_nearlist();
+  } else if (any) {
+    mark_near();
+    counts[REACH_TESTS] += 1;
+    plan_store();
   } else
     fill_nearlist();
 }
@@ -428,6 +465,7 @@ void FixGriddemRom::mark_near()
   }
   comm->forward_comm(this);    // the ghosts' lagging bits: the pair leaves lagging atoms out
   fresh = false;
+  fresh_mintag = MAXTAGINT;
   MPI_Allreduce(&umax, &umax_far, 1, MPI_DOUBLE, MPI_MAX, world);
   double mine[2] = {nnear, nkin}, all[2];
   MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
@@ -449,6 +487,7 @@ void FixGriddemRom::end_of_step()
     release_by_force();
     classify();
     mark_near();
+    plan_store();
   } else {
     if (force_each_step) release_by_force();
     double **x = atom->x;
@@ -463,12 +502,17 @@ void FixGriddemRom::end_of_step()
       mine = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) + travel >= track[i][TRACK_BUDGET];
     }
     MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
-    if (any) {
+    if (any && nstored_all > 0.0) {    // the reach test needs the stored atoms back: next step
+      reach_due = true;
+      return_at = next_reneighbor = update->ntimestep + 1;
+    } else if (any) {
       catch_up();
       comm->forward_comm();
       mark_near();
       counts[REACH_TESTS] += 1;
+      plan_store();
     }
+    if (nstored_all > 0.0) plan_return();
   }
   counts[SECONDS] += MPI_Wtime() - t0;
   fill_state();
@@ -476,7 +520,119 @@ void FixGriddemRom::end_of_step()
 
 void FixGriddemRom::post_run()
 {
+  if (nstored_all > 0.0) return_stored(false);    // a run stopped early (fix halt, timer)
   catch_up();
+  store_at = return_at = next_reneighbor = -1;
+  reach_due = false;
+}
+
+/* ----------------------------------------------------------------------
+   the store (doc/fix_griddem_rom.md, keyword store)
+------------------------------------------------------------------------- */
+
+/* After a reach test: the lagging atoms leave at the next step's exchange. */
+void FixGriddemRom::plan_store()
+{
+  if (!store_active || update->ntimestep + 1 >= update->laststep) return;
+  store_at = next_reneighbor = update->ntimestep + 1;
+}
+
+/* The first step that needs the stored atoms back in LAMMPS: the next model step, a dump, a
+   restart file, the run's last step (each at its pre_exchange, before the step's end of step and
+   output), or an earlier return already planned. */
+void FixGriddemRom::plan_return()
+{
+  bigint due = MIN(next_model, update->laststep);
+  due = MIN(due, output->next_dump_any);
+  due = MIN(due, output->next_restart);
+  if (return_at < 0 || due < return_at) return_at = next_reneighbor = due;
+}
+
+/* LAMMPS's exchange (and its decision to make one) comes after pre_exchange: atoms that leave or
+   come back here are in the step's migration, borders and ghosts. */
+void FixGriddemRom::pre_exchange()
+{
+  const bigint now = update->ntimestep;
+  if (now != next_reneighbor) return;
+  next_reneighbor = -1;
+  if (nstored_all > 0.0 && now >= return_at) {
+    return_stored(true);
+    return_at = -1;
+    if (reach_due) catch_up();    // the reach test follows at post_neighbor
+    else if (now != next_model) plan_store();    // a dump, restart or the last step: out again after it
+  }
+  if (now == store_at) {
+    store_at = -1;
+    store_lagging();
+  }
+}
+
+/* Take this process's lagging atoms out of LAMMPS's arrays, each packed by LAMMPS's exchange
+   packing (the atom and every fix's data of it), as fix evaporate deletes atoms. The atom with
+   the largest ID stays: fix pour and fix deposit number new atoms from the largest ID in LAMMPS,
+   which then never reaches one held here. */
+void FixGriddemRom::store_lagging()
+{
+  plan_return();
+  if (return_at - update->ntimestep < 2) {    // back before a step without them: not worth it
+    return_at = next_reneighbor = -1;
+    return;
+  }
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  tagint newest = 0, newest_all = 0;
+  for (int i = 0; i < atom->nlocal; i++) newest = MAX(newest, tag[i]);
+  MPI_Allreduce(&newest, &newest_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
+  // and the fixes' maxexchange plus its BUFEXTRA of 1024)
+  size_t record = atom->avec->maxexchange + 1024;
+  for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
+  AtomVec *avec = atom->avec;
+  tagint held = 0;
+  int taken = 0;
+  for (int i = atom->nlocal - 1; i >= 0; i--) {
+    if (!(mask[i] & lagging_bit) || (newest_all > 0 && tag[i] == newest_all)) continue;
+    if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
+    held = MAX(held, tag[i]);
+    stored_used += avec->pack_exchange(i, &stored[stored_used]);
+    avec->copy(atom->nlocal - 1, i, 1);
+    atom->nlocal--;
+    taken++;
+  }
+  nstored += taken;
+  double counts_mine[2] = {(double) taken, (double) nstored}, counts_all[2];
+  MPI_Allreduce(counts_mine, counts_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  tagint held_all = 0;
+  MPI_Allreduce(&held, &held_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  stored_maxtag = MAX(stored_maxtag, held_all);
+  nstored_all = counts_all[1];
+  atom->natoms -= (bigint) counts_all[0];
+  // ghosts are rebuilt by this step's borders; the map must not point at moved atoms until then
+  atom->nghost = 0;
+  if (atom->map_style != Atom::MAP_NONE) {
+    atom->map_init();
+    atom->map_set();
+  }
+}
+
+/* Bring every stored atom back into LAMMPS's arrays (LAMMPS's exchange unpacking), as they were
+   taken out: lagging, where the last model step left them. Without an exchange to follow (the
+   end of a run) the next run's set-up migrates them. */
+void FixGriddemRom::return_stored(bool exchange_follows)
+{
+  AtomVec *avec = atom->avec;
+  for (size_t m = 0; m < stored_used;) m += avec->unpack_exchange(&stored[m]);
+  atom->natoms += (bigint) nstored_all;
+  nstored = 0;
+  stored_used = 0;
+  nstored_all = 0.0;
+  stored_maxtag = 0;
+  atom->nghost = 0;
+  if (atom->map_style != Atom::MAP_NONE) {
+    atom->map_init();
+    atom->map_set();
+  }
+  if (!exchange_follows) fill_nearlist();
 }
 
 /* The voxel density, the predicted velocity field, and the new state of each atom of the group. */
@@ -627,6 +783,7 @@ void FixGriddemRom::set_arrays(int i)
   mask[i] &= ~lagging_bit;
   mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
   fresh = true;
+  if (atom->tag[i] > 0) fresh_mintag = MIN(fresh_mintag, atom->tag[i]);
   for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = atom->x[i][d];
   track[i][TRACK_BUDGET] = track[i][TRACK_NEAR] = 0.0;
   state[i] = 0.0;
@@ -668,10 +825,13 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-/* the counters (Counter), then the force the model's block 'force' predicts */
+/* the counters (Counter), the force the model's block 'force' predicts, the atoms stored and
+   the scene's atoms (LAMMPS's and stored) */
 double FixGriddemRom::compute_vector(int n)
 {
-  return n < NCOUNTER ? counts[n] : force_predicted[n - NCOUNTER];
+  if (n < NCOUNTER) return counts[n];
+  if (n < NCOUNTER + 3) return force_predicted[n - NCOUNTER];
+  return n == NCOUNTER + 3 ? nstored_all : (double) atom->natoms + nstored_all;
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)
@@ -679,6 +839,7 @@ void *FixGriddemRom::extract(const char *name, int &dim)
   dim = 0;
   if (strcmp(name, "kinematic_bit") == 0) return &kinematic_bit;
   if (strcmp(name, "lagging_bit") == 0) return &lagging_bit;
+  if (strcmp(name, "stored_atoms") == 0) return &nstored_all;    // held out of LAMMPS, all processes
   return nullptr;
 }
 
@@ -752,5 +913,6 @@ void *FixGriddemRom::get_griddata_by_index(int index)
 
 double FixGriddemRom::memory_usage()
 {
-  return (double) nmax * (1 + 3 + NTRACK) * sizeof(double) + (weights.size() + 4 * density.size()) * sizeof(double);
+  return (double) nmax * (1 + 3 + NTRACK) * sizeof(double) +
+      (weights.size() + 4 * density.size() + stored.capacity()) * sizeof(double);
 }

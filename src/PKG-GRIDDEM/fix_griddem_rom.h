@@ -31,6 +31,7 @@ class FixGriddemRom : public Fix {
   void init() override;
   void setup(int) override;
   void initial_integrate(int) override;
+  void pre_exchange() override;
   void post_neighbor() override;
   void setup_pre_reverse(int, int) override;
   void pre_reverse(int, int) override;
@@ -75,6 +76,8 @@ class FixGriddemRom : public Fix {
   double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
   double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
   bool freeze;              // keyword freeze: kinematic atoms get velocity 0, not the field
+  bool store_wanted;        // keyword store: lagging atoms leave LAMMPS's arrays between reach tests
+  bool store_active;        // this run stores them (init, setup)
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
   int period;    // keyword every: the longest model step, in DEM steps
@@ -114,6 +117,21 @@ class FixGriddemRom : public Fix {
   };
   double counts[NCOUNTER];
 
+  // The store: this process's lagging atoms taken out of LAMMPS's arrays (each as LAMMPS's own
+  // exchange record, so every fix's per-atom data goes with it) from the step after a reach test
+  // until they are needed again: the next model step, reach test, dump, restart file or the run's
+  // last step (return_at). They wait where the last model step left them, as lagging atoms do.
+  std::vector<double> stored;    // the records, one after the other
+  size_t stored_used;            // doubles of stored in use
+  int nstored;                   // records held here
+  double nstored_all;            // records held on all processes
+  tagint stored_maxtag;          // the largest ID held (all processes)
+  tagint fresh_mintag;           // the smallest ID of the atoms created here since the last check
+  bigint store_at;               // the step whose pre_exchange takes the lagging atoms out (-1: none)
+  bigint return_at;              // the step whose pre_exchange brings them back
+  bool reach_due;                // the skin rule fired while atoms were stored: the reach test runs
+                                 // after they are back (post_neighbor)
+
   void read_model(const char *file);
   void place_grid();
   void classify();
@@ -122,6 +140,10 @@ class FixGriddemRom : public Fix {
   void mark_near();
   void fill_nearlist();
   void fill_state();
+  void plan_store();
+  void plan_return();
+  void store_lagging();
+  void return_stored(bool exchange_follows);
   void allocate_grid();
   void deallocate_grid();
   void fill_grid();

@@ -613,15 +613,19 @@ def migration():
     """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box all moving at U: 100 carried
     by the uniform field U (kinematic), the 25 of the plane z = 0.3 outside the fix's group
     (dynamic, free flight), so that the 50 of the planes z = 1.5 and 5.1 (across the periodic
-    boundary) are within reach (gap 0.2 < reach 0.3) and move at every step. They
-    cross the sub-domains of 4 processes many times; no atom is lost, every atom ends at x0 + U t
-    (wrapped), and the classification, the atoms within reach and the reach tests between model
-    steps are the same on 1 and 4 processes."""
+    boundary) are within reach (gap 0.2 < reach 0.3) and move at every step; the other 50 lag and
+    are held out of LAMMPS between model steps (keyword store). They cross the sub-domains of 2 and
+    4 processes many times; at every step LAMMPS's atoms and the held ones make the 125 (f_rom[18],
+    and thermo's atoms plus f_rom[17]), with atoms held at most steps; no atom is lost or has its ID
+    twice at the end, every atom ends at x0 + U t (wrapped), and the classification, the atoms within
+    reach and the reach tests between model steps are the same on 1, 2 and 4 processes and with
+    store no, where thermo's atoms stay 125 (with atoms held, a reach test the skin rule calls for
+    runs at the next step, once they are back)."""
     U = (0.7, 0.4, 0.0)
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
     results = []
-    for nprocs, grid in ((1, "1 1 1"), (4, "2 2 1")):
+    for nprocs, grid, store in ((1, "1 1 1", "yes"), (2, "2 1 1", "yes"), (4, "2 2 1", "yes"), (1, "1 1 1", "no")):
         text = HEAD.format(bnd="p p p").replace("region box", "processors %s\nregion box" % grid) + """
 lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
 create_atoms 1 box
@@ -632,29 +636,45 @@ region low block INF INF INF INF INF 1.0
 group low region low
 group carried subtract all low
 """.format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
-fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200
+fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200 store {store}
 fix integrate rom_dynamic nve/sphere
 write_dump all custom start{n}.dump id x y z modify sort id format float %.17g
-thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[11]
-thermo 100
+thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[11] f_rom[17] f_rom[18]
+thermo 1
 run 3000
 write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
-""".format(m=model, n=nprocs)
-        out = t.run_ok(text, WD, nprocs=nprocs, name="in.migrate%d" % nprocs)
+""".format(m=model, n=nprocs, store=store)
+        label = "%d processes, store %s" % (nprocs, store)
+        out = t.run_ok(text, WD, nprocs=nprocs, name="in.migrate%d%s" % (nprocs, store))
         start = t.read_dump(os.path.join(WD, "start%d.dump" % nprocs))[1]
+        end_text = open(os.path.join(WD, "end%d.dump" % nprocs)).read().split("ITEM: ATOMS")[1].split("\n")[1:]
+        ids = [int(line.split()[0]) for line in end_text if line.strip()]
         end = t.read_dump(os.path.join(WD, "end%d.dump" % nprocs))[1]
         worst = 0.0
         for tag, x0 in start.items():
             for d in range(3):
                 dx = (end[tag][d] - x0[d] - U[d] * 3000 * 0.001) % 6.0
                 worst = max(worst, min(dx, 6.0 - dx))
-        counts = [t.thermo_values(out, c) for c in ("Atoms", "f_rom[1]", "f_rom[9]", "f_rom[11]")]
-        t.check(len(end) == 125 and all(a == 125 for a in counts[0]), "%d processes: no atom lost" % nprocs)
-        t.check(worst <= 1e-10, "%d processes: every atom at x0 + U t (worst %.2g)" % (nprocs, worst))
-        results.append(counts[1:])
+        counts = [t.thermo_values(out, c) for c in ("Atoms", "f_rom[1]", "f_rom[9]", "f_rom[11]", "f_rom[17]",
+                                                     "f_rom[18]")]
+        atoms, held, total = counts[0], counts[4], counts[5]
+        t.check(len(atoms) == 3001 and all(a + h == 125 and s == 125 for a, h, s in zip(atoms, held, total)),
+                "%s: LAMMPS's atoms and the held ones make 125 at every step (held: %d to %d)" %
+                (label, min(held), max(held)))
+        if store == "yes":
+            t.check(sum(h == 50 for h in held) > 2500, "%s: the 50 lagging atoms held at %d of 3001 steps" %
+                    (label, sum(h == 50 for h in held)))
+        else:
+            t.check(max(held) == 0, "%s: none held" % label)
+        t.check(len(ids) == 125 and sorted(ids) == list(range(1, 126)), "%s: IDs 1-125 once each at the end" % label)
+        t.check(worst <= 1e-10, "%s: every atom at x0 + U t (worst %.2g)" % (label, worst))
+        results.append(counts[1:4])
     t.check(results[0][0][-1] == 100 and results[0][1][-1] == 50 and results[0][2][-1] > 0,
             "100 kinematic, 50 within reach; reach tests between model steps: %s" % results[0][2][-1])
-    t.check(results[0] == results[1], "kinematic, within reach and reach tests equal on 1 and 4 processes")
+    t.check(all(r[:2] == results[0][:2] and r[2][-1] == results[0][2][-1] for r in results[1:]),
+            "kinematic and within reach at every step, and the reach tests, equal on 1, 2 and 4 processes and "
+            "with store no")
+    t.check(results[0][2] == results[1][2] == results[2][2], "reach tests at the same steps on 1, 2 and 4 processes")
 
 
 def blocks():
