@@ -573,6 +573,7 @@ void FixGriddemRom::pre_exchange()
    which then never reaches one held here. */
 void FixGriddemRom::store_lagging()
 {
+  if (nstored_all == 0.0) return_at = -1;
   plan_return();
   if (return_at - update->ntimestep < 2) {    // back before a step without them: not worth it
     return_at = next_reneighbor = -1;
@@ -607,6 +608,7 @@ void FixGriddemRom::store_lagging()
   stored_maxtag = MAX(stored_maxtag, held_all);
   nstored_all = counts_all[1];
   atom->natoms -= (bigint) counts_all[0];
+  if (nstored_all == 0.0) return_at = next_reneighbor = -1;
   // ghosts are rebuilt by this step's borders; the map must not point at moved atoms until then
   atom->nghost = 0;
   if (atom->map_style != Atom::MAP_NONE) {

@@ -677,6 +677,67 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
     t.check(results[0][2] == results[1][2] == results[2][2], "reach tests at the same steps on 1, 2 and 4 processes")
 
 
+def store_limits():
+    """What the store (keyword store) refuses, on migration()'s lattice (the 50 atoms of the planes
+    z = 2.7 and 3.9, IDs 51-100, lag from the first model step, 200, and are held out of LAMMPS
+    from step 201):
+    - compute griddem/cg invoked every step by fix ave/grid: refused at step 201, naming the fix
+      and keyword store; with store no the same input runs;
+    - an ID given twice: fix evaporate deletes the top plane (IDs 101-125, the largest) at step 250
+      while the lagging atoms are held, so fix deposit's atom of step 301 (its try at step 1 finds
+      the plane in the way) gets ID 51, which a held atom has: the run stops naming the ID;
+    - fix balance: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
+    U = (0.7, 0.4, 0.0)
+    model = os.path.join(WD, "flow_limits.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    lattice = HEAD.format(bnd="p p p") + """
+lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set {u0} {u1} {u2} units box
+region low block INF INF INF INF INF 1.0
+group low region low
+group carried subtract all low
+""".format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
+fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200 store {{store}}
+fix integrate rom_dynamic nve/sphere
+""".format(m=model)
+    cg = lattice + """
+compute cg all griddem/cg 3 3 3 0.1 density
+fix avg all ave/grid 1 1 1 3 3 3 c_cg:grid:density
+run 250
+"""
+    rc, out = t.run_lmp(cg.format(store="yes"), WD, name="in.store_cg")
+    t.check(rc != 0 and "Compute griddem/cg: at step 201 fix rom holds 50 atoms out of LAMMPS" in out and
+            "store no" in out, "compute griddem/cg at a step with atoms held refused naming the fix")
+    t.run_ok(cg.format(store="no"), WD, name="in.store_cg_no")
+
+    twice = lattice + """
+thermo_style custom step atoms f_rom[17] f_rom[18]
+thermo 10
+region top block 0 6 0 6 4.5 6 units box
+fix drop all evaporate 250 100 top 4711
+fix add all deposit 1 1 300 4712 region top near 0.9 attempt 10 id max
+run 350
+"""
+    rc, out = t.run_lmp(twice.format(store="yes"), WD, name="in.store_twice")
+    t.check(rc != 0 and "a new atom got ID 51, which an atom held out of LAMMPS (keyword store) has" in out,
+            "an ID given to a new atom while a held atom has it is refused naming it")
+
+    balance = lattice.replace("region box", "processors 2 1 1\nregion box") + """
+fix lb all balance 100 1.0 shift x 5 1.1
+thermo_style custom step atoms f_rom[17]
+thermo 10
+run 200
+"""
+    out = t.run_ok(balance.format(store="yes"), WD, nprocs=2, name="in.store_balance")
+    held = t.thermo_values(out, "f_rom[17]")
+    t.check("fix balance moves sub-domains" in out and max(held) == 0 and
+            all(a == 125 for a in t.thermo_values(out, "Atoms")),
+            "with fix balance the atoms stay in LAMMPS, with a warning")
+
+
 def blocks():
     """Keyword block: voxel (0,1,1) holds two resting atoms, voxel (1,1,1) one resting and one
     moving at 0.9 > eps v0 relative to the zero field, on different processes. Block 1: the resting
@@ -943,6 +1004,7 @@ boundary(1)
 boundary(2)
 boundary(1, "reach 0")
 migration()
+store_limits()
 blocks()
 processes()
 release()
