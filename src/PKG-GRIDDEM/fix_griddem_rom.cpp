@@ -262,15 +262,19 @@ void FixGriddemRom::init()
     if (ifix != this && (ifix->setmask() & POST_FORCE) && ifix->groupbit != dynamic_bit &&
         !utils::strmatch(ifix->style, "^gravity"))
       force_each_step = true;
-  // the store holds lagging atoms on the process that took them out and leaves the force rule of
-  // other fixes nothing to watch: not with those fixes, nor with sub-domains that fix balance moves
+  // the store leaves the force rule of other fixes nothing to watch, and holds lagging atoms
+  // where they were, on the process that took them out: not with fixes that act on kinematic atoms,
+  // nor where sub-domains or the box move under them
   store_active = store_wanted && !force_each_step;
-  if (store_active && !modify->get_fix_by_style("^balance").empty()) {
+  std::string unstorable;
+  if (!modify->get_fix_by_style("^balance").empty()) unstorable = "fix balance moves sub-domains";
+  else if (!modify->get_fix_by_style("^deform").empty()) unstorable = "fix deform changes the box";
+  else if (domain->nonperiodic == 2) unstorable = "a shrink-wrapped boundary moves the box";
+  if (store_active && !unstorable.empty()) {
     store_active = false;
     if (comm->me == 0)
-      error->warning(FLERR, "Fix griddem/rom: fix balance moves sub-domains while lagging atoms are held out of "
-                     "LAMMPS on the process that took them out; they stay in LAMMPS's arrays (keyword store "
-                     "ignored)");
+      error->warning(FLERR, "Fix griddem/rom: {} while lagging atoms would be held out of LAMMPS on the process "
+                     "that took them out; they stay in LAMMPS's arrays (keyword store ignored)", unstorable);
   }
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {

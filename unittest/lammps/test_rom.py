@@ -686,7 +686,7 @@ def store_limits():
     - an ID given twice: fix evaporate deletes the top plane (IDs 101-125, the largest) at step 250
       while the lagging atoms are held, so fix deposit's atom of step 301 (its try at step 1 finds
       the plane in the way) gets ID 51, which a held atom has: the run stops naming the ID;
-    - fix balance: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
+    - fix balance, fix deform: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
     U = (0.7, 0.4, 0.0)
     model = os.path.join(WD, "flow_limits.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
@@ -733,9 +733,18 @@ run 200
 """
     out = t.run_ok(balance.format(store="yes"), WD, nprocs=2, name="in.store_balance")
     held = t.thermo_values(out, "f_rom[17]")
-    t.check("fix balance moves sub-domains" in out and max(held) == 0 and
+    t.check("fix balance moves sub-domains while lagging atoms" in out and max(held) == 0 and
             all(a == 125 for a in t.thermo_values(out, "Atoms")),
             "with fix balance the atoms stay in LAMMPS, with a warning")
+    deform = lattice + """
+fix df all deform 1 x final 0.0 6.0 remap x
+thermo_style custom step atoms f_rom[17]
+thermo 10
+run 250
+"""
+    out = t.run_ok(deform.format(store="yes"), WD, name="in.store_deform")
+    t.check("fix deform changes the box" in out and max(t.thermo_values(out, "f_rom[17]")) == 0,
+            "with fix deform the atoms stay in LAMMPS, with a warning")
 
 
 def blocks():
