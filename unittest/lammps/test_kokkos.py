@@ -304,7 +304,11 @@ def check_rom(wd, _data):
     on a lattice of spacing 0.45 (radii 0.15-0.25: many touch), atoms slower than 1.5 (field 0)
     become kinematic and the kk sweep skips their pairs with each other (the pressure, whose pair
     virial holds those pairs unless skipped, equals the CPU style's, which test_rom checks skips
-    them); kinematic states, positions, velocities, forces after 400 steps."""
+    them); kinematic states, positions, velocities, forces after 400 steps. Then the store (keyword
+    store), where the lagging atoms leave LAMMPS's arrays and the kk styles' views: a lattice of
+    125 spheres carried across the periodic box by a uniform field (test_rom's migration), 50 of
+    them lagging and held out of LAMMPS; as many held at every step as with the CPU styles, 125 in
+    all, and every atom at x0 + U t at the end on 2 ranks."""
     data = os.path.join(wd, "data.rom")
     t.write_random_spheres(data, 729, (4.05, 4.05, 4.05), 0.15, 0.25, seed=31, lattice=0.45)
     model = os.path.join(wd, "zero.model")
@@ -325,6 +329,50 @@ def check_rom(wd, _data):
     err = t.max_rel_diff(kk, cpu, STATE + FORCES)
     print("fix griddem/rom with griddem/hooke/history/kk vs CPU, 400 steps: %.2g" % err)
     t.check(err <= 1e-8, "fix griddem/rom with griddem/hooke/history/kk vs CPU (%.3g)" % err)
+
+    U = (0.7, 0.4, 0.0)
+    flow = os.path.join(wd, "flow.model")
+    t.write_rom_model(flow, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 6.0), bias=U)
+    runs = run_cpu_and_kk(wd, "store", lambda name: ROM_STORE.format(model=flow, u0=U[0], u1=U[1], name=name),
+                          kk_ranks=RANKS[-1])
+    held, total = [[t.thermo_values(o, c) for _, o in runs] for c in ("f_rom[17]", "f_rom[18]")]
+    t.check(held[0] == held[1] and sum(h == 50 for h in held[1]) > 1000 and total[1] == [125] * 1501,
+            "rom store kk vs CPU: atoms held equal at every step (50 at %d of 1501), 125 in all" %
+            sum(h == 50 for h in held[1]))
+    end = t.read_dump(os.path.join(wd, "end.%s" % runs[1][0]))[1]
+    start = t.read_dump(os.path.join(wd, "start.%s" % runs[1][0]))[1]
+    worst = max(min((end[i][d] - start[i][d] - U[d] * 1.5) % 6.0, 6.0 - (end[i][d] - start[i][d] - U[d] * 1.5) % 6.0)
+                for i in start for d in range(3))
+    t.check(len(end) == 125 and worst <= 1e-10, "rom store kk: 125 atoms, each at x0 + U t (worst %.2g)" % worst)
+
+
+ROM_STORE = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set {u0} {u1} 0.0 units box
+region low block INF INF INF INF INF 1.0
+group low region low
+group carried subtract all low
+pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
+pair_coeff * *
+timestep 0.001
+fix rom carried griddem/rom model {model} eps 0.5 v0 1 every 200
+fix integrate rom_dynamic nve/sphere
+write_dump all custom start.{name} id x y z modify sort id format float %.17g
+thermo_style custom step atoms f_rom[17] f_rom[18]
+thermo 1
+run 1500
+write_dump all custom end.{name} id x y z modify sort id format float %.17g
+"""
 
 
 RESTART = t.PERIODIC_SPHERES.replace("read_data {data}", "{start}") + """
