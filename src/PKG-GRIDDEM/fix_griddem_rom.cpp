@@ -37,8 +37,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
-    counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), stored_maxtag(0), fresh_mintag(MAXTAGINT),
-    store_at(-1), return_at(-1), reach_due(false)
+    counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), store_at(-1), return_at(-1), reach_due(false)
 {
   std::string model_file;
   int every = 0;
@@ -346,15 +345,11 @@ void FixGriddemRom::post_neighbor()
   int mine = fresh ? 1 : 0, any = 0;
   MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
   if (any && nstored_all > 0.0) {
-    // a new atom has budget 0: the skin rule fires at this step's end and the reach test runs
-    // with the stored atoms back, at the next step; an ID it was given must not be one held here
-    tagint lowest = MAXTAGINT;
-    MPI_Allreduce(&fresh_mintag, &lowest, 1, MPI_LMP_TAGINT, MPI_MIN, world);
-    if (lowest <= stored_maxtag)
-      error->all(FLERR, "Fix griddem/rom: a new atom got ID {}, which an atom held out of LAMMPS (keyword store) "
-                 "has: the atom with the largest ID was deleted while it held atoms with IDs up to {}; use "
-                 "store no with fixes that both delete and create atoms", lowest, stored_maxtag);
-    fresh_mintag = MAXTAGINT;
+    // atoms held while others appeared (stored atoms are back at the steps where other fixes
+    // create atoms, so only a fix that creates them unannounced gets here): the reach test needs
+    // them, at the next step
+    reach_due = true;
+    return_at = next_reneighbor = update->ntimestep + 1;
     fill_nearlist();
   } else if (any) {
     mark_near();
@@ -469,7 +464,6 @@ void FixGriddemRom::mark_near()
   }
   comm->forward_comm(this);    // the ghosts' lagging bits: the pair leaves lagging atoms out
   fresh = false;
-  fresh_mintag = MAXTAGINT;
   MPI_Allreduce(&umax, &umax_far, 1, MPI_DOUBLE, MPI_MAX, world);
   double mine[2] = {nnear, nkin}, all[2];
   MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
@@ -534,21 +528,39 @@ void FixGriddemRom::post_run()
    the store (doc/fix_griddem_rom.md, keyword store)
 ------------------------------------------------------------------------- */
 
-/* After a reach test: the lagging atoms leave at the next step's exchange. */
+/* The first step from `from` on at which another fix acts at its pre_exchange (fix pour, fix
+   deposit, fix evaporate: they create or delete atoms among LAMMPS's, and a new atom must not
+   land on a stored one), or MAXBIGINT. */
+bigint FixGriddemRom::next_other_exchange(bigint from) const
+{
+  bigint next = MAXBIGINT;
+  for (const auto &ifix : modify->get_fix_list())
+    if (ifix != this && ifix->force_reneighbor && ifix->next_reneighbor >= from)
+      next = MIN(next, ifix->next_reneighbor);
+  return next;
+}
+
+/* After a reach test: the lagging atoms leave at the next step's exchange, or the one after if
+   another fix acts then (its pre_exchange may come before this fix's). */
 void FixGriddemRom::plan_store()
 {
-  if (!store_active || update->ntimestep + 1 >= update->laststep) return;
-  store_at = next_reneighbor = update->ntimestep + 1;
+  bigint at = update->ntimestep + 1;
+  if (next_other_exchange(at) == at) at++;
+  if (!store_active || at >= update->laststep) return;
+  store_at = next_reneighbor = at;
 }
 
 /* The first step that needs the stored atoms back in LAMMPS: the next model step, a dump, a
    restart file, the run's last step (each at its pre_exchange, before the step's end of step and
-   output), or an earlier return already planned. */
+   output), the step before another fix acts at its pre_exchange, or an earlier return already
+   planned. */
 void FixGriddemRom::plan_return()
 {
   bigint due = MIN(next_model, update->laststep);
   due = MIN(due, output->next_dump_any);
   due = MIN(due, output->next_restart);
+  const bigint other = next_other_exchange(update->ntimestep + 1);
+  if (other < MAXBIGINT) due = MIN(due, other - 1);
   if (return_at < 0 || due < return_at) return_at = next_reneighbor = due;
 }
 
@@ -572,9 +584,7 @@ void FixGriddemRom::pre_exchange()
 }
 
 /* Take this process's lagging atoms out of LAMMPS's arrays, each packed by LAMMPS's exchange
-   packing (the atom and every fix's data of it), as fix evaporate deletes atoms. The atom with
-   the largest ID stays: fix pour and fix deposit number new atoms from the largest ID in LAMMPS,
-   which then never reaches one held here. */
+   packing (the atom and every fix's data of it), as fix evaporate deletes atoms. */
 void FixGriddemRom::store_lagging()
 {
   if (nstored_all == 0.0) return_at = -1;
@@ -584,21 +594,15 @@ void FixGriddemRom::store_lagging()
     return;
   }
   const int *mask = atom->mask;
-  const tagint *tag = atom->tag;
-  tagint newest = 0, newest_all = 0;
-  for (int i = 0; i < atom->nlocal; i++) newest = MAX(newest, tag[i]);
-  MPI_Allreduce(&newest, &newest_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
   // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
   // and the fixes' maxexchange plus its BUFEXTRA of 1024)
   size_t record = atom->avec->maxexchange + 1024;
   for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
   AtomVec *avec = atom->avec;
-  tagint held = 0;
   int taken = 0;
   for (int i = atom->nlocal - 1; i >= 0; i--) {
-    if (!(mask[i] & lagging_bit) || (newest_all > 0 && tag[i] == newest_all)) continue;
+    if (!(mask[i] & lagging_bit)) continue;
     if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
-    held = MAX(held, tag[i]);
     stored_used += avec->pack_exchange(i, &stored[stored_used]);
     avec->copy(atom->nlocal - 1, i, 1);
     atom->nlocal--;
@@ -607,9 +611,6 @@ void FixGriddemRom::store_lagging()
   nstored += taken;
   double counts_mine[2] = {(double) taken, (double) nstored}, counts_all[2];
   MPI_Allreduce(counts_mine, counts_all, 2, MPI_DOUBLE, MPI_SUM, world);
-  tagint held_all = 0;
-  MPI_Allreduce(&held, &held_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
-  stored_maxtag = MAX(stored_maxtag, held_all);
   nstored_all = counts_all[1];
   atom->natoms -= (bigint) counts_all[0];
   if (nstored_all == 0.0) return_at = next_reneighbor = -1;
@@ -632,7 +633,6 @@ void FixGriddemRom::return_stored(bool exchange_follows)
   nstored = 0;
   stored_used = 0;
   nstored_all = 0.0;
-  stored_maxtag = 0;
   atom->nghost = 0;
   if (atom->map_style != Atom::MAP_NONE) {
     atom->map_init();
@@ -789,7 +789,6 @@ void FixGriddemRom::set_arrays(int i)
   mask[i] &= ~lagging_bit;
   mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
   fresh = true;
-  if (atom->tag[i] > 0) fresh_mintag = MIN(fresh_mintag, atom->tag[i]);
   for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = atom->x[i][d];
   track[i][TRACK_BUDGET] = track[i][TRACK_NEAR] = 0.0;
   state[i] = 0.0;

@@ -119,14 +119,13 @@ class FixGriddemRom : public Fix {
 
   // The store: this process's lagging atoms taken out of LAMMPS's arrays (each as LAMMPS's own
   // exchange record, so every fix's per-atom data goes with it) from the step after a reach test
-  // until they are needed again: the next model step, reach test, dump, restart file or the run's
-  // last step (return_at). They wait where the last model step left them, as lagging atoms do.
+  // until they are needed again: the next model step, reach test, dump, restart file, the run's
+  // last step or a step where another fix creates or deletes atoms (return_at). They wait where
+  // the last model step left them, as lagging atoms do.
   std::vector<double> stored;    // the records, one after the other
   size_t stored_used;            // doubles of stored in use
   int nstored;                   // records held here
   double nstored_all;            // records held on all processes
-  tagint stored_maxtag;          // the largest ID held (all processes)
-  tagint fresh_mintag;           // the smallest ID of the atoms created here since the last check
   bigint store_at;               // the step whose pre_exchange takes the lagging atoms out (-1: none)
   bigint return_at;              // the step whose pre_exchange brings them back
   bool reach_due;                // the skin rule fired while atoms were stored: the reach test runs
@@ -140,6 +139,7 @@ class FixGriddemRom : public Fix {
   void mark_near();
   void fill_nearlist();
   void fill_state();
+  bigint next_other_exchange(bigint from) const;
   void plan_store();
   void plan_return();
   void store_lagging();

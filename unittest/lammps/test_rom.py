@@ -683,9 +683,12 @@ def store_limits():
     from step 201):
     - compute griddem/cg invoked every step by fix ave/grid: refused at step 201, naming the fix
       and keyword store; with store no the same input runs;
-    - an ID given twice: fix evaporate deletes the top plane (IDs 101-125, the largest) at step 250
-      while the lagging atoms are held, so fix deposit's atom of step 301 (its try at step 1 finds
-      the plane in the way) gets ID 51, which a held atom has: the run stops naming the ID;
+    - no ID given twice: fix evaporate deletes the top plane (IDs 101-125, the largest) at step 250
+      with fix deposit's first atom (step 1, ID 126), and fix deposit adds its second at step 301;
+      the held atoms (IDs 51-100) are back at both steps, so the new atom gets ID 101 (held out of
+      their sight, it would get 51);
+    - fix deposit into the planes of the held atoms: they are back at its steps, so it places no
+      atom on them (every pair of centres at least its `near` 1.0 apart at the end);
     - fix balance, fix deform: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
     U = (0.7, 0.4, 0.0)
     model = os.path.join(WD, "flow_limits.model")
@@ -718,12 +721,31 @@ thermo_style custom step atoms f_rom[17] f_rom[18]
 thermo 10
 region top block 0 6 0 6 4.5 6 units box
 fix drop all evaporate 250 100 top 4711
-fix add all deposit 1 1 300 4712 region top near 0.9 attempt 10 id max
+fix add all deposit 2 1 300 4712 region top near 1.0 attempt 100 id max
 run 350
+write_dump all custom twice.dump id x y z modify sort id
 """
-    rc, out = t.run_lmp(twice.format(store="yes"), WD, name="in.store_twice")
-    t.check(rc != 0 and "a new atom got ID 51, which an atom held out of LAMMPS (keyword store) has" in out,
-            "an ID given to a new atom while a held atom has it is refused naming it")
+    out = t.run_ok(twice.format(store="yes"), WD, name="in.store_twice")
+    ids = sorted(t.read_dump(os.path.join(WD, "twice.dump"))[1])
+    t.check(ids == list(range(1, 101)) + [101], "fix deposit's atom after fix evaporate took IDs 101-125 has ID 101, "
+            "above the held atoms' (IDs at the end: %d, largest %d)" % (len(ids), ids[-1]))
+
+    # fix deposit every 50 steps into the planes of the held atoms (z 2.2-4.4), new atoms moving
+    # with U: the held atoms are back at its steps, so it finds no room at least 1.0 from every
+    # atom but near the cubes' centres (1.039 from their corners); held out of its sight, it
+    # would place atoms on them
+    deposit = lattice + """
+region mid block 0 6 0 6 2.2 4.4 units box
+fix add all deposit 20 1 50 4712 region mid near 1.0 attempt 50 id max vx {u0} {u0} vy {u1} {u1}
+run 1000
+write_dump all custom deposit.dump id x y z modify sort id format float %.17g
+""".format(u0=U[0], u1=U[1])
+    out = t.run_ok(deposit.format(store="yes"), WD, name="in.store_deposit")
+    atoms = t.read_dump(os.path.join(WD, "deposit.dump"))[1]
+    closest = min(math.sqrt(sum(min(abs(a[d] - b[d]) % 6.0, 6.0 - abs(a[d] - b[d]) % 6.0) ** 2 for d in range(3)))
+                  for i, a in atoms.items() for j, b in atoms.items() if i < j)
+    t.check(closest >= 1.0 - 1e-9, "fix deposit sees the held atoms: %d atoms, closest centres %.4f apart (>= 1)" %
+            (len(atoms), closest))
 
     balance = lattice.replace("region box", "processors 2 1 1\nregion box") + """
 fix lb all balance 100 1.0 shift x 5 1.1
