@@ -689,6 +689,8 @@ def store_limits():
       their sight, it would get 51);
     - fix deposit into the planes of the held atoms: they are back at its steps, so it places no
       atom on them (every pair of centres at least its `near` 1.0 apart at the end);
+    - restart files written during the run hold all 125 atoms, and a run stopped early by fix halt
+      ends with them in LAMMPS;
     - fix balance, fix deform: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
     U = (0.7, 0.4, 0.0)
     model = os.path.join(WD, "flow_limits.model")
@@ -746,6 +748,29 @@ write_dump all custom deposit.dump id x y z modify sort id format float %.17g
                   for i, a in atoms.items() for j, b in atoms.items() if i < j)
     t.check(closest >= 1.0 - 1e-9, "fix deposit sees the held atoms: %d atoms, closest centres %.4f apart (>= 1)" %
             (len(atoms), closest))
+
+    # restart files written while atoms are held hold every atom; a run stopped early by fix halt
+    # (no last step to plan for) brings them back at its end
+    outputs = lattice + """
+restart 150 held.*.restart
+variable early equal step>=360
+fix stop all halt 1 v_early > 0.5 error continue
+thermo_style custom step atoms f_rom[17]
+thermo 10
+run 400
+write_dump all custom halted.dump id x y z modify sort id
+"""
+    out = t.run_ok(outputs.format(store="yes"), WD, name="in.store_outputs")
+    held = t.thermo_values(out, "f_rom[17]")
+    halted = sorted(t.read_dump(os.path.join(WD, "halted.dump"))[1])
+    t.check(max(held) == 50 and halted == list(range(1, 126)),
+            "a run stopped by fix halt while 50 atoms are held ends with the 125 atoms in LAMMPS")
+    reread = t.run_ok("""
+read_restart held.300.restart
+print "RESTORED $(atoms)"
+""", WD, name="in.store_reread")
+    t.check("RESTORED 125" in reread, "a restart file written at step 300, with 50 atoms held before and after, "
+            "holds the 125")
 
     balance = lattice.replace("region box", "processors 2 1 1\nregion box") + """
 fix lb all balance 100 1.0 shift x 5 1.1
