@@ -689,6 +689,8 @@ def store_limits():
       their sight, it would get 51);
     - fix deposit into the planes of the held atoms: they are back at its steps, so it places no
       atom on them (every pair of centres at least its `near` 1.0 apart at the end);
+    - model steps every 10 steps: the lagging atoms would be out too briefly to pay for their store
+      and return (4 atom-steps per atom of the scene, below 8): they stay;
     - restart files written during the run hold all 125 atoms, and a run stopped early by fix halt
       ends with them in LAMMPS;
     - fix balance, fix deform: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
@@ -748,6 +750,18 @@ write_dump all custom deposit.dump id x y z modify sort id format float %.17g
                   for i, a in atoms.items() for j, b in atoms.items() if i < j)
     t.check(closest >= 1.0 - 1e-9, "fix deposit sees the held atoms: %d atoms, closest centres %.4f apart (>= 1)" %
             (len(atoms), closest))
+
+    # model steps every 10 steps: the 50 lagging atoms of 125 would stay out at most 10 steps,
+    # 4 atom-steps per atom of the scene, below the 8 a store and its return cost
+    short = lattice.replace("every 200", "every 10") + """
+thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[17]
+thermo 1
+run 300
+"""
+    out = t.run_ok(short.format(store="yes"), WD, name="in.store_short")
+    lagging = [k - n for k, n in zip(t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[9]"))]
+    t.check(max(lagging) == 50 and max(t.thermo_values(out, "f_rom[17]")) == 0,
+            "with model steps every 10 steps the 50 lagging atoms are not stored (it would not pay)")
 
     # restart files written while atoms are held hold every atom; a run stopped early by fix halt
     # (no last step to plan for) brings them back at its end
