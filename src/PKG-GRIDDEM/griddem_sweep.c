@@ -19,6 +19,18 @@ static int grow_aligned(void **ptr, size_t size, int count)
   return posix_memalign(ptr, 64, size * (size_t) count) == 0 ? 0 : -1;
 }
 
+/* Slot s of the channels: particle i's centre, radius, key and image */
+static inline void fill_slot(griddem_channels *ch, int i, const griddem_particles *p, int s)
+{
+  ch->x[s] = p->x[3 * (size_t) i];
+  ch->y[s] = p->x[3 * (size_t) i + 1];
+  ch->z[s] = p->x[3 * (size_t) i + 2];
+  ch->r[s] = p->radius[i];
+  ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
+  if (p->image) ch->image[s] = p->image[i];
+  ch->ncontact[s] = 0;
+}
+
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p)
 {
   const int n = b->n;
@@ -41,17 +53,15 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->n = n;
   ch->p = p;
   ch->keyed_by_image = p->image != NULL;
+#ifdef _OPENMP
+  if (omp_get_max_threads() > 1) {
 #pragma omp parallel for schedule(static)
-  for (int s = 0; s < n; s++) {
-    const int i = b->order[s];
-    ch->x[s] = p->x[3 * (size_t) i];
-    ch->y[s] = p->x[3 * (size_t) i + 1];
-    ch->z[s] = p->x[3 * (size_t) i + 2];
-    ch->r[s] = p->radius[i];
-    ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
-    if (p->image) ch->image[s] = p->image[i];
-    ch->ncontact[s] = 0;
+    for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
+    return 0;
   }
+#endif
+  /* one thread: no OpenMP region, which allocates its team even for one */
+  for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
   return 0;
 }
 
@@ -417,6 +427,19 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   }
 }
 
+/* A thread's empty accumulators, with its own history overflow list */
+static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
+{
+  sweep_sums sums;
+  memset(&sums, 0, sizeof(sums));
+#ifdef _OPENMP
+  if (model->track_contacts) sums.overflow = &hist->overflow[omp_get_thread_num()];
+#else
+  if (model->track_contacts) sums.overflow = &hist->overflow[0];
+#endif
+  return sums;
+}
+
 /* Most rows of a cross-class block: (2 reach + 1)^2 */
 #define MAX_BLOCK_ROWS ((2 * GRIDDEM_MAX_REACH + 1) * (2 * GRIDDEM_MAX_REACH + 1))
 
@@ -426,10 +449,11 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
  * centres lie within one cell edge of l of each other along every axis form a cluster (up to the
  * kernel's width), searched at once over the block around their centres' box; consecutive
  * clusters mostly share that block, whose non-empty row ranges are then found once. A sphere's
- * hits come in the order of its own block's rows. */
-static void sweep_across(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *l,
-                         double cut, const int *slots, int n)
+ * hits come in the order of its own block's rows. Returns the sums of one thread's share. */
+static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid *l, double cut, const int *slots,
+                               int n)
 {
+  sweep_sums sums = thread_sums(cx->model, cx->hist);
   const griddem_grid *g = l->g;
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
@@ -469,9 +493,10 @@ static void sweep_across(const sweep_context *cx, sweep_sums *sums, const gridde
         }
       memcpy(block, b, sizeof(b));
     }
-    search_cluster(cx, sums, &hits, s, ni, 0, lo, hi, nrange, total);
+    search_cluster(cx, &sums, &hits, s, ni, 0, lo, hi, nrange, total);
     q += ni;
   }
+  return sums;
 }
 
 /* Room in the cross-class scratch for n small spheres and nslab slabs. 0, or -1 without memory. */
@@ -500,18 +525,6 @@ static int slab_thickness(int nz, int nthreads, int reach)
   return thick < reach ? reach : thick;
 }
 
-/* A thread's empty accumulators, with its own history overflow list */
-static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
-{
-  sweep_sums sums;
-  memset(&sums, 0, sizeof(sums));
-#ifdef _OPENMP
-  if (model->track_contacts) sums.overflow = &hist->overflow[omp_get_thread_num()];
-#else
-  if (model->track_contacts) sums.overflow = &hist->overflow[0];
-#endif
-  return sums;
-}
 
 /* Largest contact distance between spheres of radii up to r1 and r2, with a margin for the
  * rounding of coordinates into the cells of g */
@@ -577,6 +590,30 @@ static int twins(const griddem_class_grid *k, const griddem_class_grid *t)
   return !k->kinematic && t->kinematic && same_cells(k->g, t->g);
 }
 
+/* A thread's sums added into totals (the virial's six components, then the energy) */
+static void add_sums(double *totals, sweep_sums sums)
+{
+  for (int c = 0; c < 6; c++) totals[c] += sums.virial[c];
+  totals[6] += sums.energy;
+}
+
+/* The pairs from class k's occupied cell rows in the cell layers zlo .. zhi - 1 (one slab), found
+ * through their slots: a dilute grid costs nothing extra */
+static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *k, const griddem_class_grid *into,
+                             const griddem_stencil *stencil, int own, int zlo, int zhi)
+{
+  const griddem_grid *g = k->g;
+  const griddem_bins *b = k->b;
+  const long nxy = (long) g->n[0] * g->n[1];
+  sweep_sums sums = thread_sums(cx->model, cx->hist);
+  for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
+    const long row = b->cell[b->order[s]] / g->n[0];
+    sweep_cell_row(cx, &sums, k, into, stencil, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
+    s = b->cell_start[(row + 1) * g->n[0]];
+  }
+  return sums;
+}
+
 /* The pairs of class k's particles with those of `into` over the same cells, by k's occupied cell
  * rows: within k (into = k) over the forward stencil, or with a kinematic twin over the full one.
  * Threads take slabs of cell layers along z, at least the stencil's reach thick, in colours whose
@@ -588,8 +625,6 @@ static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, cons
                       int nthreads, double *totals)
 {
   const griddem_grid *g = k->g;
-  const griddem_bins *b = k->b;
-  const long nxy = (long) g->n[0] * g->n[1];
   const int own = into == k;
   griddem_stencil stencil;
   if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, into->rmax, cx->model->reach_extra),
@@ -598,25 +633,16 @@ static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, cons
   const int reach = stencil.row[stencil.nrows - 1].dz;    /* the last layer it visits */
   const int thick = slab_thickness(g->n[2], nthreads, reach), colours = own ? 2 : 3;
   const int nslab = (g->n[2] + thick - 1) / thick;
-  double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, energy = 0.0;
-  for (int colour = 0; colour < colours; colour++) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
-    for (int q = colour; q < nslab; q += colours) {
-      sweep_sums sums = thread_sums(cx->model, cx->hist);
-      const int zlo = q * thick, zhi = (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2];
-      /* occupied cell rows only, found through their slots: a dilute grid costs nothing extra */
-      for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
-        const long row = b->cell[b->order[s]] / g->n[0];
-        sweep_cell_row(cx, &sums, k, into, &stencil, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
-        s = b->cell_start[(row + 1) * g->n[0]];
-      }
-      v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
-      v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
-      energy += sums.energy;
-    }
+  double part[7] = {0.0};
+  if (nslab == 1)    /* one thread: no OpenMP region, which allocates its team even for one */
+    add_sums(part, sweep_slab(cx, k, into, &stencil, own, 0, g->n[2]));
+  for (int colour = 0; colour < colours && nslab > 1; colour++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : part[:7])
+    for (int q = colour; q < nslab; q += colours)
+      add_sums(part, sweep_slab(cx, k, into, &stencil, own, q * thick,
+                                (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2]));
   }
-  totals[0] += v0, totals[1] += v1, totals[2] += v2, totals[3] += v3, totals[4] += v4, totals[5] += v5;
-  totals[6] += energy;
+  for (int c = 0; c < 7; c++) totals[c] += part[c];
   return 0;
 }
 
@@ -693,7 +719,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     return result->fault;
   }
 
-  double totals[7] = {0.0};    /* the virial's six components and the energy, of the row passes */
+  double totals[7] = {0.0};    /* the virial's six components and the energy */
   for (int kc = 0; kc < ncls; kc++) {
     /* pairs within class kc on its own grid, and with its kinematic twin (the class after it) */
     const griddem_class_grid *k = &cls[kc], *twin = kc + 1 < ncls && twins(k, &cls[kc + 1]) ? &cls[kc + 1] : NULL;
@@ -704,8 +730,6 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       return result->fault;
     }
   }
-  double v0 = totals[0], v1 = totals[1], v2 = totals[2], v3 = totals[3], v4 = totals[4], v5 = totals[5],
-         energy = totals[6];
 
   /* pairs across classes: the spheres of one class searched in the other's grid, in the cheaper
      direction (across_direction). Threads take the searching spheres by slabs of the searched
@@ -743,16 +767,15 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       for (int q = 0; q < nk; q++) slots[first[slab[q]]++] = from->base + q;
       for (int q = nslab; q > 0; q--) first[q] = first[q - 1];
       first[0] = 0;
-      for (int colour = 0; colour < 3; colour++) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : v0, v1, v2, v3, v4, v5, energy)
-        for (int q = colour; q < nslab; q += 3) {
-          sweep_sums sums = thread_sums(model, hist);
-          sweep_across(&cx, &sums, into, pass.cut, slots + first[q], first[q + 1] - first[q]);
-          v0 += sums.virial[0], v1 += sums.virial[1], v2 += sums.virial[2];
-          v3 += sums.virial[3], v4 += sums.virial[4], v5 += sums.virial[5];
-          energy += sums.energy;
-        }
+      double part[7] = {0.0};
+      if (nslab == 1)    /* one thread: no OpenMP region */
+        add_sums(part, sweep_across(&cx, into, pass.cut, slots, nk));
+      for (int colour = 0; colour < 3 && nslab > 1; colour++) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : part[:7])
+        for (int q = colour; q < nslab; q += 3)
+          add_sums(part, sweep_across(&cx, into, pass.cut, slots + first[q], first[q + 1] - first[q]));
       }
+      for (int c = 0; c < 7; c++) totals[c] += part[c];
     }
 
   if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
@@ -764,9 +787,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
     contacts += ch->ncontact[s];
     most = ch->ncontact[s] > most ? ch->ncontact[s] : most;
   }
-  result->virial[0] = v0, result->virial[1] = v1, result->virial[2] = v2;
-  result->virial[3] = v3, result->virial[4] = v4, result->virial[5] = v5;
-  result->energy = energy;
+  for (int c = 0; c < 6; c++) result->virial[c] = totals[c];
+  result->energy = totals[6];
   result->contacts = contacts;
   result->max_contacts = most;
   return result->fault;
