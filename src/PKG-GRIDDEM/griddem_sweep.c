@@ -386,9 +386,11 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   if (first == last) return;
 
   /* the stencil rows inside the grid: where the slots of cell x's first and past its last
-     stencil cell begin, offset by x (of the forward stencil, row 0 is the cell's own row) */
-  const int *lo_at[GRIDDEM_STENCIL_MAX_ROWS], *hi_at[GRIDDEM_STENCIL_MAX_ROWS];
-  int dxlo[GRIDDEM_STENCIL_MAX_ROWS], dxhi[GRIDDEM_STENCIL_MAX_ROWS], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
+     stencil cell begin, offset by x (of the forward stencil, row 0 is the cell's own row); in
+     arrays of the stencil's own size, as a row of a dilute grid holds a sphere or two and a frame
+     sized for the largest stencil costs more to set up than the row's search */
+  const int *lo_at[nrows], *hi_at[nrows];
+  int dxlo[nrows], dxhi[nrows], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
   for (int r = 0; r < nrows; r++) {
     const int yy = y + rows[r].dy, zz = z + rows[r].dz;
     if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
@@ -402,7 +404,7 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
 
   cluster_hits hits;
   cluster_hits_init(&hits);
-  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
+  int lo[nrows], hi[nrows];
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
     const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
