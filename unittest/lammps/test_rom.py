@@ -609,6 +609,28 @@ print "FINAL $(x[1]:%.17g) $(vx[2]:%.17g) $(atoms)"
                                                                                               final[1]))
 
 
+FLOW = (0.7, 0.4, 0.0)
+
+
+def flow_lattice(model, processors="1 1 1"):
+    """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box, all moving at FLOW; fix rom
+    (model: a uniform field FLOW, every 200) on all but the 25 of the plane z = 0.3 (group low),
+    its keyword store left as {store}."""
+    return HEAD.format(bnd="p p p").replace("region box", "processors %s\nregion box" % processors) + """
+lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set %r %r %r units box
+region low block INF INF INF INF INF 1.0
+group low region low
+group carried subtract all low
+""" % FLOW + PAIR + """
+fix rom carried griddem/rom model %s eps 0.5 v0 1 every 200 store {store}
+fix integrate rom_dynamic nve/sphere
+""" % model
+
+
 def migration():
     """125 spheres (lattice spacing 1.2, gaps 0.2) in a periodic box all moving at U: 100 carried
     by the uniform field U (kinematic), the 25 of the plane z = 0.3 outside the fix's group
@@ -621,29 +643,18 @@ def migration():
     reach and the reach tests between model steps are the same on 1, 2 and 4 processes and with
     store no, where thermo's atoms stay 125 (with atoms held, a reach test the skin rule calls for
     runs at the next step, once they are back)."""
-    U = (0.7, 0.4, 0.0)
+    U = FLOW
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
     results = []
     for nprocs, grid, store in ((1, "1 1 1", "yes"), (2, "2 1 1", "yes"), (4, "2 2 1", "yes"), (1, "1 1 1", "no")):
-        text = HEAD.format(bnd="p p p").replace("region box", "processors %s\nregion box" % grid) + """
-lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
-create_atoms 1 box
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set {u0} {u1} {u2} units box
-region low block INF INF INF INF INF 1.0
-group low region low
-group carried subtract all low
-""".format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
-fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200 store {store}
-fix integrate rom_dynamic nve/sphere
+        text = flow_lattice(model, grid).format(store=store) + """
 write_dump all custom start{n}.dump id x y z modify sort id format float %.17g
 thermo_style custom step atoms f_rom[1] f_rom[9] f_rom[11] f_rom[17] f_rom[18]
 thermo 1
 run 3000
 write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
-""".format(m=model, n=nprocs, store=store)
+""".format(n=nprocs)
         label = "%d processes, store %s" % (nprocs, store)
         out = t.run_ok(text, WD, nprocs=nprocs, name="in.migrate%d%s" % (nprocs, store))
         start = t.read_dump(os.path.join(WD, "start%d.dump" % nprocs))[1]
@@ -694,22 +705,10 @@ def store_limits():
     - restart files written during the run hold all 125 atoms, and a run stopped early by fix halt
       ends with them in LAMMPS;
     - fix balance, fix deform: the atoms stay in LAMMPS (warning; f_rom[17] stays 0)."""
-    U = (0.7, 0.4, 0.0)
+    U = FLOW
     model = os.path.join(WD, "flow_limits.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
-    lattice = HEAD.format(bnd="p p p") + """
-lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
-create_atoms 1 box
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set {u0} {u1} {u2} units box
-region low block INF INF INF INF INF 1.0
-group low region low
-group carried subtract all low
-""".format(u0=U[0], u1=U[1], u2=U[2]) + PAIR + """
-fix rom carried griddem/rom model {m} eps 0.5 v0 1 every 200 store {{store}}
-fix integrate rom_dynamic nve/sphere
-""".format(m=model)
+    lattice = flow_lattice(model)
     cg = lattice + """
 compute cg all griddem/cg 3 3 3 0.1 density
 fix avg all ave/grid 1 1 1 3 3 3 c_cg:grid:density
@@ -786,7 +785,7 @@ print "RESTORED $(atoms)"
     t.check("RESTORED 125" in reread, "a restart file written at step 300, with 50 atoms held before and after, "
             "holds the 125")
 
-    balance = lattice.replace("region box", "processors 2 1 1\nregion box") + """
+    balance = flow_lattice(model, "2 1 1") + """
 fix lb all balance 100 1.0 shift x 5 1.1
 thermo_style custom step atoms f_rom[17]
 thermo 10
