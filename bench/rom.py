@@ -284,7 +284,7 @@ def study(scene, a):
     times = {stock: [loop_seconds(scene.wd, t) for t in stock_tags], scene.pair: [loop_seconds(scene.wd, ref)]}
     reduced = [loop_seconds(scene.wd, t) for t in rom_tags]
     style, seconds = pick_baseline(times)
-    record = dict(build=a.build or benchlib.commit(dirty=True), baseline=dict(pair_style=style, loop_s=seconds),
+    record = dict(build=a.build, baseline=dict(pair_style=style, loop_s=seconds),
                   speedup=seconds / statistics.median(reduced),
                   loop_s={stock: times[stock], scene.pair: times[scene.pair], "reduced": reduced,
                           "do_nothing": loop_seconds(scene.wd, nothing)},
@@ -365,6 +365,7 @@ def main():
     ap.add_argument("--figure", help="the errors-over-time figure (default: the example's reference/errors.png)")
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
+    a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0), hopper=dict(steps=0, eps=0.3, every=50, v0=0.36),
                     blade=dict(steps=10000, eps=0.1, every=50, v0=0.45))[a.scene]
     for k, v in defaults.items():
