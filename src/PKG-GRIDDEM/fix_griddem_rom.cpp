@@ -568,23 +568,24 @@ void FixGriddemRom::plan_return()
   due = MIN(due, output->next_restart);
   const bigint other = next_other_exchange(update->ntimestep + 1);
   if (other < MAXBIGINT) due = MIN(due, other - 1);
+  due = MAX(due, update->ntimestep + 1);    // this step's exchange is past
   if (return_at < 0 || due < return_at) return_at = next_reneighbor = due;
 }
 
 /* LAMMPS's exchange (and its decision to make one) comes after pre_exchange: atoms that leave or
-   come back here are in the step's migration, borders and ghosts. */
+   come back here are in the step's migration, borders and ghosts. A planned step is also met
+   late, at the next reneighboring, should another fix have forced one past it. */
 void FixGriddemRom::pre_exchange()
 {
   const bigint now = update->ntimestep;
-  if (now != next_reneighbor) return;
-  next_reneighbor = -1;
+  if (now >= next_reneighbor) next_reneighbor = -1;
   if (nstored_all > 0.0 && now >= return_at) {
     return_stored(true);
     return_at = -1;
     if (reach_due) catch_up();    // the reach test follows at post_neighbor
     else if (now != next_model) plan_store();    // a dump, restart or the last step: out again after it
   }
-  if (now == store_at) {
+  if (store_at >= 0 && now >= store_at) {
     store_at = -1;
     store_lagging();
   }
