@@ -527,7 +527,6 @@ static int slab_thickness(int nz, int nthreads, int reach)
   return thick < reach ? reach : thick;
 }
 
-
 /* Largest contact distance between spheres of radii up to r1 and r2, with a margin for the
  * rounding of coordinates into the cells of g */
 static double contact_reach(const griddem_grid *g, double r1, double r2, double extra)
