@@ -788,7 +788,6 @@ void FixGriddemRom::grow_arrays(int n)
   nmax = n;
 }
 
-
 void FixGriddemRom::copy_arrays(int i, int j, int)
 {
   for (int k = 0; k < NTRACK; k++) track[j][k] = track[i][k];
