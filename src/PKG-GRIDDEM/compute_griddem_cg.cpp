@@ -143,9 +143,11 @@ ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     // into compute pressure's virial, so the stress field integrates to that tensor to rounding
     // (a re-evaluation by pair->single() would see contact history already advanced this step)
     pressatomflag = 1;
-    timeflag = 1;
     comm_reverse = 6;
   }
+  // the steps it is invoked on, as LAMMPS's dumps and thermo announce them: the per-atom virial is
+  // tallied there, and fix griddem/rom brings the atoms it holds back for them
+  timeflag = 1;
 
   pergrid_flag = 1;
   std::string names[3] = {"griddem_cg_ghost_sum", "all", "griddem/cg/ghost_sum"};
@@ -375,14 +377,14 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
-  // fix griddem/rom's store brings its atoms back at dump steps only: elsewhere the fields would
-  // miss them
+  // fix griddem/rom brings the atoms it holds back for the steps this compute can be invoked on
+  // (announced ones, fix ave/grid's): on any other step the fields would miss them
   for (const auto &rom : modify->get_fix_by_style("^griddem/rom$")) {
     int dim = 0;
     auto held = (const double *) rom->extract("stored_atoms", dim);
     if (held && *held > 0.0)
-      error->all(FLERR, "Compute griddem/cg: at step {} fix {} holds {} atoms out of LAMMPS (its keyword store): "
-                 "invoke this compute at dump steps, where they are back, or use store no",
+      error->all(FLERR, "Compute griddem/cg: invoked at step {}, which was not announced to it, while fix {} holds {} "
+                 "atoms out of LAMMPS (its keyword store); use store no",
                  update->ntimestep, rom->id, (bigint) *held);
   }
   if (slot[VIRIAL] >= 0) {

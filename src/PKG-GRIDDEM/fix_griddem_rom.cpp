@@ -9,6 +9,7 @@
 #include "atom.h"
 #include "atom_vec.h"
 #include "comm.h"
+#include "compute.h"
 #include "domain.h"
 #include "error.h"
 #include "force.h"
@@ -547,6 +548,26 @@ bigint FixGriddemRom::next_other_exchange(bigint from) const
   return next;
 }
 
+/* The first step from `from` on that a compute griddem/cg may be invoked on, or MAXBIGINT, so
+   that its fields see every atom: a step announced to it (dumps, thermo: LAMMPS's list of the
+   steps a compute is invoked on), or a step of a fix ave/grid, which invokes per-grid computes
+   unannounced, on multiples of its Nevery. */
+bigint FixGriddemRom::next_cg_step(bigint from) const
+{
+  const auto cgs = modify->get_compute_by_style("^griddem/cg$");
+  if (cgs.empty()) return MAXBIGINT;
+  bigint next = MAXBIGINT;
+  for (const auto &cg : cgs)
+    for (int k = cg->ntime - 1; k >= 0; k--)    // the list is in decreasing order
+      if (cg->tlist[k] >= from) {
+        next = MIN(next, cg->tlist[k]);
+        break;
+      }
+  for (const auto &ave : modify->get_fix_by_style("^ave/grid"))
+    if (ave->nevery > 0) next = MIN(next, (from + ave->nevery - 1) / ave->nevery * ave->nevery);
+  return next;
+}
+
 /* After a reach test: the lagging atoms leave at the next step's exchange, or the one after if
    another fix acts then (its pre_exchange may come before this fix's). */
 void FixGriddemRom::plan_store()
@@ -558,9 +579,9 @@ void FixGriddemRom::plan_store()
 }
 
 /* The first step that needs the stored atoms back in LAMMPS: the next model step, a dump, a
-   restart file, the run's last step (each at its pre_exchange, before the step's end of step and
-   output), the step before another fix acts at its pre_exchange, or an earlier return already
-   planned. */
+   restart file, a compute griddem/cg, the run's last step (each at its pre_exchange, before the
+   step's end of step and output), the step before another fix acts at its pre_exchange, or an
+   earlier return already planned. */
 void FixGriddemRom::plan_return()
 {
   bigint due = MIN(next_model, update->laststep);
@@ -568,6 +589,7 @@ void FixGriddemRom::plan_return()
   due = MIN(due, output->next_restart);
   const bigint other = next_other_exchange(update->ntimestep + 1);
   if (other < MAXBIGINT) due = MIN(due, other - 1);
+  due = MIN(due, next_cg_step(update->ntimestep + 1));
   due = MAX(due, update->ntimestep + 1);    // this step's exchange is past
   if (return_at < 0 || due < return_at) return_at = next_reneighbor = due;
 }

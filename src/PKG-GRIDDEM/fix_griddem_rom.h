@@ -140,6 +140,7 @@ class FixGriddemRom : public Fix {
   void fill_nearlist();
   void fill_state();
   bigint next_other_exchange(bigint from) const;
+  bigint next_cg_step(bigint from) const;
   void plan_store();
   void plan_return();
   void store_lagging();
