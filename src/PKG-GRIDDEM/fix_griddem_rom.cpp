@@ -283,6 +283,8 @@ void FixGriddemRom::init()
       error->warning(FLERR, "Fix griddem/rom: {} while lagging atoms would be held out of LAMMPS on the process "
                      "that took them out; they stay in LAMMPS's arrays (keyword store ignored)", unstorable);
   }
+  cg_computes = modify->get_compute_by_style("^griddem/cg$");
+  grid_averages = modify->get_fix_by_style("^ave/grid");
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
@@ -554,16 +556,15 @@ bigint FixGriddemRom::next_other_exchange(bigint from) const
    unannounced, on multiples of its Nevery. */
 bigint FixGriddemRom::next_cg_step(bigint from) const
 {
-  const auto cgs = modify->get_compute_by_style("^griddem/cg$");
-  if (cgs.empty()) return MAXBIGINT;
+  if (cg_computes.empty()) return MAXBIGINT;
   bigint next = MAXBIGINT;
-  for (const auto &cg : cgs)
+  for (const auto &cg : cg_computes)
     for (int k = cg->ntime - 1; k >= 0; k--)    // the list is in decreasing order
       if (cg->tlist[k] >= from) {
         next = MIN(next, cg->tlist[k]);
         break;
       }
-  for (const auto &ave : modify->get_fix_by_style("^ave/grid"))
+  for (const auto &ave : grid_averages)
     if (ave->nevery > 0) next = MIN(next, (from + ave->nevery - 1) / ave->nevery * ave->nevery);
   return next;
 }
@@ -649,7 +650,13 @@ void FixGriddemRom::store_lagging()
   nstored_all = counts_all[1];
   atom->natoms -= (bigint) counts_all[0];
   if (nstored_all == 0.0) return_at = next_reneighbor = -1;
-  // ghosts are rebuilt by this step's borders; the map must not point at moved atoms until then
+  reset_local_map();
+}
+
+/* After atoms left or came back: the ghosts are rebuilt by this step's borders (or the next run's
+   set-up), and the map must not point at moved atoms until then. */
+void FixGriddemRom::reset_local_map()
+{
   atom->nghost = 0;
   if (atom->map_style != Atom::MAP_NONE) {
     atom->map_init();
@@ -668,11 +675,7 @@ void FixGriddemRom::return_stored(bool exchange_follows)
   nstored = 0;
   stored_used = 0;
   nstored_all = 0.0;
-  atom->nghost = 0;
-  if (atom->map_style != Atom::MAP_NONE) {
-    atom->map_init();
-    atom->map_set();
-  }
+  reset_local_map();
   if (!exchange_follows) fill_nearlist();
 }
 

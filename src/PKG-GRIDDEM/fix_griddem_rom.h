@@ -78,6 +78,8 @@ class FixGriddemRom : public Fix {
   bool freeze;              // keyword freeze: kinematic atoms get velocity 0, not the field
   bool store_wanted;        // keyword store: lagging atoms leave LAMMPS's arrays between reach tests
   bool store_active;        // this run stores them (init, setup)
+  std::vector<class Compute *> cg_computes;    // computes griddem/cg, whose steps need every atom
+  std::vector<class Fix *> grid_averages;      // fixes ave/grid, which invoke them unannounced
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
   int period;    // keyword every: the longest model step, in DEM steps
@@ -144,6 +146,7 @@ class FixGriddemRom : public Fix {
   void plan_store();
   void plan_return();
   void store_lagging();
+  void reset_local_map();
   void return_stored(bool exchange_follows);
   void allocate_grid();
   void deallocate_grid();
