@@ -6,7 +6,9 @@ Appends one JSON line per run to bench/results/gpu.jsonl: atom-steps/s and peak 
 nvidia-smi's memory.used polled every 200 ms, less its value before the run; always the lmp
 process's peak host RSS). A run that fails (out of memory, a crash, a timeout) is recorded as
 failed with its reason and the job goes on; a style the lmp lacks is recorded as not available,
-never replaced by another. On a GPU without --sizes the sizes are 0.5M, 2M, 8M, 32M and the
+never replaced by another. A griddem line's "driver" says what ran it: on a host back end without
+--cell or --search the kk styles run the CPU engine ("engine"), else the Kokkos kernels
+("kernels"; --search thread gives the kernels on a host). On a GPU without --sizes the sizes are 0.5M, 2M, 8M, 32M and the
 issue's 100M, then 2x more (200M, 400M, ...) while any style still runs.
 
 With --census each run that worked is run again with bench/kokkos_census.c (built here with cc)
@@ -338,6 +340,9 @@ def main():
             for key, value in zip(("cell", "search"), variant):
                 if value:
                     record[key] = value
+            if style.startswith("griddem/"):
+                # on a host back end without a fix griddem in the script, the CPU engine
+                record["driver"] = "kernels" if gpu or any(variant) else "engine"
             if blocking:
                 record["launch_blocking"] = True
             if args.build:

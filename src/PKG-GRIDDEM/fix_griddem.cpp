@@ -15,7 +15,7 @@ FixGriddemCPU::FixGriddemCPU(LAMMPS *lmp, int narg, char **arg) :
     FixGriddem(lmp, narg, arg), row_of(nullptr), reserved(0)
 {
   griddem_history_init(&rows, 3);
-  maxexchange = griddem_history_longest_message(&rows);
+  update_maxexchange();
   grow_arrays(atom->nmax);
   for (int i = 0; i < atom->nmax; i++) row_of[i] = -1;
 }
@@ -103,5 +103,5 @@ void FixGriddemCPU::commit_step()
 
 void FixGriddemCPU::update_maxexchange()
 {
-  maxexchange = griddem_history_longest_message(&rows);
+  maxexchange = GRIDDEM_ROW_MESSAGE_LENGTH(exchange_room(rows.max_count), rows.values);
 }

@@ -172,6 +172,17 @@ void FixGriddem::unpack_forward_comm(int n, int first, double *buf)
 
 // exchange and restart carry the row as a message
 
+/* LAMMPS's CommKokkos (in every Kokkos run, classic exchange too) grows its send buffer by its
+   factor 1.5 each time a fix's maxexchange grows (its grow_send_kokkos applies the factor where
+   CommBrick's does not), so a maxexchange that followed the longest row one contact at a time
+   grew that buffer geometrically (to 388 MB for 16,250 hot polydisperse atoms) */
+int FixGriddem::exchange_room(int longest_row)
+{
+  int room = 1;
+  while (room < longest_row) room *= 2;
+  return room;
+}
+
 int FixGriddem::pack_exchange(int i, double *buf)
 {
   return get_message(i, buf);

@@ -77,6 +77,9 @@ class FixGriddem : public Fix {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
 
+  // entries an exchanged row is given room for, longest_row or more: a power of two
+  static int exchange_room(int longest_row);
+
   // atom i takes the row of a record laid out as pack_restart writes it
   void put_history(int i, const double *record);
   // every atom's row emptied

@@ -35,13 +35,13 @@ void GriddemFixKeeper::release()
 void GriddemFixKeeper::make_default(const std::string &style, int kokkosable, int track_contacts, int remake)
 {
   auto existing = dynamic_cast<FixGriddem *>(modify->get_fix_by_id(AUTO_FIX_ID));
-  if (existing && ((remake && existing->made_by_pair) ||
-                   (track_contacts && (existing->options.contacts == 0 || existing->kokkosable != kokkosable))))
+  if (existing && existing->made_by_pair &&
+      (remake || (track_contacts && (existing->options.contacts == 0 || existing->kokkosable != kokkosable))))
     modify->delete_fix(AUTO_FIX_ID);    // made for a style that keeps no history, or elsewhere
   else if (!modify->get_fix_by_style("^griddem$").empty())
     return;
   auto made = dynamic_cast<FixGriddem *>(
-      modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, style, track_contacts ? "" : " contacts 0")));
+      modify->add_fix(fmt::format("{} all {}{}", AUTO_FIX_ID, style, track_contacts ? "" : " contacts 0"), 0));
   made->made_by_pair = 1;
 }
 

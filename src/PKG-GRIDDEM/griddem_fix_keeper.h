@@ -26,11 +26,11 @@ class GriddemFixKeeper : protected Pointers {
   // the pair style goes: its own fix with it, a script's fix loses its rows
   void release();
 
-  // style: the fix style that holds the pair style's history ("griddem", or "griddem/kk" for a
-  // kokkosable pair style, whose history lives on its device). make_default() makes fix GRIDDEM
-  // unless a fix griddem exists (or where the one that exists was made for a model without
-  // history, or for the other kind of style, and track_contacts needs one), so that thermo_style
-  // can name f_GRIDDEM before the first run; remake: made again even if it exists and suits
+  // style: the fix style made to hold the pair style's history ("griddem", or "griddem/kk" for
+  // a kk style whose history lives on its device: kokkosable). make_default() makes fix GRIDDEM
+  // unless a fix griddem exists (or where the pair style's own was made for a model without
+  // history, or for the other kind of store, and track_contacts needs one), so that thermo_style
+  // can name f_GRIDDEM before the first run; remake: its own made again even if it suits
   void make_default(const std::string &style, int kokkosable, int track_contacts, int remake = 0);
   // the fix griddem of this init: the script's, else the pair style's own; one defined beside
   // the one that ran replaces it and takes its history

@@ -144,7 +144,12 @@ double PairGriddem::init_one(int i, int j)
 
 void PairGriddem::create_default_fix()
 {
-  keeper.make_default(history_fix_style(), kokkosable, model.track_contacts);
+  keeper.make_default(history_fix_style(), history_fix_style() != "griddem", model.track_contacts);
+}
+
+bool PairGriddem::sweeps(const FixGriddem &fix) const
+{
+  return !fix.kokkosable;
 }
 
 double PairGriddem::memory_usage()
@@ -226,18 +231,19 @@ void PairGriddem::init_style()
     radii_vary |= ifix->diam_flag != 0;
   }
 
-  FixGriddem *fix = keeper.choose(history_fix_style(), kokkosable, model.track_contacts);
+  FixGriddem *fix = keeper.choose(history_fix_style(), history_fix_style() != "griddem", model.track_contacts);
   last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
   if (model.track_contacts && fix->options.contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
-  if (fix->options.precision == GRIDDEM_PRECISION_SINGLE && !kokkosable)
+  // the Kokkos kernels' options: they run with fix griddem/kk only
+  if (fix->options.precision == GRIDDEM_PRECISION_SINGLE && !(kokkosable && fix->kokkosable))
     error->all(FLERR, "Pair style {}: fix {} precision single is implemented by the Kokkos styles only "
-               "(griddem/.../kk); the CPU styles work in double", style, fix->id);
-  if (fix->options.search != GRIDDEM_SEARCH_AUTO && !kokkosable)
+               "(griddem/.../kk, with fix griddem/kk); the CPU engine works in double", style, fix->id);
+  if (fix->options.search != GRIDDEM_SEARCH_AUTO && !(kokkosable && fix->kokkosable))
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
-               "(griddem/.../kk); the CPU styles have one", style, fix->id,
+               "(griddem/.../kk, with fix griddem/kk); the CPU engine has one", style, fix->id,
                fix->options.search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
-  if (model.track_contacts && fix->kokkosable != kokkosable)
+  if (model.track_contacts && !sweeps(*fix))
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
                history_fix_style(), fix->id, fix->kokkosable ? "griddem/kk" : "griddem");
@@ -617,6 +623,11 @@ void PairGriddem::check_grid_cost()
 void PairGriddem::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  engine_step();
+}
+
+void PairGriddem::engine_step()
+{
   find_image_axes();    // the box may have changed since the radius range was found
 
   double **x = atom->x;

@@ -58,6 +58,8 @@ class PairGriddem : public Pair, public GriddemPairLink {
   griddem_engine_stats last_stats;    // of the last step (init_style: of a step without atoms)
   // the occupancy of last_stats where a step left it -1 (the Kokkos styles count it when asked)
   virtual void count_occupancy(griddem_engine_stats &) {}
+  // a step of the CPU engine after ev_init(): grids, search and contacts over the host arrays
+  void engine_step();
   int coarsened_warned;
   int cost_warned;        // check_grid_cost() warned
   bigint cost_natoms;     // the atom count check_grid_cost() last measured
@@ -84,9 +86,13 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // settings, pair_coeff or restart on
   void allocate();
   void create_default_fix();
-  // the fix style that holds this style's contact history: "griddem", or a Kokkos variant (a
-  // kokkosable pair style keeps it in a kokkosable fix, fix griddem/kk)
+  // the fix style made to hold this style's contact history where the script defines none:
+  // "griddem" (the CPU store), or a Kokkos variant (fix griddem/kk, whose pools live on the
+  // device of a kk style)
   virtual std::string history_fix_style() const { return "griddem"; }
+  // whether this style sweeps the store of `fix`: a CPU style fix griddem's, a kk style fix
+  // griddem/kk's (and, on a host back end, fix griddem's through the CPU engine)
+  virtual bool sweeps(const class FixGriddem &fix) const;
   // give the type pairs of two LAMMPS type ranges spec s
   void set_specs(const char *irange, const char *jrange, const griddem_pair_spec &s);
   // make room for the history of s (the first spec of the style sets it, later ones widen it;

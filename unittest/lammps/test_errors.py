@@ -200,6 +200,8 @@ case("search_cpu", "search team chooses among the Kokkos styles' searches",
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
+# a script's fix of the ID the styles give their own is the script's: kept as written, not remade
+case("script_fix_GRIDDEM", "needs contact history: fix GRIDDEM has contacts 0", pre="fix GRIDDEM all griddem contacts 0")
 
 
 # contacts 1 is an initial size: atom 1 touches atoms 2 and 3 (the history grows) and the run

@@ -12,6 +12,12 @@ changing a number, also with fix griddem contacts 1 (the CPU fix's rows then gro
 written by a kk run continues bit for bit under kk and the CPU style, and a CPU restart under kk;
 a step waits for the device once between reneighborings (section synchronisation).
 
+On a host back end the kk styles run the CPU engine over fix griddem's store unless the script
+defines a fix griddem (fix griddem/kk under -sf kk), with which they run the Kokkos kernels; the
+section engine checks both. `--kernels` gives every kk run whose script has no fix griddem one
+(`fix GRIDDEM all griddem`, the ID the styles give their own), so that every section runs the
+kernels; run the suite with and without it.
+
 Skipped (exit code 77, ctest SKIP_RETURN_CODE) when GRIDDEM_LMP has no KOKKOS package. With
 GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N` on one MPI rank
 instead of OpenMP threads and 1 and 2 ranks; a build whose only host back end is Serial (lmp -h:
@@ -33,6 +39,21 @@ from gpu import POLY  # noqa: E402  (bench/gpu.py's polydisperse scene)
 
 SKIP = 77
 GPUS = os.environ.get("GRIDDEM_KK_GPUS")
+KERNELS = "--kernels" in sys.argv
+FIX_GRIDDEM = re.compile(r"^fix\s+\S+\s+\S+\s+griddem(/kk\S*)?(\s|$)", re.M)
+
+
+def run_lmp(text, cwd, nprocs=1, name="in.test", extra=(), threads=None, timeout=900):
+    """griddem_testlib's run_lmp; with --kernels a Kokkos run (-k on) of a script without a fix
+    griddem gets one after its first pair_coeff line (else before its first run)."""
+    if KERNELS and "-k" in extra and not FIX_GRIDDEM.search(text):
+        at = re.search(r"^pair_coeff.*\n", text, re.M)
+        at = at.end() if at else (re.search(r"^run\s", text, re.M) or re.search(r"$", text)).start()
+        text = text[:at] + "fix GRIDDEM all griddem\n" + text[at:]
+    return plain_run_lmp(text, cwd, nprocs=nprocs, name=name, extra=extra, threads=threads, timeout=timeout)
+
+
+plain_run_lmp, t.run_lmp = t.run_lmp, run_lmp
 RANKS = (1,) if GPUS else (1, 2)
 THREADS = (1,) if GPUS else (1, 2)
 
@@ -519,14 +540,77 @@ def check_virial(wd, data):
 
 
 def check_mismatch(wd, data):
-    # the history fix must match the pair style: a kk style with the CPU fix, and the reverse
-    for pair, fix, wanted in (("griddem/hooke/history/kk", "griddem", "griddem/kk, but fix grid is fix griddem:"),
-                              ("griddem/hooke/history", "griddem/kk", "griddem, but fix grid is fix griddem/kk:")):
+    # the history fix must be one the pair style sweeps: a CPU style's not fix griddem/kk, a kk
+    # style's on a GPU not fix griddem (on a host back end it runs the CPU engine: section engine)
+    cases = [("griddem/hooke/history", "griddem/kk", "griddem, but fix grid is fix griddem/kk:")]
+    if GPUS:
+        cases.append(("griddem/hooke/history/kk", "griddem", "griddem/kk, but fix grid is fix griddem:"))
+    for pair, fix, wanted in cases:
         text = t.PERIODIC_SPHERES.format(data=data, pair=pair + " 1e4 NULL 50 NULL 0.5 1", coeffs="pair_coeff * *")
         text = text.replace("atom_style sphere", "atom_style sphere/kk") + "fix grid all %s\nrun 0\n" % fix
         rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
         t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
                 "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
+
+
+def check_engine(wd, data):
+    """On a host back end a kk style runs the CPU engine over fix griddem's store where the script
+    defines no fix griddem (the style's own is fix griddem), or a fix griddem without the Kokkos
+    suffix: its dumps (forces and torques at step 0, state at 20) and per-atom virial equal the
+    CPU style's to the bit, on 1 and 2 ranks and THREADS[-1] threads, and no Kokkos kernel
+    synchronises in its compute. With the script's fix griddem under -sf kk (fix griddem/kk) it
+    runs the Kokkos kernels, which synchronise at least once a step."""
+    if GPUS:
+        print("engine: skipped, a GPU runs the kk styles' kernels")
+        return
+    stress = ("compute s all stress/atom NULL pair\n"
+              "dump st all custom 20 dump.{name}.st id c_s[1] c_s[2] c_s[3] c_s[4] c_s[5] c_s[6]\n"
+              "dump_modify st format float %.17g sort id")
+    cols = ["c_s[%d]" % k for k in range(1, 7)]
+    for law in (LAWS[0], HISTORY, LAWS[8]):
+        style = law[1].split()[0]
+        for nprocs in RANKS:
+            got = {}
+            for kind, extra, fix in (("cpu", (), ""), ("kk", kk_args(THREADS[-1]), ""),
+                                     ("kk_fix", ["-k", "on", "t", str(THREADS[-1])], "fix grid all griddem")):
+                name = "engine_%s_%d" % (kind, nprocs)
+                text = TEMPLATE.format(data=data, pair=law[1] if kind != "kk_fix" else law[1].replace(style, style + "/kk"),
+                                       coeffs=law[3], extra=stress.format(name=name) + "\n" + fix, name=name)
+                if kind == "kk_fix":
+                    text = text.replace("atom_style sphere", "atom_style sphere/kk").replace(
+                        "timestep 1e-5", "run_style verlet/kk\ntimestep 1e-5")
+                rc, out = plain_run_lmp(text, wd, nprocs=nprocs, name="in." + name, extra=extra, threads=THREADS[-1])
+                t.check(rc == 0, "%s %s on %d rank(s) runs (exit %d): %s" % (style, kind, nprocs, rc, t.errors(out)[:1]))
+                got[kind] = (t.read_dumps(os.path.join(wd, "dump." + name)), t.read_dumps(os.path.join(wd, "dump." + name + ".st"))) if rc == 0 else None
+            if not all(got.values()):
+                continue
+            for kind in ("kk", "kk_fix"):
+                (snaps, st), (ref, ref_st) = got[kind], got["cpu"]
+                if not (len(snaps) == len(st) == 2):
+                    t.check(False, "%s %s on %d rank(s): dumps at steps 0 and 20" % (style, kind, nprocs))
+                    continue
+                first = max(t.max_rel_diff(snaps[0], ref[0], FORCES), t.max_rel_diff(st[0], ref_st[0], cols))
+                last = max(t.max_rel_diff(snaps[1], ref[1], STATE + FORCES), t.max_rel_diff(st[1], ref_st[1], cols))
+                print("%s/kk (%s) on %d rank(s), %d threads vs the CPU style: step 0 %.2g, step 20 %.2g"
+                      % (style, kind, nprocs, THREADS[-1], first, last))
+                # -sf kk also integrates with fix nve/sphere/kk, whose rounding differs from nve/sphere's
+                t.check(first == 0.0 and (last == 0.0 if kind == "kk_fix" else last <= 1e-12),
+                        "%s/kk%s on %d rank(s): the CPU engine's forces and per-atom virial to the bit, and its "
+                        "state at step 20 %s (%.3g, %.3g)" % (style, " with the script's fix griddem" if kind == "kk_fix"
+                                                              else "", nprocs, "to the bit" if kind == "kk_fix"
+                                                              else "to 1e-12 (fix nve/sphere/kk)", first, last))
+    if not sync_counter_found():
+        return
+    for label, fix, expected in (("own fix", "", 0), ("fix griddem/kk", "fix grid all griddem\n", 1)):
+        log = os.path.join(wd, "syncs.engine")
+        text = t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) + fix + (
+            "timestep 1e-5\nfix integrate all nve/sphere\nneigh_modify every 1000 delay 0 check no\nrun 20\n")
+        rc, out = run_counted(wd, "syncs_engine", text, log, run=plain_run_lmp)
+        steps = [int(line.split()[0]) for line in open(log)][1:] if rc == 0 and os.path.exists(log) else []
+        print("%s/kk with %s: blocking synchronisations per compute %s" % (HISTORY[1].split()[0], label, sorted(set(steps))))
+        t.check(len(steps) == 20 and (set(steps) == {0} if expected == 0 else min(steps) >= 1),
+                "%s/kk with %s: %s" % (HISTORY[1].split()[0], label, "the CPU engine, no Kokkos kernel"
+                                       if expected == 0 else "the kernels, a synchronisation every step"))
 
 
 def check_extremes(wd, data):
@@ -972,12 +1056,13 @@ def sync_counter_found():
     return found
 
 
-def run_counted(wd, name, text, log):
+def run_counted(wd, name, text, log, run=None):
     """The script with -sf kk on THREADS[-1] threads under the sync counter, which writes each
-    compute's synchronisations and allocations to log: (exit code, output)."""
+    compute's synchronisations and allocations to log: (exit code, output). run: t.run_lmp, or
+    another with its arguments."""
     os.environ.update(KOKKOS_TOOLS_LIBS=SYNC_COUNTER, GRIDDEM_SYNC_LOG=log)
     try:
-        return t.run_lmp(text, wd, name="in." + name, extra=kk_args(THREADS[-1]), threads=THREADS[-1])
+        return (run or t.run_lmp)(text, wd, name="in." + name, extra=kk_args(THREADS[-1]), threads=THREADS[-1])
     finally:
         for key in ("KOKKOS_TOOLS_LIBS", "GRIDDEM_SYNC_LOG"):
             del os.environ[key]
@@ -1062,7 +1147,7 @@ def check_replanned(wd, data):
 # GPU session runs the ones that exercise device-only paths: list and row layouts, history rows
 # that grow, migrate and go through restart)
 SECTIONS = {f.__name__[len("check_"):]: f for f in (
-    check_laws, check_heat, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_extremes,
+    check_laws, check_heat, check_oddness, check_active, check_variants, check_exclusions, check_virial, check_mismatch, check_engine, check_extremes,
     check_reach, check_periodic_images, check_two_d, check_growing, check_clumps, check_grid_cost, check_classes, check_diagnostics, check_dilute, check_occupancy, check_empty_rank,
     check_growth, check_exchange_buffer, check_precision, check_migration, check_stock_fixes, check_rom, check_pair_local,
     check_add_delete, check_restart, check_synchronisation, check_search, check_replanned)}

@@ -80,15 +80,10 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::modify_here(int p
   each_array(p, [](auto &k) { k.template modify<DeviceType>(); });
 }
 
-/* Room for a power of two of entries: LAMMPS's CommKokkos grows its send buffer by its factor
-   1.5 each time a fix's maxexchange grows (its grow_send_kokkos applies the factor where
-   CommBrick's does not), so a maxexchange that followed the longest row one contact at a time
-   grew that buffer geometrically (to 388 MB for 16,250 hot polydisperse atoms). */
+/* a row's message and its offset in CommKokkos's device layout */
 template <class DeviceType> void FixGriddemKokkos<DeviceType>::update_maxexchange()
 {
-  int room = 1;
-  while (room < longest) room *= 2;
-  maxexchange = 2 + room * (1 + nv);
+  maxexchange = 1 + GRIDDEM_ROW_MESSAGE_LENGTH(exchange_room(longest), nv);
 }
 
 /* DualView::resize keeps the contents of the side modified last and reallocates the other, to

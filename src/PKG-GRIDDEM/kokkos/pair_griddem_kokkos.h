@@ -33,6 +33,11 @@
    is computed again: an atom binned more than a cell outside the grid (planned anew from a
    scan), a list or the history rows outgrowing the room laid out (grown to what they needed).
 
+   On a host back end (Kokkos OpenMP or Serial) the style runs the CPU styles' engine instead
+   (PairGriddem::engine_step: the same grid, search and contacts, threaded by OpenMP) over fix
+   griddem's store, unless the script's fix griddem is fix griddem/kk (fix griddem under -sf kk),
+   whose pools only the kernels sweep.
+
    Laws with contact history keep it in fix griddem/kk (a row per atom, written anew each step by
    the atom's own thread with room for its list: GriddemKKSweep). Views grow, never shrink, and are
    not reallocated in a step unless a size grew.
@@ -52,6 +57,8 @@
 #include "griddem_kk_sweep.h"
 #include "kokkos_type.h"
 #include "pair_kokkos.h"
+
+#include <type_traits>
 
 namespace LAMMPS_NS {
 
@@ -134,7 +141,13 @@ class PairGriddemKokkos : public Base {
 
   DAT::tdual_virial_array k_vatom;
 
+  // a host back end (OpenMP, Serial, or the host of a GPU build): the kk style may run the CPU
+  // engine, with its threads, over fix griddem's store, which it does where the fix is fix
+  // griddem (engine) rather than fix griddem/kk
+  static constexpr bool on_host = std::is_same<DeviceType, LMPHostType>::value;
+  bool engine;
   std::string history_fix_style() const override;
+  bool sweeps(const FixGriddem &fix) const override;
   void upload_tables();
   void upload_images();
   void check_scan(const GriddemKKScanValue &sc);

@@ -29,7 +29,8 @@ namespace LAMMPS_NS {
 template <class DeviceType, class Base>
 PairGriddemKokkos<DeviceType, Base>::PairGriddemKokkos(LAMMPS *lmp) :
     Base(lmp), nmax_atoms(0), nmax_cells(0), ncell_counted(0), last_speed(0.0), boxes_known(0),
-    list_needed(0), rows_needed(0), params_stale(1), coarsened_warned_kk(0), history(nullptr)
+    list_needed(0), rows_needed(0), params_stale(1), coarsened_warned_kk(0), history(nullptr),
+    engine(false)
 {
   this->kokkosable = 1;
   this->atomKK = (AtomKokkos *) this->atom;
@@ -46,19 +47,31 @@ template <class DeviceType, class Base> PairGriddemKokkos<DeviceType, Base>::~Pa
   this->vatom = nullptr;
 }
 
+/* On a host back end the default store is fix griddem's, swept by the CPU engine; fix griddem/kk
+   (the script's fix griddem under -sf kk) keeps the kernels */
+
 template <class DeviceType, class Base>
 std::string PairGriddemKokkos<DeviceType, Base>::history_fix_style() const
 {
-  return std::is_same<DeviceType, LMPDeviceType>::value ? "griddem/kk" : "griddem/kk/host";
+  return on_host ? "griddem" : "griddem/kk";
+}
+
+template <class DeviceType, class Base>
+bool PairGriddemKokkos<DeviceType, Base>::sweeps(const FixGriddem &fix) const
+{
+  return fix.kokkosable || on_host;
 }
 
 template <class DeviceType, class Base> void PairGriddemKokkos<DeviceType, Base>::init_style()
 {
   Base::init_style();
+  engine = on_host && !this->fix()->kokkosable;
+  this->execution_space = engine ? Host : ExecutionSpaceFromDevice<DeviceType>::space;
   history = dynamic_cast<FixGriddemKokkos<DeviceType> *>(this->fix());
-  if (this->model.track_contacts && !history)
-    this->error->all(FLERR, "Pair style {} needs fix {} for its contact history, not fix {} {}",
-                     this->force->pair_style, history_fix_style(), this->fix()->id, this->fix()->style);
+  if (this->model.track_contacts && !engine && !history)
+    this->error->all(FLERR, "Pair style {} needs fix griddem/kk{} for its contact history, not fix {} {}",
+                     this->force->pair_style, std::is_same<DeviceType, LMPDeviceType>::value ? "" : "/host",
+                     this->fix()->id, this->fix()->style);
   params_stale = 1;    // init_one() fills params after init_style()
 
   // NeighborKokkos checks displacements and keeps the reneighbouring reference positions on the
@@ -175,15 +188,24 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     ~ProfilingRegion() { Kokkos::Profiling::popRegion(); }
   } region;
   this->ev_init(eflag, vflag, 0);
-  this->find_image_axes();    // the box may have changed since the radius range was found
-  if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared
+  if (this->vflag_atom) {    // grown when atom->nmax grew, else cleared where it is written
     if ((int) k_vatom.extent(0) < this->maxvatom) {
       this->memoryKK->destroy_kokkos(k_vatom, this->vatom);
       this->memoryKK->create_kokkos(k_vatom, this->vatom, this->maxvatom, "pair:vatom");
+    } else if (engine) {
+      Kokkos::deep_copy(k_vatom.h_view, 0.0);
     } else {
       Kokkos::deep_copy(k_vatom.template view<DeviceType>(), 0.0);
     }
   }
+  if (engine) {
+    this->atomKK->sync(Host, this->datamask_read | (this->exclusions.nmolecule ? MOLECULE_MASK : 0));
+    this->atomKK->modified(Host, this->datamask_modify);
+    this->engine_step();
+    if (this->vflag_atom) k_vatom.modify_host();
+    return;
+  }
+  this->find_image_axes();    // the box may have changed since the radius range was found
   if (params_stale) upload_tables();
   if (!d_report.data()) {
     d_report = Kokkos::View<GriddemKKStepReport, DeviceType>("griddem/kk:report");
@@ -770,6 +792,7 @@ void PairGriddemKokkos<DeviceType, Base>::close_step(const GriddemKKGrids &grids
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::count_occupancy(griddem_engine_stats &stats)
 {
+  if (engine) return;    // the CPU engine counted them
   auto start = d_start;
   int occupied = 0, occupancy = 0;
   griddem_kk_reduce(
