@@ -2,9 +2,13 @@
 #include "griddem_grid.h"
 
 #include <math.h>
-#include <stdlib.h>
+#include <omp.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
+
+/* points below which binning stays on one thread: a region costs more than it saves there */
+#define GRIDDEM_BIN_THREADED_MIN 16384
 
 double griddem_cell_edge(int mode, double rmin, double rmax, double value)
 {
@@ -153,14 +157,20 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   int *start = b->cell_start;
   memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
 
+  /* the cells, on the threads where there are many points (OpenMP only then: a region
+     allocates its team even for one thread) */
+  const int threaded = n >= GRIDDEM_BIN_THREADED_MIN && omp_get_max_threads() > 1;
+  if (threaded) {
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < n; i++) b->cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  } else {
+    for (int i = 0; i < n; i++) b->cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  }
+
   /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
      scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
      A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
-  for (int i = 0; i < n; i++) {
-    const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-    b->cell[i] = c;
-    start[c + 2]++;
-  }
+  for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
   long occupied = 0;
   int most = 0;
   for (long c = 0; c < g->ncell; c++) {
@@ -173,14 +183,19 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   b->max_occupancy = most;
   for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
 
-  /* the occupied cells, through their slots */
-  if (key && most > 1)
+  /* the occupied cells, through their slots; threaded, through the cells */
+  if (key && most > 1 && threaded) {
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < g->ncell; c++)
+      if (start[c + 1] - start[c] > 1) griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+  } else if (key && most > 1) {
     for (int s = 0; s < n;) {
       const long c = b->cell[b->order[s]];
       const int count = start[c + 1] - start[c];
       if (count > 1) griddem_sort_cell(b->order + s, count, key, key_bytes, x);
       s += count;
     }
+  }
   return 0;
 }
 
