@@ -34,20 +34,29 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
 /* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates may not be
  * finite: their sum is finite where they all are (a sum that overflows only sends the caller to
  * its exact check). The box is meaningless where a coordinate is NaN: the step then stops. */
+/* each comparison with the running value on the left, which x86 does in place */
+#define BOX_OF_POINT(i)                                                                            \
+  do {                                                                                             \
+    const double a = x[3 * (size_t) (i)], b = x[3 * (size_t) (i) + 1], c = x[3 * (size_t) (i) + 2]; \
+    l0 = l0 < a ? l0 : a, h0 = h0 > a ? h0 : a;                                                    \
+    l1 = l1 < b ? l1 : b, h1 = h1 > b ? h1 : b;                                                    \
+    l2 = l2 < c ? l2 : c, h2 = h2 > c ? h2 : c;                                                    \
+    sum += a + b + c;                                                                              \
+  } while (0)
+
 static int box_of(const double *x, int n, double *lo, double *hi)
 {
   double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2, sum = 0.0;
-  /* each comparison with the running value on the left, which x86 does in place */
-  for (int i = 0; i < n; i++) {
-    const double a = x[3 * (size_t) i], b = x[3 * (size_t) i + 1], c = x[3 * (size_t) i + 2];
-    l0 = l0 < a ? l0 : a, h0 = h0 > a ? h0 : a;
-    l1 = l1 < b ? l1 : b, h1 = h1 > b ? h1 : b;
-    l2 = l2 < c ? l2 : c, h2 = h2 > c ? h2 : c;
-    sum += a + b + c;
+  if (griddem_threaded(n)) {
+#pragma omp parallel for schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(+ : sum)
+    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
+  } else {
+    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
   }
   lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
   return !isfinite(sum);
 }
+#undef BOX_OF_POINT
 
 void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *scan)
 {
@@ -56,11 +65,20 @@ void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *sc
   const int suspect = p->nall > 0 && box_of(x, p->nall, lo, hi);
   /* owned particles: speed and radius */
   double vmax2 = 0.0, vsum = 0.0, rmin = INFINITY, rmax = 0.0;
-  for (int i = 0; i < p->nlocal; i++) {
-    const double *v = p->v + 3 * (size_t) i, v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    vmax2 = v2 > vmax2 ? v2 : vmax2;
-    vsum += v2;
+  const double *vel = p->v;
+#define SPEED_OF(i)                                                                                  \
+  do {                                                                                               \
+    const double *v = vel + 3 * (size_t) (i), v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];         \
+    vmax2 = v2 > vmax2 ? v2 : vmax2;                                                                 \
+    vsum += v2;                                                                                      \
+  } while (0)
+  if (griddem_threaded(p->nlocal)) {
+#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(+ : vsum)
+    for (int i = 0; i < p->nlocal; i++) SPEED_OF(i);
+  } else {
+    for (int i = 0; i < p->nlocal; i++) SPEED_OF(i);
   }
+#undef SPEED_OF
   for (int i = 0; radii && i < p->nlocal; i++) {
     const double r = p->radius[i];
     rmin = r < rmin ? r : rmin;
@@ -258,9 +276,18 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   /* the history's row of slot k is k; owned particles left out have none */
   if (s->model->track_contacts && apart_bit)
     for (int i = 0; i < p->nlocal; i++) s->row_of[i] = -1;
-  if (s->model->track_contacts)
-    for (int k = 0; k < all.n; k++)
-      if (all.order[k] < p->nlocal) s->row_of[all.order[k]] = k;
+  if (s->model->track_contacts) {
+    const int *order = all.order, nlocal = p->nlocal;
+    int *row_of = s->row_of;
+    if (griddem_threaded(all.n)) {
+#pragma omp parallel for schedule(static)
+      for (int k = 0; k < all.n; k++)
+        if (order[k] < nlocal) row_of[order[k]] = k;
+    } else {
+      for (int k = 0; k < all.n; k++)
+        if (order[k] < nlocal) row_of[order[k]] = k;
+    }
+  }
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
   e->stats.max_speed = sqrt(scan->vmax2);

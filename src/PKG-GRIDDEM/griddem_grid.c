@@ -7,9 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* points below which binning stays on one thread: a region costs more than it saves there */
-#define GRIDDEM_BIN_THREADED_MIN 16384
-
 double griddem_cell_edge(int mode, double rmin, double rmax, double value)
 {
   switch (mode) {
@@ -104,6 +101,11 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
   return coarsened;
 }
 
+int griddem_threaded(int n)
+{
+  return n >= GRIDDEM_THREADED_MIN && omp_get_max_threads() > 1;
+}
+
 static inline long clamp_cell(long c, long n)
 {
   return c < 0 ? 0 : (c >= n ? n - 1 : c);
@@ -159,7 +161,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
 
   /* the cells, on the threads where there are many points (OpenMP only then: a region
      allocates its team even for one thread) */
-  const int threaded = n >= GRIDDEM_BIN_THREADED_MIN && omp_get_max_threads() > 1;
+  const int threaded = griddem_threaded(n);
   if (threaded) {
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; i++) b->cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);

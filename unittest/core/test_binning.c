@@ -4,6 +4,7 @@
 #include "check.h"
 #include "griddem_grid.h"
 
+#include <omp.h>
 #include <stdlib.h>
 
 /* qsort's comparison of (tag, x, y, z): the reference order for griddem_sort_cell */
@@ -41,9 +42,39 @@ static void check_cell_sort(void)
   CHECK(agree, "cell sort of %d cell sizes equals qsort by (tag, position)", sizes);
 }
 
+/* binning of GRIDDEM_THREADED_MIN points and more on two threads (the cells, and the order within
+ * each cell, in parallel loops): one thread's cells and order, with tags tied in many cells */
+static void check_threaded(void)
+{
+  enum { M = 2 * GRIDDEM_THREADED_MIN };
+  static double x[3 * M];
+  static int tag[M];
+  for (int i = 0; i < M; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = -5.0 + 10.0 * check_uniform();
+    tag[i] = (int) (check_uniform() * M / 4);
+  }
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  griddem_grid g;
+  griddem_bins one = {0}, two = {0};
+  griddem_grid_cover(&g, anchor, M, x, 0.6, 1L << 30);
+  omp_set_num_threads(1);
+  CHECK(!griddem_threaded(M) && griddem_bin_points(&one, &g, M, x, tag, 4) == 0, "binned on one thread");
+  omp_set_num_threads(2);
+  CHECK(griddem_threaded(M) && !griddem_threaded(GRIDDEM_THREADED_MIN - 1) &&
+            griddem_bin_points(&two, &g, M, x, tag, 4) == 0, "binned on two threads");
+  int same = one.occupied == two.occupied && one.max_occupancy == two.max_occupancy && one.max_occupancy > 1;
+  for (int s = 0; s < M; s++) same &= one.order[s] == two.order[s] && one.cell[s] == two.cell[s];
+  for (long c = 0; c <= g.ncell; c++) same &= one.cell_start[c] == two.cell_start[c];
+  CHECK(same, "two threads bin %d points into one thread's cells and order (%ld cells, up to %d a cell)", M,
+        g.ncell, one.max_occupancy);
+  griddem_bins_free(&one);
+  griddem_bins_free(&two);
+}
+
 int main(void)
 {
   check_cell_sort();
+  check_threaded();
 
   enum { N = 2000 };
   static double x[3 * N];

@@ -7,6 +7,8 @@
 #include "griddem_engine.h"
 #include "spec_text.h"
 
+#include <omp.h>
+
 /* What a layout costs (griddem_engine_candidates). One grid of multi's edge: the sweep's forward
  * half of the 27 cells, so every unordered pair in neighbouring cells (Chebyshev distance 1) is
  * a candidate once, counted here pair by pair. A 1:100 scene (one large sphere and a cloud of
@@ -60,8 +62,36 @@ static void candidates(const griddem_model *m)
   griddem_engine_free(&e);
 }
 
+/* the scan of GRIDDEM_THREADED_MIN particles and more on two threads (min, max and sum
+ * reductions): one thread's box, fastest speed and radius range; a NaN and an infinite speed
+ * still found */
+static void scan_threaded(void)
+{
+  enum { N = 3 * GRIDDEM_THREADED_MIN };
+  static double x[3 * N], v[3 * N], rad[N];
+  for (int i = 0; i < 3 * N; i++) x[i] = -7.0 + 20.0 * check_uniform(), v[i] = -2.0 + 4.0 * check_uniform();
+  for (int i = 0; i < N; i++) rad[i] = 0.1 + check_uniform();
+  griddem_particles part = {N - 1000, N, x, v, NULL, rad, NULL, NULL, 4, NULL, NULL, 0, NULL};
+  griddem_scan one, two;
+  omp_set_num_threads(1);
+  griddem_engine_scan(&part, 1, &one);
+  omp_set_num_threads(2);
+  griddem_engine_scan(&part, 1, &two);
+  int same = one.vmax2 == two.vmax2 && one.rmin == two.rmin && one.rmax == two.rmax &&
+             one.first_nonfinite == -1 && two.first_nonfinite == -1 && !two.nonfinite_velocity;
+  for (int d = 0; d < 3; d++) same &= one.lo[d] == two.lo[d] && one.hi[d] == two.hi[d];
+  CHECK(same, "two threads scan %d particles as one: box x %g..%g, speed^2 %g, radii %g..%g", N, two.lo[0],
+        two.hi[0], two.vmax2, two.rmin, two.rmax);
+  x[3 * 40000 + 1] = NAN, v[3 * 30000 + 2] = INFINITY;
+  griddem_engine_scan(&part, 1, &two);
+  CHECK(two.first_nonfinite == 40000 && two.nonfinite_velocity, "two threads find the NaN position (%d) and the "
+        "infinite speed", two.first_nonfinite);
+  omp_set_num_threads(1);
+}
+
 int main(void)
 {
+  scan_threaded();
   griddem_pair_params table[4];
   const griddem_pair_params law = law_from_text("hooke 1e3 0 damping mass_velocity tangential gran/hooke/history 300 0 0.5");
   for (int k = 0; k < 4; k++) table[k] = law;
