@@ -559,7 +559,8 @@ def check_engine(wd, data):
     suffix: its dumps (forces and torques at step 0, state at 20) and per-atom virial equal the
     CPU style's to the bit, on 1 and 2 ranks and THREADS[-1] threads, and no Kokkos kernel
     synchronises in its compute. With the script's fix griddem under -sf kk (fix griddem/kk) it
-    runs the Kokkos kernels, which synchronise at least once a step."""
+    runs the Kokkos kernels, which synchronise at least once a step; one defined after a run of the
+    engine takes its history, and the kernels go on as the CPU style."""
     if GPUS:
         print("engine: skipped, a GPU runs the kk styles' kernels")
         return
@@ -599,6 +600,24 @@ def check_engine(wd, data):
                         "state at step 20 %s (%.3g, %.3g)" % (style, " with the script's fix griddem" if kind == "kk_fix"
                                                               else "", nprocs, "to the bit" if kind == "kk_fix"
                                                               else "to 1e-12 (fix nve/sphere/kk)", first, last))
+    # a fix griddem defined after a run (fix griddem/kk) takes the rows of the CPU store that ran
+    text = t.PERIODIC_SPHERES.format(data=data, pair=HISTORY[1], coeffs=HISTORY[3]) + (
+        "timestep 1e-5\nfix integrate all nve/sphere\nthermo 10\n"
+        "dump d all custom 20 dump.{name} id xu yu zu vx vy vz fx fy fz tqx tqy tqz\n"
+        "dump_modify d format float %.17g sort id\nrun 10\n{fix}run 10\n")
+    handed = {}
+    for kind, extra, fix in (("cpu", (), ""), ("kk", kk_args(THREADS[-1]), "fix grid all griddem\n")):
+        name = "engine_handover_" + kind
+        rc, out = plain_run_lmp(text.format(name=name, fix=fix), wd, name="in." + name, extra=extra, threads=THREADS[-1])
+        said = [line for line in out.splitlines() if "takes its contact history" in line]
+        t.check(rc == 0 and (kind == "cpu" or said), "%s: runs, the new fix taking the history (exit %d): %s %s"
+                % (name, rc, said, t.errors(out)[:1]))
+        handed[kind] = t.read_dumps(os.path.join(wd, "dump." + name)) if rc == 0 else []
+    if len(handed["cpu"]) == len(handed["kk"]) == 2:
+        err = t.max_rel_diff(handed["kk"][1], handed["cpu"][1], ["xu", "yu", "zu"] + STATE[3:] + FORCES)
+        print("%s/kk, the CPU engine for 10 steps, then the kernels with a fix griddem defined after the run, vs "
+              "the CPU style: %.2g" % (HISTORY[1].split()[0], err))
+        t.check(err <= 1e-10, "the kernels go on from the CPU engine's history as the CPU style (%.3g)" % err)
     if not sync_counter_found():
         return
     for label, fix, expected in (("own fix", "", 0), ("fix griddem/kk", "fix grid all griddem\n", 1)):
