@@ -25,12 +25,14 @@ typedef struct griddem_exclusions {
   int nmolecule;                  /* neigh_modify exclude molecule/intra and molecule/inter */
   const int *molecule_bits;       /* [nmolecule]: the group bit of each */
   const int *molecule_intra;      /* [nmolecule]: 1: pairs of one molecule, 0: of two */
+  int group_both_bits;            /* neigh_modify exclude group G G: pairs whose two masks share
+                                   * one of these bits (the pairs of two groups are group_bits') */
 } griddem_exclusions;
 
 /* Whether particles of types ta, tb and group masks ma, mb must not interact. */
 GRIDDEM_INLINE int griddem_excluded(const griddem_exclusions *e, int ta, int ma, int tb, int mb)
 {
-  if ((ma & mb & e->both_bit) || ((ma | mb) & e->apart_bit)) return 1;
+  if ((ma & mb & (e->both_bit | e->group_both_bits)) || ((ma | mb) & e->apart_bit)) return 1;
   if (e->type_pair && e->type_pair[ta * (e->ntypes + 1) + tb]) return 1;
   for (int k = 0; k < e->ngroup_pairs; k++) {
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];

@@ -704,7 +704,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
-                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit))
+                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
+                                      excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
                             {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};

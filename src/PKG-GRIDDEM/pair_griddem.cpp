@@ -300,10 +300,17 @@ void PairGriddem::setup_exclusions()
     excluded_types[a * n + b] = excluded_types[b * n + a] = 1;
   }
   excluded_groups.clear();
-  // group bits from the group indices: neighbor sets its own bits only after pair styles init
+  // group bits from the group indices: neighbor sets its own bits only after pair styles init;
+  // a group's pairs with itself in one mask of bits, tested at once
+  exclusions.group_both_bits = 0;
   for (int k = 0; k < neighbor->nex_group; k++) {
-    excluded_groups.push_back(group->bitmask[neighbor->ex1_group[k]]);
-    excluded_groups.push_back(group->bitmask[neighbor->ex2_group[k]]);
+    const int b1 = group->bitmask[neighbor->ex1_group[k]], b2 = group->bitmask[neighbor->ex2_group[k]];
+    if (b1 == b2) {
+      exclusions.group_both_bits |= b1;
+    } else {
+      excluded_groups.push_back(b1);
+      excluded_groups.push_back(b2);
+    }
   }
   excluded_molecule_bits.clear();
   excluded_molecule_intra.clear();
@@ -316,7 +323,7 @@ void PairGriddem::setup_exclusions()
   exclusions.molecule_intra = excluded_molecule_intra.data();
   exclusions.type_pair = excluded_types.empty() ? nullptr : excluded_types.data();
   exclusions.ntypes = atom->ntypes;
-  exclusions.ngroup_pairs = neighbor->nex_group;
+  exclusions.ngroup_pairs = (int) excluded_groups.size() / 2;
   exclusions.group_bits = excluded_groups.data();
   // fix griddem/rom: pairs of two kinematic atoms (both in the fix's kinematic group) are skipped,
   // and lagging atoms (its reach test keeps every other atom out of their contact distance) are in

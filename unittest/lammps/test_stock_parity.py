@@ -200,6 +200,11 @@ def main():
     exclude = "group low id <= 700\nneigh_modify exclude group low low"
     compare("hooke/history neigh_modify exclude group", run(wd, "stock_ex", data, "gran/hooke/history " + hist, exclude),
             run(wd, "grid_ex", data, "griddem/hooke/history " + hist, exclude))
+    # a group's pairs with itself (tested as one mask of bits) beside pairs of two groups, which overlap it
+    exclude = ("group low id <= 700\ngroup mid id 500:1000\ngroup high id > 1000\n"
+               "neigh_modify exclude group low low exclude group mid high exclude group high high")
+    compare("hooke/history neigh_modify exclude group, three", run(wd, "stock_ex3", data, "gran/hooke/history " + hist, exclude),
+            run(wd, "grid_ex3", data, "griddem/hooke/history " + hist, exclude))
 
     # radii 1:8: two size classes, pairs across them from the small sphere into the coarse grid
     poly = os.path.join(wd, "data.poly")
