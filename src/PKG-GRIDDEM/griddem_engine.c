@@ -31,10 +31,8 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   upper[ncls] = 0.0;
 }
 
-/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates may not be
- * finite: their sum is finite where they all are (a sum that overflows only sends the caller to
- * its exact check). The box is meaningless where a coordinate is NaN: the step then stops. */
-/* each comparison with the running value on the left, which x86 does in place */
+/* one point into the box and the sum; each comparison with the running value on the left, which
+ * x86 does in place */
 #define BOX_OF_POINT(i)                                                                            \
   do {                                                                                             \
     const double a = x[3 * (size_t) (i)], b = x[3 * (size_t) (i) + 1], c = x[3 * (size_t) (i) + 2]; \
@@ -44,6 +42,9 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
     sum += a + b + c;                                                                              \
   } while (0)
 
+/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates may not be
+ * finite: their sum is finite where they all are (a sum that overflows only sends the caller to
+ * its exact check). The box is meaningless where a coordinate is NaN: the step then stops. */
 static int box_of(const double *x, int n, double *lo, double *hi)
 {
   double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2, sum = 0.0;
