@@ -1,5 +1,6 @@
 /* The GRIDDEM engine; see griddem_engine.h. */
 #include "griddem_engine.h"
+#include "griddem_threads.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,8 +1,8 @@
 /* Grid geometry and counting-sort binning; see griddem_grid.h. */
 #include "griddem_grid.h"
+#include "griddem_threads.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -99,11 +99,6 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
   for (int d = 0; d < 3; d++) g->lo[d] = griddem_cell_face(anchor[d], h, g->k0[d]);
   g->ncell = total;
   return coarsened;
-}
-
-int griddem_threaded(int n)
-{
-  return n >= GRIDDEM_THREADED_MIN && omp_get_max_threads() > 1;
 }
 
 static inline long clamp_cell(long c, long n)

@@ -34,11 +34,6 @@ GRIDDEM_INLINE int griddem_slot_before(int a, int b, const void *key, int key_by
   return 0;
 }
 
-/* Whether a pass over n points runs on OpenMP's threads: where there are several and n is large
- * enough for a parallel region (which allocates its team even for one thread) to pay */
-#define GRIDDEM_THREADED_MIN 16384
-int griddem_threaded(int n);
-
 /* Cells up to this many centres are sorted by insertion, larger ones by heapsort. */
 #define GRIDDEM_CELL_SORT_SMALL 16
 

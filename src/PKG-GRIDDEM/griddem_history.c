@@ -1,6 +1,8 @@
 /* The CPU contact-history store; see griddem_history.h. */
 #include "griddem_history.h"
+#include "griddem_threads.h"
 
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -166,17 +168,38 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
   griddem_history_pool *p = &h->next;
   p->nrows = 0, p->used = 0;
   if (pool_reserve(p, nslot, 0, h->values) != 0) return -1;
-  long total = 0;
   const int nrows = h->cur.nrows, *count = h->cur.count;
-  for (int s = 0; s < nslot; s++) {
-    const int i = order[s];
-    p->start[s] = total;
-    p->count[s] = 0;
-    if (i < nlocal) {
-      const int row = row_of[i];
-      total += (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
+  /* the room of slot s's row: its particle's last count and a margin, none for a ghost */
+#define ROW_ROOM(s)                                                                                \
+  (order[s] < nlocal ? (row_of[order[s]] >= 0 && row_of[order[s]] < nrows ? count[row_of[order[s]]] : 0) + \
+                           GRIDDEM_HISTORY_MARGIN                                                  \
+                     : 0)
+  long total = 0;
+  if (griddem_threaded(nslot)) {
+    /* a prefix sum in two passes over one range of slots per thread: each range's sum, then its
+       start from those of the ranges before it */
+    long part[nthreads + 1];
+#pragma omp parallel num_threads(nthreads)
+    {
+      const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+      const int s0 = (int) ((long) nslot * t / nt), s1 = (int) ((long) nslot * (t + 1) / nt);
+      long sum = 0;
+      for (int s = s0; s < s1; s++) sum += ROW_ROOM(s);
+      part[t + 1] = sum;
+#pragma omp barrier
+#pragma omp single
+      {
+        part[0] = 0;
+        for (int k = 0; k < nt; k++) part[k + 1] += part[k];
+        total = part[nt];
+      }
+      long at = part[t];
+      for (int s = s0; s < s1; s++) p->start[s] = at, p->count[s] = 0, at += ROW_ROOM(s);
     }
+  } else {
+    for (int s = 0; s < nslot; s++) p->start[s] = total, p->count[s] = 0, total += ROW_ROOM(s);
   }
+#undef ROW_ROOM
   p->start[nslot] = total;
   if (pool_reserve(p, nslot, total, h->values) != 0) return -1;
   p->nrows = nslot, p->used = total;
@@ -240,7 +263,13 @@ int griddem_history_end(griddem_history *h)
     h->next = h->cur, h->cur = written;
   }
   int most = 0;
-  for (int s = 0; s < h->cur.nrows; s++) most = h->cur.count[s] > most ? h->cur.count[s] : most;
+  const int nrows = h->cur.nrows, *count = h->cur.count;
+  if (griddem_threaded(nrows)) {
+#pragma omp parallel for schedule(static) reduction(max : most)
+    for (int s = 0; s < nrows; s++) most = count[s] > most ? count[s] : most;
+  } else {
+    for (int s = 0; s < nrows; s++) most = count[s] > most ? count[s] : most;
+  }
   h->max_count = most;
   return 0;
 }

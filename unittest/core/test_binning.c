@@ -3,6 +3,7 @@
  * grids over a box put points in the cell that holds them. */
 #include "check.h"
 #include "griddem_grid.h"
+#include "griddem_threads.h"
 
 #include <omp.h>
 #include <stdlib.h>

@@ -5,6 +5,7 @@
  * velocities. */
 #include "check.h"
 #include "griddem_engine.h"
+#include "griddem_threads.h"
 #include "spec_text.h"
 
 #include <omp.h>
