@@ -8,8 +8,42 @@
  * and stays exact as a double. */
 #include "check.h"
 #include "griddem_history.h"
+#include "griddem_threads.h"
 
+#include <omp.h>
 #include <string.h>
+
+/* the next pool's row layout (a prefix sum over the slots) and the longest row on two threads,
+ * from GRIDDEM_THREADED_MIN slots on: one thread's; the ghosts' slots get no room */
+static void check_threaded_layout(void)
+{
+  enum { NSLOT = 3 * GRIDDEM_THREADED_MIN + 7, NLOCAL = 2 * GRIDDEM_THREADED_MIN };
+  static int order[NSLOT], row_of[NLOCAL];
+  static long start[2][NSLOT + 1];
+  int most[2];
+  for (int s = 0; s < NSLOT; s++) order[s] = (int) ((7L * s + 3) % NSLOT);    /* a permutation */
+  for (int i = 0; i < NLOCAL; i++) row_of[i] = i % 5 == 0 ? -1 : i / 3;
+  for (int k = 0; k < 2; k++) {
+    griddem_history h;
+    griddem_history_init(&h, 3);
+    /* rows 0..NLOCAL/3 of r % 7 contacts each (partner, then three values per contact) */
+    double entries[7 * 4] = {0.0};
+    for (int e = 0; e < 7; e++) entries[4 * e] = 100 + e;
+    for (int r = 0; r <= NLOCAL / 3; r++) griddem_history_add_row(&h, r % 7, entries, 3);
+    omp_set_num_threads(k + 1);
+    CHECK(griddem_threaded(NSLOT) == k, "%d thread(s): layout threaded %d", k + 1, k);
+    CHECK(griddem_history_begin(&h, k + 1, NSLOT, order, row_of, NLOCAL) == 0, "begin on %d thread(s)", k + 1);
+    memcpy(start[k], h.next.start, sizeof(long) * (NSLOT + 1));
+    CHECK(griddem_history_end(&h) == 0, "end");
+    most[k] = h.max_count;
+    griddem_history_free(&h);
+  }
+  omp_set_num_threads(1);
+  int same = start[0][NSLOT] == start[1][NSLOT] && start[0][NSLOT] > 0;
+  for (int s = 0; s <= NSLOT; s++) same &= start[0][s] == start[1][s];
+  CHECK(same, "two threads lay %d rows out as one (%ld entries of room)", NSLOT, start[1][NSLOT]);
+  CHECK(most[0] == most[1], "longest row %d and %d", most[0], most[1]);
+}
 
 /* keys of contacts between periodic images (griddem_history.h) */
 static void check_image_keys(void)
@@ -53,6 +87,7 @@ static void check_image_keys(void)
 int main(void)
 {
   check_image_keys();
+  check_threaded_layout();
   griddem_history h;
   griddem_history_init(&h, 3);
   const double a[] = {7, 1, 2, 3, 9, 4, 5, 6}; /* partners 7 and 9 */
