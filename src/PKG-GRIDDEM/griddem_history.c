@@ -155,6 +155,23 @@ int griddem_history_set_values(griddem_history *h, int values)
   return 0;
 }
 
+/* Rows s0 .. s1 - 1 of pool p laid out from entry at on: each with room for its particle's last
+ * count (rows of nrows, count[]) and a margin, none for a ghost; returns the entry after them */
+static long lay_rows(griddem_history_pool *p, const int *order, const int *row_of, const int *count, int nlocal,
+                     int nrows, int s0, int s1, long at)
+{
+  for (int s = s0; s < s1; s++) {
+    const int i = order[s];
+    p->start[s] = at;
+    p->count[s] = 0;
+    if (i < nlocal) {
+      const int row = row_of[i];
+      at += (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
+    }
+  }
+  return at;
+}
+
 int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
                           int nlocal)
 {
@@ -169,23 +186,16 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
   p->nrows = 0, p->used = 0;
   if (pool_reserve(p, nslot, 0, h->values) != 0) return -1;
   const int nrows = h->cur.nrows, *count = h->cur.count;
-  /* the room of slot s's row: its particle's last count and a margin, none for a ghost */
-#define ROW_ROOM(s)                                                                                \
-  (order[s] < nlocal ? (row_of[order[s]] >= 0 && row_of[order[s]] < nrows ? count[row_of[order[s]]] : 0) + \
-                           GRIDDEM_HISTORY_MARGIN                                                  \
-                     : 0)
   long total = 0;
   if (griddem_threaded(nslot)) {
-    /* a prefix sum in two passes over one range of slots per thread: each range's sum, then its
-       start from those of the ranges before it */
+    /* a prefix sum in two passes over one range of slots per thread: each range laid out from 0
+       for its length, then again from the lengths of the ranges before it */
     long part[nthreads + 1];
 #pragma omp parallel num_threads(nthreads)
     {
       const int t = omp_get_thread_num(), nt = omp_get_num_threads();
       const int s0 = (int) ((long) nslot * t / nt), s1 = (int) ((long) nslot * (t + 1) / nt);
-      long sum = 0;
-      for (int s = s0; s < s1; s++) sum += ROW_ROOM(s);
-      part[t + 1] = sum;
+      part[t + 1] = lay_rows(p, order, row_of, count, nlocal, nrows, s0, s1, 0);
 #pragma omp barrier
 #pragma omp single
       {
@@ -193,13 +203,11 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
         for (int k = 0; k < nt; k++) part[k + 1] += part[k];
         total = part[nt];
       }
-      long at = part[t];
-      for (int s = s0; s < s1; s++) p->start[s] = at, p->count[s] = 0, at += ROW_ROOM(s);
+      lay_rows(p, order, row_of, count, nlocal, nrows, s0, s1, part[t]);
     }
   } else {
-    for (int s = 0; s < nslot; s++) p->start[s] = total, p->count[s] = 0, total += ROW_ROOM(s);
+    total = lay_rows(p, order, row_of, count, nlocal, nrows, 0, nslot, 0);
   }
-#undef ROW_ROOM
   p->start[nslot] = total;
   if (pool_reserve(p, nslot, total, h->values) != 0) return -1;
   p->nrows = nslot, p->used = total;
