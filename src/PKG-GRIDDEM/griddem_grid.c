@@ -3,6 +3,7 @@
 #include "griddem_threads.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,6 +132,64 @@ long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], c
   return index;
 }
 
+/* The counting sort on threads: each thread counts the cells of its range of points; per cell,
+ * the threads' counts become each one's place in the cell (the ranges in order, so the slots come
+ * out as on one thread); one scan over the cells; each thread scatters its range. */
+static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const double *x)
+{
+  const int nthreads = omp_get_max_threads();
+  const long ncell = g->ncell, need = (long) nthreads * ncell;
+  if (need > b->thread_count_cap) {
+    free(b->thread_count);
+    b->thread_count = (int *) malloc(sizeof(int) * (size_t) need);
+    b->thread_count_cap = b->thread_count ? need : 0;
+    if (!b->thread_count) return -1;
+  }
+  int *start = b->cell_start, *counts = b->thread_count;
+  long occupied = 0;
+  int most = 0;
+#pragma omp parallel num_threads(nthreads)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int i0 = (int) ((long) n * t / nt), i1 = (int) ((long) n * (t + 1) / nt);
+    int *mine = counts + (size_t) t * (size_t) ncell;
+    memset(mine, 0, sizeof(int) * (size_t) ncell);
+    for (int i = i0; i < i1; i++) {
+      const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+      b->cell[i] = c;
+      mine[c]++;
+    }
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (long c = 0; c < ncell; c++) {
+      int sum = 0;
+      for (int u = 0; u < nt; u++) {
+        int *place = counts + (size_t) u * (size_t) ncell + c;
+        const int here = *place;
+        *place = sum, sum += here;
+      }
+      start[c + 1] = sum;
+    }
+#pragma omp single
+    {
+      start[0] = 0;
+      for (long c = 0; c < ncell; c++) {
+        const int count = start[c + 1];
+        occupied += count != 0;
+        most = count > most ? count : most;
+        start[c + 1] = start[c] + count;
+      }
+    }
+    for (int i = i0; i < i1; i++) {
+      const long c = b->cell[i];
+      b->order[start[c] + mine[c]++] = i;
+    }
+  }
+  b->occupied = occupied;
+  b->max_occupancy = most;
+  return 0;
+}
+
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes)
 {
@@ -151,36 +210,37 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   }
   b->ncell = g->ncell;
   b->n = n;
-  int *start = b->cell_start;
-  memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
-
-  /* the cells, on the threads where there are many points (OpenMP only then: a region
-     allocates its team even for one thread) */
+  /* on the threads where there are many points (OpenMP only then: a region allocates its team
+     even for one thread) */
   const int threaded = griddem_threaded(n);
   if (threaded) {
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < n; i++) b->cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    if (bin_threaded(b, g, n, x) != 0) return -1;
   } else {
-    for (int i = 0; i < n; i++) b->cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    int *start = b->cell_start;
+    memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
+    /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
+       scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
+       A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
+    for (int i = 0; i < n; i++) {
+      const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+      b->cell[i] = c;
+      start[c + 2]++;
+    }
+    long occupied = 0;
+    int most = 0;
+    for (long c = 0; c < g->ncell; c++) {
+      const int count = start[c + 2];
+      occupied += count != 0;
+      most = count > most ? count : most;
+      start[c + 2] += start[c + 1];
+    }
+    b->occupied = occupied;
+    b->max_occupancy = most;
+    for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
   }
-
-  /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
-     scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
-     A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
-  for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
-  long occupied = 0;
-  int most = 0;
-  for (long c = 0; c < g->ncell; c++) {
-    const int count = start[c + 2];
-    occupied += count != 0;
-    most = count > most ? count : most;
-    start[c + 2] += start[c + 1];
-  }
-  b->occupied = occupied;
-  b->max_occupancy = most;
-  for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
 
   /* the occupied cells, through their slots; threaded, through the cells */
+  const int *start = b->cell_start, most = b->max_occupancy;
   if (key && most > 1 && threaded) {
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < g->ncell; c++)
@@ -201,6 +261,7 @@ void griddem_bins_free(griddem_bins *b)
   free(b->cell_start);
   free(b->order);
   free(b->cell);
+  free(b->thread_count);
   memset(b, 0, sizeof(*b));
 }
 

@@ -68,6 +68,17 @@ static void check_threaded(void)
   for (long c = 0; c <= g.ncell; c++) same &= one.cell_start[c] == two.cell_start[c];
   CHECK(same, "two threads bin %d points into one thread's cells and order (%ld cells, up to %d a cell)", M,
         g.ncell, one.max_occupancy);
+  /* without keys the order within a cell is the points' order, on any number of threads */
+  omp_set_num_threads(1);
+  CHECK(griddem_bin_points(&one, &g, M, x, NULL, 0) == 0, "binned without keys on one thread");
+  omp_set_num_threads(2);
+  CHECK(griddem_bin_points(&two, &g, M, x, NULL, 0) == 0, "binned without keys on two threads");
+  int stable = 1;
+  for (int s = 0; s < M; s++) stable &= one.order[s] == two.order[s];
+  for (long c = 0; c < g.ncell; c++)
+    for (int s = one.cell_start[c] + 1; s < one.cell_start[c + 1]; s++) stable &= one.order[s - 1] < one.order[s];
+  CHECK(stable, "without keys, two threads give one thread's order, the points' order within each cell");
+  omp_set_num_threads(1);
   griddem_bins_free(&one);
   griddem_bins_free(&two);
 }
