@@ -211,9 +211,10 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   b->ncell = g->ncell;
   b->n = n;
   /* on the threads where there are many points (OpenMP only then: a region allocates its team
-     even for one thread) */
+     even for one thread), and the threads' counts of the cells (memory and work) are at most two
+     per point: not on a grid mostly empty */
   const int threaded = griddem_threaded(n);
-  if (threaded) {
+  if (threaded && (long) omp_get_max_threads() * g->ncell <= 2L * n) {
     if (bin_threaded(b, g, n, x) != 0) return -1;
   } else {
     int *start = b->cell_start;

@@ -78,6 +78,18 @@ static void check_threaded(void)
   for (long c = 0; c < g.ncell; c++)
     for (int s = one.cell_start[c] + 1; s < one.cell_start[c + 1]; s++) stable &= one.order[s - 1] < one.order[s];
   CHECK(stable, "without keys, two threads give one thread's order, the points' order within each cell");
+  /* a grid of more cells than points (the threads' counts would outweigh them): the same too */
+  griddem_grid fine;
+  griddem_grid_cover(&fine, anchor, M, x, 0.2, 1L << 30);
+  omp_set_num_threads(1);
+  CHECK(griddem_bin_points(&one, &fine, M, x, tag, 4) == 0, "fine grid on one thread");
+  omp_set_num_threads(2);
+  CHECK(griddem_bin_points(&two, &fine, M, x, tag, 4) == 0 && fine.ncell > M, "fine grid (%ld cells) on two threads",
+        fine.ncell);
+  same = 1;
+  for (int s = 0; s < M; s++) same &= one.order[s] == two.order[s];
+  for (long c = 0; c <= fine.ncell; c++) same &= one.cell_start[c] == two.cell_start[c];
+  CHECK(same, "a grid of %ld cells for %d points binned on two threads as on one", fine.ncell, M);
   omp_set_num_threads(1);
   griddem_bins_free(&one);
   griddem_bins_free(&two);
