@@ -3,6 +3,7 @@
 #include "griddem_threads.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -129,6 +130,64 @@ static int within_reach(const griddem_particles *p, int i, const double *lo, con
   return d2 < r * r;
 }
 
+/* What sorts particles into grids for bin_gathered */
+typedef struct gather_plan {
+  const griddem_particles *p;
+  const double *lo, *hi;    /* the box around the owned centres */
+  double reach;             /* ghosts farther from it are left out */
+  const double *upper;      /* the classes' radius bounds */
+  int ncls, stride, apart_bit, kinematic_bit;
+} gather_plan;
+
+/* The grid of each particle i0 .. i1 - 1 into e->order (-1: left out), counted per grid into
+ * count[]; returns how many of them are kinematic */
+static int classify_range(griddem_engine *e, const gather_plan *g, int i0, int i1, int *count)
+{
+  const griddem_particles *p = g->p;
+  int kinematic = 0;
+  for (int c = 0; c < e->ngrid; c++) count[c] = 0;
+  for (int i = i0; i < i1; i++) {
+    int c = -1;
+    if (!(p->mask[i] & g->apart_bit) && within_reach(p, i, g->lo, g->hi, g->reach)) {
+      const int kinematic_i = (p->mask[i] & g->kinematic_bit) != 0;
+      c = griddem_class_of(p->radius[i], g->upper, g->ncls) * g->stride + (kinematic_i && g->stride == 2);
+      kinematic += kinematic_i;
+      count[c]++;
+    }
+    e->order[i] = c;
+  }
+  return kinematic;
+}
+
+/* From the counts of nt ranges of particles per grid: each grid's first slot (base[ngrid + 1]),
+ * and each range's count turned into its first place in each grid; returns the kinematic ones */
+static int places_of(int ngrid, int nt, int (*count)[GRIDDEM_MAX_GRIDS], const int *kinematic_of, int *base)
+{
+  int kinematic = 0;
+  for (int c = 0; c < ngrid; c++)
+    for (int u = 0; u < nt; u++) base[c + 1] += count[u][c];
+  for (int c = 0; c < ngrid; c++) base[c + 1] += base[c];
+  for (int c = 0; c < ngrid; c++)
+    for (int u = 0, at = base[c]; u < nt; u++) {
+      const int here = count[u][c];
+      count[u][c] = at, at += here;
+    }
+  for (int u = 0; u < nt; u++) kinematic += kinematic_of[u];
+  return kinematic;
+}
+
+/* Particles i0 .. i1 - 1 gathered into their grids' slots from place[] on */
+static void gather_range(griddem_engine *e, const griddem_particles *p, int i0, int i1, int *place)
+{
+  for (int i = i0; i < i1; i++) {
+    if (e->order[i] < 0) continue;
+    const int m = place[e->order[i]]++;
+    e->member[m] = i;
+    for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
+    e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
+  }
+}
+
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
  * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; where the last
  * step binned at least as many particles with kinematic_bit (0: none) as without it
@@ -154,36 +213,33 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
      against the box around the owned centres, which bounds the distance from below) */
   const double reach = s->rmax + s->model->reach_extra;
   double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
-  for (int i = 0; i < p->nlocal; i++)
-    for (int d = 0; d < 3; d++) {
-      const double v = p->x[3 * (size_t) i + d];
-      lo[d] = (i == 0 || v < lo[d]) ? v : lo[d];
-      hi[d] = (i == 0 || v > hi[d]) ? v : hi[d];
-    }
-  /* grid of each particle to be binned (-1: left out), counted per grid */
+  if (p->nlocal > 0) box_of(p->x, p->nlocal, lo, hi);
+  /* grid of each particle to be binned (-1: left out), counted per grid; then gathered by grid,
+     in particle order within each: on threads, each counts and gathers one range of particles
+     at the place the counts of the ranges before it give */
   int base[GRIDDEM_MAX_GRIDS + 1] = {0}, kinematic = 0;
   const int stride = e->ngrid / ncls;    /* grids per size class: 2 with kinematic grids */
-  for (int i = 0; i < n; i++) {
-    int c = -1;
-    if (!(p->mask[i] & apart_bit) && within_reach(p, i, lo, hi, reach)) {
-      const int kinematic_i = (p->mask[i] & kinematic_bit) != 0;
-      c = griddem_class_of(p->radius[i], upper, ncls) * stride + (kinematic_i && stride == 2);
-      kinematic += kinematic_i;
-      base[c + 1]++;
+  const gather_plan plan = {p, lo, hi, reach, upper, ncls, stride, apart_bit, kinematic_bit};
+  if (griddem_threaded(n)) {
+    const int nthreads = omp_get_max_threads();
+    int counts[nthreads][GRIDDEM_MAX_GRIDS], kinematic_of[nthreads];
+#pragma omp parallel num_threads(nthreads)
+    {
+      const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+      const int i0 = (int) ((long) n * t / nt), i1 = (int) ((long) n * (t + 1) / nt);
+      kinematic_of[t] = classify_range(e, &plan, i0, i1, counts[t]);
+#pragma omp barrier
+#pragma omp single
+      kinematic = places_of(e->ngrid, nt, counts, kinematic_of, base);
+      gather_range(e, p, i0, i1, counts[t]);
     }
-    e->order[i] = c;
+  } else {
+    int counts[1][GRIDDEM_MAX_GRIDS], kinematic_of[1];
+    kinematic_of[0] = classify_range(e, &plan, 0, n, counts[0]);
+    kinematic = places_of(e->ngrid, 1, counts, kinematic_of, base);
+    gather_range(e, p, 0, n, counts[0]);
   }
-  for (int c = 0; c < e->ngrid; c++) base[c + 1] += base[c];
   e->kinematic_grids = kinematic_bit && kinematic >= base[e->ngrid] - kinematic;
-  int next[GRIDDEM_MAX_GRIDS];
-  for (int c = 0; c < e->ngrid; c++) next[c] = base[c];
-  for (int i = 0; i < n; i++) {
-    if (e->order[i] < 0) continue;
-    const int m = next[e->order[i]]++;
-    e->member[m] = i;
-    for (int d = 0; d < 3; d++) e->xc[3 * (size_t) m + d] = p->x[3 * (size_t) i + d];
-    e->keyc[m] = griddem_key_at(p->tag, p->tag_bytes, i);
-  }
   for (int size = 0; size < ncls; size++) {
     /* the class's grids (its kinematic twin's too) cover the class's particles */
     const int first = size * stride, nboth = base[first + stride] - base[first];
@@ -198,7 +254,14 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
       if (c > first) e->grid[c] = e->grid[first];    /* the twin: the same cells */
       if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, e->xc + 3 * (size_t) base[c], e->keyc + base[c], 8) != 0)
         return -1;
-      for (int k = 0; k < nc; k++) e->order[base[c] + k] = e->member[base[c] + e->bins[c].order[k]];
+      int *order = e->order + base[c];
+      const int *member = e->member + base[c], *binned = e->bins[c].order;
+      if (griddem_threaded(nc)) {
+#pragma omp parallel for schedule(static)
+        for (int k = 0; k < nc; k++) order[k] = member[binned[k]];
+      } else {
+        for (int k = 0; k < nc; k++) order[k] = member[binned[k]];
+      }
       cls[c].g = &e->grid[c], cls[c].b = &e->bins[c], cls[c].base = base[c];
       cls[c].rmax = ncls == 1 ? s->rmax : upper[size];
       cls[c].kinematic = c > first;

@@ -90,6 +90,47 @@ static void scan_threaded(void)
   omp_set_num_threads(1);
 }
 
+/* the gathering of size classes and fix griddem/rom's kinematic particles into their grids, on
+ * two threads from GRIDDEM_THREADED_MIN particles on (each counts and gathers one range): one
+ * thread's grids, slots and candidates, ghosts out of reach and lagging particles left out */
+static void gather_threaded(const griddem_model *m)
+{
+  enum { N = 3 * GRIDDEM_THREADED_MIN, NLOCAL = N - 4000 };
+  static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
+  static int tag[N], type[N], mask[N], order_one[N];
+  for (int i = 0; i < N; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 40.0 * check_uniform(), v[3 * i + d] = w[3 * i + d] = 0.0;
+    x[3 * i] += i >= NLOCAL ? 50.0 * (i % 2) : 0.0;    /* half the ghosts far from every owned centre */
+    rad[i] = 0.05 * pow(8.0, check_uniform()), mass[i] = 1.0, tag[i] = i % 9000 + 1, type[i] = 1;
+    mask[i] = 1 | (i % 5 == 0 ? 2 : 0) | (i % 97 == 0 ? 4 : 0);
+  }
+  const griddem_exclusions excl = {NULL, 1, 0, NULL, 2, 4};
+  griddem_particles part = {NLOCAL, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_step s;
+  memset(&s, 0, sizeof(s));
+  s.particles = part, s.model = m, s.excl = &excl, s.rmin = 0.05, s.rmax = 0.4, s.max_cells = 1L << 26;
+  s.size_classes = 1, s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, s.rmin, s.rmax, 0.0);
+  double counted[2];
+  int nslot[2], same = 1;
+  for (int k = 0; k < 2; k++) {
+    omp_set_num_threads(k + 1);
+    griddem_engine e;
+    griddem_engine_init(&e);
+    counted[k] = griddem_engine_candidates(&e, &s);
+    nslot[k] = 0;
+    for (int c = 0; c < e.ngrid; c++) nslot[k] += e.bins[c].n;
+    for (int q = 0; q < nslot[k]; q++) {
+      if (k == 0) order_one[q] = e.order[q];
+      else same &= order_one[q] == e.order[q];
+    }
+    griddem_engine_free(&e);
+  }
+  omp_set_num_threads(1);
+  CHECK(nslot[0] == nslot[1] && nslot[0] < N - 2000 && same && counted[0] == counted[1] && counted[0] > 0,
+        "two threads gather %d of %d particles (size classes, kinematic, lagging, far ghosts) into one thread's "
+        "slots: %d and %d, %g and %g candidates", nslot[1], N, nslot[0], nslot[1], counted[0], counted[1]);
+}
+
 int main(void)
 {
   scan_threaded();
@@ -186,5 +227,6 @@ int main(void)
   griddem_engine_free(&e);
   griddem_history_free(&h);
   candidates(&m);
+  gather_threaded(&m);
   return check_summary();
 }
