@@ -3,7 +3,6 @@
 #include "griddem_threads.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -221,11 +220,11 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
   const int stride = e->ngrid / ncls;    /* grids per size class: 2 with kinematic grids */
   const gather_plan plan = {p, lo, hi, reach, upper, ncls, stride, apart_bit, kinematic_bit};
   if (griddem_threaded(n)) {
-    const int nthreads = omp_get_max_threads();
+    const int nthreads = griddem_max_threads();
     int counts[nthreads][GRIDDEM_MAX_GRIDS], kinematic_of[nthreads];
 #pragma omp parallel num_threads(nthreads)
     {
-      const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+      const int t = griddem_thread_num(), nt = griddem_team_size();
       const int i0 = (int) ((long) n * t / nt), i1 = (int) ((long) n * (t + 1) / nt);
       kinematic_of[t] = classify_range(e, &plan, i0, i1, counts[t]);
 #pragma omp barrier

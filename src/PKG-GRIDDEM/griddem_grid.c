@@ -3,7 +3,6 @@
 #include "griddem_threads.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -137,7 +136,7 @@ long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], c
  * out as on one thread); one scan over the cells; each thread scatters its range. */
 static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const double *x)
 {
-  const int nthreads = omp_get_max_threads();
+  const int nthreads = griddem_max_threads();
   const long ncell = g->ncell, need = (long) nthreads * ncell;
   if (need > b->thread_count_cap) {
     free(b->thread_count);
@@ -150,7 +149,7 @@ static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const dou
   int most = 0;
 #pragma omp parallel num_threads(nthreads)
   {
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int t = griddem_thread_num(), nt = griddem_team_size();
     const int i0 = (int) ((long) n * t / nt), i1 = (int) ((long) n * (t + 1) / nt);
     int *mine = counts + (size_t) t * (size_t) ncell;
     memset(mine, 0, sizeof(int) * (size_t) ncell);
@@ -214,7 +213,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
      even for one thread), and the threads' counts of the cells (memory and work) are at most two
      per point: not on a grid mostly empty */
   const int threaded = griddem_threaded(n);
-  if (threaded && (long) omp_get_max_threads() * g->ncell <= 2L * n) {
+  if (threaded && (long) griddem_max_threads() * g->ncell <= 2L * n) {
     if (bin_threaded(b, g, n, x) != 0) return -1;
   } else {
     int *start = b->cell_start;

@@ -2,7 +2,6 @@
 #include "griddem_history.h"
 #include "griddem_threads.h"
 
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -193,7 +192,7 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
     long part[nthreads + 1];
 #pragma omp parallel num_threads(nthreads)
     {
-      const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+      const int t = griddem_thread_num(), nt = griddem_team_size();
       const int s0 = (int) ((long) nslot * t / nt), s1 = (int) ((long) nslot * (t + 1) / nt);
       part[t + 1] = lay_rows(p, order, row_of, count, nlocal, nrows, s0, s1, 0);
 #pragma omp barrier

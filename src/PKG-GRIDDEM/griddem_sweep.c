@@ -3,11 +3,9 @@
 #include "griddem_sweep.h"
 
 #include "griddem_search.h"
+#include "griddem_threads.h"
 
 #include <math.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -53,15 +51,12 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->n = n;
   ch->p = p;
   ch->keyed_by_image = p->image != NULL;
-#ifdef _OPENMP
-  if (omp_get_max_threads() > 1) {
+  if (griddem_threaded(n)) {
 #pragma omp parallel for schedule(static)
     for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
-    return 0;
+  } else {
+    for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
   }
-#endif
-  /* one thread: no OpenMP region, which allocates its team even for one */
-  for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
   return 0;
 }
 
@@ -434,11 +429,7 @@ static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
 {
   sweep_sums sums;
   memset(&sums, 0, sizeof(sums));
-#ifdef _OPENMP
-  if (model->track_contacts) sums.overflow = &hist->overflow[omp_get_thread_num()];
-#else
-  if (model->track_contacts) sums.overflow = &hist->overflow[0];
-#endif
+  if (model->track_contacts) sums.overflow = &hist->overflow[griddem_thread_num()];
   return sums;
 }
 
@@ -710,10 +701,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
                             {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
   memset(result, 0, sizeof(*result));
-  int nthreads = 1;
-#ifdef _OPENMP
-  nthreads = omp_get_max_threads();
-#endif
+  const int nthreads = griddem_max_threads();
   int nslot = 0;
   for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
   if (model->track_contacts && griddem_history_begin(hist, nthreads, nslot, order, row_of, nlocal) != 0) {

@@ -5,7 +5,9 @@
 #include "griddem_grid.h"
 #include "griddem_threads.h"
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 #include <stdlib.h>
 
 /* qsort's comparison of (tag, x, y, z): the reference order for griddem_sort_cell */
@@ -43,6 +45,7 @@ static void check_cell_sort(void)
   CHECK(agree, "cell sort of %d cell sizes equals qsort by (tag, position)", sizes);
 }
 
+#ifdef _OPENMP
 /* binning of GRIDDEM_THREADED_MIN points and more on two threads (the cells, and the order within
  * each cell, in parallel loops): one thread's cells and order, with tags tied in many cells */
 static void check_threaded(void)
@@ -94,11 +97,14 @@ static void check_threaded(void)
   griddem_bins_free(&one);
   griddem_bins_free(&two);
 }
+#endif
 
 int main(void)
 {
   check_cell_sort();
+#ifdef _OPENMP
   check_threaded();
+#endif
 
   enum { N = 2000 };
   static double x[3 * N];

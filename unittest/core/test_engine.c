@@ -8,7 +8,9 @@
 #include "griddem_threads.h"
 #include "spec_text.h"
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 
 /* What a layout costs (griddem_engine_candidates). One grid of multi's edge: the sweep's forward
  * half of the 27 cells, so every unordered pair in neighbouring cells (Chebyshev distance 1) is
@@ -63,6 +65,7 @@ static void candidates(const griddem_model *m)
   griddem_engine_free(&e);
 }
 
+#ifdef _OPENMP
 /* the scan of GRIDDEM_THREADED_MIN particles and more on two threads (min, max and sum
  * reductions): one thread's box, fastest speed and radius range; a NaN and an infinite speed
  * still found */
@@ -89,7 +92,9 @@ static void scan_threaded(void)
         "infinite speed", two.first_nonfinite);
   omp_set_num_threads(1);
 }
+#endif
 
+#ifdef _OPENMP
 /* the gathering of size classes and fix griddem/rom's kinematic particles into their grids, on
  * two threads from GRIDDEM_THREADED_MIN particles on (each counts and gathers one range): one
  * thread's grids, slots and candidates, ghosts out of reach and lagging particles left out */
@@ -130,10 +135,13 @@ static void gather_threaded(const griddem_model *m)
         "two threads gather %d of %d particles (size classes, kinematic, lagging, far ghosts) into one thread's "
         "slots: %d and %d, %g and %g candidates", nslot[1], N, nslot[0], nslot[1], counted[0], counted[1]);
 }
+#endif
 
 int main(void)
 {
+#ifdef _OPENMP
   scan_threaded();
+#endif
   griddem_pair_params table[4];
   const griddem_pair_params law = law_from_text("hooke 1e3 0 damping mass_velocity tangential gran/hooke/history 300 0 0.5");
   for (int k = 0; k < 4; k++) table[k] = law;
@@ -227,6 +235,8 @@ int main(void)
   griddem_engine_free(&e);
   griddem_history_free(&h);
   candidates(&m);
+#ifdef _OPENMP
   gather_threaded(&m);
+#endif
   return check_summary();
 }

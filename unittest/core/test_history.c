@@ -10,9 +10,12 @@
 #include "griddem_history.h"
 #include "griddem_threads.h"
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 #include <string.h>
 
+#ifdef _OPENMP
 /* the next pool's row layout (a prefix sum over the slots) and the longest row on two threads,
  * from GRIDDEM_THREADED_MIN slots on: one thread's; the ghosts' slots get no room */
 static void check_threaded_layout(void)
@@ -44,6 +47,7 @@ static void check_threaded_layout(void)
   CHECK(same, "two threads lay %d rows out as one (%ld entries of room)", NSLOT, start[1][NSLOT]);
   CHECK(most[0] == most[1], "longest row %d and %d", most[0], most[1]);
 }
+#endif
 
 /* keys of contacts between periodic images (griddem_history.h) */
 static void check_image_keys(void)
@@ -87,7 +91,9 @@ static void check_image_keys(void)
 int main(void)
 {
   check_image_keys();
+#ifdef _OPENMP
   check_threaded_layout();
+#endif
   griddem_history h;
   griddem_history_init(&h, 3);
   const double a[] = {7, 1, 2, 3, 9, 4, 5, 6}; /* partners 7 and 9 */
