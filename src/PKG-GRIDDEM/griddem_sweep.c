@@ -289,18 +289,9 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
   }
 }
 
-/* Evaluate slot s's touching candidates and empty the list. The partners' velocities and forces
- * are requested from memory first, so their loads overlap. */
+/* Evaluate slot s's touching candidates and empty the list. */
 static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
 {
-#ifdef __GNUC__
-  const griddem_channels *ch = cx->ch;
-  for (int q = 0; q < hits->n; q++) {
-    const size_t i = (size_t) cx->order[hits->slot[q]];
-    __builtin_prefetch(&ch->p->v[3 * i]);
-    __builtin_prefetch(&cx->f[3 * i], 1);
-  }
-#endif
   switch (cx->law) {
     case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 3); break;
     case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
