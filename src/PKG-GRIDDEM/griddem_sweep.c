@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200112L /* posix_memalign */
 #include "griddem_sweep.h"
 
+#include "griddem_classic_batch.h"
 #include "griddem_search.h"
 #include "griddem_threads.h"
 
@@ -87,29 +88,46 @@ static inline int64_t contact_key(const griddem_channels *ch, int from, int to)
 /* The laws a sweep's pair body is compiled for. Where every type pair's law is one of the gran
  * styles' own arithmetic (classic: gran/hooke, gran/hooke/history, gran/hertz/history), the body
  * calls it directly, with the normal model and the history size of those styles as constants;
- * every other model (and a mix of laws across type pairs) takes the composed law, the reference
- * the tests compare the others with. */
+ * where it is one and the same law with shear history for every type pair and the history
+ * advances (a step of a run), the contacts are gathered into batches that evaluate the law as
+ * vector lanes (griddem_classic_batch.h); every other model (and a mix of laws across type pairs)
+ * takes the composed law, the reference the tests compare the others with. */
 enum sweep_law {
   SWEEP_COMPOSED,
+  SWEEP_CLASSIC_BATCH,      /* gran/hooke/history or gran/hertz/history, one law, in batches */
   SWEEP_HOOKE_SHEAR,        /* gran/hooke/history: 3 shear values per contact */
   SWEEP_HOOKE_NO_HISTORY,   /* gran/hooke (or no friction): no history, no contacts kept */
   SWEEP_HERTZ_SHEAR,        /* gran/hertz/history */
   SWEEP_HERTZ_NO_HISTORY    /* gran/hertz/history without friction */
 };
 
-/* The pair body's classic argument: which classic law, or none */
-enum { COMPOSED = 0, CLASSIC_HOOKE = 1, CLASSIC_HERTZ = 2 };
+/* The pair body's classic argument: which classic law, or none; CLASSIC_BATCHED: the one law of
+ * SWEEP_CLASSIC_BATCH, evaluated in batches */
+enum { COMPOSED = 0, CLASSIC_HOOKE = 1, CLASSIC_HERTZ = 2, CLASSIC_BATCHED = 3 };
 
-static int sweep_law_of(const griddem_model *m, const griddem_history *hist)
+/* Whether two classic laws compute the same: what griddem_classic_contact reads of them */
+static int same_classic_law(const griddem_pair_params *a, const griddem_pair_params *b)
+{
+  return a->normal.model == b->normal.model && a->normal.k == b->normal.k && a->damping.damp == b->damping.damp &&
+         a->tangential.model == b->tangential.model && a->tangential.k == b->tangential.k &&
+         a->tangential.gamma_mass == b->tangential.gamma_mass && a->tangential.mu == b->tangential.mu &&
+         a->limit_damping == b->limit_damping;
+}
+
+static int sweep_law_of(const griddem_model *m, const griddem_history *hist, int history_update)
 {
   if (m->reach_extra != 0.0) return SWEEP_COMPOSED;
-  const int hertz = griddem_classic_hertz(griddem_model_pair(m, 1, 1));
+  const griddem_pair_params *first = griddem_model_pair(m, 1, 1);
+  const int hertz = griddem_classic_hertz(first);
+  int one_law = griddem_classic_batchable(first);
   for (int i = 1; i <= m->ntypes; i++)
     for (int j = 1; j <= m->ntypes; j++) {
       const griddem_pair_params *p = griddem_model_pair(m, i, j);
       if (!p->classic || griddem_classic_hertz(p) != hertz) return SWEEP_COMPOSED;
+      one_law &= same_classic_law(p, first);
     }
-  if (m->track_contacts && m->history_size == 3 && hist->values == 3) return hertz ? SWEEP_HERTZ_SHEAR : SWEEP_HOOKE_SHEAR;
+  if (m->track_contacts && m->history_size == 3 && hist->values == 3)
+    return one_law && history_update ? SWEEP_CLASSIC_BATCH : (hertz ? SWEEP_HERTZ_SHEAR : SWEEP_HOOKE_SHEAR);
   if (!m->track_contacts && m->history_size == 0) return hertz ? SWEEP_HERTZ_NO_HISTORY : SWEEP_HOOKE_NO_HISTORY;
   return SWEEP_COMPOSED;
 }
@@ -135,11 +153,26 @@ typedef struct sweep_context {
   int cluster;                    /* its width */
 } sweep_context;
 
-/* Accumulators one thread adds up over its pairs. */
+/* A contact kept for its law, seen from slot a (owned): its slots and their particles, the
+ * particles' group bits, its key in a's history row, and its law */
+typedef struct pair_ref {
+  int a, b, ia, ib, ma, mb;
+  int64_t key_b;
+  const griddem_pair_params *law;
+} pair_ref;
+
+/* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the lanes and their pairs */
+typedef struct contact_batch {
+  griddem_classic_batch lanes;
+  pair_ref ref[GRIDDEM_CLASSIC_BATCH];
+} contact_batch;
+
+/* Accumulators one thread adds up over its pairs, and its batch (SWEEP_CLASSIC_BATCH) */
 typedef struct sweep_sums {
   double virial[6];
   double energy;
   griddem_history_overflow *overflow;
+  contact_batch *batch;
 } sweep_sums;
 
 /* A body the compiler copies into each caller, specialized for the constant arguments it gets */
@@ -167,25 +200,20 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
   return griddem_classic_eval(p, c, hist, f, ti, tj, 1);
 }
 
-/* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
- * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
- * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED)
- * and values (the history values per contact, or -1: the model's, with contacts kept as it says)
- * are constants of each specialization. */
-SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
-                                  double rsq, const int classic, const int values)
+/* What precedes the law of the pair of slots a (owned) and b at squared distance rsq (within
+ * reach): the pair is left where its centres coincide (a fault), it is excluded, or (past
+ * touching) it is out of reach; otherwise ref is set and its history found (*stored; NULL: none,
+ * or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
+ * each specialization. */
+SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, double rsq, const int classic, const int track,
+                                 pair_ref *ref, const double **stored)
 {
-  griddem_channels *ch = cx->ch;
+  const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
-  const int *order = cx->order;
-  const int ia = order[a], ib = order[b];
-  const int b_owned = ib < cx->nlocal;
-  const int nv = values >= 0 ? values : m->history_size;
-  const int track = values > 0 ? 1 : (values == 0 ? 0 : m->track_contacts);
-
+  const int ia = cx->order[a], ib = cx->order[b];
   if (rsq == 0.0) {
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
-    return;
+    return 0;
   }
   const griddem_particles *p = ch->p;
   const int type_a = p->type[ia], type_b = p->type[ib], ma = p->mask[ia], mb = p->mask[ib];
@@ -193,37 +221,36 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (excl && (griddem_excluded(excl, type_a, ma, type_b, mb) ||
                (excl->nmolecule && griddem_excluded_molecules(excl, griddem_key_at(p->molecule, p->tag_bytes, ia), ma,
                                                               griddem_key_at(p->molecule, p->tag_bytes, ib), mb))))
-    return;
-
+    return 0;
   const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
-  const double ra = ch->r[a], rb = ch->r[b];
   const int64_t key_b = track ? contact_key(ch, a, b) : 0;
-  const double *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
+  *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ra, rb, stored != NULL))
-    return;
+  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
+    return 0;
+  ref->a = a, ref->b = b, ref->ia = ia, ref->ib = ib, ref->ma = ma, ref->mb = mb;
+  ref->key_b = key_b, ref->law = law;
+  return 1;
+}
 
-  griddem_contact c;
-  griddem_contact_setup(&c, dx, rsq, ra, rb, p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
-                        p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
-                        (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
-  const int heat = !classic && p->heatflow;    /* the classic laws conduct no heat */
-  if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
-
-  double hv[GRIDDEM_MAX_HISTORY];
-  for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
-
-  double fc[3], ta[3], tb[3];
-  const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
-                        : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
-                                                   : griddem_contact_eval(law, &c, hv, fc, ta, tb);
+/* What follows the law of the contact ref (separation dx, seen from a): its history values hv
+ * (seen from a; nv of them, track: contacts are kept) written to a's next row and, seen from b,
+ * to b's if b is owned; the force fc on a (b gets -fc) and the torques ta and tb added to the
+ * owned particles, the heat into a (if heat) likewise, the contact counted, its elastic energy
+ * and virial tallied. */
+SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, const pair_ref *ref, const double *dx,
+                                const double *hv, const double *fc, const double *ta, const double *tb, double energy,
+                                const int heat, double heat_into_a, const int track, const int nv, const int stored_values)
+{
+  griddem_channels *ch = cx->ch;
+  const int a = ref->a, b = ref->b, ia = ref->ia, ib = ref->ib;
+  const int b_owned = ib < cx->nlocal;
   if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
-    const int stored_values = values >= 0 ? values : cx->hist->values;
-    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, key_b, hv);
+    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, ref->key_b, hv);
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
-      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = law->parity[v] * hv[v];
+      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = ref->law->parity[v] * hv[v];
       failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, contact_key(ch, b, a), hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
@@ -238,16 +265,15 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     ch->ncontact[b]++;
   }
   if (heat) {
-    p->heatflow[ia] += c.heat;
-    if (b_owned) p->heatflow[ib] -= c.heat;
+    ch->p->heatflow[ia] += heat_into_a;
+    if (b_owned) ch->p->heatflow[ib] -= heat_into_a;
   }
 
   /* a pair shared with another process is tallied half here, half there */
   const double share = b_owned ? 1.0 : 0.5;
   sums->energy += share * energy;
   if (!cx->want_virial && !cx->vatom) return;
-  const double w[6] = {c.dx[0] * fc[0], c.dx[1] * fc[1], c.dx[2] * fc[2],
-                       c.dx[0] * fc[1], c.dx[0] * fc[2], c.dx[1] * fc[2]};
+  const double w[6] = {dx[0] * fc[0], dx[1] * fc[1], dx[2] * fc[2], dx[0] * fc[1], dx[0] * fc[2], dx[1] * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
   if (cx->vatom) {
     double *va = cx->vatom + 6 * (size_t) ia;
@@ -257,6 +283,77 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
       for (int k = 0; k < 6; k++) vb[k] += 0.5 * w[k];
     }
   }
+}
+
+/* Evaluate the batch's contacts and finish each in the order they were found */
+static void flush_batch(const sweep_context *cx, sweep_sums *sums)
+{
+  contact_batch *q = sums->batch;
+  griddem_classic_batch *l = &q->lanes;
+  if (l->n == 0) return;
+  griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
+  for (int k = 0; k < l->n; k++) {
+    const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
+    const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
+    const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
+    pair_end(cx, sums, &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1, 3, 3);
+  }
+  l->n = 0;
+}
+
+/* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
+ * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
+ * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching;
+ * CLASSIC_BATCHED: the contact joins the thread's batch, evaluated when it is full; COMPOSED) and
+ * values (the history values per contact, or -1: the model's, with contacts kept as it says) are
+ * constants of each specialization. */
+SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
+                                  double rsq, const int classic, const int values)
+{
+  const griddem_model *m = cx->model;
+  const int nv = values >= 0 ? values : m->history_size;
+  const int track = values > 0 ? 1 : (values == 0 ? 0 : m->track_contacts);
+  pair_ref ref;
+  const double *stored;
+  if (!pair_begin(cx, a, b, rsq, classic, track, &ref, &stored)) return;
+  const griddem_channels *ch = cx->ch;
+  const griddem_particles *p = ch->p;
+  const int ia = ref.ia, ib = ref.ib;
+
+  if (classic == CLASSIC_BATCHED) {
+    griddem_classic_batch *l = &sums->batch->lanes;
+    const int k = l->n;
+    for (int d = 0; d < 3; d++) {
+      l->dx[d][k] = dx[d];
+      l->vi[d][k] = p->v[3 * (size_t) ia + d], l->vj[d][k] = p->v[3 * (size_t) ib + d];
+      l->wi[d][k] = p->omega[3 * (size_t) ia + d], l->wj[d][k] = p->omega[3 * (size_t) ib + d];
+      l->shear[d][k] = stored ? stored[d] : 0.0;
+    }
+    l->rsq[k] = rsq, l->radi[k] = ch->r[a], l->radj[k] = ch->r[b];
+    l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
+    l->frozen_i[k] = (ref.ma & p->frozen_bit) != 0, l->frozen_j[k] = (ref.mb & p->frozen_bit) != 0;
+    sums->batch->ref[k] = ref;
+    if (++l->n == GRIDDEM_CLASSIC_BATCH) flush_batch(cx, sums);
+    return;
+  }
+
+  griddem_contact c;
+  griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
+                        p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
+                        (ref.ma & p->frozen_bit) != 0, (ref.mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
+  const int heat = !classic && p->heatflow;    /* the classic laws conduct no heat */
+  if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
+
+  double hv[GRIDDEM_MAX_HISTORY];
+  for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
+
+  double fc[3], ta[3], tb[3];
+  const griddem_pair_params *law = ref.law;
+  const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
+                        : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
+                                                   : griddem_contact_eval(law, &c, hv, fc, ta, tb);
+  pair_end(cx, sums, &ref, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
+           track ? (values >= 0 ? values : cx->hist->values) : 0);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
@@ -293,6 +390,7 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
 static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
 {
   switch (cx->law) {
+    case SWEEP_CLASSIC_BATCH: evaluate_hits(cx, sums, s, hits, CLASSIC_BATCHED, 3); break;
     case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 3); break;
     case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
     case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 3); break;
@@ -415,12 +513,21 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
   }
 }
 
-/* A thread's empty accumulators, with its own history overflow list */
-static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
+/* A thread's empty accumulators, with its own history overflow list, and batch (its room on the
+ * thread's stack) where the sweep's law is evaluated in batches */
+static sweep_sums thread_sums(const sweep_context *cx, contact_batch *batch)
 {
   sweep_sums sums;
   memset(&sums, 0, sizeof(sums));
-  if (model->track_contacts) sums.overflow = &hist->overflow[griddem_thread_num()];
+  if (cx->model->track_contacts) sums.overflow = &cx->hist->overflow[griddem_thread_num()];
+  if (cx->law == SWEEP_CLASSIC_BATCH) batch->lanes.n = 0, sums.batch = batch;
+  return sums;
+}
+
+/* A thread's accumulators once its pairs are found: the contacts left in its batch evaluated */
+static sweep_sums finished_sums(const sweep_context *cx, sweep_sums sums)
+{
+  if (sums.batch) flush_batch(cx, &sums), sums.batch = NULL;
   return sums;
 }
 
@@ -437,7 +544,8 @@ static sweep_sums thread_sums(const griddem_model *model, griddem_history *hist)
 static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid *l, double cut, const int *slots,
                                int n)
 {
-  sweep_sums sums = thread_sums(cx->model, cx->hist);
+  contact_batch batch;
+  sweep_sums sums = thread_sums(cx, &batch);
   const griddem_grid *g = l->g;
   const int *start = l->b->cell_start;
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
@@ -480,7 +588,7 @@ static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid
     search_cluster(cx, &sums, &hits, s, ni, 0, lo, hi, nrange, total);
     q += ni;
   }
-  return sums;
+  return finished_sums(cx, sums);
 }
 
 /* Room in the cross-class scratch for n small spheres and nslab slabs. 0, or -1 without memory. */
@@ -588,13 +696,14 @@ static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
   const long nxy = (long) g->n[0] * g->n[1];
-  sweep_sums sums = thread_sums(cx->model, cx->hist);
+  contact_batch batch;
+  sweep_sums sums = thread_sums(cx, &batch);
   for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
     const long row = b->cell[b->order[s]] / g->n[0];
     sweep_cell_row(cx, &sums, k, into, stencil, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
     s = b->cell_start[(row + 1) * g->n[0]];
   }
-  return sums;
+  return finished_sums(cx, sums);
 }
 
 /* The pairs of class k's particles with those of `into` over the same cells, by k's occupied cell
@@ -685,7 +794,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   int history_update, griddem_history *hist, const int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
-  const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist),
+  const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
                                       excl->group_both_bits))
                                 ? excl : NULL,

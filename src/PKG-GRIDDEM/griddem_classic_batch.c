@@ -1,0 +1,60 @@
+/* The classic laws over a batch of contacts; see griddem_classic_batch.h. This file is compiled
+ * without contraction into fused multiply-adds and without errno from sqrt (-ffp-contract=off,
+ * -fno-math-errno), so that its vector copies round as the scalar law. */
+#include "griddem_classic_batch.h"
+
+int griddem_classic_batchable(const griddem_pair_params *p)
+{
+  return p->classic && p->tangential.model == GRIDDEM_TANGENTIAL_HOOKE_HISTORY;
+}
+
+/* The lanes with hertz a constant, and the law's tangential model the constant it is (a batchable
+ * law's), so that no branch on them stays in the loop */
+#ifdef __GNUC__
+__attribute__((always_inline))
+#endif
+static inline void eval_lanes(const griddem_pair_params *p, griddem_classic_batch *restrict b, double dt,
+                              const int hertz)
+{
+  griddem_pair_params law = *p;
+  law.tangential.model = GRIDDEM_TANGENTIAL_HOOKE_HISTORY;
+  for (int k = 0; k < b->n; k++) {
+    double dx[3], vi[3], vj[3], wi[3], wj[3], shear[3], f[3], ti[3], tj[3];
+    for (int d = 0; d < 3; d++) {
+      dx[d] = b->dx[d][k], vi[d] = b->vi[d][k], vj[d] = b->vj[d][k];
+      wi[d] = b->wi[d][k], wj[d] = b->wj[d][k], shear[d] = b->shear[d][k];
+    }
+    griddem_contact c;
+    griddem_contact_setup(&c, dx, b->rsq[k], b->radi[k], b->radj[k], vi, vj, wi, wj, b->mi[k], b->mj[k],
+                          b->frozen_i[k], b->frozen_j[k], dt, 1);
+    b->energy[k] = griddem_classic_eval(&law, &c, shear, f, ti, tj, hertz);
+    for (int d = 0; d < 3; d++) {
+      b->shear[d][k] = shear[d];
+      b->f[d][k] = f[d], b->ti[d][k] = ti[d], b->tj[d][k] = tj[d];
+    }
+  }
+}
+
+/* One function per normal model (the vectorizer takes one loop a function), each in a copy for
+ * AVX2 processors and one for any x86-64, chosen at load time */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define BATCH_COPIES __attribute__((target_clones("arch=x86-64-v3", "default"), noinline))
+#else
+#define BATCH_COPIES
+#endif
+
+BATCH_COPIES static void eval_hooke(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
+{
+  eval_lanes(p, b, dt, 0);
+}
+
+BATCH_COPIES static void eval_hertz(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
+{
+  eval_lanes(p, b, dt, 1);
+}
+
+void griddem_classic_batch_eval(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
+{
+  if (griddem_classic_hertz(p)) eval_hertz(p, b, dt);
+  else eval_hooke(p, b, dt);
+}
