@@ -63,8 +63,17 @@ static int box_of(const double *x, int n, double *lo, double *hi)
 void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *scan)
 {
   const double *x = p->x;
-  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
-  const int suspect = p->nall > 0 && box_of(x, p->nall, lo, hi);
+  /* the owned particles' box, then the ghosts' added */
+  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0}, ghost_lo[3], ghost_hi[3];
+  int suspect = p->nlocal > 0 && box_of(x, p->nlocal, lo, hi);
+  for (int d = 0; d < 3; d++) scan->owned_lo[d] = lo[d], scan->owned_hi[d] = hi[d];
+  if (p->nall > p->nlocal) {
+    suspect |= box_of(x + 3 * (size_t) p->nlocal, p->nall - p->nlocal, ghost_lo, ghost_hi);
+    for (int d = 0; d < 3; d++) {
+      lo[d] = p->nlocal > 0 && lo[d] < ghost_lo[d] ? lo[d] : ghost_lo[d];
+      hi[d] = p->nlocal > 0 && hi[d] > ghost_hi[d] ? hi[d] : ghost_hi[d];
+    }
+  }
   /* owned particles: speed and radius */
   double vmax2 = 0.0, vsum = 0.0, rmin = INFINITY, rmax = 0.0;
   const double *vel = p->v;
@@ -199,8 +208,8 @@ static void gather_range(griddem_engine *e, const griddem_particles *p, int i0, 
  * out of reach of every owned particle, and particles with apart_bit (0: none), which touch
  * nothing this step (the scan saw the speed of every owned particle). Returns the number of
  * slots, or -1 without memory. */
-static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit, int kinematic_bit,
-                        griddem_class_grid *cls, int *coarsened)
+static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_scan *scan, int apart_bit,
+                        int kinematic_bit, griddem_class_grid *cls, int *coarsened)
 {
   const griddem_particles *p = &s->particles;
   const int n = p->nall, ncls = e->nclass;
@@ -211,8 +220,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, int apart_bit,
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
      against the box around the owned centres, which bounds the distance from below) */
   const double reach = s->rmax + s->model->reach_extra;
-  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
-  if (p->nlocal > 0) box_of(p->x, p->nlocal, lo, hi);
+  const double *lo = scan->owned_lo, *hi = scan->owned_hi;
   /* grid of each particle to be binned (-1: left out), counted per grid; then gathered by grid,
      in particle order within each: on threads, each counts and gathers one range of particles
      at the place the counts of the ranges before it give */
@@ -290,7 +298,7 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
     all->order = e->bins[0].order;
     return GRIDDEM_FAULT_NONE;
   }
-  all->n = bin_gathered(e, s, apart_bit, kinematic_bit, cls, coarsened);
+  all->n = bin_gathered(e, s, scan, apart_bit, kinematic_bit, cls, coarsened);
   all->order = e->order;
   return all->n < 0 ? GRIDDEM_FAULT_MEMORY : GRIDDEM_FAULT_NONE;
 }

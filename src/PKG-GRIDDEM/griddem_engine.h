@@ -83,6 +83,7 @@ typedef struct griddem_engine {
 typedef struct griddem_scan {
   int first_nonfinite;    /* first particle with a non-finite position, or -1 */
   double lo[3], hi[3];    /* box of the positions (meaningless without particles) */
+  double owned_lo[3], owned_hi[3]; /* box of the owned particles' positions (meaningless without) */
   double vmax2;           /* largest squared speed of an owned particle */
   int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
   double rmin, rmax;      /* radius range of the owned particles (INFINITY, 0 without; NaN

@@ -448,46 +448,60 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
     }
 }
 
+/* A stencil's rows in one grid's cells: per row, where the slots of a cell's first and past its
+ * last stencil cell begin, as offsets in cell_start from the cell row's first cell for the cell
+ * x = 0 (nx dy + nx ny dz + dxlo, and + dxhi + 1), and its cells along x; the rows' extent in y
+ * and z; the cells a cluster keeps from the row's ends for every stencil row to lie inside the
+ * grid along x. Built once per sweep of a grid, so that a cell row away from the grid's faces
+ * (all its stencil rows inside) costs nothing to set up: a row of a dilute grid holds a sphere or
+ * two. */
+typedef struct stencil_cells {
+  int nrows;
+  const griddem_stencil_row *row;
+  const long *lo, *hi;
+  const int *dxlo, *dxhi;
+  int dymin, dymax, dzmin, dzmax, xsafe_lo, xsafe_hi;
+} stencil_cells;
+
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
  * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
  * laid over the same cells (own 0: the full stencil; same_cells below). Slots of the channels
- * are a class's slots + its base. Each stencil row's cells are found once per cell row. The row's
- * slots are taken in clusters of consecutive slots (the kernel's width), whose stencil rows' slot
- * ranges cover the cells of all its spheres: a candidate is loaded once for the cluster. A
- * cluster's spheres then evaluate their contacts in slot order, each in the order its candidates
- * were found. */
-static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const griddem_class_grid *k,
-                           const griddem_class_grid *into, const griddem_stencil *stencil, int own, int y, int z)
+ * are a class's slots + its base. The row's slots are taken in clusters of consecutive slots
+ * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
+ * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
+ * slot order, each in the order its candidates were found (hits: the thread's lists, empty). */
+static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hits *hits, const griddem_class_grid *k,
+                           const griddem_class_grid *into, const stencil_cells *sc, int own, int y, int z)
 {
-  const griddem_stencil_row *rows = stencil->row;
-  const int nrows = stencil->nrows;
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
-  const int *start = b->cell_start, *partners = into->b->cell_start, base = k->base, into_base = into->base,
-            nx = g->n[0];
+  const int *start = b->cell_start, base = k->base, into_base = into->base, nx = g->n[0];
   const long nxy = (long) nx * g->n[1], rowcell = nx * (long) y + nxy * z;
   const int first = start[rowcell], last = start[rowcell + nx];
   if (first == last) return;
+  const int *row0 = into->b->cell_start + rowcell;
 
-  /* the stencil rows inside the grid: where the slots of cell x's first and past its last
-     stencil cell begin, offset by x (of the forward stencil, row 0 is the cell's own row); in
-     arrays of the stencil's own size, as a row of a dilute grid holds a sphere or two and a frame
-     sized for the largest stencil costs more to set up than the row's search */
-  const int *lo_at[nrows], *hi_at[nrows];
-  int dxlo[nrows], dxhi[nrows], nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
-  for (int r = 0; r < nrows; r++) {
-    const int yy = y + rows[r].dy, zz = z + rows[r].dz;
-    if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
-    const int *row = partners + nx * (long) yy + nxy * zz;
-    dxlo[nvalid] = rows[r].dxlo, dxhi[nvalid] = rows[r].dxhi;
-    lo_at[nvalid] = row + rows[r].dxlo, hi_at[nvalid] = row + rows[r].dxhi + 1;
-    if (-rows[r].dxlo > xsafe_lo) xsafe_lo = -rows[r].dxlo;
-    if (nx - 1 - rows[r].dxhi < xsafe_hi) xsafe_hi = nx - 1 - rows[r].dxhi;
-    nvalid++;
+  /* the stencil rows inside the grid: all of them away from its faces */
+  const int nrows = sc->nrows;
+  const long *off_lo = sc->lo, *off_hi = sc->hi;
+  const int *dxlo = sc->dxlo, *dxhi = sc->dxhi;
+  int nvalid = nrows, xsafe_lo = sc->xsafe_lo, xsafe_hi = nx - 1 - sc->xsafe_hi;
+  long kept_lo[nrows], kept_hi[nrows];
+  int kept_dxlo[nrows], kept_dxhi[nrows];
+  if (y + sc->dymin < 0 || y + sc->dymax >= g->n[1] || z + sc->dzmin < 0 || z + sc->dzmax >= g->n[2]) {
+    nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
+    for (int r = 0; r < nrows; r++) {
+      const int yy = y + sc->row[r].dy, zz = z + sc->row[r].dz;
+      if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
+      kept_lo[nvalid] = sc->lo[r], kept_hi[nvalid] = sc->hi[r];
+      kept_dxlo[nvalid] = sc->dxlo[r], kept_dxhi[nvalid] = sc->dxhi[r];
+      if (-sc->dxlo[r] > xsafe_lo) xsafe_lo = -sc->dxlo[r];
+      if (nx - 1 - sc->dxhi[r] < xsafe_hi) xsafe_hi = nx - 1 - sc->dxhi[r];
+      nvalid++;
+    }
+    off_lo = kept_lo, off_hi = kept_hi, dxlo = kept_dxlo, dxhi = kept_dxhi;
   }
 
-  cluster_hits hits;
-  cluster_hits_init(&hits);
   int lo[nrows], hi[nrows];
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
@@ -498,18 +512,18 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, const grid
     int total = 0;
     if (xa >= xsafe_lo && xb <= xsafe_hi)
       for (int q = 0; q < nvalid; q++) {
-        lo[q] = into_base + lo_at[q][xa], hi[q] = into_base + hi_at[q][xb];
+        lo[q] = into_base + row0[off_lo[q] + xa], hi[q] = into_base + row0[off_hi[q] + xb];
         total += hi[q] - lo[q];
       }
     else
       for (int q = 0; q < nvalid; q++) {
         const int x0 = xa + dxlo[q] < 0 ? 0 : xa + dxlo[q];
         const int x1 = xb + dxhi[q] >= nx ? nx - 1 : xb + dxhi[q];
-        lo[q] = into_base + lo_at[q][x0 - dxlo[q]], hi[q] = into_base + hi_at[q][x1 - dxhi[q]];
+        lo[q] = into_base + row0[off_lo[q] - dxlo[q] + x0], hi[q] = into_base + row0[off_hi[q] - dxhi[q] + x1];
         total += hi[q] - lo[q];
       }
     if (own) lo[0] = base + s0 + 1;
-    search_cluster(cx, sums, &hits, base + s0, ni, own, lo, hi, nvalid, total);
+    search_cluster(cx, sums, hits, base + s0, ni, own, lo, hi, nvalid, total);
   }
 }
 
@@ -691,16 +705,18 @@ static void add_sums(double *totals, sweep_sums sums)
 /* The pairs from class k's occupied cell rows in the cell layers zlo .. zhi - 1 (one slab), found
  * through their slots: a dilute grid costs nothing extra */
 static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *k, const griddem_class_grid *into,
-                             const griddem_stencil *stencil, int own, int zlo, int zhi)
+                             const stencil_cells *sc, int own, int zlo, int zhi)
 {
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
   const long nxy = (long) g->n[0] * g->n[1];
   contact_batch batch;
   sweep_sums sums = thread_sums(cx, &batch);
+  cluster_hits hits;
+  cluster_hits_init(&hits);
   for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
     const long row = b->cell[b->order[s]] / g->n[0];
-    sweep_cell_row(cx, &sums, k, into, stencil, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
+    sweep_cell_row(cx, &sums, &hits, k, into, sc, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
     s = b->cell_start[(row + 1) * g->n[0]];
   }
   return finished_sums(cx, sums);
@@ -722,16 +738,30 @@ static int sweep_rows(const sweep_context *cx, const griddem_class_grid *k, cons
   if (griddem_stencil_build(&stencil, g->h, contact_reach(g, k->rmax, into->rmax, cx->model->reach_extra),
                             own ? GRIDDEM_STENCIL_FORWARD : GRIDDEM_STENCIL_FULL) != 0)
     return -1;
-  const int reach = stencil.row[stencil.nrows - 1].dz;    /* the last layer it visits */
+  const int nrows = stencil.nrows, nx = g->n[0];
+  long off_lo[nrows], off_hi[nrows];
+  int dxlo[nrows], dxhi[nrows];
+  stencil_cells sc = {nrows, stencil.row, off_lo, off_hi, dxlo, dxhi, 0, 0, 0, 0, 0, 0};
+  for (int r = 0; r < nrows; r++) {
+    const griddem_stencil_row *row = &stencil.row[r];
+    const long offset = nx * (long) row->dy + (long) nx * g->n[1] * row->dz;
+    off_lo[r] = offset + row->dxlo, off_hi[r] = offset + row->dxhi + 1;
+    dxlo[r] = row->dxlo, dxhi[r] = row->dxhi;
+    sc.dymin = row->dy < sc.dymin ? row->dy : sc.dymin, sc.dymax = row->dy > sc.dymax ? row->dy : sc.dymax;
+    sc.dzmin = row->dz < sc.dzmin ? row->dz : sc.dzmin, sc.dzmax = row->dz > sc.dzmax ? row->dz : sc.dzmax;
+    sc.xsafe_lo = -row->dxlo > sc.xsafe_lo ? -row->dxlo : sc.xsafe_lo;
+    sc.xsafe_hi = row->dxhi > sc.xsafe_hi ? row->dxhi : sc.xsafe_hi;
+  }
+  const int reach = sc.dzmax;    /* the last layer it visits */
   const int thick = slab_thickness(g->n[2], nthreads, reach), colours = own ? 2 : 3;
   const int nslab = (g->n[2] + thick - 1) / thick;
   double part[7] = {0.0};
   if (nslab == 1)    /* one thread: no OpenMP region, which allocates its team even for one */
-    add_sums(part, sweep_slab(cx, k, into, &stencil, own, 0, g->n[2]));
+    add_sums(part, sweep_slab(cx, k, into, &sc, own, 0, g->n[2]));
   for (int colour = 0; colour < colours && nslab > 1; colour++) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : part[:7])
     for (int q = colour; q < nslab; q += colours)
-      add_sums(part, sweep_slab(cx, k, into, &stencil, own, q * thick,
+      add_sums(part, sweep_slab(cx, k, into, &sc, own, q * thick,
                                 (q + 1) * thick < g->n[2] ? (q + 1) * thick : g->n[2]));
   }
   for (int c = 0; c < 7; c++) totals[c] += part[c];
