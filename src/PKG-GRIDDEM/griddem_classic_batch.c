@@ -1,6 +1,8 @@
 /* The classic laws over a batch of contacts; see griddem_classic_batch.h. This file is compiled
- * without contraction into fused multiply-adds and without errno from sqrt (-ffp-contract=off,
- * -fno-math-errno), so that its vector copies round as the scalar law. */
+ * without contraction into fused multiply-adds (-ffp-contract=off), so that its vector copies
+ * round as the scalar law, and with sqrt setting no errno and floating-point operations assumed
+ * not to trap (-fno-math-errno, -fno-trapping-math), so that the law's branches become selects
+ * between lanes (which changes no value). */
 #include "griddem_classic_batch.h"
 
 int griddem_classic_batchable(const griddem_pair_params *p)
@@ -36,8 +38,9 @@ static inline void eval_lanes(const griddem_pair_params *p, griddem_classic_batc
 }
 
 /* One function per normal model (the vectorizer takes one loop a function), each in a copy for
- * AVX2 processors and one for any x86-64, chosen at load time */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+ * AVX2 processors and one for any x86-64, chosen at load time (by the C library's indirect
+ * functions: GCC on glibc) */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__)
 #define BATCH_COPIES __attribute__((target_clones("arch=x86-64-v3", "default"), noinline))
 #else
 #define BATCH_COPIES
