@@ -37,21 +37,13 @@ static inline void eval_lanes(const griddem_pair_params *p, griddem_classic_batc
   }
 }
 
-/* One function per normal model (the vectorizer takes one loop a function), each in a copy for
- * AVX2 processors and one for any x86-64, chosen at load time (by the C library's indirect
- * functions: GCC on glibc) */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__)
-#define BATCH_COPIES __attribute__((target_clones("arch=x86-64-v3", "default"), noinline))
-#else
-#define BATCH_COPIES
-#endif
-
-BATCH_COPIES static void eval_hooke(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
+/* One function per normal model, each in copies by processor */
+GRIDDEM_VECTOR_COPIES static void eval_hooke(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
 {
   eval_lanes(p, b, dt, 0);
 }
 
-BATCH_COPIES static void eval_hertz(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
+GRIDDEM_VECTOR_COPIES static void eval_hertz(const griddem_pair_params *p, griddem_classic_batch *b, double dt)
 {
   eval_lanes(p, b, dt, 1);
 }

@@ -116,6 +116,14 @@ static inline long cell_index(const griddem_grid *g, double x, double y, double 
   return axis_cell(g, 0, x) + (long) g->n[0] * (axis_cell(g, 1, y) + (long) g->n[1] * axis_cell(g, 2, z));
 }
 
+/* The cells of points i0 .. i1 - 1 of x (interleaved) into cell, lanes of points at once where
+ * the processor has them */
+GRIDDEM_VECTOR_COPIES static void cells_of(const griddem_grid *restrict g, int i0, int i1, const double *restrict x,
+                                           long *restrict cell)
+{
+  for (int i = i0; i < i1; i++) cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+}
+
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
 {
   return cell_index(g, x, y, z);
@@ -153,11 +161,8 @@ static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const dou
     const int i0 = (int) ((long) n * t / nt), i1 = (int) ((long) n * (t + 1) / nt);
     int *mine = counts + (size_t) t * (size_t) ncell;
     memset(mine, 0, sizeof(int) * (size_t) ncell);
-    for (int i = i0; i < i1; i++) {
-      const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-      b->cell[i] = c;
-      mine[c]++;
-    }
+    cells_of(g, i0, i1, x, b->cell);
+    for (int i = i0; i < i1; i++) mine[b->cell[i]]++;
 #pragma omp barrier
 #pragma omp for schedule(static)
     for (long c = 0; c < ncell; c++) {
@@ -221,11 +226,8 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
        scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
        A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
-    for (int i = 0; i < n; i++) {
-      const long c = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-      b->cell[i] = c;
-      start[c + 2]++;
-    }
+    cells_of(g, 0, n, x, b->cell);
+    for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
     long occupied = 0;
     int most = 0;
     for (long c = 0; c < g->ncell; c++) {

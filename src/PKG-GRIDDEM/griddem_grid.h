@@ -161,11 +161,15 @@ GRIDDEM_INLINE long griddem_floor_index(double v)
 
 /* The cell along one axis of a grid (faces at anchor + k / hinv, n cells from k = k0) that holds
  * coordinate x, clamped to the grid: points on or past the upper faces go to the last cell. How
- * both the CPU engine (griddem_cell_of) and the Kokkos styles place a point. */
+ * both the CPU engine (griddem_cell_of) and the Kokkos styles place a point. In double, where
+ * the grid's integers are exact, so that a loop over points vectorizes (floor, min and max of
+ * lanes). */
 GRIDDEM_INLINE int griddem_axis_cell(double x, double anchor, double hinv, long k0, int n)
 {
-  const long c = griddem_floor_index((x - anchor) * hinv) - k0;
-  return c < 0 ? 0 : (c >= n ? n - 1 : (int) c);
+  double c = floor((x - anchor) * hinv) - (double) k0;
+  c = c < 0.0 ? 0.0 : c;
+  c = c > (double) (n - 1) ? (double) (n - 1) : c;
+  return (int) c;
 }
 
 /* The face k of a grid along one axis (faces at anchor + k h): the lower corner of the CPU grid

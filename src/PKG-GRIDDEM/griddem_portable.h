@@ -11,6 +11,15 @@
 #define GRIDDEM_INLINE static inline
 #endif
 
-#include <math.h>
+#include <math.h> /* and with it the C library's name (__GLIBC__) */
+
+/* A loop's function in a copy for AVX2 processors and one for any x86-64, chosen at load time (by
+ * the C library's indirect functions: GCC on glibc), where the build targets no particular
+ * processor; elsewhere one copy. The vectorizer takes one loop a function: give each its own. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__)
+#define GRIDDEM_VECTOR_COPIES __attribute__((target_clones("arch=x86-64-v3", "default"), noinline))
+#else
+#define GRIDDEM_VECTOR_COPIES
+#endif
 
 #endif

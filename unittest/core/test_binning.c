@@ -1,6 +1,7 @@
 /* Binning: the counting sort is a permutation, cells are in order, slots within a cell are in
  * key order (a cell's sort agrees with libc's qsort, for cells of every size and tied tags), occupancy statistics match a direct count, and dilute boxes are coarsened; output
- * grids over a box put points in the cell that holds them. */
+ * grids over a box put points in the cell that holds them; points on and near the cells' faces go to the cells
+ * their faces' numbers say. */
 #include "check.h"
 #include "griddem_grid.h"
 #include "griddem_threads.h"
@@ -8,6 +9,8 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 /* qsort's comparison of (tag, x, y, z): the reference order for griddem_sort_cell */
@@ -99,9 +102,53 @@ static void check_threaded(void)
 }
 #endif
 
+/* Points on the cells' faces go to the cell above the face, points just below a face to the cell
+ * below it, points past the grid to its end cells: the cells binning puts them in (lanes of
+ * points at once where the processor has them) against their faces' numbers. Every coordinate
+ * and difference here is a multiple of h / 1024 (h a power of two), exact in double, so the
+ * expected cell is the face's k - k0. */
+static void check_faces(void)
+{
+  enum { N = 3 * 41 };
+  const double anchor[3] = {-1.0, 0.5, 2.0}, lo[3] = {-3.0, -1.0, 0.0}, hi[3] = {3.0, 1.0, 4.0}, h = 0.25;
+  griddem_grid g;
+  griddem_bins b = {0};
+  CHECK(griddem_grid_fit(&g, anchor, lo, hi, h, 1L << 30) == 0, "no coarsening wanted");
+  static double x[3 * N];
+  static long expect[N];
+  for (int i = 0; i < N; i++) {
+    /* face k from 4 below the grid's first to 4 past its last, on it, h / 1024 below it, or
+       half a cell above; each axis its own face */
+    const int kind = i % 3;
+    long cell = 0, stride = 1;
+    for (int d = 0; d < 3; d++) {
+      const long k = g.k0[d] - 4 + (i / 3 + 7 * d) % (g.n[d] + 8);
+      const double face = anchor[d] + (double) k * h;
+      x[3 * i + d] = kind == 0 ? face : (kind == 1 ? face - h / 1024.0 : face + 0.5 * h);
+      long c = k - g.k0[d] - (kind == 1);
+      c = c < 0 ? 0 : (c >= g.n[d] ? g.n[d] - 1 : c);
+      cell += stride * c, stride *= g.n[d];
+    }
+    expect[i] = cell;
+  }
+  CHECK(griddem_bin_points(&b, &g, N, x, NULL, 0) == 0, "binning");
+  int right = 1;
+  for (long c = 0; c < g.ncell; c++)
+    for (int s = b.cell_start[c]; s < b.cell_start[c + 1]; s++) {
+      const int i = b.order[s];
+      if (expect[i] != c) right = 0, fprintf(stderr, "point %d (%.17g %.17g %.17g) in cell %ld, not %ld\n", i,
+                                              x[3 * i], x[3 * i + 1], x[3 * i + 2], c, expect[i]);
+    }
+  CHECK(right, "points on, below and past the faces in their cells");
+  for (int i = 0; i < N; i++) right &= griddem_cell_of(&g, x[3 * i], x[3 * i + 1], x[3 * i + 2]) == expect[i];
+  CHECK(right, "griddem_cell_of agrees");
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
   check_cell_sort();
+  check_faces();
 #ifdef _OPENMP
   check_threaded();
 #endif
