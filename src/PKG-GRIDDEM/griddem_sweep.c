@@ -222,7 +222,8 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, double r
                (excl->nmolecule && griddem_excluded_molecules(excl, griddem_key_at(p->molecule, p->tag_bytes, ia), ma,
                                                               griddem_key_at(p->molecule, p->tag_bytes, ib), mb))))
     return 0;
-  const griddem_pair_params *law = griddem_model_pair(m, type_a, type_b);
+  /* the batches' pairs all have the one law */
+  const griddem_pair_params *law = classic == CLASSIC_BATCHED ? griddem_model_pair(m, 1, 1) : griddem_model_pair(m, type_a, type_b);
   const int64_t key_b = track ? contact_key(ch, a, b) : 0;
   *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
@@ -313,16 +314,15 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const griddem_model *m = cx->model;
   const int nv = values >= 0 ? values : m->history_size;
   const int track = values > 0 ? 1 : (values == 0 ? 0 : m->track_contacts);
-  pair_ref ref;
-  const double *stored;
-  if (!pair_begin(cx, a, b, rsq, classic, track, &ref, &stored)) return;
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
-  const int ia = ref.ia, ib = ref.ib;
-
-  if (classic == CLASSIC_BATCHED) {
+  const double *stored;
+  if (classic == CLASSIC_BATCHED) {    /* the pair goes straight to its lane's place */
     griddem_classic_batch *l = &sums->batch->lanes;
     const int k = l->n;
+    const pair_ref *ref = &sums->batch->ref[k];
+    if (!pair_begin(cx, a, b, rsq, classic, track, &sums->batch->ref[k], &stored)) return;
+    const int ia = ref->ia, ib = ref->ib;
     for (int d = 0; d < 3; d++) {
       l->dx[d][k] = dx[d];
       l->vi[d][k] = p->v[3 * (size_t) ia + d], l->vj[d][k] = p->v[3 * (size_t) ib + d];
@@ -331,11 +331,13 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
     }
     l->rsq[k] = rsq, l->radi[k] = ch->r[a], l->radj[k] = ch->r[b];
     l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
-    l->frozen_i[k] = (ref.ma & p->frozen_bit) != 0, l->frozen_j[k] = (ref.mb & p->frozen_bit) != 0;
-    sums->batch->ref[k] = ref;
+    l->frozen_i[k] = (ref->ma & p->frozen_bit) != 0, l->frozen_j[k] = (ref->mb & p->frozen_bit) != 0;
     if (++l->n == GRIDDEM_CLASSIC_BATCH) flush_batch(cx, sums);
     return;
   }
+  pair_ref ref;
+  if (!pair_begin(cx, a, b, rsq, classic, track, &ref, &stored)) return;
+  const int ia = ref.ia, ib = ref.ib;
 
   griddem_contact c;
   griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,

@@ -80,6 +80,18 @@ static void check_image_keys(void)
     }
   const int m16[3] = {0, 0, 16};
   CHECK(distinct && griddem_image_key(tag, 0, griddem_image_code(m16, 7)) == tag, "images 0..15 apart distinct, 16 aliased");
+  /* every pair of codes: the relative image is each axis's difference modulo 2^GRIDDEM_IMAGE_BITS */
+  long wrong = 0;
+  for (int a = 0; a < 1 << (3 * GRIDDEM_IMAGE_BITS); a++)
+    for (int b = 0; b < 1 << (3 * GRIDDEM_IMAGE_BITS); b++) {
+      int64_t want = 0;
+      for (int d = 0; d < 3; d++) {
+        const int field = (a >> (GRIDDEM_IMAGE_BITS * d) & GRIDDEM_IMAGE_MASK) - (b >> (GRIDDEM_IMAGE_BITS * d) & GRIDDEM_IMAGE_MASK);
+        want |= (int64_t) ((field + (1 << GRIDDEM_IMAGE_BITS)) % (1 << GRIDDEM_IMAGE_BITS)) << (GRIDDEM_IMAGE_BITS * d);
+      }
+      wrong += griddem_image_key(tag, b, a) != (tag | want << GRIDDEM_KEY_TAG_BITS);
+    }
+  CHECK(wrong == 0, "relative images of every pair of codes: %ld wrong", wrong);
   /* the largest key: tag below 2^GRIDDEM_KEY_TAG_BITS, every axis's image 15 */
   const int m15[3] = {15, 15, 15};
   const int64_t most = griddem_image_key(((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1, 0, griddem_image_code(m15, 7));
