@@ -338,7 +338,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   const griddem_scan *scan = s->scan;
   if (!scan) griddem_engine_scan(p, 0, &own_scan), scan = &own_scan;
   result->fault = engine_bin(e, s, scan, cls, &all, coarsened);
-  if (result->fault || griddem_channels_fill(&e->channels, &all, p, scan->lo, scan->hi) != 0) {
+  if (result->fault || griddem_channels_fill(&e->channels, &all, p) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
@@ -379,6 +379,6 @@ double griddem_engine_memory(const griddem_engine *e)
   double bins = (double) e->work_cap * (2 * sizeof(int) + 3 * sizeof(double) + sizeof(int64_t));
   for (int c = 0; c < GRIDDEM_MAX_GRIDS; c++)
     bins += (double) e->bins[c].ncell_cap * sizeof(int) + (double) e->bins[c].n_cap * (sizeof(int) + sizeof(long));
-  return bins + (double) ch->cap * (4 * sizeof(double) + 4 * sizeof(float) + sizeof(int64_t) + sizeof(int)) +
+  return bins + (double) ch->cap * (4 * sizeof(double) + sizeof(int64_t) + sizeof(int)) +
       (double) ch->image_cap * sizeof(int) + (double) ch->across_cap * 2 * sizeof(int) + (double) ch->first_cap * sizeof(int);
 }

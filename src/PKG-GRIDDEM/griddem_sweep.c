@@ -30,17 +30,15 @@ static inline void fill_slot(griddem_channels *ch, int i, const griddem_particle
   ch->ncontact[s] = 0;
 }
 
-int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p, const double lo[3],
-                          const double hi[3])
+int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p)
 {
   const int n = b->n;
-  if (n + GRIDDEM_SHADOW_PAD > ch->cap) {
+  if (n > ch->cap) {
     const int cap = n + n / 4 + 16;
     if (grow_aligned((void **) &ch->x, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->y, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->z, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->r, sizeof(double), cap) != 0 ||
-        grow_aligned((void **) &ch->shadow, 4 * sizeof(float), cap) != 0 ||
         grow_aligned((void **) &ch->tag, sizeof(int64_t), cap) != 0 ||
         grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
       return -1;
@@ -60,14 +58,12 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   } else {
     for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
   }
-  ch->frame = griddem_shadow_frame_of(lo, hi);
-  if (griddem_touching_reads_shadow()) griddem_shadow_fill(&ch->frame, n, ch->x, ch->y, ch->z, ch->r, ch->shadow);
   return 0;
 }
 
 void griddem_channels_free(griddem_channels *ch)
 {
-  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->shadow), free(ch->tag), free(ch->image), free(ch->ncontact);
+  free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->image), free(ch->ncontact);
   free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
@@ -835,7 +831,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                                       excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
-                            {ch->x, ch->y, ch->z, ch->r, ch->shadow, ch->n, ch->frame}, griddem_touching(), griddem_touching_width()};
+                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
   memset(result, 0, sizeof(*result));
   const int nthreads = griddem_max_threads();
   int nslot = 0;

@@ -9,7 +9,6 @@
 #include "griddem_contact.h"
 #include "griddem_exclusions.h"
 #include "griddem_grid.h"
-#include "griddem_search.h"
 #include "griddem_history.h"
 
 #include <stdint.h>
@@ -44,9 +43,6 @@ typedef struct griddem_channels {
   int n, cap;
   const griddem_particles *p;  /* of the last fill */
   double *x, *y, *z, *r;       /* per slot */
-  float *shadow;               /* per slot, and its pad: x y z r in float (griddem_search.h),
-                                  filled where the sweep's kernel reads it */
-  griddem_shadow_frame frame;  /* the shadow's */
   int64_t *tag;
   int *image;                  /* per slot: its particle's image code, if keyed_by_image */
   int keyed_by_image, image_cap; /* the particles had images: contacts keyed by partner and image */
@@ -55,10 +51,7 @@ typedef struct griddem_channels {
   int across_cap, first_cap;
 } griddem_channels;
 
-/* The channels of the particles p in the order of b, with their shadow (where the sweep's kernel
- * reads it) for centres in the box lo..hi. 0, or -1 without memory. */
-int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p, const double lo[3],
-                          const double hi[3]);
+int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p);
 void griddem_channels_free(griddem_channels *ch);
 
 

@@ -19,14 +19,6 @@
 #include <string.h>
 
 enum { N = 400 };
-/* The channels of the binned particles, their shadow for the grid's box (which holds them) */
-static void fill_channels(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p, const griddem_grid *g)
-{
-  double hi[3];
-  for (int d = 0; d < 3; d++) hi[d] = g->lo[d] + g->n[d] * g->h;
-  griddem_channels_fill(ch, b, p, g->lo, hi);
-}
-
 static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
 static int tag[N], type[N], mask[N];
 
@@ -139,7 +131,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
       for (int k = 0; k < 3 * N; k++) x[k] *= 1.003;
     griddem_grid_cover(&g, anchor, N, x, griddem_cell_edge(mode, rmin, rmax, 0.13), 1L << 26);
     griddem_bin_points(&b, &g, N, x, tag, 4);
-    fill_channels(&ch, &b, &part, &g);
+    griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
     const griddem_class_grid one = {&g, &b, 0, rmax, 0};
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
@@ -257,7 +249,7 @@ static void check_faults(void)
 
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
-  fill_channels(&ch, &b, &part, &g);
+  griddem_channels_fill(&ch, &b, &part);
   const griddem_class_grid one = {&g, &b, 0, 1.0, 0};
   griddem_sweep(&one, 1, b.order, &ch, 3, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
@@ -275,7 +267,7 @@ static void check_faults(void)
   for (int step = 0; step < 2; step++) {
     griddem_grid_cover(&g, anchor, M, px, 2.0, 1000);
     griddem_bin_points(&b, &g, M, px, ptag, 4);
-    fill_channels(&ch, &b, &part, &g);
+    griddem_channels_fill(&ch, &b, &part);
     griddem_sweep(&one, 1, b.order, &ch, M, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
     for (int k = 0; k < M; k++) row_of[b.order[k]] = k;
     CHECK(res.fault == GRIDDEM_FAULT_NONE && res.max_contacts == M - 1,
