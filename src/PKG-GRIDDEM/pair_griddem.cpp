@@ -29,7 +29,7 @@ using namespace LAMMPS_NS;
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
-    conducts_heat(false), coarsened_warned(0), cost_warned(0), cost_natoms(-1), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
+    conducts_heat(false), coarsened_warned(0), cost_warned(0), cost_natoms(-1), auto_one_grid(0), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   comm_forward = 1;               // rigid bodies' masses (contact_masses())
@@ -578,13 +578,21 @@ void PairGriddem::unpack_forward_comm(int n, int first, double *buf)
    grid per size class: at a large size ratio, multi's cells sized for the largest sphere hold
    many small ones. Measured on the host's atoms at the start of each run and when the atom count
    changes (grid_cost_due(), the same on every process): the candidate pairs the sweep tests on
-   each layout, and the most centres in one cell; warned once. */
+   each layout, and the most centres in one cell; warned once. Cell auto takes the measure to
+   choose: one grid (multi's) where the grids per class would not test fewer candidates by more
+   than GRIDDEM_AUTO_ONE_GRID, else a grid per class. */
 
 bool PairGriddem::grid_cost_due() const
 {
   const int mode = fix()->options.cell_mode;
-  if (cost_warned || mode == GRIDDEM_CELL_AUTO || mode == GRIDDEM_CELL_CLASSES || rmax == 0.0) return false;
+  if (mode == GRIDDEM_CELL_CLASSES || rmax == 0.0 || (cost_warned && mode != GRIDDEM_CELL_AUTO)) return false;
   return update->setupflag || atom->natoms != cost_natoms;
+}
+
+bool PairGriddem::grid_per_class() const
+{
+  const int mode = fix()->options.cell_mode;
+  return mode == GRIDDEM_CELL_CLASSES || (mode == GRIDDEM_CELL_AUTO && !auto_one_grid);
 }
 
 void PairGriddem::check_grid_cost()
@@ -615,6 +623,10 @@ void PairGriddem::check_grid_cost()
   MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&most_local, &most, 1, MPI_INT, MPI_MAX, world);
   const double natoms = MAX((double) atom->natoms, 1.0), here = total[0] / natoms, defaults = total[1] / natoms;
+  if (mode == GRIDDEM_CELL_AUTO) {
+    auto_one_grid = total[0] <= GRIDDEM_AUTO_ONE_GRID * total[1];
+    return;
+  }
   if (here <= GRIDDEM_COST_RATIO_WARN * defaults && most <= GRIDDEM_OCCUPANCY_WARN) return;
   cost_warned = 1;
   const std::string name = mode == GRIDDEM_CELL_EXACT ? "exact" : mode == GRIDDEM_CELL_MULTI ? "multi"
@@ -664,7 +676,7 @@ void PairGriddem::engine_step()
   step.scan = &scan;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
   step.cell_edge = griddem_cell_edge(options.cell_mode, rmin, rmax, options.cell_edge);
-  step.size_classes = options.cell_mode == GRIDDEM_CELL_CLASSES || options.cell_mode == GRIDDEM_CELL_AUTO;
+  step.size_classes = grid_per_class();
   step.rmin = rmin;
   step.max_cells = GRIDDEM_ONE_GRID_MAX_CELLS(nall);
   step.rmax = rmax;

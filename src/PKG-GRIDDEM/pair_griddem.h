@@ -24,6 +24,9 @@ namespace LAMMPS_NS {
 // this many centres in one cell
 #define GRIDDEM_COST_RATIO_WARN 8
 #define GRIDDEM_OCCUPANCY_WARN 64
+// cell auto takes one grid where it tests at most this many times the candidates per atom of a
+// grid per size class (whose every further grid and pairs across classes cost their own passes)
+#define GRIDDEM_AUTO_ONE_GRID 1.5
 
 class PairGriddem : public Pair, public GriddemPairLink {
  public:
@@ -63,6 +66,9 @@ class PairGriddem : public Pair, public GriddemPairLink {
   int coarsened_warned;
   int cost_warned;        // check_grid_cost() warned
   bigint cost_natoms;     // the atom count check_grid_cost() last measured
+  int auto_one_grid;      // cell auto's choice at the last check_grid_cost(): one grid, not one per class
+  // the cell mode's grids: one per size class (classes; auto where its measure says so), or one
+  bool grid_per_class() const;
   double rmin, rmax;            // smallest and largest radius of all atoms (radius_range_due())
   // where rmin and rmax are found anew: at reneighborings (atoms come and go), and every step
   // where a fix may change radii (diam_flag: fix adapt's diameter)

@@ -5,7 +5,14 @@ cell, and every pair is a candidate: (N - 1)/2 per atom. On 2 ranks each process
 (its own, and the other's as ghosts: the large sphere's contact distance spans the box), so the
 pairs are tested twice: N - 1 per atom. The default's grid per size class gives the small spheres
 cells of their own size: a few tens per atom. Without the large sphere, multi is the default's one
-grid and says nothing; neither does the default."""
+grid and says nothing; neither does the default.
+
+Cell auto measures the same two layouts and takes one grid where a grid per size class would not
+test 1.5 times fewer candidates: at 1:100 above it keeps a grid per class (its occupied cells,
+fix griddem's value 1, are cell classes'); with a few spheres of diameter 0.2 among a lattice of
+diameter 1 (1:5, two size classes) the few small spheres cannot make the class grids test fewer
+candidates, and it takes cell multi's one grid (its occupied cells are multi's, not classes',
+which add the small spheres' own grid)."""
 import os
 import re
 import sys
@@ -38,6 +45,53 @@ run 0
 BIG = "create_atoms 2 single 5 5 -10.1 units box"
 WARNING = (r"WARNING: Pair style griddem/hooke/history: fix \S+ cell multi tests ([0-9.e+]+) candidate pairs per atom, "
            r"([0-9.e+]+) times the ([0-9.e+]+) of cell auto, and holds up to (\d+) centres in one cell")
+FEW_SMALL = """
+units lj
+atom_style sphere
+boundary f f f
+comm_modify vel yes
+region box block 0 10 0 10 0 10
+create_box 2 box
+lattice sc 1.0
+region bed block 0 6 0 6 0 6 units box
+create_atoms 1 region bed
+create_atoms 2 random 8 4721 bed
+set type 1 diameter 1.0
+set type 2 diameter 0.2
+set group all density 1.0
+pair_style griddem/hooke/history 2000.0 NULL 50.0 NULL 0.5 0
+pair_coeff * *
+fix grid all griddem {mode}
+thermo_style custom step f_grid[1]
+timestep 1e-4
+fix integrate all nve/sphere
+run 0
+"""
+
+
+def occupied_cells(out):
+    """fix griddem's value 1 (occupied cells, all grids, all processes) after run 0"""
+    rows = re.findall(r"^\s+0\s+(\d+)\s*$", out, re.M)
+    return int(rows[-1]) if rows else -1
+
+
+def check_auto_choice(WD, nprocs):
+    cells = {}
+    for mode in ("cell multi", "cell classes", "cell auto"):
+        name = "in.%s%d" % (mode.split()[1], nprocs)
+        big = SCENE.format(big=BIG, fix="fix grid all griddem %s\nthermo_style custom step f_grid[1]" % mode)
+        few = FEW_SMALL.format(mode=mode)
+        cells[mode] = (occupied_cells(t.run_ok(big, WD, nprocs, name=name + ".big")),
+                       occupied_cells(t.run_ok(few, WD, nprocs, name=name + ".few")))
+    multi, classes, auto = cells["cell multi"], cells["cell classes"], cells["cell auto"]
+    t.check(min(multi + classes + auto) > 0 and multi[0] != classes[0] and multi[1] != classes[1],
+            "np %d: the layouts differ (occupied cells, 1:100 and 1:5: multi %s, classes %s)" % (nprocs, multi, classes))
+    t.check(auto[0] == classes[0], "np %d: at 1:100 cell auto keeps a grid per class: %d cells, classes %d, multi %d"
+            % (nprocs, auto[0], classes[0], multi[0]))
+    t.check(auto[1] == multi[1], "np %d: with a few small spheres cell auto takes one grid: %d cells, multi %d, "
+            "classes %d" % (nprocs, auto[1], multi[1], classes[1]))
+
+
 def main():
     WD = t.workdir()
 
@@ -59,6 +113,7 @@ def main():
         t.check("candidate pairs per atom" not in out, "np %d: the default says nothing" % nprocs)
         out = t.run_ok(SCENE.format(big="", fix="fix grid all griddem cell multi"), WD, nprocs, name="in.mono%d" % nprocs)
         t.check("candidate pairs per atom" not in out, "np %d: multi without the large sphere says nothing" % nprocs)
+        check_auto_choice(WD, nprocs)
     t.finish()
 
 

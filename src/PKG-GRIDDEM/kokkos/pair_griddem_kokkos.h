@@ -151,11 +151,6 @@ class PairGriddemKokkos : public Base {
   void upload_tables();
   void upload_images();
   void check_scan(const GriddemKKScanValue &sc);
-  // fix griddem's cell mode takes a grid per size class (auto, classes), not one grid
-  bool class_grids() const
-  {
-    return this->fix()->options.cell_mode == GRIDDEM_CELL_AUTO || this->fix()->options.cell_mode == GRIDDEM_CELL_CLASSES;
-  }
   void plan_classes(GriddemKKGrids &grids);
   void fit_grids(GriddemKKGrids &grids, const GriddemKKClassBoxes &boxes, double margin);
   void close_step(const GriddemKKGrids &grids, const GriddemKKStepReport &report);

@@ -278,7 +278,7 @@ void PairGriddemKokkos<DeviceType, Base>::compute(int eflag, int vflag)
     // one grid of a given edge: refused where the CPU style's stencil would be (the largest
     // pair's search distance over more than GRIDDEM_MAX_REACH edges), rather than searched over
     // (2 x reach + 1)^3 cells per atom
-    if (!class_grids() &&
+    if (!this->grid_per_class() &&
         griddem_stencil_reach(grids.g[0].h, 2.0 * this->rmax + this->model.reach_extra + slack) >
             GRIDDEM_MAX_REACH)
       this->error_stencil_reach(grids.g[0].h);
@@ -379,13 +379,13 @@ void PairGriddemKokkos<DeviceType, Base>::scan(const GriddemKKGrids &grids, bool
                                                                    class_scan.value_count));
 }
 
-/* the size classes of fix griddem's cell mode for the radius range: a grid per class (auto,
-   classes), else one */
+/* the size classes of fix griddem's cell mode for the radius range: a grid per class (classes,
+   auto where its measure says so), else one */
 
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::plan_classes(GriddemKKGrids &grids)
 {
-  grids.ncls = class_grids() ? griddem_class_count(this->rmin, this->rmax) : 1;
+  grids.ncls = this->grid_per_class() ? griddem_class_count(this->rmin, this->rmax) : 1;
   griddem_class_bounds(this->rmax, grids.ncls, grids.upper);
 }
 
@@ -399,7 +399,7 @@ void PairGriddemKokkos<DeviceType, Base>::fit_grids(GriddemKKGrids &grids,
                                                     double margin)
 {
   const int mode = this->fix()->options.cell_mode;
-  const bool classes = class_grids();
+  const bool classes = this->grid_per_class();
   const double *boxlo = this->domain->boxlo;
   long total = 0;
   for (int c = 0; c < grids.ncls; c++) {
