@@ -320,8 +320,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (classic == CLASSIC_BATCHED) {    /* the pair goes straight to its lane's place */
     griddem_classic_batch *l = &sums->batch->lanes;
     const int k = l->n;
-    const pair_ref *ref = &sums->batch->ref[k];
-    if (!pair_begin(cx, a, b, rsq, classic, track, &sums->batch->ref[k], &stored)) return;
+    pair_ref *ref = &sums->batch->ref[k];
+    if (!pair_begin(cx, a, b, rsq, classic, track, ref, &stored)) return;
     const int ia = ref->ia, ib = ref->ib;
     for (int d = 0; d < 3; d++) {
       l->dx[d][k] = dx[d];

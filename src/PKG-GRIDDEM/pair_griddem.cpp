@@ -585,14 +585,17 @@ void PairGriddem::unpack_forward_comm(int n, int first, double *buf)
 bool PairGriddem::grid_cost_due() const
 {
   const int mode = fix()->options.cell_mode;
-  if (mode == GRIDDEM_CELL_CLASSES || rmax == 0.0 || (cost_warned && mode != GRIDDEM_CELL_AUTO)) return false;
+  if (mode == GRIDDEM_CELL_CLASSES || rmax == 0.0) return false;
+  // auto has a choice only where the radii span several classes
+  if (mode == GRIDDEM_CELL_AUTO ? griddem_class_count(rmin, rmax) == 1 : cost_warned) return false;
   return update->setupflag || atom->natoms != cost_natoms;
 }
 
 bool PairGriddem::grid_per_class() const
 {
   const int mode = fix()->options.cell_mode;
-  return mode == GRIDDEM_CELL_CLASSES || (mode == GRIDDEM_CELL_AUTO && !auto_one_grid);
+  return mode == GRIDDEM_CELL_CLASSES ||
+      (mode == GRIDDEM_CELL_AUTO && !(auto_one_grid && griddem_class_count(rmin, rmax) > 1));
 }
 
 void PairGriddem::check_grid_cost()
