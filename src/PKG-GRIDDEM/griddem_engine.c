@@ -3,6 +3,7 @@
 #include "griddem_threads.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,33 +33,70 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   upper[ncls] = 0.0;
 }
 
-/* one point into the box and the sum; each comparison with the running value on the left, which
- * x86 does in place */
+/* Whether a double is not finite, as a bit: its exponent's bits are all set exactly where adding
+ * one to the exponent carries into the sign bit (integer arithmetic, which vector lanes run) */
+static inline uint64_t nonfinite_bit(double v)
+{
+  uint64_t bits;
+  memcpy(&bits, &v, sizeof(bits));
+  return ((bits & 0x7ff0000000000000ull) + 0x0010000000000000ull) >> 63;
+}
+
+/* one point into the box and the non-finite bit (the box may leave out a NaN: the bit says so) */
 #define BOX_OF_POINT(i)                                                                            \
   do {                                                                                             \
     const double a = x[3 * (size_t) (i)], b = x[3 * (size_t) (i) + 1], c = x[3 * (size_t) (i) + 2]; \
-    l0 = l0 < a ? l0 : a, h0 = h0 > a ? h0 : a;                                                    \
-    l1 = l1 < b ? l1 : b, h1 = h1 > b ? h1 : b;                                                    \
-    l2 = l2 < c ? l2 : c, h2 = h2 > c ? h2 : c;                                                    \
-    sum += a + b + c;                                                                              \
+    l0 = a < l0 ? a : l0, h0 = a > h0 ? a : h0;                                                    \
+    l1 = b < l1 ? b : l1, h1 = b > h1 ? b : h1;                                                    \
+    l2 = c < l2 ? c : l2, h2 = c > h2 ? c : h2;                                                    \
+    bad |= nonfinite_bit(a) | nonfinite_bit(b) | nonfinite_bit(c);                                 \
   } while (0)
 
-/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates may not be
- * finite: their sum is finite where they all are (a sum that overflows only sends the caller to
- * its exact check). The box is meaningless where a coordinate is NaN: the step then stops. */
-static int box_of(const double *x, int n, double *lo, double *hi)
+/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates are not finite
+ * (the box is then meaningless: the step stops). The reductions are OpenMP's, whose order is
+ * free, so the points run in vector lanes. */
+GRIDDEM_VECTOR_COPIES static int box_of(const double *x, int n, double *lo, double *hi)
 {
-  double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2, sum = 0.0;
+  double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2;
+  uint64_t bad = 0;
   if (griddem_threaded(n)) {
-#pragma omp parallel for schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(+ : sum)
+#pragma omp parallel for simd schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)
     for (int i = 0; i < n; i++) BOX_OF_POINT(i);
   } else {
+#pragma omp simd reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)
     for (int i = 0; i < n; i++) BOX_OF_POINT(i);
   }
   lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
-  return !isfinite(sum);
+  return bad != 0;
 }
 #undef BOX_OF_POINT
+
+/* one owned particle's squared speed into the largest and the non-finite bit (a component that is
+ * not finite, or one too large to square) */
+#define SPEED_OF(i)                                                                              \
+  do {                                                                                           \
+    const double *u = v + 3 * (size_t) (i), q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];         \
+    most = q > most ? q : most;                                                                  \
+    bad |= nonfinite_bit(q);                                                                         \
+  } while (0)
+
+/* The largest squared speed of n particles (3n doubles at v), and whether some squared speed is
+ * not finite */
+GRIDDEM_VECTOR_COPIES static int speed_of(const double *v, int n, double *vmax2)
+{
+  double most = 0.0;
+  uint64_t bad = 0;
+  if (griddem_threaded(n)) {
+#pragma omp parallel for simd schedule(static) reduction(max : most) reduction(| : bad)
+    for (int i = 0; i < n; i++) SPEED_OF(i);
+  } else {
+#pragma omp simd reduction(max : most) reduction(| : bad)
+    for (int i = 0; i < n; i++) SPEED_OF(i);
+  }
+  *vmax2 = most;
+  return bad != 0;
+}
+#undef SPEED_OF
 
 void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *scan)
 {
@@ -75,21 +113,8 @@ void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *sc
     }
   }
   /* owned particles: speed and radius */
-  double vmax2 = 0.0, vsum = 0.0, rmin = INFINITY, rmax = 0.0;
-  const double *vel = p->v;
-#define SPEED_OF(i)                                                                                  \
-  do {                                                                                               \
-    const double *v = vel + 3 * (size_t) (i), v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];         \
-    vmax2 = v2 > vmax2 ? v2 : vmax2;                                                                 \
-    vsum += v2;                                                                                      \
-  } while (0)
-  if (griddem_threaded(p->nlocal)) {
-#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(+ : vsum)
-    for (int i = 0; i < p->nlocal; i++) SPEED_OF(i);
-  } else {
-    for (int i = 0; i < p->nlocal; i++) SPEED_OF(i);
-  }
-#undef SPEED_OF
+  double vmax2 = 0.0, rmin = INFINITY, rmax = 0.0;
+  const int nonfinite_speed = p->nlocal > 0 && speed_of(p->v, p->nlocal, &vmax2);
   for (int i = 0; radii && i < p->nlocal; i++) {
     const double r = p->radius[i];
     rmin = r < rmin ? r : rmin;
@@ -101,12 +126,7 @@ void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *sc
       if (!(isfinite(x[3 * i]) && isfinite(x[3 * i + 1]) && isfinite(x[3 * i + 2]))) scan->first_nonfinite = i;
   for (int d = 0; d < 3; d++) scan->lo[d] = lo[d], scan->hi[d] = hi[d];
   scan->vmax2 = vmax2;
-  scan->nonfinite_velocity = 0;
-  if (!isfinite(vsum)) /* some squared speed is not finite, or the sum overflowed */
-    for (int i = 0; i < p->nlocal && !scan->nonfinite_velocity; i++) {
-      const double *v = p->v + 3 * (size_t) i;
-      scan->nonfinite_velocity = !isfinite(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    }
+  scan->nonfinite_velocity = nonfinite_speed;
   scan->rmin = radii ? rmin : NAN, scan->rmax = radii ? rmax : NAN;
 }
 

@@ -137,8 +137,44 @@ static void gather_threaded(const griddem_model *m)
 }
 #endif
 
+/* The scan on one thread, the reductions in vector lanes: the box and the largest squared speed
+ * of a few hundred points (none left to a remainder loop alone), and what is not finite: an
+ * infinite coordinate among owned particles, a NaN among ghosts (the first named), and a speed
+ * whose components are finite but whose square is not. */
+static void scan_lanes(void)
+{
+  enum { N = 301, NLOCAL = 250 };
+  static double x[3 * N], v[3 * N], rad[N];
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, vmax2 = 0.0;
+  for (int i = 0; i < N; i++) {
+    double v2 = 0.0;
+    for (int d = 0; d < 3; d++) {
+      x[3 * i + d] = -3.0 + 10.0 * check_uniform(), v[3 * i + d] = -2.0 + 4.0 * check_uniform();
+      lo[d] = fmin(lo[d], x[3 * i + d]), hi[d] = fmax(hi[d], x[3 * i + d]), v2 += v[3 * i + d] * v[3 * i + d];
+    }
+    if (i < NLOCAL) vmax2 = fmax(vmax2, v2);
+    rad[i] = 0.5;
+  }
+  griddem_particles part = {NLOCAL, N, x, v, NULL, rad, NULL, NULL, 4, NULL, NULL, 0, NULL};
+  griddem_scan s;
+  griddem_engine_scan(&part, 1, &s);
+  int same = s.vmax2 == vmax2 && s.first_nonfinite == -1 && !s.nonfinite_velocity;
+  for (int d = 0; d < 3; d++) same &= s.lo[d] == lo[d] && s.hi[d] == hi[d];
+  CHECK(same, "scan of %d points: box and speed^2 %.17g as counted one by one (%.17g)", N, s.vmax2, vmax2);
+  x[3 * 97] = -INFINITY, x[3 * 280 + 2] = NAN, x[3 * 290] = NAN;
+  griddem_engine_scan(&part, 1, &s);
+  CHECK(s.first_nonfinite == 97 && !s.nonfinite_velocity, "an infinite coordinate named (%d)", s.first_nonfinite);
+  x[3 * 97] = 0.0;
+  griddem_engine_scan(&part, 1, &s);
+  CHECK(s.first_nonfinite == 280, "a ghost's NaN named (%d)", s.first_nonfinite);
+  x[3 * 280 + 2] = x[3 * 290] = 0.0, v[3 * 123 + 1] = 1e200;
+  griddem_engine_scan(&part, 1, &s);
+  CHECK(s.first_nonfinite == -1 && s.nonfinite_velocity, "a speed whose square overflows is not finite");
+}
+
 int main(void)
 {
+  scan_lanes();
 #ifdef _OPENMP
   scan_threaded();
 #endif
