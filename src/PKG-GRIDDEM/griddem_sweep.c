@@ -132,6 +132,8 @@ static int sweep_law_of(const griddem_model *m, const griddem_history *hist, int
   return SWEEP_COMPOSED;
 }
 
+struct contact_batch;
+
 /* Everything one sweep reads, shared by the threads. */
 typedef struct sweep_context {
   const int *order;      /* particle of each slot of the channels */
@@ -151,6 +153,7 @@ typedef struct sweep_context {
   griddem_spheres spheres;        /* the channels' centres and radii */
   griddem_touching_fn touching;   /* the candidate test */
   int cluster;                    /* its width */
+  void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
 /* A contact kept for its law, seen from slot a (owned): its slots and their particles, the
@@ -161,10 +164,16 @@ typedef struct pair_ref {
   const griddem_pair_params *law;
 } pair_ref;
 
-/* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the lanes and their pairs */
+/* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the slots of each pair (a owned)
+ * and their particles, as the pairs were found, one array each (so that they are read a vector
+ * at a time; room for a vector past the last), then per contact what is kept for its end (kept:
+ * neither coincident nor excluded) and the law's lanes */
+#define BATCH_ROOM (GRIDDEM_CLASSIC_BATCH + 8)
 typedef struct contact_batch {
-  griddem_classic_batch lanes;
+  int a[BATCH_ROOM], b[BATCH_ROOM], ia[BATCH_ROOM], ib[BATCH_ROOM];
+  int kept[GRIDDEM_CLASSIC_BATCH];
   pair_ref ref[GRIDDEM_CLASSIC_BATCH];
+  griddem_classic_batch lanes;
 } contact_batch;
 
 /* Accumulators one thread adds up over its pairs, and its batch (SWEEP_CLASSIC_BATCH) */
@@ -286,14 +295,100 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, const
   }
 }
 
-/* Evaluate the batch's contacts and finish each in the order they were found */
+/* A batch's inputs read from the slots and particles of its pairs: separations (x_a - x_b, and
+ * its squared length summed left to right, as the sweep's test sums it), radii, velocities, spins
+ * and masses. The plain reading, and where the processor has them (chosen once per sweep) AVX2's
+ * gathers, four lanes at a time, which read the same values. */
+static void gather_plain(const sweep_context *cx, contact_batch *q)
+{
+  const griddem_channels *ch = cx->ch;
+  const griddem_particles *p = ch->p;
+  griddem_classic_batch *l = &q->lanes;
+  for (int k = 0; k < l->n; k++) {
+    const int a = q->a[k], b = q->b[k];
+    const size_t ia = (size_t) q->ia[k], ib = (size_t) q->ib[k];
+    const double dx[3] = {ch->x[a] - ch->x[b], ch->y[a] - ch->y[b], ch->z[a] - ch->z[b]};
+    for (int d = 0; d < 3; d++) {
+      l->dx[d][k] = dx[d];
+      l->vi[d][k] = p->v[3 * ia + d], l->vj[d][k] = p->v[3 * ib + d];
+      l->wi[d][k] = p->omega[3 * ia + d], l->wj[d][k] = p->omega[3 * ib + d];
+    }
+    l->rsq[k] = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    l->radi[k] = ch->r[a], l->radj[k] = ch->r[b];
+    l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
+  }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define GRIDDEM_SWEEP_GATHER 1
+
+__attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx, contact_batch *q)
+{
+  const griddem_channels *ch = cx->ch;
+  const griddem_particles *p = ch->p;
+  griddem_classic_batch *l = &q->lanes;
+  const int n = l->n;
+  for (int k = n; k % 4; k++) /* a last partial vector reads the first pair again */
+    q->a[k] = q->a[0], q->b[k] = q->b[0], q->ia[k] = q->ia[0], q->ib[k] = q->ib[0];
+  for (int k = 0; k < n; k += 4) {
+    const __m128i a = _mm_loadu_si128((const __m128i *) (q->a + k)), b = _mm_loadu_si128((const __m128i *) (q->b + k));
+    /* particle indices in 64 bits: three doubles each */
+    const __m256i ia = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ia + k)));
+    const __m256i ib = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ib + k)));
+    const __m256i ia3 = _mm256_add_epi64(ia, _mm256_add_epi64(ia, ia)), ib3 = _mm256_add_epi64(ib, _mm256_add_epi64(ib, ib));
+    const __m256d d0 = _mm256_sub_pd(_mm256_i32gather_pd(ch->x, a, 8), _mm256_i32gather_pd(ch->x, b, 8));
+    const __m256d d1 = _mm256_sub_pd(_mm256_i32gather_pd(ch->y, a, 8), _mm256_i32gather_pd(ch->y, b, 8));
+    const __m256d d2 = _mm256_sub_pd(_mm256_i32gather_pd(ch->z, a, 8), _mm256_i32gather_pd(ch->z, b, 8));
+    _mm256_storeu_pd(l->dx[0] + k, d0), _mm256_storeu_pd(l->dx[1] + k, d1), _mm256_storeu_pd(l->dx[2] + k, d2);
+    _mm256_storeu_pd(l->rsq + k,
+                     _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d0, d0), _mm256_mul_pd(d1, d1)), _mm256_mul_pd(d2, d2)));
+    _mm256_storeu_pd(l->radi + k, _mm256_i32gather_pd(ch->r, a, 8));
+    _mm256_storeu_pd(l->radj + k, _mm256_i32gather_pd(ch->r, b, 8));
+    for (int d = 0; d < 3; d++) {
+      _mm256_storeu_pd(l->vi[d] + k, _mm256_i64gather_pd(p->v + d, ia3, 8));
+      _mm256_storeu_pd(l->vj[d] + k, _mm256_i64gather_pd(p->v + d, ib3, 8));
+      _mm256_storeu_pd(l->wi[d] + k, _mm256_i64gather_pd(p->omega + d, ia3, 8));
+      _mm256_storeu_pd(l->wj[d] + k, _mm256_i64gather_pd(p->omega + d, ib3, 8));
+    }
+    _mm256_storeu_pd(l->mi + k, _mm256_i64gather_pd(p->rmass, ia, 8));
+    _mm256_storeu_pd(l->mj + k, _mm256_i64gather_pd(p->rmass, ib, 8));
+  }
+}
+#endif
+
+/* The batch's reading of its inputs: the plain one with the plain-C search kernel (the reference,
+ * so that the tests that run each kernel run both readings), else AVX2's where the processor has it */
+static void (*batch_gather(void))(const sweep_context *, contact_batch *)
+{
+#ifdef GRIDDEM_SWEEP_GATHER
+  __builtin_cpu_init();
+  if (strcmp(griddem_touching_name(), "scalar") != 0 && __builtin_cpu_supports("avx2")) return gather_avx2;
+#endif
+  return gather_plain;
+}
+
+/* Evaluate the batch's contacts (those that pair_begin keeps, in the order they were found: a
+ * coincident pair's fault comes before the contacts' own) and finish each in that order */
 static void flush_batch(const sweep_context *cx, sweep_sums *sums)
 {
   contact_batch *q = sums->batch;
   griddem_classic_batch *l = &q->lanes;
   if (l->n == 0) return;
+  const griddem_particles *p = cx->ch->p;
+  cx->gather(cx, q);
+  for (int k = 0; k < l->n; k++) {
+    const double *stored = NULL;
+    pair_ref *ref = &q->ref[k];
+    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], l->rsq[k], CLASSIC_BATCHED, 1, ref, &stored);
+    /* a lane left out is evaluated on its inputs as they are, and its results dropped */
+    l->frozen_i[k] = q->kept[k] && (ref->ma & p->frozen_bit) != 0;
+    l->frozen_j[k] = q->kept[k] && (ref->mb & p->frozen_bit) != 0;
+    for (int d = 0; d < 3; d++) l->shear[d][k] = q->kept[k] && stored ? stored[d] : 0.0;
+  }
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
   for (int k = 0; k < l->n; k++) {
+    if (!q->kept[k]) continue;
     const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
@@ -302,11 +397,20 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   l->n = 0;
 }
 
+/* A pair of slots a (owned) and b (within reach), of particles ia and ib, into the thread's batch,
+ * which is evaluated when it is full */
+static inline void batch_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib)
+{
+  contact_batch *q = sums->batch;
+  const int k = q->lanes.n;
+  q->a[k] = a, q->b[k] = b, q->ia[k] = ia, q->ib[k] = ib;
+  if (++q->lanes.n == GRIDDEM_CLASSIC_BATCH) flush_batch(cx, sums);
+}
+
 /* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
  * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
- * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching;
- * CLASSIC_BATCHED: the contact joins the thread's batch, evaluated when it is full; COMPOSED) and
- * values (the history values per contact, or -1: the model's, with contacts kept as it says) are
+ * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED;
+ * a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history values per contact, or -1: the model's, with contacts kept as it says) are
  * constants of each specialization. */
 SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
                                   double rsq, const int classic, const int values)
@@ -317,24 +421,6 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
   const double *stored;
-  if (classic == CLASSIC_BATCHED) {    /* the pair goes straight to its lane's place */
-    griddem_classic_batch *l = &sums->batch->lanes;
-    const int k = l->n;
-    pair_ref *ref = &sums->batch->ref[k];
-    if (!pair_begin(cx, a, b, rsq, classic, track, ref, &stored)) return;
-    const int ia = ref->ia, ib = ref->ib;
-    for (int d = 0; d < 3; d++) {
-      l->dx[d][k] = dx[d];
-      l->vi[d][k] = p->v[3 * (size_t) ia + d], l->vj[d][k] = p->v[3 * (size_t) ib + d];
-      l->wi[d][k] = p->omega[3 * (size_t) ia + d], l->wj[d][k] = p->omega[3 * (size_t) ib + d];
-      l->shear[d][k] = stored ? stored[d] : 0.0;
-    }
-    l->rsq[k] = rsq, l->radi[k] = ch->r[a], l->radj[k] = ch->r[b];
-    l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
-    l->frozen_i[k] = (ref->ma & p->frozen_bit) != 0, l->frozen_j[k] = (ref->mb & p->frozen_bit) != 0;
-    if (++l->n == GRIDDEM_CLASSIC_BATCH) flush_batch(cx, sums);
-    return;
-  }
   pair_ref ref;
   if (!pair_begin(cx, a, b, rsq, classic, track, &ref, &stored)) return;
   const int ia = ref.ia, ib = ref.ib;
@@ -378,6 +464,11 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
     const int t = hits->slot[q];
     const int t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
+    if (classic == CLASSIC_BATCHED) {    /* read with the batch's other pairs */
+      if (s_owned) batch_pair(cx, sums, s, t, order[s], order[t]);
+      else batch_pair(cx, sums, t, s, order[t], order[s]);
+      continue;
+    }
     const double dx[3] = {ch->x[s] - ch->x[t], ch->y[s] - ch->y[t], ch->z[s] - ch->z[t]};
     const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
     if (s_owned) sweep_pair(cx, sums, s, t, dx, rsq, classic, values);
@@ -831,7 +922,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                                       excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
-                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width()};
+                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width(),
+                            batch_gather()};
   memset(result, 0, sizeof(*result));
   const int nthreads = griddem_max_threads();
   int nslot = 0;

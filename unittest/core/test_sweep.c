@@ -226,11 +226,15 @@ static const char *const LAWS[] = {
     "jkr 1e5 5 0.3 %g damping mass_velocity tangential mindlin NULL 0.5 0.4 rolling sds 20 0.1 0.05 twisting sds 1 0.01 0.1",
 };
 
+/* The same law for every type pair (model_of's friction argument not used) */
+static const char ONE_LAW[] = "hooke 2000 50 damping mass_velocity tangential gran/hooke/history 571.4 25 0.5";
+
 /* Two particles sharing a position, and one particle touching many: the fault names the
- * coincident pair; the crowded particle keeps all its contacts in a row that grows. */
-static void check_faults(void)
+ * coincident pair; the crowded particle keeps all its contacts in a row that grows. With a law
+ * per type pair (law's %g) and with one law for all (the sweep's batches). */
+static void check_faults(const char *law)
 {
-  const griddem_model m = model_of("hooke 1 0 damping mass_velocity tangential gran/hooke/history 1 0 %g");
+  const griddem_model m = model_of(law);
   const double anchor[3] = {0.0, 0.0, 0.0};
   enum { M = 41 };
   double px[3 * M] = {0, 0, 0, 1, 1, 1, 1, 1, 1}, pv[3 * M] = {0}, pw[3 * M] = {0}, pr[M], pm[M];
@@ -436,8 +440,14 @@ static void all_checks(void)
     const griddem_model m = model_of(LAWS[3]);
     compare_mode(mode, "granular, type pair 2-2 excluded", &m, exclude_22, 1);
     compare_mode(mode, "granular, 3 threads", &m, NULL, 3);
+    /* one classic law with shear history for every type pair: the sweep's batches */
+    const griddem_model one = model_of(ONE_LAW);
+    compare_mode(mode, ONE_LAW, &one, NULL, 1);
+    compare_mode(mode, "one law in batches, type pair 2-2 excluded", &one, exclude_22, 1);
+    compare_mode(mode, "one law in batches, 3 threads", &one, NULL, 3);
   }
-  check_faults();
+  check_faults("hooke 1 0 damping mass_velocity tangential gran/hooke/history 1 0 %g");
+  check_faults("hooke 1 0 damping mass_velocity tangential gran/hooke/history 1 0 0.5");
 }
 
 int main(void)
