@@ -156,10 +156,10 @@ typedef struct sweep_context {
   void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
-/* A contact kept for its law, seen from slot a (owned): its slots and their particles, the
+/* What pair_begin finds of a contact seen from slot a (owned), for its law and its end: the
  * particles' group bits, its key in a's history row, and its law */
 typedef struct pair_ref {
-  int a, b, ia, ib, ma, mb;
+  int ma, mb;
   int64_t key_b;
   const griddem_pair_params *law;
 } pair_ref;
@@ -209,17 +209,16 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
   return griddem_classic_eval(p, c, hist, f, ti, tj, 1);
 }
 
-/* What precedes the law of the pair of slots a (owned) and b at squared distance rsq (within
- * reach): the pair is left where its centres coincide (a fault), it is excluded, or (past
+/* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib, at squared
+ * distance rsq (within reach): the pair is left where its centres coincide (a fault), it is excluded, or (past
  * touching) it is out of reach; otherwise ref is set and its history found (*stored; NULL: none,
  * or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
-SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, double rsq, const int classic, const int track,
-                                 pair_ref *ref, const double **stored)
+SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, double rsq, const int classic,
+                                 const int track, pair_ref *ref, const double **stored)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
-  const int ia = cx->order[a], ib = cx->order[b];
   if (rsq == 0.0) {
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
     return 0;
@@ -238,22 +237,21 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, double r
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
     return 0;
-  ref->a = a, ref->b = b, ref->ia = ia, ref->ib = ib, ref->ma = ma, ref->mb = mb;
-  ref->key_b = key_b, ref->law = law;
+  ref->ma = ma, ref->mb = mb, ref->key_b = key_b, ref->law = law;
   return 1;
 }
 
-/* What follows the law of the contact ref (separation dx, seen from a): its history values hv
+/* What follows the law of the contact of slots a and b, particles ia and ib, that pair_begin kept
+ * (ref; separation dx, seen from a): its history values hv
  * (seen from a; nv of them, track: contacts are kept) written to a's next row and, seen from b,
  * to b's if b is owned; the force fc on a (b gets -fc) and the torques ta and tb added to the
  * owned particles, the heat into a (if heat) likewise, the contact counted, its elastic energy
  * and virial tallied. */
-SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, const pair_ref *ref, const double *dx,
-                                const double *hv, const double *fc, const double *ta, const double *tb, double energy,
+SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
+                                const pair_ref *ref, const double *dx, const double *hv, const double *fc, const double *ta, const double *tb, double energy,
                                 const int heat, double heat_into_a, const int track, const int nv, const int stored_values)
 {
   griddem_channels *ch = cx->ch;
-  const int a = ref->a, b = ref->b, ia = ref->ia, ib = ref->ib;
   const int b_owned = ib < cx->nlocal;
   if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
@@ -380,7 +378,7 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   for (int k = 0; k < l->n; k++) {
     const double *stored = NULL;
     pair_ref *ref = &q->ref[k];
-    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], l->rsq[k], CLASSIC_BATCHED, 1, ref, &stored);
+    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], l->rsq[k], CLASSIC_BATCHED, 1, ref, &stored);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
     l->frozen_i[k] = q->kept[k] && (ref->ma & p->frozen_bit) != 0;
     l->frozen_j[k] = q->kept[k] && (ref->mb & p->frozen_bit) != 0;
@@ -392,7 +390,8 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
     const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
-    pair_end(cx, sums, &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1, 3, 3);
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1,
+             3, 3);
   }
   l->n = 0;
 }
@@ -410,8 +409,9 @@ static inline void batch_pair(const sweep_context *cx, sweep_sums *sums, int a, 
 /* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
  * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
  * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED;
- * a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history values per contact, or -1: the model's, with contacts kept as it says) are
- * constants of each specialization. */
+ * a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history values per
+ * contact, or -1: the model's, with contacts kept as it says) are constants of each
+ * specialization. */
 SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
                                   double rsq, const int classic, const int values)
 {
@@ -421,9 +421,9 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
   const double *stored;
+  const int ia = cx->order[a], ib = cx->order[b];
   pair_ref ref;
-  if (!pair_begin(cx, a, b, rsq, classic, track, &ref, &stored)) return;
-  const int ia = ref.ia, ib = ref.ib;
+  if (!pair_begin(cx, a, b, ia, ib, rsq, classic, track, &ref, &stored)) return;
 
   griddem_contact c;
   griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
@@ -440,7 +440,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
                         : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                    : griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  pair_end(cx, sums, &ref, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
+  pair_end(cx, sums, a, b, ia, ib, &ref, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
            track ? (values >= 0 ? values : cx->hist->values) : 0);
 }
 
@@ -479,17 +479,24 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
   }
 }
 
-/* Evaluate slot s's touching candidates and empty the list. */
-static void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
+/* Slot s's touching candidates by a law evaluated pair by pair */
+static void evaluate_each(const sweep_context *cx, sweep_sums *sums, int s, const hit_list *hits)
 {
   switch (cx->law) {
-    case SWEEP_CLASSIC_BATCH: evaluate_hits(cx, sums, s, hits, CLASSIC_BATCHED, 3); break;
     case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 3); break;
     case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
     case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 3); break;
     case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 0); break;
     default: evaluate_hits(cx, sums, s, hits, COMPOSED, -1);
   }
+}
+
+/* Evaluate slot s's touching candidates, or queue them in the thread's batch (a few stores each,
+ * done in place), and empty the list. */
+SWEEP_SPECIALIZED void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
+{
+  if (cx->law == SWEEP_CLASSIC_BATCH) evaluate_hits(cx, sums, s, hits, CLASSIC_BATCHED, 3);
+  else evaluate_each(cx, sums, s, hits);
   hits->n = 0;
 }
 
