@@ -60,7 +60,8 @@ GRIDDEM_VECTOR_COPIES static int box_of(const double *x, int n, double *lo, doub
   double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2;
   uint64_t bad = 0;
   if (griddem_threaded(n)) {
-#pragma omp parallel for simd schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)
+#pragma omp parallel for simd schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) \
+    reduction(| : bad)
     for (int i = 0; i < n; i++) BOX_OF_POINT(i);
   } else {
 #pragma omp simd reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)

@@ -165,12 +165,12 @@ typedef struct pair_ref {
 } pair_ref;
 
 /* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the slots of each pair (a owned)
- * and their particles, as the pairs were found, one array each (so that they are read a vector
- * at a time; room for a vector past the last), then per contact what is kept for its end (kept:
- * neither coincident nor excluded) and the law's lanes */
-#define BATCH_ROOM (GRIDDEM_CLASSIC_BATCH + 8)
+ * and their particles, as the pairs were found, one array each (read four at a time: a batch
+ * holds whole vectors of four), then per contact what is kept for its end (kept: neither
+ * coincident nor excluded) and the law's lanes */
+typedef char batch_of_whole_vectors[GRIDDEM_CLASSIC_BATCH % 4 == 0 ? 1 : -1];
 typedef struct contact_batch {
-  int a[BATCH_ROOM], b[BATCH_ROOM], ia[BATCH_ROOM], ib[BATCH_ROOM];
+  int a[GRIDDEM_CLASSIC_BATCH], b[GRIDDEM_CLASSIC_BATCH], ia[GRIDDEM_CLASSIC_BATCH], ib[GRIDDEM_CLASSIC_BATCH];
   int kept[GRIDDEM_CLASSIC_BATCH];
   pair_ref ref[GRIDDEM_CLASSIC_BATCH];
   griddem_classic_batch lanes;
@@ -210,9 +210,9 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 }
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib, at squared
- * distance rsq (within reach): the pair is left where its centres coincide (a fault), it is excluded, or (past
- * touching) it is out of reach; otherwise ref is set and its history found (*stored; NULL: none,
- * or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
+ * distance rsq (within reach): the pair is left where its centres coincide (a fault), it is
+ * excluded, or (past touching) it is out of reach; otherwise ref is set and its history found
+ * (*stored; NULL: none, or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, double rsq, const int classic,
                                  const int track, pair_ref *ref, const double **stored)
@@ -242,14 +242,14 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
 }
 
 /* What follows the law of the contact of slots a and b, particles ia and ib, that pair_begin kept
- * (ref; separation dx, seen from a): its history values hv
- * (seen from a; nv of them, track: contacts are kept) written to a's next row and, seen from b,
- * to b's if b is owned; the force fc on a (b gets -fc) and the torques ta and tb added to the
- * owned particles, the heat into a (if heat) likewise, the contact counted, its elastic energy
- * and virial tallied. */
+ * (ref; separation dx, seen from a): its history values hv (seen from a; nv of them, track:
+ * contacts are kept) written to a's next row and, seen from b, to b's if b is owned; the force
+ * fc on a (b gets -fc) and the torques ta and tb added to the owned particles, the heat into a
+ * (if heat) likewise, the contact counted, its elastic energy and virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
-                                const pair_ref *ref, const double *dx, const double *hv, const double *fc, const double *ta, const double *tb, double energy,
-                                const int heat, double heat_into_a, const int track, const int nv, const int stored_values)
+                                const pair_ref *ref, const double *dx, const double *hv, const double *fc,
+                                const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
+                                const int track, const int nv, const int stored_values)
 {
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
@@ -327,14 +327,15 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
   const griddem_particles *p = ch->p;
   griddem_classic_batch *l = &q->lanes;
   const int n = l->n;
-  for (int k = n; k % 4; k++) /* a last partial vector reads the first pair again */
+  for (int k = n; k % 4; k++) /* a last partial vector reads the first pair again (within the batch) */
     q->a[k] = q->a[0], q->b[k] = q->b[0], q->ia[k] = q->ia[0], q->ib[k] = q->ib[0];
   for (int k = 0; k < n; k += 4) {
     const __m128i a = _mm_loadu_si128((const __m128i *) (q->a + k)), b = _mm_loadu_si128((const __m128i *) (q->b + k));
     /* particle indices in 64 bits: three doubles each */
     const __m256i ia = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ia + k)));
     const __m256i ib = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ib + k)));
-    const __m256i ia3 = _mm256_add_epi64(ia, _mm256_add_epi64(ia, ia)), ib3 = _mm256_add_epi64(ib, _mm256_add_epi64(ib, ib));
+    const __m256i ia3 = _mm256_add_epi64(ia, _mm256_add_epi64(ia, ia));
+    const __m256i ib3 = _mm256_add_epi64(ib, _mm256_add_epi64(ib, ib));
     const __m256d d0 = _mm256_sub_pd(_mm256_i32gather_pd(ch->x, a, 8), _mm256_i32gather_pd(ch->x, b, 8));
     const __m256d d1 = _mm256_sub_pd(_mm256_i32gather_pd(ch->y, a, 8), _mm256_i32gather_pd(ch->y, b, 8));
     const __m256d d2 = _mm256_sub_pd(_mm256_i32gather_pd(ch->z, a, 8), _mm256_i32gather_pd(ch->z, b, 8));
