@@ -156,21 +156,22 @@ typedef struct sweep_context {
   void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
-/* What pair_begin finds of a contact seen from slot a (owned), for its law and its end: the
- * particles' group bits, its key in a's history row, and its law */
+/* What pair_begin finds of a contact seen from slot a (owned), for its law and its end: its key
+ * in a's history row, and its law */
 typedef struct pair_ref {
-  int ma, mb;
   int64_t key_b;
   const griddem_pair_params *law;
 } pair_ref;
 
 /* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the slots of each pair (a owned)
- * and their particles, as the pairs were found, one array each (read four at a time: a batch
- * holds whole vectors of four), then per contact what is kept for its end (kept: neither
- * coincident nor excluded) and the law's lanes */
+ * and their particles, as the pairs were found, and the particles' types and group bits, one
+ * array each (read and written four at a time: a batch holds whole vectors of four), then per
+ * contact what is kept for its end (kept: neither coincident nor excluded) and the law's lanes */
 typedef char batch_of_whole_vectors[GRIDDEM_CLASSIC_BATCH % 4 == 0 ? 1 : -1];
 typedef struct contact_batch {
   int a[GRIDDEM_CLASSIC_BATCH], b[GRIDDEM_CLASSIC_BATCH], ia[GRIDDEM_CLASSIC_BATCH], ib[GRIDDEM_CLASSIC_BATCH];
+  int type_a[GRIDDEM_CLASSIC_BATCH], type_b[GRIDDEM_CLASSIC_BATCH];
+  int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
   int kept[GRIDDEM_CLASSIC_BATCH];
   pair_ref ref[GRIDDEM_CLASSIC_BATCH];
   griddem_classic_batch lanes;
@@ -209,13 +210,15 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
   return griddem_classic_eval(p, c, hist, f, ti, tj, 1);
 }
 
-/* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib, at squared
- * distance rsq (within reach): the pair is left where its centres coincide (a fault), it is
- * excluded, or (past touching) it is out of reach; otherwise ref is set and its history found
- * (*stored; NULL: none, or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
+/* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
+ * type_a and type_b, group bits ma and mb), at squared distance rsq (within reach): the pair is
+ * left where its centres coincide (a fault), it is excluded, or (past touching) it is out of
+ * reach; otherwise ref is set and its history found (*stored; NULL: none, or contacts not
+ * tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
-SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, double rsq, const int classic,
-                                 const int track, pair_ref *ref, const double **stored)
+SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
+                                 int mb, double rsq, const int classic, const int track, pair_ref *ref,
+                                 const double **stored)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -224,7 +227,6 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
     return 0;
   }
   const griddem_particles *p = ch->p;
-  const int type_a = p->type[ia], type_b = p->type[ib], ma = p->mask[ia], mb = p->mask[ib];
   const griddem_exclusions *excl = cx->excl;
   if (excl && (griddem_excluded(excl, type_a, ma, type_b, mb) ||
                (excl->nmolecule && griddem_excluded_molecules(excl, griddem_key_at(p->molecule, p->tag_bytes, ia), ma,
@@ -237,7 +239,7 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
     return 0;
-  ref->ma = ma, ref->mb = mb, ref->key_b = key_b, ref->law = law;
+  ref->key_b = key_b, ref->law = law;
   return 1;
 }
 
@@ -294,9 +296,10 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
 }
 
 /* A batch's inputs read from the slots and particles of its pairs: separations (x_a - x_b, and
- * its squared length summed left to right, as the sweep's test sums it), radii, velocities, spins
- * and masses. The plain reading, and where the processor has them (chosen once per sweep) AVX2's
- * gathers, four lanes at a time, which read the same values. */
+ * its squared length summed left to right, as the sweep's test sums it), radii, velocities, spins,
+ * masses, types and group bits, and whether each particle is frozen. The plain reading, and
+ * where the processor has them (chosen once per sweep) AVX2's gathers, four lanes at a time,
+ * which read the same values. */
 static void gather_plain(const sweep_context *cx, contact_batch *q)
 {
   const griddem_channels *ch = cx->ch;
@@ -314,6 +317,8 @@ static void gather_plain(const sweep_context *cx, contact_batch *q)
     l->rsq[k] = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
     l->radi[k] = ch->r[a], l->radj[k] = ch->r[b];
     l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
+    q->type_a[k] = p->type[ia], q->type_b[k] = p->type[ib], q->ma[k] = p->mask[ia], q->mb[k] = p->mask[ib];
+    l->frozen_i[k] = (q->ma[k] & p->frozen_bit) != 0, l->frozen_j[k] = (q->mb[k] & p->frozen_bit) != 0;
   }
 }
 
@@ -331,9 +336,20 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
     q->a[k] = q->a[0], q->b[k] = q->b[0], q->ia[k] = q->ia[0], q->ib[k] = q->ib[0];
   for (int k = 0; k < n; k += 4) {
     const __m128i a = _mm_loadu_si128((const __m128i *) (q->a + k)), b = _mm_loadu_si128((const __m128i *) (q->b + k));
+    const __m128i ia4 = _mm_loadu_si128((const __m128i *) (q->ia + k));
+    const __m128i ib4 = _mm_loadu_si128((const __m128i *) (q->ib + k));
+    const __m128i ma = _mm_i32gather_epi32(p->mask, ia4, 4), mb = _mm_i32gather_epi32(p->mask, ib4, 4);
+    _mm_storeu_si128((__m128i *) (q->ma + k), ma), _mm_storeu_si128((__m128i *) (q->mb + k), mb);
+    _mm_storeu_si128((__m128i *) (q->type_a + k), _mm_i32gather_epi32(p->type, ia4, 4));
+    _mm_storeu_si128((__m128i *) (q->type_b + k), _mm_i32gather_epi32(p->type, ib4, 4));
+    /* frozen: 1 where a particle's group bits hold the frozen bit */
+    const __m128i frozen = _mm_set1_epi32(p->frozen_bit), none = _mm_setzero_si128(), one = _mm_set1_epi32(1);
+    _mm_storeu_si128((__m128i *) (l->frozen_i + k),
+                     _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(ma, frozen), none), one));
+    _mm_storeu_si128((__m128i *) (l->frozen_j + k),
+                     _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(mb, frozen), none), one));
     /* particle indices in 64 bits: three doubles each */
-    const __m256i ia = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ia + k)));
-    const __m256i ib = _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *) (q->ib + k)));
+    const __m256i ia = _mm256_cvtepi32_epi64(ia4), ib = _mm256_cvtepi32_epi64(ib4);
     const __m256i ia3 = _mm256_add_epi64(ia, _mm256_add_epi64(ia, ia));
     const __m256i ib3 = _mm256_add_epi64(ib, _mm256_add_epi64(ib, ib));
     const __m256d d0 = _mm256_sub_pd(_mm256_i32gather_pd(ch->x, a, 8), _mm256_i32gather_pd(ch->x, b, 8));
@@ -374,16 +390,13 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   contact_batch *q = sums->batch;
   griddem_classic_batch *l = &q->lanes;
   if (l->n == 0) return;
-  const griddem_particles *p = cx->ch->p;
   cx->gather(cx, q);
   for (int k = 0; k < l->n; k++) {
     const double *stored = NULL;
-    pair_ref *ref = &q->ref[k];
-    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], l->rsq[k], CLASSIC_BATCHED, 1, ref, &stored);
+    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], q->ma[k], q->mb[k],
+                            l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
-    l->frozen_i[k] = q->kept[k] && (ref->ma & p->frozen_bit) != 0;
-    l->frozen_j[k] = q->kept[k] && (ref->mb & p->frozen_bit) != 0;
-    for (int d = 0; d < 3; d++) l->shear[d][k] = q->kept[k] && stored ? stored[d] : 0.0;
+    for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
   }
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
   for (int k = 0; k < l->n; k++) {
@@ -422,14 +435,14 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
   const double *stored;
-  const int ia = cx->order[a], ib = cx->order[b];
+  const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
   pair_ref ref;
-  if (!pair_begin(cx, a, b, ia, ib, rsq, classic, track, &ref, &stored)) return;
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, rsq, classic, track, &ref, &stored)) return;
 
   griddem_contact c;
   griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
                         p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
-                        (ref.ma & p->frozen_bit) != 0, (ref.mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
+                        (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
   const int heat = !classic && p->heatflow;    /* the classic laws conduct no heat */
   if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
 
