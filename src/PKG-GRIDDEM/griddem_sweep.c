@@ -18,6 +18,24 @@ static int grow_aligned(void **ptr, size_t size, int count)
   return posix_memalign(ptr, 64, size * (size_t) count) == 0 ? 0 : -1;
 }
 
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define GRIDDEM_SWEEP_GATHER 1
+#endif
+
+/* Whether the sweep reads particles into vector lanes with AVX2's gathers: where the processor
+ * has them, except with the plain-C search kernel (the reference), so that the tests that run each
+ * kernel run both readings */
+static int avx2_gathers(void)
+{
+#ifdef GRIDDEM_SWEEP_GATHER
+  __builtin_cpu_init();
+  return strcmp(griddem_touching_name(), "scalar") != 0 && __builtin_cpu_supports("avx2");
+#else
+  return 0;
+#endif
+}
+
 /* Slot s of the channels: particle i's centre, radius, key and image */
 static inline void fill_slot(griddem_channels *ch, int i, const griddem_particles *p, int s)
 {
@@ -29,6 +47,35 @@ static inline void fill_slot(griddem_channels *ch, int i, const griddem_particle
   if (p->image) ch->image[s] = p->image[i];
   ch->ncontact[s] = 0;
 }
+
+/* Slots s0 .. s1 - 1 of the channels, of particles order[s]: one at a time, and four at a time by
+ * AVX2's gathers (the same values) */
+static void fill_plain(griddem_channels *ch, const int *order, const griddem_particles *p, int s0, int s1)
+{
+  for (int s = s0; s < s1; s++) fill_slot(ch, order[s], p, s);
+}
+
+#ifdef GRIDDEM_SWEEP_GATHER
+__attribute__((target("avx2"))) static void fill_avx2(griddem_channels *ch, const int *order,
+                                                      const griddem_particles *p, int s0, int s1)
+{
+  int s = s0;
+  for (; s + 4 <= s1; s += 4) {
+    const __m128i i4 = _mm_loadu_si128((const __m128i *) (order + s));
+    const __m256i i64 = _mm256_cvtepi32_epi64(i4), i3 = _mm256_add_epi64(i64, _mm256_add_epi64(i64, i64));
+    _mm256_storeu_pd(ch->x + s, _mm256_i64gather_pd(p->x, i3, 8));
+    _mm256_storeu_pd(ch->y + s, _mm256_i64gather_pd(p->x + 1, i3, 8));
+    _mm256_storeu_pd(ch->z + s, _mm256_i64gather_pd(p->x + 2, i3, 8));
+    _mm256_storeu_pd(ch->r + s, _mm256_i32gather_pd(p->radius, i4, 8));
+    const __m256i tag = p->tag_bytes == 8 ? _mm256_i32gather_epi64((const long long *) p->tag, i4, 8)
+                                          : _mm256_cvtepi32_epi64(_mm_i32gather_epi32((const int *) p->tag, i4, 4));
+    _mm256_storeu_si256((__m256i *) (ch->tag + s), tag);
+    if (p->image) _mm_storeu_si128((__m128i *) (ch->image + s), _mm_i32gather_epi32(p->image, i4, 4));
+    _mm_storeu_si128((__m128i *) (ch->ncontact + s), _mm_setzero_si128());
+  }
+  fill_plain(ch, order, p, s, s1);
+}
+#endif
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p)
 {
@@ -52,11 +99,17 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->n = n;
   ch->p = p;
   ch->keyed_by_image = p->image != NULL;
+  void (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
+#ifdef GRIDDEM_SWEEP_GATHER
+  if (avx2_gathers()) fill = fill_avx2;
+#endif
   if (griddem_threaded(n)) {
+    enum { BLOCK = 4096 };    /* slots a thread fills at once */
+    const int nblock = (n + BLOCK - 1) / BLOCK;
 #pragma omp parallel for schedule(static)
-    for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
+    for (int k = 0; k < nblock; k++) fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
   } else {
-    for (int s = 0; s < n; s++) fill_slot(ch, b->order[s], p, s);
+    fill(ch, b->order, p, 0, n);
   }
   return 0;
 }
@@ -322,10 +375,7 @@ static void gather_plain(const sweep_context *cx, contact_batch *q)
   }
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define GRIDDEM_SWEEP_GATHER 1
-
+#ifdef GRIDDEM_SWEEP_GATHER
 __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx, contact_batch *q)
 {
   const griddem_channels *ch = cx->ch;
@@ -372,13 +422,11 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
 }
 #endif
 
-/* The batch's reading of its inputs: the plain one with the plain-C search kernel (the reference,
- * so that the tests that run each kernel run both readings), else AVX2's where the processor has it */
+/* The batch's reading of its inputs (avx2_gathers) */
 static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 {
 #ifdef GRIDDEM_SWEEP_GATHER
-  __builtin_cpu_init();
-  if (strcmp(griddem_touching_name(), "scalar") != 0 && __builtin_cpu_supports("avx2")) return gather_avx2;
+  if (avx2_gathers()) return gather_avx2;
 #endif
   return gather_plain;
 }

@@ -10,6 +10,7 @@
 #include "griddem_engine.h"
 #include "griddem_search.h"
 #include "griddem_sweep.h"
+#include "griddem_threads.h"
 #include "spec_text.h"
 
 #include <stdlib.h>
@@ -415,9 +416,57 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
   griddem_history_free(&hist);
 }
 
+/* The channels filled from particles in a shuffled order, with 32- and 64-bit keys (the latter
+ * past 2^32) and images, slot by slot as the particles hold them: through the kernel's reading
+ * (four at a time, the last slots one by one) and, on a team of threads, by blocks */
+static void check_fill(int threads)
+{
+  enum { M = 3 * GRIDDEM_THREADED_MIN + 3 };
+  static double px[3 * M], pr[M];
+  static int ptag32[M], pimage[M], order[M];
+  static int64_t ptag64[M];
+  /* values and a permutation of their own (the other checks' random scenes stay as they are) */
+  uint64_t state = 88172645463325252ull;
+#define NEXT_UNIFORM() (state ^= state << 13, state ^= state >> 7, state ^= state << 17, (double) (state >> 11) * 0x1p-53)
+  for (int i = 0; i < M; i++) {
+    for (int d = 0; d < 3; d++) px[3 * i + d] = NEXT_UNIFORM();
+    pr[i] = NEXT_UNIFORM(), ptag32[i] = 3 * i + 1, ptag64[i] = ((int64_t) 5 << 32) + 7 * i, pimage[i] = i % 4096;
+    order[i] = i;
+  }
+  for (int i = M - 1; i > 0; i--) {
+    const int j = (int) (NEXT_UNIFORM() * (i + 1)), k = order[i];
+    order[i] = order[j], order[j] = k;
+  }
+#undef NEXT_UNIFORM
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  for (int wide = 0; wide < 2; wide++) {
+    griddem_particles part = {M, M, px, NULL, NULL, pr, NULL, NULL, 4, NULL, NULL, 0, pimage};
+    part.tag = wide ? (const void *) ptag64 : (const void *) ptag32, part.tag_bytes = wide ? 8 : 4;
+    griddem_bins b = {0};
+    b.n = M, b.order = order;
+    griddem_channels ch = {0};
+    CHECK(griddem_channels_fill(&ch, &b, &part) == 0, "channels filled");
+    long wrong = 0;
+    for (int s = 0; s < M; s++) {
+      const int i = order[s];
+      wrong += ch.x[s] != px[3 * i] || ch.y[s] != px[3 * i + 1] || ch.z[s] != px[3 * i + 2] || ch.r[s] != pr[i] ||
+               ch.tag[s] != (wide ? ptag64[i] : ptag32[i]) || ch.image[s] != pimage[i] || ch.ncontact[s] != 0;
+    }
+    CHECK(wrong == 0, "%d-bit keys, %d thread(s): %ld of %d slots filled wrong", wide ? 64 : 32, threads, wrong, M);
+    griddem_channels_free(&ch);
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(1);
+#endif
+}
+
 /* Every check of this file, with the sweep's candidate test done by each kernel this processor runs */
 static void all_checks(void)
 {
+  check_fill(1);
+  check_fill(2);
   engine_against_all_pairs(LAWS[0], 1, SIZES_SPREAD, 0);
   engine_against_all_pairs(LAWS[3], 3, SIZES_SPREAD, 0);
   engine_against_all_pairs(LAWS[5], 1, SIZES_SPREAD, 0);
