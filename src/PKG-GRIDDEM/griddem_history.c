@@ -1,5 +1,6 @@
 /* The CPU contact-history store; see griddem_history.h. */
 #include "griddem_history.h"
+#include "griddem_search.h"
 #include "griddem_threads.h"
 
 #include <stdlib.h>
@@ -154,20 +155,63 @@ int griddem_history_set_values(griddem_history *h, int values)
   return 0;
 }
 
-/* Rows s0 .. s1 - 1 of pool p laid out from entry at on: each with room for its particle's last
- * count (rows of nrows, count[]) and a margin, none for a ghost; returns the entry after them */
-static long lay_rows(griddem_history_pool *p, const int *order, const int *row_of, const int *count, int nlocal,
-                     int nrows, int s0, int s1, long at)
+/* The room of rows s0 .. s1 - 1 into room[]: its particle's last count (rows of nrows, count[])
+ * and a margin, none for a ghost. One at a time, and eight at a time by AVX2's masked gathers
+ * (which read no row of a ghost or a missing row), chosen as the sweep's other reads
+ * (griddem_touching_gathers). */
+static void rooms_plain(const int *order, const int *row_of, const int *count, int nlocal, int nrows, int s0, int s1,
+                        long *room)
 {
   for (int s = s0; s < s1; s++) {
     const int i = order[s];
-    p->start[s] = at;
-    p->count[s] = 0;
-    if (i < nlocal) {
-      const int row = row_of[i];
-      at += (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
+    if (i >= nlocal) {
+      room[s] = 0;
+      continue;
     }
+    const int row = row_of[i];
+    room[s] = (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
   }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define GRIDDEM_HISTORY_GATHER 1
+
+__attribute__((target("avx2"))) static void rooms_avx2(const int *order, const int *row_of, const int *count,
+                                                       int nlocal, int nrows, int s0, int s1, long *room)
+{
+  const __m256i locals = _mm256_set1_epi32(nlocal), rows = _mm256_set1_epi32(nrows), none = _mm256_set1_epi32(-1);
+  const __m256i margin = _mm256_set1_epi32(GRIDDEM_HISTORY_MARGIN);
+  int s = s0;
+  for (; s + 8 <= s1; s += 8) {
+    const __m256i i = _mm256_loadu_si256((const __m256i *) (order + s));
+    const __m256i owned = _mm256_cmpgt_epi32(locals, i);
+    const __m256i row = _mm256_mask_i32gather_epi32(none, row_of, i, owned, 4);
+    const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(row, none), _mm256_cmpgt_epi32(rows, row));
+    const __m256i last = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), count, row, in, 4);
+    const __m256i r = _mm256_and_si256(owned, _mm256_add_epi32(last, margin));
+    _mm256_storeu_si256((__m256i *) (room + s), _mm256_cvtepi32_epi64(_mm256_castsi256_si128(r)));
+    _mm256_storeu_si256((__m256i *) (room + s + 4), _mm256_cvtepi32_epi64(_mm256_extracti128_si256(r, 1)));
+  }
+  rooms_plain(order, row_of, count, nlocal, nrows, s, s1, room);
+}
+#endif
+
+/* Rows s0 .. s1 - 1 of pool p laid out from entry at on (their rooms), empty; returns the entry
+ * after them */
+static long lay_rows(griddem_history_pool *p, const int *order, const int *row_of, const int *count, int nlocal,
+                     int nrows, int s0, int s1, long at)
+{
+#ifdef GRIDDEM_HISTORY_GATHER
+  if (griddem_touching_gathers()) rooms_avx2(order, row_of, count, nlocal, nrows, s0, s1, p->start);
+  else
+#endif
+    rooms_plain(order, row_of, count, nlocal, nrows, s0, s1, p->start);
+  for (int s = s0; s < s1; s++) {
+    const long room = p->start[s];
+    p->start[s] = at, at += room;
+  }
+  memset(p->count + s0, 0, sizeof(int) * (size_t) (s1 - s0));
   return at;
 }
 

@@ -171,3 +171,13 @@ int griddem_touching_use(const char *name)
   }
   return -1;
 }
+
+int griddem_touching_gathers(void)
+{
+#ifdef GRIDDEM_SEARCH_X86
+  if (chosen < 0) choose();
+  return strcmp(KERNELS[chosen].name, "scalar") != 0 && __builtin_cpu_supports("avx2");
+#else
+  return 0;
+#endif
+}

@@ -48,6 +48,11 @@ int griddem_touching_width(void);
  * griddem_touching_kernel(name) is NULL. */
 int griddem_touching_use(const char *name);
 
+/* Whether the CPU engine reads particles into vector lanes with AVX2's gathers (the channels, a
+ * batch's inputs, the history rows' room): where the processor has them, except with the plain-C
+ * kernel, so that the tests that run each kernel run the plain reads too. */
+int griddem_touching_gathers(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -23,19 +23,6 @@ static int grow_aligned(void **ptr, size_t size, int count)
 #define GRIDDEM_SWEEP_GATHER 1
 #endif
 
-/* Whether the sweep reads particles into vector lanes with AVX2's gathers: where the processor
- * has them, except with the plain-C search kernel (the reference), so that the tests that run each
- * kernel run both readings */
-static int avx2_gathers(void)
-{
-#ifdef GRIDDEM_SWEEP_GATHER
-  __builtin_cpu_init();
-  return strcmp(griddem_touching_name(), "scalar") != 0 && __builtin_cpu_supports("avx2");
-#else
-  return 0;
-#endif
-}
-
 /* Slot s of the channels: particle i's centre, radius, key and image */
 static inline void fill_slot(griddem_channels *ch, int i, const griddem_particles *p, int s)
 {
@@ -101,7 +88,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->keyed_by_image = p->image != NULL;
   void (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
 #ifdef GRIDDEM_SWEEP_GATHER
-  if (avx2_gathers()) fill = fill_avx2;
+  if (griddem_touching_gathers()) fill = fill_avx2;
 #endif
   if (griddem_threaded(n)) {
     enum { BLOCK = 4096 };    /* slots a thread fills at once */
@@ -422,11 +409,11 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
 }
 #endif
 
-/* The batch's reading of its inputs (avx2_gathers) */
+/* The batch's reading of its inputs (griddem_touching_gathers) */
 static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 {
 #ifdef GRIDDEM_SWEEP_GATHER
-  if (avx2_gathers()) return gather_avx2;
+  if (griddem_touching_gathers()) return gather_avx2;
 #endif
   return gather_plain;
 }

@@ -45,6 +45,15 @@ static void check_threaded_layout(void)
   int same = start[0][NSLOT] == start[1][NSLOT] && start[0][NSLOT] > 0;
   for (int s = 0; s <= NSLOT; s++) same &= start[0][s] == start[1][s];
   CHECK(same, "two threads lay %d rows out as one (%ld entries of room)", NSLOT, start[1][NSLOT]);
+  /* each slot's room counted here: its row's r % 7 contacts and the margin, none for a ghost or
+     for a particle without a row beyond the margin */
+  long wrong = 0;
+  for (int s = 0; s < NSLOT; s++) {
+    const int i = order[s], row = i < NLOCAL ? row_of[i] : -1;
+    const long room = i < NLOCAL ? (row >= 0 ? row % 7 : 0) + GRIDDEM_HISTORY_MARGIN : 0;
+    wrong += start[0][s + 1] - start[0][s] != room;
+  }
+  CHECK(wrong == 0, "%ld of %d slots laid out with other room than their last count and the margin", wrong, NSLOT);
   CHECK(most[0] == most[1], "longest row %d and %d", most[0], most[1]);
 }
 #endif
