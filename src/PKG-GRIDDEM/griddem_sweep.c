@@ -196,10 +196,10 @@ typedef struct sweep_context {
   void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
-/* What pair_begin finds of a contact seen from slot a (owned), for its law and its end: its key
- * in a's history row, and its law */
+/* What pair_begin keeps of a contact seen from slot a (owned), for its law and its end: its keys
+ * in a's history row and (where b is owned) in b's, and its law */
 typedef struct pair_ref {
-  int64_t key_b;
+  int64_t key_b, key_a;
   const griddem_pair_params *law;
 } pair_ref;
 
@@ -212,6 +212,7 @@ typedef struct contact_batch {
   int a[GRIDDEM_CLASSIC_BATCH], b[GRIDDEM_CLASSIC_BATCH], ia[GRIDDEM_CLASSIC_BATCH], ib[GRIDDEM_CLASSIC_BATCH];
   int type_a[GRIDDEM_CLASSIC_BATCH], type_b[GRIDDEM_CLASSIC_BATCH];
   int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
+  int64_t key_b[GRIDDEM_CLASSIC_BATCH], key_a[GRIDDEM_CLASSIC_BATCH];    /* b seen from a, a from b */
   int kept[GRIDDEM_CLASSIC_BATCH];
   pair_ref ref[GRIDDEM_CLASSIC_BATCH];
   griddem_classic_batch lanes;
@@ -251,14 +252,14 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 }
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
- * type_a and type_b, group bits ma and mb), at squared distance rsq (within reach): the pair is
- * left where its centres coincide (a fault), it is excluded, or (past touching) it is out of
- * reach; otherwise ref is set and its history found (*stored; NULL: none, or contacts not
- * tracked). Returns whether the pair is kept. classic and track are constants of
+ * type_a and type_b, group bits ma and mb; history keys key_b of b seen from a and key_a of a
+ * seen from b), at squared distance rsq (within reach): the pair is left where its centres
+ * coincide (a fault), it is excluded, or (past touching) it is out of reach; otherwise ref is
+ * set and its history found (*stored; NULL: none, or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
-                                 int mb, double rsq, const int classic, const int track, pair_ref *ref,
-                                 const double **stored)
+                                 int mb, int64_t key_b, int64_t key_a, double rsq, const int classic, const int track,
+                                 pair_ref *ref, const double **stored)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -274,12 +275,11 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
     return 0;
   /* the batches' pairs all have the one law */
   const griddem_pair_params *law = classic == CLASSIC_BATCHED ? griddem_model_pair(m, 1, 1) : griddem_model_pair(m, type_a, type_b);
-  const int64_t key_b = track ? contact_key(ch, a, b) : 0;
   *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
     return 0;
-  ref->key_b = key_b, ref->law = law;
+  ref->key_b = key_b, ref->key_a = key_a, ref->law = law;
   return 1;
 }
 
@@ -301,7 +301,7 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
       for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = ref->law->parity[v] * hv[v];
-      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, contact_key(ch, b, a), hb);
+      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, ref->key_a, hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
@@ -359,6 +359,7 @@ static void gather_plain(const sweep_context *cx, contact_batch *q)
     l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
     q->type_a[k] = p->type[ia], q->type_b[k] = p->type[ib], q->ma[k] = p->mask[ia], q->mb[k] = p->mask[ib];
     l->frozen_i[k] = (q->ma[k] & p->frozen_bit) != 0, l->frozen_j[k] = (q->mb[k] & p->frozen_bit) != 0;
+    q->key_b[k] = contact_key(ch, a, b), q->key_a[k] = contact_key(ch, b, a);
   }
 }
 
@@ -405,7 +406,13 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
     }
     _mm256_storeu_pd(l->mi + k, _mm256_i64gather_pd(p->rmass, ia, 8));
     _mm256_storeu_pd(l->mj + k, _mm256_i64gather_pd(p->rmass, ib, 8));
+    if (!ch->keyed_by_image) { /* the keys are the tags */
+      _mm256_storeu_si256((__m256i *) (q->key_b + k), _mm256_i32gather_epi64((const long long *) ch->tag, b, 8));
+      _mm256_storeu_si256((__m256i *) (q->key_a + k), _mm256_i32gather_epi64((const long long *) ch->tag, a, 8));
+    }
   }
+  if (ch->keyed_by_image)
+    for (int k = 0; k < n; k++) q->key_b[k] = contact_key(ch, q->a[k], q->b[k]), q->key_a[k] = contact_key(ch, q->b[k], q->a[k]);
 }
 #endif
 
@@ -429,7 +436,7 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   for (int k = 0; k < l->n; k++) {
     const double *stored = NULL;
     q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], q->ma[k], q->mb[k],
-                            l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
+                            q->key_b[k], q->key_a[k], l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
     for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
   }
@@ -472,7 +479,9 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const double *stored;
   const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
   pair_ref ref;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, rsq, classic, track, &ref, &stored)) return;
+  const int64_t key_b = track ? contact_key(ch, a, b) : 0, key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, rsq, classic, track, &ref, &stored))
+    return;
 
   griddem_contact c;
   griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
