@@ -217,9 +217,15 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   /* on the threads where there are many points (OpenMP only then: a region allocates its team
      even for one thread), and the threads' counts of the cells (memory and work) are at most two
      per point: not on a grid mostly empty */
-  const int threaded = griddem_threaded(n);
-  if (threaded && (long) griddem_max_threads() * g->ncell <= 2L * n) {
+  if (griddem_threaded(n) && (long) griddem_max_threads() * g->ncell <= 2L * n) {
     if (bin_threaded(b, g, n, x) != 0) return -1;
+    /* each crowded cell's centres in key order, the cells on the threads */
+    const int *start = b->cell_start;
+    if (key && b->max_occupancy > 1) {
+#pragma omp parallel for schedule(static)
+      for (long c = 0; c < g->ncell; c++)
+        if (start[c + 1] - start[c] > 1) griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+    }
   } else {
     int *start = b->cell_start;
     memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
@@ -228,31 +234,30 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
        A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
     cells_of(g, 0, n, x, b->cell);
     for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
-    long occupied = 0;
+    /* the crowded cells listed as they are met (at most n / 2 of them; each cell written at the
+       list's end, which a crowded one then extends, so the scan takes no branch on it) */
+    if (n / 2 + 1 > b->crowded_cap) {
+      free(b->crowded);
+      b->crowded = (long *) malloc(sizeof(long) * (size_t) (n / 2 + 1));
+      b->crowded_cap = b->crowded ? n / 2 + 1 : 0;
+      if (!b->crowded) return -1;
+    }
+    long occupied = 0, crowded = 0;
     int most = 0;
     for (long c = 0; c < g->ncell; c++) {
       const int count = start[c + 2];
       occupied += count != 0;
       most = count > most ? count : most;
+      b->crowded[crowded] = c, crowded += count > 1;
       start[c + 2] += start[c + 1];
     }
     b->occupied = occupied;
     b->max_occupancy = most;
     for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
-  }
-
-  /* the occupied cells, through their slots; threaded, through the cells */
-  const int *start = b->cell_start, most = b->max_occupancy;
-  if (key && most > 1 && threaded) {
-#pragma omp parallel for schedule(static)
-    for (long c = 0; c < g->ncell; c++)
-      if (start[c + 1] - start[c] > 1) griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
-  } else if (key && most > 1) {
-    for (int s = 0; s < n;) {
-      const long c = b->cell[b->order[s]];
-      const int count = start[c + 1] - start[c];
-      if (count > 1) griddem_sort_cell(b->order + s, count, key, key_bytes, x);
-      s += count;
+    /* each crowded cell's centres in key order */
+    for (long k = 0; key && k < crowded; k++) {
+      const long c = b->crowded[k];
+      griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
     }
   }
   return 0;
@@ -264,6 +269,7 @@ void griddem_bins_free(griddem_bins *b)
   free(b->order);
   free(b->cell);
   free(b->thread_count);
+  free(b->crowded);
   memset(b, 0, sizeof(*b));
 }
 

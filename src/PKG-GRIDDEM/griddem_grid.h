@@ -195,6 +195,8 @@ typedef struct griddem_bins {
   int max_occupancy;/* most centres in one cell ("slots used") */
   int *thread_count;/* binned on threads: each thread's count of each cell, then its place in it */
   long thread_count_cap;
+  long *crowded;    /* binned on one thread: the cells holding more than one centre */
+  int crowded_cap;
 } griddem_bins;
 
 /* Counting sort of n interleaved points into g's cells; within a cell, slots are ordered by key
