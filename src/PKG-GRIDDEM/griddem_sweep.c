@@ -254,12 +254,13 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
  * type_a and type_b, group bits ma and mb; history keys key_b of b seen from a and key_a of a
  * seen from b), at squared distance rsq (within reach): the pair is left where its centres
- * coincide (a fault), it is excluded, or (past touching) it is out of reach; otherwise ref is
- * set and its history found (*stored; NULL: none, or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
+ * coincide (a fault), it is excluded by excl (NULL: none, or tested already), or (past touching)
+ * it is out of reach; otherwise ref is set and its history found (*stored; NULL: none, or contacts
+ * not tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
-                                 int mb, int64_t key_b, int64_t key_a, double rsq, const int classic, const int track,
-                                 pair_ref *ref, const double **stored)
+                                 int mb, int64_t key_b, int64_t key_a, const griddem_exclusions *excl, double rsq,
+                                 const int classic, const int track, pair_ref *ref, const double **stored)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -268,7 +269,6 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
     return 0;
   }
   const griddem_particles *p = ch->p;
-  const griddem_exclusions *excl = cx->excl;
   if (excl && (griddem_excluded(excl, type_a, ma, type_b, mb) ||
                (excl->nmolecule && griddem_excluded_molecules(excl, griddem_key_at(p->molecule, p->tag_bytes, ia), ma,
                                                               griddem_key_at(p->molecule, p->tag_bytes, ib), mb))))
@@ -433,10 +433,21 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   griddem_classic_batch *l = &q->lanes;
   if (l->n == 0) return;
   cx->gather(cx, q);
+  /* exclusions by group bits alone (neigh_modify exclude group, fix griddem/rom's) tested here with
+     their bits at hand; a coincident pair still goes on to pair_begin's fault */
+  const griddem_exclusions *excl = cx->excl;
+  const int by_bits = excl && !excl->type_pair && !excl->ngroup_pairs && !excl->nmolecule;
+  const int both = by_bits ? excl->both_bit | excl->group_both_bits : 0, apart = by_bits ? excl->apart_bit : 0;
   for (int k = 0; k < l->n; k++) {
     const double *stored = NULL;
-    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], q->ma[k], q->mb[k],
-                            q->key_b[k], q->key_a[k], l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
+    const int ma = q->ma[k], mb = q->mb[k];
+    if (((ma & mb & both) | ((ma | mb) & apart)) && l->rsq[k] != 0.0) {
+      q->kept[k] = 0;
+      for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
+      continue;
+    }
+    q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], ma, mb, q->key_b[k],
+                            q->key_a[k], by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
     for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
   }
@@ -480,7 +491,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
   pair_ref ref;
   const int64_t key_b = track ? contact_key(ch, a, b) : 0, key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, rsq, classic, track, &ref, &stored))
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, cx->excl, rsq, classic, track, &ref,
+                  &stored))
     return;
 
   griddem_contact c;

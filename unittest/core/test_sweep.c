@@ -475,6 +475,7 @@ static void all_checks(void)
     engine_against_all_pairs(LAWS[3], 3, sizes, 0);
   }
   for (int idle = 1; idle <= 2; idle++) {
+    engine_against_all_pairs(ONE_LAW, 1, SIZES_ONE_CLASS, idle);    /* the batches' group-bit exclusions */
     engine_against_all_pairs(LAWS[0], 1, SIZES_ONE_CLASS, idle);
     engine_against_all_pairs(LAWS[5], 3, SIZES_ONE_CLASS, idle);
     engine_against_all_pairs(LAWS[3], 1, SIZES_SPREAD, idle);
