@@ -21,6 +21,8 @@ static int grow_aligned(void **ptr, size_t size, int count)
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #define GRIDDEM_SWEEP_GATHER 1
+#elif defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 /* Slot s of the channels: particle i's centre, radius, key and image */
@@ -283,6 +285,27 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
   return 1;
 }
 
+/* v += w and v -= w for three doubles, element by element (the first two in one SSE2 operation) */
+static inline void add3(double *v, const double *w)
+{
+#ifdef __SSE2__
+  _mm_storeu_pd(v, _mm_add_pd(_mm_loadu_pd(v), _mm_loadu_pd(w)));
+  v[2] += w[2];
+#else
+  for (int d = 0; d < 3; d++) v[d] += w[d];
+#endif
+}
+
+static inline void subtract3(double *v, const double *w)
+{
+#ifdef __SSE2__
+  _mm_storeu_pd(v, _mm_sub_pd(_mm_loadu_pd(v), _mm_loadu_pd(w)));
+  v[2] -= w[2];
+#else
+  for (int d = 0; d < 3; d++) v[d] -= w[d];
+#endif
+}
+
 /* What follows the law of the contact of slots a and b, particles ia and ib, that pair_begin kept
  * (ref; separation dx, seen from a): its history values hv (seen from a; nv of them, track:
  * contacts are kept) written to a's next row and, seen from b, to b's if b is owned; the force
@@ -306,12 +329,10 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
-  double *fa = cx->f + 3 * (size_t) ia, *ta_sum = cx->torque + 3 * (size_t) ia;
-  for (int d = 0; d < 3; d++) fa[d] += fc[d], ta_sum[d] += ta[d];
+  add3(cx->f + 3 * (size_t) ia, fc), add3(cx->torque + 3 * (size_t) ia, ta);
   ch->ncontact[a]++;
   if (b_owned) {
-    double *fb = cx->f + 3 * (size_t) ib, *tb_sum = cx->torque + 3 * (size_t) ib;
-    for (int d = 0; d < 3; d++) fb[d] -= fc[d], tb_sum[d] += tb[d];
+    subtract3(cx->f + 3 * (size_t) ib, fc), add3(cx->torque + 3 * (size_t) ib, tb);
     ch->ncontact[b]++;
   }
   if (heat) {
