@@ -886,6 +886,16 @@ static int twins(const griddem_class_grid *k, const griddem_class_grid *t)
   return !k->kinematic && t->kinematic && same_cells(k->g, t->g);
 }
 
+/* The contacts counted in n slots, and the most of one slot (in vector lanes) */
+GRIDDEM_VECTOR_COPIES static long count_contacts(const int *ncontact, int n, int *most)
+{
+  long contacts = 0;
+  int m = 0;
+  for (int s = 0; s < n; s++) contacts += ncontact[s], m = ncontact[s] > m ? ncontact[s] : m;
+  *most = m;
+  return contacts;
+}
+
 /* A thread's sums added into totals (the virial's six components, then the energy) */
 static void add_sums(double *totals, sweep_sums sums)
 {
@@ -1093,12 +1103,8 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
   /* only owned particles' slots count contacts */
-  long contacts = 0;
   int most = 0;
-  for (int s = 0; s < nslot; s++) {
-    contacts += ch->ncontact[s];
-    most = ch->ncontact[s] > most ? ch->ncontact[s] : most;
-  }
+  const long contacts = count_contacts(ch->ncontact, nslot, &most);
   for (int c = 0; c < 6; c++) result->virial[c] = totals[c];
   result->energy = totals[6];
   result->contacts = contacts;
