@@ -209,9 +209,8 @@ static long lay_rows(griddem_history_pool *p, const int *order, const int *row_o
     rooms_plain(order, row_of, count, nlocal, nrows, s0, s1, p->start);
   for (int s = s0; s < s1; s++) {
     const long room = p->start[s];
-    p->start[s] = at, at += room;
+    p->start[s] = at, at += room, p->count[s] = 0;
   }
-  memset(p->count + s0, 0, sizeof(int) * (size_t) (s1 - s0));
   return at;
 }
 
