@@ -693,6 +693,9 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
     off_lo = kept_lo, off_hi = kept_hi, dxlo = kept_dxlo, dxhi = kept_dxhi;
   }
 
+  /* each stencil row's cell starts from this cell row's x = 0, the into grid's base added */
+  const int *row_lo[nrows], *row_hi[nrows];
+  for (int q = 0; q < nvalid; q++) row_lo[q] = row0 + off_lo[q], row_hi[q] = row0 + off_hi[q];
   int lo[nrows], hi[nrows];
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
@@ -703,14 +706,14 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
     int total = 0;
     if (xa >= xsafe_lo && xb <= xsafe_hi)
       for (int q = 0; q < nvalid; q++) {
-        lo[q] = into_base + row0[off_lo[q] + xa], hi[q] = into_base + row0[off_hi[q] + xb];
+        lo[q] = into_base + row_lo[q][xa], hi[q] = into_base + row_hi[q][xb];
         total += hi[q] - lo[q];
       }
     else
       for (int q = 0; q < nvalid; q++) {
         const int x0 = xa + dxlo[q] < 0 ? 0 : xa + dxlo[q];
         const int x1 = xb + dxhi[q] >= nx ? nx - 1 : xb + dxhi[q];
-        lo[q] = into_base + row0[off_lo[q] - dxlo[q] + x0], hi[q] = into_base + row0[off_hi[q] - dxhi[q] + x1];
+        lo[q] = into_base + row_lo[q][x0 - dxlo[q]], hi[q] = into_base + row_hi[q][x1 - dxhi[q]];
         total += hi[q] - lo[q];
       }
     if (own) lo[0] = base + s0 + 1;
