@@ -302,6 +302,22 @@ static int fold_overflow(griddem_history *h)
   return 0;
 }
 
+/* The entries of nrows rows (count[]) and the most of one, in vector lanes, on threads where there
+ * are many */
+GRIDDEM_VECTOR_COPIES static long count_rows(const int *count, int nrows, int *most)
+{
+  long entries = 0;
+  int m = 0;
+  if (griddem_threaded(nrows)) {
+#pragma omp parallel for simd schedule(static) reduction(+ : entries) reduction(max : m)
+    for (int s = 0; s < nrows; s++) entries += count[s], m = count[s] > m ? count[s] : m;
+  } else {
+    for (int s = 0; s < nrows; s++) entries += count[s], m = count[s] > m ? count[s] : m;
+  }
+  *most = m;
+  return entries;
+}
+
 int griddem_history_end(griddem_history *h)
 {
   long overflowed = 0;
@@ -312,14 +328,6 @@ int griddem_history_end(griddem_history *h)
     const griddem_history_pool written = h->next;
     h->next = h->cur, h->cur = written;
   }
-  int most = 0;
-  const int nrows = h->cur.nrows, *count = h->cur.count;
-  if (griddem_threaded(nrows)) {
-#pragma omp parallel for schedule(static) reduction(max : most)
-    for (int s = 0; s < nrows; s++) most = count[s] > most ? count[s] : most;
-  } else {
-    for (int s = 0; s < nrows; s++) most = count[s] > most ? count[s] : most;
-  }
-  h->max_count = most;
+  h->entries = count_rows(h->cur.count, h->cur.nrows, &h->max_count);
   return 0;
 }

@@ -43,6 +43,7 @@ typedef struct griddem_history_overflow {
 typedef struct griddem_history {
   int values;     /* history values per contact */
   int max_count;  /* most entries in one row (sizes exchange messages) */
+  long entries;   /* entries in all rows, after a sweep (its contacts counted from each owned side) */
   griddem_history_pool cur;  /* the history */
   griddem_history_pool next; /* written by the sweep */
   griddem_history_overflow *overflow;

@@ -330,10 +330,10 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   }
 
   add3(cx->f + 3 * (size_t) ia, fc), add3(cx->torque + 3 * (size_t) ia, ta);
-  ch->ncontact[a]++;
-  if (b_owned) {
-    subtract3(cx->f + 3 * (size_t) ib, fc), add3(cx->torque + 3 * (size_t) ib, tb);
-    ch->ncontact[b]++;
+  if (b_owned) subtract3(cx->f + 3 * (size_t) ib, fc), add3(cx->torque + 3 * (size_t) ib, tb);
+  if (!track) { /* a tracked contact is counted by its entries in the history */
+    ch->ncontact[a]++;
+    if (b_owned) ch->ncontact[b]++;
   }
   if (heat) {
     ch->p->heatflow[ia] += heat_into_a;
@@ -1105,9 +1105,9 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 
   if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
-  /* only owned particles' slots count contacts */
-  int most = 0;
-  const long contacts = count_contacts(ch->ncontact, nslot, &most);
+  /* only owned particles' slots count contacts: by their history entries where contacts are kept */
+  int most = model->track_contacts ? hist->max_count : 0;
+  const long contacts = model->track_contacts ? hist->entries : count_contacts(ch->ncontact, nslot, &most);
   for (int c = 0; c < 6; c++) result->virial[c] = totals[c];
   result->energy = totals[6];
   result->contacts = contacts;
