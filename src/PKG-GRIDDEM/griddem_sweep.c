@@ -310,11 +310,12 @@ static inline void subtract3(double *v, const double *w)
  * (ref; separation dx, seen from a): its history values hv (seen from a; nv of them, track:
  * contacts are kept) written to a's next row and, seen from b, to b's if b is owned; the force
  * fc on a (b gets -fc) and the torques ta and tb added to the owned particles, the heat into a
- * (if heat) likewise, the contact counted, its elastic energy and virial tallied. */
+ * (if heat) likewise, the contact counted, its elastic energy and (virial: the sweep tallies it)
+ * virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
                                 const pair_ref *ref, const double *dx, const double *hv, const double *fc,
                                 const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
-                                const int track, const int nv, const int stored_values)
+                                const int track, const int nv, const int stored_values, const int virial)
 {
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
@@ -343,7 +344,7 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   /* a pair shared with another process is tallied half here, half there */
   const double share = b_owned ? 1.0 : 0.5;
   sums->energy += share * energy;
-  if (!cx->want_virial && !cx->vatom) return;
+  if (!virial) return;
   const double w[6] = {dx[0] * fc[0], dx[1] * fc[1], dx[2] * fc[2], dx[0] * fc[1], dx[0] * fc[2], dx[1] * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
   if (cx->vatom) {
@@ -446,6 +447,21 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
   return gather_plain;
 }
 
+/* The ends of a batch's evaluated contacts, in the order they were found; virial (whether the
+ * sweep tallies it) a constant of each copy */
+SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial)
+{
+  const griddem_classic_batch *l = &q->lanes;
+  for (int k = 0; k < l->n; k++) {
+    if (!q->kept[k]) continue;
+    const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
+    const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
+    const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1,
+             3, 3, virial);
+  }
+}
+
 /* Evaluate the batch's contacts (those that pair_begin keeps, in the order they were found: a
  * coincident pair's fault comes before the contacts' own) and finish each in that order */
 static void flush_batch(const sweep_context *cx, sweep_sums *sums)
@@ -473,14 +489,8 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
     for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
   }
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
-  for (int k = 0; k < l->n; k++) {
-    if (!q->kept[k]) continue;
-    const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
-    const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
-    const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1,
-             3, 3);
-  }
+  if (cx->want_virial || cx->vatom) finish_lanes(cx, sums, q, 1);
+  else finish_lanes(cx, sums, q, 0);
   l->n = 0;
 }
 
@@ -532,7 +542,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
                         : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                    : griddem_contact_eval(law, &c, hv, fc, ta, tb);
   pair_end(cx, sums, a, b, ia, ib, &ref, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
-           track ? (values >= 0 ? values : cx->hist->values) : 0);
+           track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
