@@ -198,13 +198,6 @@ typedef struct sweep_context {
   void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
-/* What pair_begin keeps of a contact seen from slot a (owned), for its law and its end: its keys
- * in a's history row and (where b is owned) in b's, and its law */
-typedef struct pair_ref {
-  int64_t key_b, key_a;
-  const griddem_pair_params *law;
-} pair_ref;
-
 /* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the slots of each pair (a owned)
  * and their particles, as the pairs were found, and the particles' types and group bits, one
  * array each (read and written four at a time: a batch holds whole vectors of four), then per
@@ -216,7 +209,6 @@ typedef struct contact_batch {
   int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
   int64_t key_b[GRIDDEM_CLASSIC_BATCH], key_a[GRIDDEM_CLASSIC_BATCH];    /* b seen from a, a from b */
   int kept[GRIDDEM_CLASSIC_BATCH];
-  pair_ref ref[GRIDDEM_CLASSIC_BATCH];
   griddem_classic_batch lanes;
 } contact_batch;
 
@@ -254,15 +246,16 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 }
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
- * type_a and type_b, group bits ma and mb; history keys key_b of b seen from a and key_a of a
- * seen from b), at squared distance rsq (within reach): the pair is left where its centres
+ * type_a and type_b, group bits ma and mb; key_b the key of b seen from a), at squared distance
+ * rsq (within reach): the pair is left where its centres
  * coincide (a fault), it is excluded by excl (NULL: none, or tested already), or (past touching)
- * it is out of reach; otherwise ref is set and its history found (*stored; NULL: none, or contacts
- * not tracked). Returns whether the pair is kept. classic and track are constants of
+ * it is out of reach; otherwise its law is set (*law) and its history found (*stored; NULL: none,
+ * or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
  * each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
-                                 int mb, int64_t key_b, int64_t key_a, const griddem_exclusions *excl, double rsq,
-                                 const int classic, const int track, pair_ref *ref, const double **stored)
+                                 int mb, int64_t key_b, const griddem_exclusions *excl, double rsq,
+                                 const int classic, const int track, const griddem_pair_params **law_of,
+                                 const double **stored)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -281,7 +274,7 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
   if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
     return 0;
-  ref->key_b = key_b, ref->key_a = key_a, ref->law = law;
+  *law_of = law;
   return 1;
 }
 
@@ -306,14 +299,16 @@ static inline void subtract3(double *v, const double *w)
 #endif
 }
 
-/* What follows the law of the contact of slots a and b, particles ia and ib, that pair_begin kept
- * (ref; separation dx, seen from a): its history values hv (seen from a; nv of them, track:
+/* What follows the law (law) of the contact of slots a and b, particles ia and ib, that pair_begin
+ * kept (separation dx, seen from a; key_b the key of b seen from a, key_a of a seen from b): its
+ * history values hv (seen from a; nv of them, track:
  * contacts are kept) written to a's next row and, seen from b, to b's if b is owned; the force
  * fc on a (b gets -fc) and the torques ta and tb added to the owned particles, the heat into a
  * (if heat) likewise, the contact counted, its elastic energy and (virial: the sweep tallies it)
  * virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
-                                const pair_ref *ref, const double *dx, const double *hv, const double *fc,
+                                int64_t key_b, int64_t key_a, const griddem_pair_params *law, const double *dx,
+                                const double *hv, const double *fc,
                                 const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
                                 const int track, const int nv, const int stored_values, const int virial)
 {
@@ -321,11 +316,11 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   const int b_owned = ib < cx->nlocal;
   if (track) {
     /* the contact's entries in the next history: a's as evaluated, b's seen from b */
-    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, ref->key_b, hv);
+    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, key_b, hv);
     if (b_owned) {
       double hb[GRIDDEM_MAX_HISTORY];
-      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = ref->law->parity[v] * hv[v];
-      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, ref->key_a, hb);
+      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = law->parity[v] * hv[v];
+      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, key_a, hb);
     }
     if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
@@ -452,13 +447,14 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial)
 {
   const griddem_classic_batch *l = &q->lanes;
+  const griddem_pair_params *law = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
     if (!q->kept[k]) continue;
     const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], &q->ref[k], dx, hv, fc, ta, tb, l->energy[k], 0, 0.0, 1,
-             3, 3, virial);
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->key_a[k], law, dx, hv, fc, ta, tb,
+             l->energy[k], 0, 0.0, 1, 3, 3, virial);
   }
 }
 
@@ -483,8 +479,9 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
       for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
       continue;
     }
+    const griddem_pair_params *law;    /* the one law */
     q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], ma, mb, q->key_b[k],
-                            q->key_a[k], by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &q->ref[k], &stored);
+                            by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &law, &stored);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
     for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
   }
@@ -520,10 +517,9 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const griddem_particles *p = ch->p;
   const double *stored;
   const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
-  pair_ref ref;
-  const int64_t key_b = track ? contact_key(ch, a, b) : 0, key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, cx->excl, rsq, classic, track, &ref,
-                  &stored))
+  const griddem_pair_params *law;
+  const int64_t key_b = track ? contact_key(ch, a, b) : 0;
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, cx->excl, rsq, classic, track, &law, &stored))
     return;
 
   griddem_contact c;
@@ -537,11 +533,11 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
 
   double fc[3], ta[3], tb[3];
-  const griddem_pair_params *law = ref.law;
   const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
                         : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                    : griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  pair_end(cx, sums, a, b, ia, ib, &ref, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
+  const int64_t key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
+  pair_end(cx, sums, a, b, ia, ib, key_b, key_a, law, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
            track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
 }
 
