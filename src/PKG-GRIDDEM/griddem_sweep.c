@@ -429,7 +429,8 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
     }
   }
   if (ch->keyed_by_image)
-    for (int k = 0; k < n; k++) q->key_b[k] = contact_key(ch, q->a[k], q->b[k]), q->key_a[k] = contact_key(ch, q->b[k], q->a[k]);
+    for (int k = 0; k < n; k++)
+      q->key_b[k] = contact_key(ch, q->a[k], q->b[k]), q->key_a[k] = contact_key(ch, q->b[k], q->a[k]);
 }
 #endif
 
@@ -519,7 +520,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
   const griddem_pair_params *law;
   const int64_t key_b = track ? contact_key(ch, a, b) : 0;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, cx->excl, rsq, classic, track, &law, &stored))
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, cx->excl, rsq, classic, track, &law,
+                  &stored))
     return;
 
   griddem_contact c;
@@ -537,8 +539,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
                         : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                    : griddem_contact_eval(law, &c, hv, fc, ta, tb);
   const int64_t key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
-  pair_end(cx, sums, a, b, ia, ib, key_b, key_a, law, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track, nv,
-           track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
+  pair_end(cx, sums, a, b, ia, ib, key_b, key_a, law, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
+           nv, track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
