@@ -247,11 +247,10 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
  * type_a and type_b, group bits ma and mb; key_b the key of b seen from a), at squared distance
- * rsq (within reach): the pair is left where its centres
- * coincide (a fault), it is excluded by excl (NULL: none, or tested already), or (past touching)
- * it is out of reach; otherwise its law is set (*law) and its history found (*stored; NULL: none,
- * or contacts not tracked). Returns whether the pair is kept. classic and track are constants of
- * each specialization. */
+ * rsq (within reach): the pair is left where its centres coincide (a fault), it is excluded by
+ * excl (NULL: none, or tested already), or (past touching) it is out of reach; otherwise its law
+ * is set (*law_of) and its history found (*stored; NULL: none, or contacts not tracked). Returns
+ * whether the pair is kept. classic and track are constants of each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
                                  int mb, int64_t key_b, const griddem_exclusions *excl, double rsq,
                                  const int classic, const int track, const griddem_pair_params **law_of,
@@ -301,10 +300,10 @@ static inline void subtract3(double *v, const double *w)
 
 /* What follows the law (law) of the contact of slots a and b, particles ia and ib, that pair_begin
  * kept (separation dx, seen from a; key_b the key of b seen from a, key_a of a seen from b): its
- * history values hv (seen from a; nv of them, track:
- * contacts are kept) written to a's next row and, seen from b, to b's if b is owned; the force
- * fc on a (b gets -fc) and the torques ta and tb added to the owned particles, the heat into a
- * (if heat) likewise, the contact counted, its elastic energy and (virial: the sweep tallies it)
+ * history values hv (seen from a; nv of them; track: contacts are kept, and counted by their
+ * entries) written to a's next row and, seen from b, to b's if b is owned, else the contact
+ * counted; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
+ * the heat into a (if heat) likewise; its elastic energy and (virial: the sweep tallies it) its
  * virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
                                 int64_t key_b, int64_t key_a, const griddem_pair_params *law, const double *dx,
