@@ -78,7 +78,7 @@ GRIDDEM_VECTOR_COPIES static int box_of(const double *x, int n, double *lo, doub
   do {                                                                                           \
     const double *u = v + 3 * (size_t) (i), q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];         \
     most = q > most ? q : most;                                                                  \
-    bad |= nonfinite_bit(q);                                                                         \
+    bad |= nonfinite_bit(q);                                                                     \
   } while (0)
 
 /* The largest squared speed of n particles (3n doubles at v), and whether some squared speed is

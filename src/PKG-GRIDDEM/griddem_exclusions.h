@@ -29,10 +29,23 @@ typedef struct griddem_exclusions {
                                    * one of these bits (the pairs of two groups are group_bits') */
 } griddem_exclusions;
 
+/* The exclusions by group bits alone: pairs both of whose masks hold a bit of both, or either of
+ * whose masks holds a bit of apart (both: e->both_bit | e->group_both_bits, apart: e->apart_bit) */
+GRIDDEM_INLINE int griddem_excluded_by_bits(int both, int apart, int ma, int mb)
+{
+  return (ma & mb & both) || ((ma | mb) & apart);
+}
+
+/* Whether e excludes pairs by group bits alone (no type pairs, pairs of groups or molecules) */
+GRIDDEM_INLINE int griddem_exclusions_by_bits(const griddem_exclusions *e)
+{
+  return !e->type_pair && !e->ngroup_pairs && !e->nmolecule;
+}
+
 /* Whether particles of types ta, tb and group masks ma, mb must not interact. */
 GRIDDEM_INLINE int griddem_excluded(const griddem_exclusions *e, int ta, int ma, int tb, int mb)
 {
-  if ((ma & mb & (e->both_bit | e->group_both_bits)) || ((ma | mb) & e->apart_bit)) return 1;
+  if (griddem_excluded_by_bits(e->both_bit | e->group_both_bits, e->apart_bit, ma, mb)) return 1;
   if (e->type_pair && e->type_pair[ta * (e->ntypes + 1) + tb]) return 1;
   for (int k = 0; k < e->ngroup_pairs; k++) {
     const int b1 = e->group_bits[2 * k], b2 = e->group_bits[2 * k + 1];

@@ -302,9 +302,7 @@ static int fold_overflow(griddem_history *h)
   return 0;
 }
 
-/* The entries of nrows rows (count[]) and the most of one, in vector lanes, on threads where there
- * are many */
-GRIDDEM_VECTOR_COPIES static long count_rows(const int *count, int nrows, int *most)
+GRIDDEM_VECTOR_COPIES long griddem_history_counts(const int *count, int nrows, int *most)
 {
   long entries = 0;
   int m = 0;
@@ -328,6 +326,6 @@ int griddem_history_end(griddem_history *h)
     const griddem_history_pool written = h->next;
     h->next = h->cur, h->cur = written;
   }
-  h->entries = count_rows(h->cur.count, h->cur.nrows, &h->max_count);
+  h->entries = griddem_history_counts(h->cur.count, h->cur.nrows, &h->max_count);
   return 0;
 }

@@ -202,6 +202,10 @@ int griddem_history_longest_message(const griddem_history *h);
 int griddem_history_get_message(const griddem_history *h, int row, double *message);
 int griddem_history_put_message(griddem_history *h, const double *message, int values);
 
+/* The sum of n counts (entries of rows, contacts of slots) and the most of one, in vector lanes,
+ * on threads where there are many */
+long griddem_history_counts(const int *count, int n, int *most);
+
 /* Make room for rows holding entries contacts in all, now and after the next sweep. 0, or -1. */
 int griddem_history_reserve(griddem_history *h, int rows, long entries);
 

@@ -45,13 +45,20 @@ static void fill_plain(griddem_channels *ch, const int *order, const griddem_par
 }
 
 #ifdef GRIDDEM_SWEEP_GATHER
+/* Indices of particles widened to 64 bits and times three: where their three doubles start */
+__attribute__((target("avx2"), always_inline)) static inline __m256i first_of_three(__m128i i)
+{
+  const __m256i wide = _mm256_cvtepi32_epi64(i);
+  return _mm256_add_epi64(wide, _mm256_add_epi64(wide, wide));
+}
+
 __attribute__((target("avx2"))) static void fill_avx2(griddem_channels *ch, const int *order,
                                                       const griddem_particles *p, int s0, int s1)
 {
   int s = s0;
   for (; s + 4 <= s1; s += 4) {
     const __m128i i4 = _mm_loadu_si128((const __m128i *) (order + s));
-    const __m256i i64 = _mm256_cvtepi32_epi64(i4), i3 = _mm256_add_epi64(i64, _mm256_add_epi64(i64, i64));
+    const __m256i i3 = first_of_three(i4);
     _mm256_storeu_pd(ch->x + s, _mm256_i64gather_pd(p->x, i3, 8));
     _mm256_storeu_pd(ch->y + s, _mm256_i64gather_pd(p->x + 1, i3, 8));
     _mm256_storeu_pd(ch->z + s, _mm256_i64gather_pd(p->x + 2, i3, 8));
@@ -402,10 +409,7 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
                      _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(ma, frozen), none), one));
     _mm_storeu_si128((__m128i *) (l->frozen_j + k),
                      _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(mb, frozen), none), one));
-    /* particle indices in 64 bits: three doubles each */
-    const __m256i ia = _mm256_cvtepi32_epi64(ia4), ib = _mm256_cvtepi32_epi64(ib4);
-    const __m256i ia3 = _mm256_add_epi64(ia, _mm256_add_epi64(ia, ia));
-    const __m256i ib3 = _mm256_add_epi64(ib, _mm256_add_epi64(ib, ib));
+    const __m256i ia3 = first_of_three(ia4), ib3 = first_of_three(ib4);
     const __m256d d0 = _mm256_sub_pd(_mm256_i32gather_pd(ch->x, a, 8), _mm256_i32gather_pd(ch->x, b, 8));
     const __m256d d1 = _mm256_sub_pd(_mm256_i32gather_pd(ch->y, a, 8), _mm256_i32gather_pd(ch->y, b, 8));
     const __m256d d2 = _mm256_sub_pd(_mm256_i32gather_pd(ch->z, a, 8), _mm256_i32gather_pd(ch->z, b, 8));
@@ -420,8 +424,8 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
       _mm256_storeu_pd(l->wi[d] + k, _mm256_i64gather_pd(p->omega + d, ia3, 8));
       _mm256_storeu_pd(l->wj[d] + k, _mm256_i64gather_pd(p->omega + d, ib3, 8));
     }
-    _mm256_storeu_pd(l->mi + k, _mm256_i64gather_pd(p->rmass, ia, 8));
-    _mm256_storeu_pd(l->mj + k, _mm256_i64gather_pd(p->rmass, ib, 8));
+    _mm256_storeu_pd(l->mi + k, _mm256_i32gather_pd(p->rmass, ia4, 8));
+    _mm256_storeu_pd(l->mj + k, _mm256_i32gather_pd(p->rmass, ib4, 8));
     if (!ch->keyed_by_image) { /* the keys are the tags */
       _mm256_storeu_si256((__m256i *) (q->key_b + k), _mm256_i32gather_epi64((const long long *) ch->tag, b, 8));
       _mm256_storeu_si256((__m256i *) (q->key_a + k), _mm256_i32gather_epi64((const long long *) ch->tag, a, 8));
@@ -469,12 +473,12 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   /* exclusions by group bits alone (neigh_modify exclude group, fix griddem/rom's) tested here with
      their bits at hand; a coincident pair still goes on to pair_begin's fault */
   const griddem_exclusions *excl = cx->excl;
-  const int by_bits = excl && !excl->type_pair && !excl->ngroup_pairs && !excl->nmolecule;
+  const int by_bits = excl && griddem_exclusions_by_bits(excl);
   const int both = by_bits ? excl->both_bit | excl->group_both_bits : 0, apart = by_bits ? excl->apart_bit : 0;
   for (int k = 0; k < l->n; k++) {
     const double *stored = NULL;
     const int ma = q->ma[k], mb = q->mb[k];
-    if (((ma & mb & both) | ((ma | mb) & apart)) && l->rsq[k] != 0.0) {
+    if (griddem_excluded_by_bits(both, apart, ma, mb) && l->rsq[k] != 0.0) {
       q->kept[k] = 0;
       for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
       continue;
@@ -896,16 +900,6 @@ static int twins(const griddem_class_grid *k, const griddem_class_grid *t)
   return !k->kinematic && t->kinematic && same_cells(k->g, t->g);
 }
 
-/* The contacts counted in n slots, and the most of one slot (in vector lanes) */
-GRIDDEM_VECTOR_COPIES static long count_contacts(const int *ncontact, int n, int *most)
-{
-  long contacts = 0;
-  int m = 0;
-  for (int s = 0; s < n; s++) contacts += ncontact[s], m = ncontact[s] > m ? ncontact[s] : m;
-  *most = m;
-  return contacts;
-}
-
 /* A thread's sums added into totals (the virial's six components, then the energy) */
 static void add_sums(double *totals, sweep_sums sums)
 {
@@ -1114,7 +1108,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 
   /* only owned particles' slots count contacts: by their history entries where contacts are kept */
   int most = model->track_contacts ? hist->max_count : 0;
-  const long contacts = model->track_contacts ? hist->entries : count_contacts(ch->ncontact, nslot, &most);
+  const long contacts = model->track_contacts ? hist->entries : griddem_history_counts(ch->ncontact, nslot, &most);
   for (int c = 0; c < 6; c++) result->virial[c] = totals[c];
   result->energy = totals[6];
   result->contacts = contacts;
