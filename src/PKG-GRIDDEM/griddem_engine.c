@@ -324,13 +324,16 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
   return all->n < 0 ? GRIDDEM_FAULT_MEMORY : GRIDDEM_FAULT_NONE;
 }
 
-static void count_occupancy(griddem_engine *e)
+void griddem_engine_count_occupancy(griddem_engine *e)
 {
   e->stats.occupied_cells = 0;
   e->stats.max_occupancy = 0;
   for (int c = 0; c < e->ngrid; c++) {
-    e->stats.occupied_cells += e->bins[c].occupied;
-    if (e->bins[c].max_occupancy > e->stats.max_occupancy) e->stats.max_occupancy = e->bins[c].max_occupancy;
+    long occupied;
+    int most;
+    griddem_bins_occupancy(&e->bins[c], &occupied, &most);
+    e->stats.occupied_cells += occupied;
+    if (most > e->stats.max_occupancy) e->stats.max_occupancy = most;
   }
 }
 
@@ -343,7 +346,7 @@ double griddem_engine_candidates(griddem_engine *e, const griddem_step *s)
   const griddem_scan *scan = s->scan;
   if (!scan) griddem_engine_scan(&s->particles, 0, &own_scan), scan = &own_scan;
   if (engine_bin(e, s, scan, cls, &all, &coarsened) != GRIDDEM_FAULT_NONE) return -1.0;
-  count_occupancy(e);
+  griddem_engine_count_occupancy(e);
   return griddem_sweep_candidates(cls, e->ngrid, s->model->reach_extra);
 }
 
@@ -386,7 +389,8 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   e->stats.max_speed = sqrt(scan->vmax2);
   e->stats.max_cells_moved = e->stats.max_speed * s->dt / e->grid[e->ngrid - 1].h;
   e->stats.nonfinite_velocity = scan->nonfinite_velocity;
-  count_occupancy(e);
+  e->stats.occupied_cells = -1; /* griddem_engine_count_occupancy counts them when asked */
+  e->stats.max_occupancy = -1;
   e->stats.cell_edge = e->grid[0].h;
   e->stats.contacts = result->contacts;
   e->stats.max_contacts = result->max_contacts;

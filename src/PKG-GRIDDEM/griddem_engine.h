@@ -15,8 +15,8 @@ extern "C" {
 #endif
 
 typedef struct griddem_engine_stats {
-  long occupied_cells;  /* cells holding a centre */
-  int max_occupancy;    /* most centres in one cell */
+  long occupied_cells;  /* cells holding a centre (-1 after a step: griddem_engine_count_occupancy) */
+  int max_occupancy;    /* most centres in one cell (likewise) */
   double cell_edge;     /* edge used (a dilute scene may coarsen it) */
   long contacts;        /* contacts of owned particles (an owned pair counts twice) */
   int max_contacts;     /* most contacts of one owned particle */
@@ -134,6 +134,9 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
  * (griddem_sweep_candidates), or -1 without memory. How a pair style compares a cell mode with
  * the default's layout. */
 double griddem_engine_candidates(griddem_engine *e, const griddem_step *s);
+
+/* Sets e->stats.occupied_cells and max_occupancy from the grids of e's last step. */
+void griddem_engine_count_occupancy(griddem_engine *e);
 
 /* Bytes the engine holds. */
 double griddem_engine_memory(const griddem_engine *e);

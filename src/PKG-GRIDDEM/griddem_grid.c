@@ -153,8 +153,6 @@ static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const dou
     if (!b->thread_count) return -1;
   }
   int *start = b->cell_start, *counts = b->thread_count;
-  long occupied = 0;
-  int most = 0;
 #pragma omp parallel num_threads(nthreads)
   {
     const int t = griddem_thread_num(), nt = griddem_team_size();
@@ -177,20 +175,13 @@ static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const dou
 #pragma omp single
     {
       start[0] = 0;
-      for (long c = 0; c < ncell; c++) {
-        const int count = start[c + 1];
-        occupied += count != 0;
-        most = count > most ? count : most;
-        start[c + 1] = start[c] + count;
-      }
+      for (long c = 0; c < ncell; c++) start[c + 1] += start[c];
     }
     for (int i = i0; i < i1; i++) {
       const long c = b->cell[i];
       b->order[start[c] + mine[c]++] = i;
     }
   }
-  b->occupied = occupied;
-  b->max_occupancy = most;
   return 0;
 }
 
@@ -221,7 +212,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     if (bin_threaded(b, g, n, x) != 0) return -1;
     /* each crowded cell's centres in key order, the cells on the threads */
     const int *start = b->cell_start;
-    if (key && b->max_occupancy > 1) {
+    if (key) {
 #pragma omp parallel for schedule(static)
       for (long c = 0; c < g->ncell; c++)
         if (start[c + 1] - start[c] > 1) griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
@@ -233,34 +224,44 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
        scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
        A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
     cells_of(g, 0, n, x, b->cell);
-    for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
-    /* the crowded cells listed as they are met (at most n / 2 of them; each cell written at the
-       list's end, which a crowded one then extends, so the scan takes no branch on it) */
-    if (n / 2 + 1 > b->crowded_cap) {
-      free(b->crowded);
-      b->crowded = (long *) malloc(sizeof(long) * (size_t) (n / 2 + 1));
-      b->crowded_cap = b->crowded ? n / 2 + 1 : 0;
-      if (!b->crowded) return -1;
-    }
-    long occupied = 0, crowded = 0;
-    int most = 0;
-    for (long c = 0; c < g->ncell; c++) {
-      const int count = start[c + 2];
-      occupied += count != 0;
-      most = count > most ? count : most;
-      b->crowded[crowded] = c, crowded += count > 1;
-      start[c + 2] += start[c + 1];
-    }
-    b->occupied = occupied;
-    b->max_occupancy = most;
+    long crowded = 0;
+    if (key) {
+      /* the crowded cells listed as their second centre is counted (at most n / 2 of them; each
+         cell written at the list's end, which its second centre then extends, so the count takes
+         no branch on it) */
+      if (n / 2 + 1 > b->crowded_cap) {
+        free(b->crowded);
+        b->crowded = (long *) malloc(sizeof(long) * (size_t) (n / 2 + 1));
+        b->crowded_cap = b->crowded ? n / 2 + 1 : 0;
+        if (!b->crowded) return -1;
+      }
+      for (int i = 0; i < n; i++) {
+        const long c = b->cell[i];
+        b->crowded[crowded] = c, crowded += ++start[c + 2] == 2;
+      }
+    } else
+      for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
+    for (long c = 0; c < g->ncell; c++) start[c + 2] += start[c + 1];
     for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
     /* each crowded cell's centres in key order */
-    for (long k = 0; key && k < crowded; k++) {
+    for (long k = 0; k < crowded; k++) {
       const long c = b->crowded[k];
       griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
     }
   }
   return 0;
+}
+
+void griddem_bins_occupancy(const griddem_bins *b, long *occupied, int *most)
+{
+  long cells = 0;
+  int top = 0;
+  for (long c = 0; c < b->ncell; c++) {
+    const int count = b->cell_start[c + 1] - b->cell_start[c];
+    cells += count != 0;
+    top = count > top ? count : top;
+  }
+  *occupied = cells, *most = top;
 }
 
 void griddem_bins_free(griddem_bins *b)

@@ -40,10 +40,19 @@ GRIDDEM_INLINE int griddem_slot_before(int a, int b, const void *key, int key_by
 /* Sorts the n points of one cell (their indices in slot[]) by griddem_slot_before. Insertion for
  * the few centres a cell holds; heapsort above GRIDDEM_CELL_SORT_SMALL, so that a crowded cell (a
  * coarsened grid, a cell of a given edge) costs O(n log n), not O(n^2). No memory beyond slot[],
- * no recursion: it runs as one GPU thread per cell. */
-GRIDDEM_INLINE void griddem_sort_cell(int *slot, int n, const void *key, int key_bytes,
-                                      const double *x)
+ * no recursion: it runs as one GPU thread per cell. The key's width is a constant of each inlined
+ * copy (griddem_sort_cell below), and a cell of two, the most common crowded cell, takes one
+ * comparison. */
+GRIDDEM_INLINE void griddem_sort_cell_keyed(int *slot, int n, const void *key, const int key_bytes,
+                                            const double *x)
 {
+  if (n == 2) {
+    if (griddem_slot_before(slot[1], slot[0], key, key_bytes, x)) {
+      const int first = slot[1];
+      slot[1] = slot[0], slot[0] = first;
+    }
+    return;
+  }
   if (n <= GRIDDEM_CELL_SORT_SMALL) {
     for (int s = 1; s < n; s++) {
       const int moving = slot[s];
@@ -79,6 +88,12 @@ GRIDDEM_INLINE void griddem_sort_cell(int *slot, int n, const void *key, int key
       root = child;
     }
   }
+}
+
+GRIDDEM_INLINE void griddem_sort_cell(int *slot, int n, const void *key, int key_bytes, const double *x)
+{
+  if (key_bytes == 8) griddem_sort_cell_keyed(slot, n, key, 8, x);
+  else griddem_sort_cell_keyed(slot, n, key, 4, x);
 }
 
 /* How the cell edge is chosen. */
@@ -191,8 +206,6 @@ typedef struct griddem_bins {
   long *cell;       /* [n] cell of each original point */
   long ncell_cap;
   int n_cap;
-  long occupied;    /* cells holding at least one centre */
-  int max_occupancy;/* most centres in one cell ("slots used") */
   int *thread_count;/* binned on threads: each thread's count of each cell, then its place in it */
   long thread_count_cap;
   long *crowded;    /* binned on one thread: the cells holding more than one centre */
@@ -205,6 +218,10 @@ typedef struct griddem_bins {
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes);
 void griddem_bins_free(griddem_bins *b);
+
+/* The cells of b holding at least one centre, and the most centres in one cell ("slots used"):
+ * counted when asked, not by every binning. */
+void griddem_bins_occupancy(const griddem_bins *b, long *occupied, int *most);
 
 /* The runs of slots of b (binned into g) that can hold a centre within stencil s's distance of a
  * point of cell `cell` of g: one run [lo[q], hi[q]) per stencil row inside the grid, in the

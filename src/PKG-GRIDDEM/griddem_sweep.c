@@ -618,6 +618,21 @@ static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, c
     }
 }
 
+/* The spheres of a cluster that found a partner (nhit[c] > 0), as bits */
+static inline unsigned spheres_found(const int nhit[GRIDDEM_CLUSTER_MAX])
+{
+#if defined(__SSE2__) && GRIDDEM_CLUSTER_MAX == 8
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i none_lo = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *) nhit), zero),
+                none_hi = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *) (nhit + 4)), zero);
+  return 0xffu & ~(unsigned) _mm_movemask_epi8(_mm_packs_epi16(_mm_packs_epi32(none_lo, none_hi), zero));
+#else
+  unsigned found = 0;
+  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) found |= (unsigned) (nhit[c] != 0) << c;
+  return found;
+#endif
+}
+
 /* A hit list per sphere of a cluster, and the kernel's view of their slots */
 typedef struct cluster_hits {
   hit_list hits[GRIDDEM_CLUSTER_MAX];
@@ -640,8 +655,10 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
   if (total <= HITS_CAP) {
     int nhit[GRIDDEM_CLUSTER_MAX] = {0};    /* all lanes: a constant size, cleared in place */
     cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, h->list, nhit);
-    for (int c = 0; c < ni; c++)
-      if (nhit[c]) h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);
+    for (unsigned found = spheres_found(nhit); found; found &= found - 1) {
+      const int c = __builtin_ctz(found);
+      h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);
+    }
   } else
     for (int c = 0; c < ni; c++) {
       if (own) lo[0] = i0 + c + 1;

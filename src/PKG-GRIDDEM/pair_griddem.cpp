@@ -170,6 +170,13 @@ const griddem_engine_stats *PairGriddem::step_stats(const FixGriddem *of, int oc
   return &last_stats;
 }
 
+void PairGriddem::count_occupancy(griddem_engine_stats &stats)
+{
+  griddem_engine_count_occupancy(&engine);
+  stats.occupied_cells = engine.stats.occupied_cells;
+  stats.max_occupancy = engine.stats.max_occupancy;
+}
+
 void PairGriddem::init_style()
 {
   const char *style = force->pair_style;

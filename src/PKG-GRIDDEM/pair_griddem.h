@@ -59,8 +59,8 @@ class PairGriddem : public Pair, public GriddemPairLink {
   class FixGriddem *fix() const { return keeper.fix(); }
   griddem_engine engine;    // the CPU styles' grids, bins and channels
   griddem_engine_stats last_stats;    // of the last step (init_style: of a step without atoms)
-  // the occupancy of last_stats where a step left it -1 (the Kokkos styles count it when asked)
-  virtual void count_occupancy(griddem_engine_stats &) {}
+  // the occupancy of last_stats, which a step leaves -1: counted when asked
+  virtual void count_occupancy(griddem_engine_stats &);
   // a step of the CPU engine after ev_init(): grids, search and contacts over the host arrays
   void engine_step();
   int coarsened_warned;

@@ -792,7 +792,10 @@ void PairGriddemKokkos<DeviceType, Base>::close_step(const GriddemKKGrids &grids
 template <class DeviceType, class Base>
 void PairGriddemKokkos<DeviceType, Base>::count_occupancy(griddem_engine_stats &stats)
 {
-  if (engine) return;    // the CPU engine counted them
+  if (engine) {
+    Base::count_occupancy(stats);    // of the CPU engine's grids
+    return;
+  }
   auto start = d_start;
   int occupied = 0, occupancy = 0;
   griddem_kk_reduce(
