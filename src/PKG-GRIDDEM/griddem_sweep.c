@@ -618,6 +618,18 @@ static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, c
     }
 }
 
+/* The lowest set bit's index of bits (not 0) */
+static inline int lowest_bit(unsigned bits)
+{
+#if defined(__GNUC__)
+  return __builtin_ctz(bits);
+#else
+  int k = 0;
+  for (; !(bits & 1u); bits >>= 1) k++;
+  return k;
+#endif
+}
+
 /* The spheres of a cluster that found a partner (nhit[c] > 0), as bits */
 static inline unsigned spheres_found(const int nhit[GRIDDEM_CLUSTER_MAX])
 {
@@ -656,7 +668,7 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
     int nhit[GRIDDEM_CLUSTER_MAX] = {0};    /* all lanes: a constant size, cleared in place */
     cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, h->list, nhit);
     for (unsigned found = spheres_found(nhit); found; found &= found - 1) {
-      const int c = __builtin_ctz(found);
+      const int c = lowest_bit(found);
       h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);
     }
   } else
