@@ -208,7 +208,7 @@ typedef struct griddem_bins {
   int n_cap;
   int *thread_count;/* binned on threads: each thread's count of each cell, then its place in it */
   long thread_count_cap;
-  long *crowded;    /* binned on one thread: the cells holding more than one centre */
+  long *crowded;    /* binned on one thread with keys: the cells holding more than one centre */
   int crowded_cap;
 } griddem_bins;
 
