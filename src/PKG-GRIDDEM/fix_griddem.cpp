@@ -8,11 +8,14 @@
 #include "atom.h"
 #include "error.h"
 #include "memory.h"
+#include "griddem_contact.h"
+
+#include <algorithm>
 
 using namespace LAMMPS_NS;
 
 FixGriddemCPU::FixGriddemCPU(LAMMPS *lmp, int narg, char **arg) :
-    FixGriddem(lmp, narg, arg), row_of(nullptr), reserved(0)
+    FixGriddem(lmp, narg, arg), row_of(nullptr), reserved(0), parity_types(0), most_contacts(0)
 {
   griddem_history_init(&rows, 3);
   update_maxexchange();
@@ -37,6 +40,13 @@ void FixGriddemCPU::init()
   if (griddem_history_reserve(&rows, n, (long) n * contacts) != 0)
     error->one(FLERR, "Fix griddem: out of memory reserving {} contacts for each of {} atoms", contacts, n);
   reserved = 1;
+}
+
+// before atoms migrate: the rows complete, as their messages travel
+
+int FixGriddemCPU::setmask()
+{
+  return FixGriddem::setmask() | FixConst::PRE_EXCHANGE | FixConst::MIN_PRE_EXCHANGE;
 }
 
 void FixGriddemCPU::grow_arrays(int nmax)
@@ -68,21 +78,25 @@ void FixGriddemCPU::set_values(int values)
 
 const double *FixGriddemCPU::find_history(int i, int64_t partner)
 {
+  complete();
   return griddem_history_find(&rows, row_of[i], partner);
 }
 
 int FixGriddemCPU::get_message(int i, double *message)
 {
+  complete();
   return griddem_history_get_message(&rows, row_of[i], message);
 }
 
 int FixGriddemCPU::message_length(int i)
 {
+  complete();
   return griddem_history_message_length(&rows, row_of[i]);
 }
 
 int FixGriddemCPU::longest_message()
 {
+  complete();
   return griddem_history_longest_message(&rows);
 }
 
@@ -94,14 +108,31 @@ void FixGriddemCPU::put_message(int i, const double *message)
   update_maxexchange();
 }
 
-void FixGriddemCPU::commit_step()
+void FixGriddemCPU::commit_step(const griddem_model &law, int most)
 {
+  const int n = law.ntypes + 1;
+  parity.resize((size_t) n * n * GRIDDEM_MAX_HISTORY);
+  for (int k = 0; k < n * n; k++)
+    for (int v = 0; v < GRIDDEM_MAX_HISTORY; v++) parity[(size_t) k * GRIDDEM_MAX_HISTORY + v] = law.pair[k].parity[v];
+  parity_types = law.ntypes;
+  most_contacts = most;
   update_maxexchange();
 }
 
-// the longest row sizes exchange messages
+void FixGriddemCPU::complete()
+{
+  if (!rows.one_sided) return;
+  if (griddem_history_mirror(&rows, atom->nlocal, row_of, atom->tag, sizeof(tagint), atom->type, parity_types,
+                             parity.data()) != 0)
+    error->one(FLERR, "Fix griddem: out of memory completing the contact history of {} atoms", atom->nlocal);
+  update_maxexchange();
+}
+
+// the longest row sizes exchange messages: where the rows are one-sided, the most contacts of one
+// atom bounds the row each will have
 
 void FixGriddemCPU::update_maxexchange()
 {
-  maxexchange = GRIDDEM_ROW_MESSAGE_LENGTH(exchange_room(rows.max_count), rows.values);
+  const int longest = rows.one_sided ? std::max(rows.max_count, most_contacts) : rows.max_count;
+  maxexchange = GRIDDEM_ROW_MESSAGE_LENGTH(exchange_room(longest), rows.values);
 }

@@ -21,7 +21,12 @@ class FixGriddemCPU : public FixGriddem {
  public:
   FixGriddemCPU(class LAMMPS *, int, char **);
   ~FixGriddemCPU() override;
+  int setmask() override;
   void init() override;
+  void setup_pre_exchange() override { complete(); }
+  void pre_exchange() override { complete(); }
+  void min_pre_exchange() override { complete(); }
+  void post_run() override { complete(); }
 
   void grow_arrays(int) override;
   void copy_arrays(int, int, int) override;
@@ -37,12 +42,19 @@ class FixGriddemCPU : public FixGriddem {
   void put_message(int i, const double *message) override;
 
   griddem_history_rows begin_step() override { return griddem_history_rows{&rows, row_of}; }
-  void commit_step() override;
+  void commit_step(const griddem_model &law, int most_contacts) override;
 
  private:
   griddem_history rows;
   int *row_of;          // per atom: its history row, or -1
   int reserved;         // history storage reserved for `contacts` per atom
+  // the last step's law: per type pair, the sign of each history value seen from the partner
+  std::vector<double> parity;
+  int parity_types;
+  int most_contacts;    // of one atom, in the last step
+  // the contacts of owned pairs that the last step kept in one row mirrored into the other: before
+  // atoms migrate, and before anything else reads the rows
+  void complete();
   void update_maxexchange();
 };
 

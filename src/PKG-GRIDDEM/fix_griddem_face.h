@@ -66,9 +66,10 @@ class FixGriddem : public Fix {
   virtual void put_message(int i, const double *message) = 0;
   // a CPU style's step: the history and each atom's row in it, which the step rewrites (none
   // where the rows live on a Kokkos device, whose styles sweep fix griddem/kk's pools); then
-  // commit_step() once the step has written them
+  // commit_step() once the step has written them, with the step's law (whose parity turns a
+  // contact's values to its partner's side) and the most contacts of one atom
   virtual griddem_history_rows begin_step() { return griddem_history_rows{nullptr, nullptr}; }
-  virtual void commit_step() {}
+  virtual void commit_step(const griddem_model & /*law*/, int /*most_contacts*/) {}
 
   // the periodic image code (griddem_image_code) of each owned and ghost atom along the image
   // axes `axes` (bit d: axis d), for the history keys of a box thin along them; the ghosts' by a

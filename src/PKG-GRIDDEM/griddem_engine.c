@@ -357,7 +357,6 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   memset(result, 0, sizeof(*result));
   griddem_class_grid cls[GRIDDEM_MAX_GRIDS];
   griddem_bins all; /* the channels' order of particles */
-  const int apart_bit = s->excl ? s->excl->apart_bit : 0;
   griddem_scan own_scan;
   const griddem_scan *scan = s->scan;
   if (!scan) griddem_engine_scan(p, 0, &own_scan), scan = &own_scan;
@@ -369,21 +368,6 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   griddem_sweep(cls, e->ngrid, all.order, &e->channels, p->nlocal, s->model, s->excl,
                         s->dt, s->history_update, s->hist, s->row_of, s->f, s->torque, s->vatom,
                         s->want_virial, result);
-  /* the history's row of slot k is k; owned particles left out have none */
-  if (s->model->track_contacts && apart_bit)
-    for (int i = 0; i < p->nlocal; i++) s->row_of[i] = -1;
-  if (s->model->track_contacts) {
-    const int *order = all.order, nlocal = p->nlocal;
-    int *row_of = s->row_of;
-    if (griddem_threaded(all.n)) {
-#pragma omp parallel for schedule(static)
-      for (int k = 0; k < all.n; k++)
-        if (order[k] < nlocal) row_of[order[k]] = k;
-    } else {
-      for (int k = 0; k < all.n; k++)
-        if (order[k] < nlocal) row_of[order[k]] = k;
-    }
-  }
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
   e->stats.max_speed = sqrt(scan->vmax2);

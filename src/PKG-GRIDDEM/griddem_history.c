@@ -1,6 +1,7 @@
 /* The CPU contact-history store; see griddem_history.h. */
 #include "griddem_history.h"
-#include "griddem_search.h"
+#include "griddem_contact.h"
+#include "griddem_grid.h"
 #include "griddem_threads.h"
 
 #include <stdlib.h>
@@ -14,18 +15,21 @@ void griddem_history_init(griddem_history *h, int values)
 
 static void pool_free(griddem_history_pool *p)
 {
-  free(p->start), free(p->count), free(p->partner), free(p->value);
+  free(p->start), free(p->count), free(p->room), free(p->partner), free(p->owned_partner), free(p->value);
   memset(p, 0, sizeof(*p));
+}
+
+static void overflow_free(griddem_history_overflow *o)
+{
+  free(o->particle), free(o->partner), free(o->owned_partner), free(o->value);
+  memset(o, 0, sizeof(*o));
 }
 
 void griddem_history_free(griddem_history *h)
 {
   pool_free(&h->cur);
-  pool_free(&h->next);
-  for (int k = 0; k < h->noverflow; k++) {
-    griddem_history_overflow *o = &h->overflow[k];
-    free(o->slot), free(o->partner), free(o->value);
-  }
+  pool_free(&h->spare);
+  for (int k = 0; k < h->noverflow; k++) overflow_free(&h->overflow[k]);
   free(h->overflow);
   memset(h, 0, sizeof(*h));
 }
@@ -41,19 +45,22 @@ static int ensure(void **ptr, long *cap, long need, size_t elem)
   return 0;
 }
 
-/* Room in a pool for rows rows (and the end mark) and entries entries; contents are kept. */
+/* Room in a pool for rows rows and entries entries; contents are kept. */
 static int pool_reserve(griddem_history_pool *p, int rows, long entries, int values)
 {
   long rows_cap = p->rows_cap, entries_cap = p->entries_cap;
   if (ensure((void **) &p->start, &rows_cap, rows + 1, sizeof(long)) != 0) return -1;
   rows_cap = p->rows_cap;
   if (ensure((void **) &p->count, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
+  rows_cap = p->rows_cap;
+  if (ensure((void **) &p->room, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
   if (ensure((void **) &p->partner, &entries_cap, entries, sizeof(int64_t)) != 0) return -1;
+  entries_cap = p->entries_cap;
+  if (ensure((void **) &p->owned_partner, &entries_cap, entries, sizeof(int)) != 0) return -1;
   entries_cap = p->entries_cap;
   if (ensure((void **) &p->value, &entries_cap, entries, sizeof(double) * (size_t) (values > 0 ? values : 1)) != 0)
     return -1;
   p->rows_cap = rows_cap, p->entries_cap = entries_cap;
-  if (p->nrows == 0) p->start[0] = p->used;
   return 0;
 }
 
@@ -70,23 +77,32 @@ void griddem_history_get_row(const griddem_history *h, int row, double *entries)
                         entries + (size_t) GRIDDEM_HISTORY_ENTRY(nv) * k);
 }
 
+/* A new row of count entries and room room at the pool's end (its entries not yet written): its
+ * index, or -1 without memory */
+static int append_row(griddem_history_pool *p, int count, int room, int values)
+{
+  if (pool_reserve(p, p->nrows + 1, p->used + room, values) != 0) return -1;
+  p->start[p->nrows] = p->used;
+  p->count[p->nrows] = count;
+  p->room[p->nrows] = room;
+  p->used += room;
+  return p->nrows++;
+}
+
 int griddem_history_add_row(griddem_history *h, int count, const double *entries, int entry_values)
 {
   griddem_history_pool *p = &h->cur;
-  const int nv = h->values;
-  if (pool_reserve(p, p->nrows + 1, p->used + count, nv) != 0) return -1;
-  const long first = p->used;
+  const int nv = h->values, row = append_row(p, count, count, nv);
+  if (row < 0) return -1;
+  const long first = p->start[row];
   for (int k = 0; k < count; k++) {
     const double *m = entries + (size_t) GRIDDEM_HISTORY_ENTRY(entry_values) * k;
     p->partner[first + k] = (int64_t) m[0];
+    p->owned_partner[first + k] = -1;
     for (int v = 0; v < nv; v++) p->value[(size_t) nv * (first + k) + v] = v < entry_values ? m[1 + v] : 0.0;
   }
-  p->start[p->nrows] = first;
-  p->count[p->nrows] = count;
-  p->used = first + count;
-  p->start[p->nrows + 1] = p->used;
   if (count > h->max_count) h->max_count = count;
-  return p->nrows++;
+  return row;
 }
 
 int griddem_history_message_length(const griddem_history *h, int row)
@@ -113,23 +129,23 @@ int griddem_history_put_message(griddem_history *h, const double *message, int v
 
 int griddem_history_reserve(griddem_history *h, int rows, long entries)
 {
-  return pool_reserve(&h->cur, rows, entries, h->values) != 0 ||
-          pool_reserve(&h->next, rows, entries + (long) GRIDDEM_HISTORY_MARGIN * rows, h->values) != 0
+  const long room = entries + (long) GRIDDEM_HISTORY_MARGIN * rows;
+  return pool_reserve(&h->cur, rows, room, h->values) != 0 || pool_reserve(&h->spare, rows, room, h->values) != 0
       ? -1
       : 0;
 }
 
 static double pool_memory(const griddem_history_pool *p, int values)
 {
-  return (double) p->rows_cap * (sizeof(long) + sizeof(int)) +
-      (double) p->entries_cap * (sizeof(int64_t) + sizeof(double) * (values > 0 ? values : 1));
+  return (double) p->rows_cap * (sizeof(long) + 2 * sizeof(int)) +
+      (double) p->entries_cap * (sizeof(int64_t) + sizeof(int) + sizeof(double) * (values > 0 ? values : 1));
 }
 
 double griddem_history_memory(const griddem_history *h)
 {
-  double bytes = pool_memory(&h->cur, h->values) + pool_memory(&h->next, h->values);
+  double bytes = pool_memory(&h->cur, h->values) + pool_memory(&h->spare, h->values);
   for (int k = 0; k < h->noverflow; k++)
-    bytes += (double) h->overflow[k].cap * (sizeof(int) + sizeof(int64_t) + sizeof(double) * (h->values > 0 ? h->values : 1));
+    bytes += (double) h->overflow[k].cap * (2 * sizeof(int) + sizeof(int64_t) + sizeof(double) * (h->values > 0 ? h->values : 1));
   return bytes;
 }
 
@@ -144,78 +160,14 @@ int griddem_history_set_values(griddem_history *h, int values)
     for (int v = 0; v < values; v++) converted[(size_t) values * e + v] = v < h->values ? p->value[(size_t) h->values * e + v] : 0.0;
   free(p->value);
   p->value = converted;
-  /* the next pool and the overflow lists are laid out afresh for the new width */
-  pool_free(&h->next);
-  for (int k = 0; k < h->noverflow; k++) {
-    griddem_history_overflow *o = &h->overflow[k];
-    free(o->slot), free(o->partner), free(o->value);
-    memset(o, 0, sizeof(*o));
-  }
+  /* the spare pool and the overflow lists are laid out afresh for the new width */
+  pool_free(&h->spare);
+  for (int k = 0; k < h->noverflow; k++) overflow_free(&h->overflow[k]);
   h->values = values;
   return 0;
 }
 
-/* The room of rows s0 .. s1 - 1 into room[]: its particle's last count (rows of nrows, count[])
- * and a margin, none for a ghost. One at a time, and eight at a time by AVX2's masked gathers
- * (which read no row of a ghost or a missing row), chosen as the sweep's other reads
- * (griddem_touching_gathers). */
-static void rooms_plain(const int *order, const int *row_of, const int *count, int nlocal, int nrows, int s0, int s1,
-                        long *room)
-{
-  for (int s = s0; s < s1; s++) {
-    const int i = order[s];
-    if (i >= nlocal) {
-      room[s] = 0;
-      continue;
-    }
-    const int row = row_of[i];
-    room[s] = (row >= 0 && row < nrows ? count[row] : 0) + GRIDDEM_HISTORY_MARGIN;
-  }
-}
-
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define GRIDDEM_HISTORY_GATHER 1
-
-__attribute__((target("avx2"))) static void rooms_avx2(const int *order, const int *row_of, const int *count,
-                                                       int nlocal, int nrows, int s0, int s1, long *room)
-{
-  const __m256i locals = _mm256_set1_epi32(nlocal), rows = _mm256_set1_epi32(nrows), none = _mm256_set1_epi32(-1);
-  const __m256i margin = _mm256_set1_epi32(GRIDDEM_HISTORY_MARGIN);
-  int s = s0;
-  for (; s + 8 <= s1; s += 8) {
-    const __m256i i = _mm256_loadu_si256((const __m256i *) (order + s));
-    const __m256i owned = _mm256_cmpgt_epi32(locals, i);
-    const __m256i row = _mm256_mask_i32gather_epi32(none, row_of, i, owned, 4);
-    const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(row, none), _mm256_cmpgt_epi32(rows, row));
-    const __m256i last = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), count, row, in, 4);
-    const __m256i r = _mm256_and_si256(owned, _mm256_add_epi32(last, margin));
-    _mm256_storeu_si256((__m256i *) (room + s), _mm256_cvtepi32_epi64(_mm256_castsi256_si128(r)));
-    _mm256_storeu_si256((__m256i *) (room + s + 4), _mm256_cvtepi32_epi64(_mm256_extracti128_si256(r, 1)));
-  }
-  rooms_plain(order, row_of, count, nlocal, nrows, s, s1, room);
-}
-#endif
-
-/* Rows s0 .. s1 - 1 of pool p laid out from entry at on (their rooms), empty; returns the entry
- * after them */
-static long lay_rows(griddem_history_pool *p, const int *order, const int *row_of, const int *count, int nlocal,
-                     int nrows, int s0, int s1, long at)
-{
-#ifdef GRIDDEM_HISTORY_GATHER
-  if (griddem_touching_gathers()) rooms_avx2(order, row_of, count, nlocal, nrows, s0, s1, p->start);
-  else
-#endif
-    rooms_plain(order, row_of, count, nlocal, nrows, s0, s1, p->start);
-  for (int s = s0; s < s1; s++) {
-    const long room = p->start[s];
-    p->start[s] = at, at += room, p->count[s] = 0;
-  }
-  return at;
-}
-
-int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
-                          int nlocal)
+int griddem_history_begin(griddem_history *h, int nthreads)
 {
   if (nthreads > h->noverflow) {
     griddem_history_overflow *o = (griddem_history_overflow *) realloc(h->overflow, sizeof(*o) * (size_t) nthreads);
@@ -224,81 +176,136 @@ int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int
     h->overflow = o, h->noverflow = nthreads;
   }
   for (int k = 0; k < h->noverflow; k++) h->overflow[k].n = 0;
-  griddem_history_pool *p = &h->next;
-  p->nrows = 0, p->used = 0;
-  if (pool_reserve(p, nslot, 0, h->values) != 0) return -1;
-  const int nrows = h->cur.nrows, *count = h->cur.count;
-  long total = 0;
-  if (griddem_threaded(nslot)) {
-    /* a prefix sum in two passes over one range of slots per thread: each range laid out from 0
-       for its length, then again from the lengths of the ranges before it */
-    long part[nthreads + 1];
-#pragma omp parallel num_threads(nthreads)
-    {
-      const int t = griddem_thread_num(), nt = griddem_team_size();
-      const int s0 = (int) ((long) nslot * t / nt), s1 = (int) ((long) nslot * (t + 1) / nt);
-      part[t + 1] = lay_rows(p, order, row_of, count, nlocal, nrows, s0, s1, 0);
-#pragma omp barrier
-#pragma omp single
-      {
-        part[0] = 0;
-        for (int k = 0; k < nt; k++) part[k + 1] += part[k];
-        total = part[nt];
-      }
-      lay_rows(p, order, row_of, count, nlocal, nrows, s0, s1, part[t]);
-    }
-  } else {
-    total = lay_rows(p, order, row_of, count, nlocal, nrows, 0, nslot, 0);
-  }
-  p->start[nslot] = total;
-  if (pool_reserve(p, nslot, total, h->values) != 0) return -1;
-  p->nrows = nslot, p->used = total;
   return 0;
 }
 
-int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
-                                    const double *v)
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int particle, int64_t partner,
+                                    int owned_partner, const double *v)
 {
   long cap = o->cap;
-  if (ensure((void **) &o->slot, &cap, o->n + 1, sizeof(int)) != 0) return -1;
+  if (ensure((void **) &o->particle, &cap, o->n + 1, sizeof(int)) != 0) return -1;
   cap = o->cap;
   if (ensure((void **) &o->partner, &cap, o->n + 1, sizeof(int64_t)) != 0) return -1;
   cap = o->cap;
+  if (ensure((void **) &o->owned_partner, &cap, o->n + 1, sizeof(int)) != 0) return -1;
+  cap = o->cap;
   if (ensure((void **) &o->value, &cap, o->n + 1, sizeof(double) * (size_t) (values > 0 ? values : 1)) != 0) return -1;
   o->cap = cap;
-  o->slot[o->n] = slot;
+  o->particle[o->n] = particle;
+  o->owned_partner[o->n] = owned_partner;
   griddem_history_put(o->partner, o->value, values, o->n++, partner, v);
   return 0;
 }
 
-/* Lay the next pool's rows and the overflow lists out compactly in the current pool (whose
- * history the sweep no longer reads), each row's entries first, then its overflow in list order. */
-static int fold_overflow(griddem_history *h)
+/* Rows r0 .. r1 - 1 keep the entries the sweep wrote (marked), in their order, unmarked */
+static void keep_written(griddem_history_pool *p, int values, int r0, int r1)
 {
-  griddem_history_pool *from = &h->next, *to = &h->cur;
-  const int nslot = from->nrows, nv = h->values;
-  to->nrows = 0, to->used = 0;
-  if (pool_reserve(to, nslot, 0, nv) != 0) return -1;
-  for (int s = 0; s < nslot; s++) to->count[s] = from->count[s];
-  for (int k = 0; k < h->noverflow; k++)
-    for (long m = 0; m < h->overflow[k].n; m++) to->count[h->overflow[k].slot[m]]++;
-  long total = 0;
-  for (int s = 0; s < nslot; s++) to->start[s] = total, total += to->count[s];
-  to->start[nslot] = total;
-  if (pool_reserve(to, nslot, total, nv) != 0) return -1;
-  for (int s = 0; s < nslot; s++) {
-    const long a = from->start[s], b = to->start[s];
-    memcpy(to->partner + b, from->partner + a, sizeof(int64_t) * (size_t) from->count[s]);
-    memcpy(to->value + (size_t) nv * b, from->value + (size_t) nv * a, sizeof(double) * (size_t) nv * from->count[s]);
+  int64_t *restrict partner = p->partner;
+  int *restrict owned = p->owned_partner;
+  double *restrict value = p->value;
+  const long *start = p->start;
+  int *count = p->count;
+  for (int r = r0; r < r1; r++) {
+    int64_t *key = partner + start[r];
+    const int n = count[r];
+    int64_t all = GRIDDEM_HISTORY_WRITTEN;
+    for (int k = 0; k < n; k++) all &= key[k];
+    if (all) { /* every contact lasted or is new: the common row */
+      for (int k = 0; k < n; k++) key[k] &= ~GRIDDEM_HISTORY_WRITTEN;
+      continue;
+    }
+    int kept = 0;
+    for (int k = 0; k < n; k++) {
+      if (!(key[k] & GRIDDEM_HISTORY_WRITTEN)) continue;
+      key[kept] = key[k] & ~GRIDDEM_HISTORY_WRITTEN;
+      owned[start[r] + kept] = owned[start[r] + k];
+      double *to = value + (size_t) values * (start[r] + kept);
+      const double *from = value + (size_t) values * (start[r] + k);
+      for (int v = 0; v < values && kept != k; v++) to[v] = from[v];
+      kept++;
+    }
+    count[r] = kept;
+  }
+}
+
+/* The overflowed contacts into their particles' rows: a row that cannot hold its particle's moves
+ * to the pool's end with the margin to spare, a particle without a row gets one. The pool's
+ * count of entries of row r, as a particle's overflow is counted, is held in its spare's count. */
+static int fold_overflow(griddem_history *h, int *row_of)
+{
+  griddem_history_pool *p = &h->cur;
+  const int nv = h->values;
+  for (int k = 0; k < h->noverflow; k++) {
+    const griddem_history_overflow *o = &h->overflow[k];
+    for (long m = 0; m < o->n; m++) {
+      const int i = o->particle[m];
+      if (row_of[i] < 0 && (row_of[i] = append_row(p, 0, 0, nv)) < 0) return -1;
+    }
+  }
+  if (pool_reserve(&h->spare, p->nrows, 0, nv) != 0) return -1;
+  int *extra = h->spare.count;
+  for (int k = 0; k < h->noverflow; k++) {
+    const griddem_history_overflow *o = &h->overflow[k];
+    for (long m = 0; m < o->n; m++) extra[row_of[o->particle[m]]] = 0;
+  }
+  for (int k = 0; k < h->noverflow; k++) {
+    const griddem_history_overflow *o = &h->overflow[k];
+    for (long m = 0; m < o->n; m++) extra[row_of[o->particle[m]]]++;
   }
   for (int k = 0; k < h->noverflow; k++) {
     const griddem_history_overflow *o = &h->overflow[k];
     for (long m = 0; m < o->n; m++) {
-      const long e = to->start[o->slot[m]] + from->count[o->slot[m]]++;
-      griddem_history_put(to->partner, to->value, nv, e, o->partner[m], o->value + (size_t) nv * m);
+      const int r = row_of[o->particle[m]];
+      if (p->count[r] == p->room[r]) { /* moved with room for the rest of its overflow */
+        const int room = p->count[r] + extra[r] + GRIDDEM_HISTORY_MARGIN;
+        if (pool_reserve(p, p->nrows, p->used + room, nv) != 0) return -1;
+        const long from = p->start[r], to = p->used;
+        memcpy(p->partner + to, p->partner + from, sizeof(int64_t) * (size_t) p->count[r]);
+        memcpy(p->owned_partner + to, p->owned_partner + from, sizeof(int) * (size_t) p->count[r]);
+        memcpy(p->value + (size_t) nv * to, p->value + (size_t) nv * from, sizeof(double) * (size_t) nv * p->count[r]);
+        p->start[r] = to, p->room[r] = room, p->used += room;
+      }
+      const long e = p->start[r] + p->count[r]++;
+      griddem_history_put(p->partner, p->value, nv, e, o->partner[m], o->value + (size_t) nv * m);
+      p->owned_partner[e] = o->owned_partner[m];
+      extra[r]--;
     }
   }
+  return 0;
+}
+
+/* The rows laid out afresh in the spare pool, which becomes the history: the row of slot s
+ * (particle order[s], owned) is s, with its contacts and the margin for room; other owned
+ * particles have none */
+static int lay_out(griddem_history *h, int nslot, const int *order, int nlocal, int *row_of)
+{
+  griddem_history_pool *from = &h->cur, *to = &h->spare;
+  const int nv = h->values;
+  long total = 0;
+  if (pool_reserve(to, nslot, 0, nv) != 0) return -1;
+  for (int s = 0; s < nslot; s++) {
+    const int i = order[s];
+    const int row = i < nlocal ? row_of[i] : -1;
+    const int count = row >= 0 ? from->count[row] : 0;
+    to->start[s] = total, to->count[s] = count, to->room[s] = i < nlocal ? count + GRIDDEM_HISTORY_MARGIN : 0;
+    total += to->room[s];
+  }
+  if (pool_reserve(to, nslot, total, nv) != 0) return -1;
+  for (int s = 0; s < nslot; s++) {
+    const int i = order[s];
+    if (i >= nlocal || row_of[i] < 0) continue;
+    const long a = from->start[row_of[i]], b = to->start[s];
+    memcpy(to->partner + b, from->partner + a, sizeof(int64_t) * (size_t) to->count[s]);
+    memcpy(to->owned_partner + b, from->owned_partner + a, sizeof(int) * (size_t) to->count[s]);
+    memcpy(to->value + (size_t) nv * b, from->value + (size_t) nv * a, sizeof(double) * (size_t) nv * to->count[s]);
+  }
   to->nrows = nslot, to->used = total;
+  for (int i = 0; i < nlocal; i++) row_of[i] = -1;
+  for (int s = 0; s < nslot; s++)
+    if (order[s] < nlocal) row_of[order[s]] = s;
+  const griddem_history_pool laid = *to;
+  *to = *from, *from = laid;
+  to->nrows = 0, to->used = 0;
   return 0;
 }
 
@@ -316,16 +323,106 @@ GRIDDEM_VECTOR_COPIES long griddem_history_counts(const int *count, int nrows, i
   return entries;
 }
 
-int griddem_history_end(griddem_history *h)
+int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlocal, int *row_of)
 {
+  griddem_history_pool *p = &h->cur;
+  const int nrows = p->nrows;
+  if (griddem_threaded(nrows)) {
+#pragma omp parallel
+    {
+      const int t = griddem_thread_num(), nt = griddem_team_size();
+      keep_written(p, h->values, (int) ((long) nrows * t / nt), (int) ((long) nrows * (t + 1) / nt));
+    }
+  } else {
+    keep_written(p, h->values, 0, nrows);
+  }
   long overflowed = 0;
   for (int k = 0; k < h->noverflow; k++) overflowed += h->overflow[k].n;
-  if (overflowed) {
-    if (fold_overflow(h) != 0) return -1;
-  } else {
-    const griddem_history_pool written = h->next;
-    h->next = h->cur, h->cur = written;
+  if (overflowed && fold_overflow(h, row_of) != 0) return -1;
+  h->entries = griddem_history_counts(p->count, p->nrows, &h->max_count);
+  /* holes: rows moved or of atoms gone, and room beyond the margin; the sweep reads rows in slot
+     order, which a fresh layout restores */
+  if (p->used > 2 * (h->entries + (long) GRIDDEM_HISTORY_MARGIN * nslot) + 1024 && lay_out(h, nslot, order, nlocal, row_of) != 0)
+    return -1;
+  h->one_sided = 1;
+  return 0;
+}
+
+/* (tag, index) of a particle, sorted by tag */
+typedef struct tagged_index {
+  int64_t tag;
+  int index;
+} tagged_index;
+
+static int by_tag(const void *a, const void *b)
+{
+  const int64_t x = ((const tagged_index *) a)->tag, y = ((const tagged_index *) b)->tag;
+  return (x > y) - (x < y);
+}
+
+/* The owned particle of tag, found in the particles sorted by tag (*sorted, built at first use),
+ * or -1. -2 without memory. */
+static int owner_of(int64_t tag, const void *tags, int tag_bytes, int nlocal, tagged_index **sorted)
+{
+  if (!*sorted) {
+    if (!(*sorted = (tagged_index *) malloc(sizeof(tagged_index) * (size_t) (nlocal > 0 ? nlocal : 1)))) return -2;
+    for (int i = 0; i < nlocal; i++) (*sorted)[i].tag = griddem_key_at(tags, tag_bytes, i), (*sorted)[i].index = i;
+    qsort(*sorted, (size_t) nlocal, sizeof(tagged_index), by_tag);
   }
-  h->entries = griddem_history_counts(h->cur.count, h->cur.nrows, &h->max_count);
+  int lo = 0, hi = nlocal;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if ((*sorted)[mid].tag < tag) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < nlocal && (*sorted)[lo].tag == tag ? (*sorted)[lo].index : -1;
+}
+
+int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const void *tag, int tag_bytes,
+                           const int *type, int ntypes, const double *parity)
+{
+  if (!h->one_sided) return 0;
+  if (griddem_history_begin(h, 1) != 0) return -1;
+  griddem_history_pool *p = &h->cur;
+  griddem_history_overflow *o = &h->overflow[0];
+  const int nv = h->values;
+  const int64_t tag_mask = ((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1;
+  tagged_index *sorted = NULL;
+  int failed = 0;
+  for (int i = 0; i < nlocal && !failed; i++) {
+    const int row = row_of[i];
+    if (row < 0 || row >= p->nrows) continue;
+    const int64_t self = griddem_key_at(tag, tag_bytes, i);
+    /* the row's own entries: those mirrored into it below come after them */
+    const int n = p->count[row];
+    for (int k = 0; k < n && !failed; k++) {
+      const long e = p->start[row] + k;
+      int j = p->owned_partner[e];
+      if (j < 0) continue;
+      p->owned_partner[e] = -1;
+      const int64_t key = p->partner[e];
+      if (j >= nlocal || griddem_key_at(tag, tag_bytes, j) != (key & tag_mask))
+        if ((j = owner_of(key & tag_mask, tag, tag_bytes, nlocal, &sorted)) < 0) {
+          failed = j == -2;
+          continue;
+        }
+      const int64_t mirrored = griddem_image_key_mirrored(key, self);
+      if (griddem_history_find_entry(h, row_of[j], mirrored) >= 0) continue;
+      const double *sign = parity + GRIDDEM_MAX_HISTORY * ((size_t) (ntypes + 1) * type[i] + type[j]);
+      double v[GRIDDEM_MAX_HISTORY];
+      for (int q = 0; q < nv && q < GRIDDEM_MAX_HISTORY; q++) v[q] = sign[q] * p->value[(size_t) nv * e + q];
+      const int rj = row_of[j];
+      if (rj >= 0 && p->count[rj] < p->room[rj]) {
+        const long f = p->start[rj] + p->count[rj]++;
+        griddem_history_put(p->partner, p->value, nv, f, mirrored, v);
+        p->owned_partner[f] = -1;
+      } else if (griddem_history_overflow_append(o, nv, j, mirrored, -1, v) != 0)
+        failed = 1;
+    }
+  }
+  free(sorted);
+  if (failed || (o->n && fold_overflow(h, row_of) != 0)) return -1;
+  h->entries = griddem_history_counts(p->count, p->nrows, &h->max_count);
+  h->one_sided = 0;
   return 0;
 }

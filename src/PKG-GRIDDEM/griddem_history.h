@@ -1,14 +1,19 @@
 /* GRIDDEM contact history: per particle, the partners it touched last step (their tags, as exact
  * integers) and the history values of each contact (tangential and rolling displacements). A pool
- * holds the entries; a row is a start and a count in it. That layout, how an entry is found and
- * written, and the row message that carries a row between processes and into restart files are
+ * holds the entries; a row is a start, a count and a room in it. How an entry is found and
+ * written, and the row message that carries a row between processes and into restart files, are
  * shared with the Kokkos store (fix griddem/kk), whose pools live on the device.
  *
- * The CPU store: the sweep reads
- * last step's pool and writes each evaluated contact once into the next pool, whose rows follow
- * the sorted slots, each with room for its particle's last count plus a margin; a row that
- * outgrows its room goes to its thread's overflow list, which the end of the sweep folds in. The
- * history then costs memory traffic in proportion to the contacts. */
+ * The CPU store is updated in place, as a neighbor list's history is: the sweep finds a contact in
+ * the row of the particle it is evaluated from, and writes it back where it was read, so a contact
+ * that lasts costs no copy. A contact of two owned particles is kept in that one row (the other
+ * row's copy is read only where the contact was last evaluated from its other side); every other
+ * reader (exchange, restart files, single()) first mirrors such contacts into the partner's row,
+ * as fix neigh/history fills both partners' arrays before atoms migrate. A new contact goes into
+ * its row's spare room, or into its thread's overflow list; the end of the sweep drops the
+ * entries no contact wrote this step, moves each row that overflowed to the pool's end with room
+ * to grow, and lays every row out afresh in slot order only when moved rows and rows of departed
+ * atoms leave the pool mostly holes. */
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
 
@@ -21,22 +26,26 @@
 extern "C" {
 #endif
 
-/* Entries: partner tags and values per contact, and rows as (start, count) into them. */
+/* Entries: partner tags and values per contact, and rows as (start, count, room) into them. */
 typedef struct griddem_history_pool {
   int nrows;
-  long used;          /* entries up to the last row's room */
+  long used;          /* entries up to the end of the last row's room */
   long *start;        /* [nrows]: first entry of each row */
   int *count;         /* [nrows]: entries of each row */
+  int *room;          /* [nrows]: entries a row holds before it moves */
   int64_t *partner;   /* [entries]: partner tag */
+  int *owned_partner; /* [entries]: the partner's index where the sweep saw it owned, else -1 */
   double *value;      /* [entries * values] */
   long rows_cap, entries_cap;
 } griddem_history_pool;
 
-/* One thread's contacts that did not fit their row's room: (slot, partner, values) each. */
+/* One thread's contacts that did not fit their row's room: (particle, partner, owned partner,
+ * values) each. */
 typedef struct griddem_history_overflow {
   long n, cap;
-  int *slot;
+  int *particle;
   int64_t *partner;
+  int *owned_partner;
   double *value;
 } griddem_history_overflow;
 
@@ -44,10 +53,11 @@ typedef struct griddem_history {
   int values;     /* history values per contact */
   int max_count;  /* most entries in one row (sizes exchange messages) */
   long entries;   /* entries in all rows, after a sweep (its contacts counted from each owned side) */
-  griddem_history_pool cur;  /* the history */
-  griddem_history_pool next; /* written by the sweep */
+  griddem_history_pool cur;   /* the history */
+  griddem_history_pool spare; /* where a fresh layout of the rows is written */
   griddem_history_overflow *overflow;
   int noverflow;
+  int one_sided;  /* a sweep has left contacts of owned pairs in one row (griddem_history_mirror) */
 } griddem_history;
 
 /* Contacts keyed by partner and periodic image. Where a periodic box is narrower than twice the
@@ -98,7 +108,11 @@ GRIDDEM_INLINE int64_t griddem_image_key(int64_t tag, int self, int partner)
   return tag | (int64_t) relative << GRIDDEM_KEY_TAG_BITS;
 }
 
-/* Room a sweep gives a row beyond its particle's last count: new contacts a step. */
+/* A sweep marks the entries it writes in their partner key, above the key's bits: an entry
+ * written is not found again in that sweep, and the end of the sweep keeps the marked ones. */
+#define GRIDDEM_HISTORY_WRITTEN ((int64_t) 1 << 62)
+
+/* Room a layout gives a row beyond its contacts: new contacts before the row moves. */
 #define GRIDDEM_HISTORY_MARGIN 2
 
 /* The entry of partner tag in a row (count entries from first) of a pool's partner tags, or -1:
@@ -177,12 +191,17 @@ void griddem_history_free(griddem_history *h);
 /* Contacts in row (0 for a row that does not exist, such as -1). */
 int griddem_history_count(const griddem_history *h, int row);
 
-/* The values of row's entry for partner, or NULL if the row has none (inline: the CPU sweep
- * finds once per contact). */
+/* The entry of row's contact with partner, or -1 if the row (-1: none) has none; the values of
+ * that entry, or NULL (inline: the CPU sweep finds once per contact and side). */
+static inline long griddem_history_find_entry(const griddem_history *h, int row, int64_t partner)
+{
+  if (row < 0 || row >= h->cur.nrows) return -1;
+  return griddem_history_entry(h->cur.partner, h->cur.start[row], h->cur.count[row], partner);
+}
+
 static inline const double *griddem_history_find(const griddem_history *h, int row, int64_t partner)
 {
-  if (row < 0 || row >= h->cur.nrows) return NULL;
-  const long e = griddem_history_entry(h->cur.partner, h->cur.start[row], h->cur.count[row], partner);
+  const long e = griddem_history_find_entry(h, row, partner);
   return e < 0 ? NULL : h->cur.value + (size_t) h->values * e;
 }
 
@@ -215,31 +234,62 @@ double griddem_history_memory(const griddem_history *h);
 /* Change the values per contact of every row (a model with other sub-models). 0, or -1. */
 int griddem_history_set_values(griddem_history *h, int values);
 
-/* For the sweep: lay out the next pool for nslot slots, slot s (particle order[s]) getting room
- * for the last count of row row_of[order[s]] plus the margin if it is owned (below nlocal),
- * none otherwise, and make nthreads overflow lists empty (0, or -1 without memory); write one
- * entry of a slot (from the thread's own slots; 0, or -1 without memory); then make the next
- * pool the history, the row of slot s being row s, with the overflow folded in (0, or -1). */
-int griddem_history_begin(griddem_history *h, int nthreads, int nslot, const int *order, const int *row_of,
-                          int nlocal);
-int griddem_history_end(griddem_history *h);
+/* For the sweep: make nthreads overflow lists empty (0, or -1 without memory); write one
+ * contact of a particle (below); then keep what was written: rows lose the entries no write
+ * reached, overflowed contacts join their rows (a particle without one gets one, in row_of), and
+ * where holes fill most of the pool the rows are laid out afresh, the row of slot s (owned
+ * particle order[s], s < nslot) being s and other owned particles' (below nlocal) none (0, or
+ * -1 without memory). */
+int griddem_history_begin(griddem_history *h, int nthreads);
+int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlocal, int *row_of);
 
 /* An entry beyond its row's room, kept in the thread's overflow list. 0, or -1 without memory. */
-int griddem_history_overflow_append(griddem_history_overflow *o, int values, int slot, int64_t partner,
-                                    const double *v);
+int griddem_history_overflow_append(griddem_history_overflow *o, int values, int particle, int64_t partner,
+                                    int owned_partner, const double *v);
 
-/* The CPU sweep's write: the next entry of slot's row, or its thread's overflow list. values is
- * h->values, passed so that a sweep compiled for one history size copies a constant count. */
+/* The sweep's write of particle's contact with partner (values v; owned_partner: the partner's
+ * index if it is owned, else -1): at entry e where the step's find found it in the particle's
+ * row, else appended to that row (row_of[particle], -1: none) or to the thread's overflow list.
+ * values is h->values, passed so that a sweep compiled for one history size copies a constant
+ * count. 0, or -1 without memory. */
 static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int values,
-                                        int slot, int64_t partner, const double *v)
+                                        int particle, int row, long e, int64_t partner, int owned_partner,
+                                        const double *v)
 {
-  griddem_history_pool *p = &h->next;
-  const long e = p->start[slot] + p->count[slot];
-  if (e >= p->start[slot + 1]) return griddem_history_overflow_append(overflow, values, slot, partner, v);
-  griddem_history_put(p->partner, p->value, values, e, partner, v);
-  p->count[slot]++;
+  griddem_history_pool *p = &h->cur;
+  if (e < 0) {
+    if (row < 0 || p->count[row] == p->room[row])
+      return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
+    e = p->start[row] + p->count[row]++;
+  }
+  p->partner[e] = partner | GRIDDEM_HISTORY_WRITTEN;
+  p->owned_partner[e] = owned_partner;
+  for (int k = 0; k < values; k++) p->value[(size_t) values * e + k] = v[k];
   return 0;
 }
+
+/* The key of a contact seen from its partner: tag (the particle's own), the relative image
+ * negated along each axis. */
+GRIDDEM_INLINE int64_t griddem_image_key_mirrored(int64_t key, int64_t tag)
+{
+  const int relative = (int) (key >> GRIDDEM_KEY_TAG_BITS);
+  int mirrored = 0;
+  for (int d = 0; d < 3; d++) {
+    const int shift = GRIDDEM_IMAGE_BITS * d;
+    mirrored |= (-(relative >> shift) & GRIDDEM_IMAGE_MASK) << shift;
+  }
+  return tag | (int64_t) mirrored << GRIDDEM_KEY_TAG_BITS;
+}
+
+/* Give each contact the last sweep kept in one owned particle's row its copy in the partner's
+ * row, seen from the partner: values times parity[(ntypes + 1) type_i + type_j][v] (every
+ * GRIDDEM_MAX_HISTORY doubles a type pair; type: per particle), the key mirrored (tag: the
+ * particles' tags, tag_bytes wide). The partner is the particle whose index the sweep recorded,
+ * or where that index no longer holds its tag (a particle since moved), the owned particle
+ * with the tag, if any. Particles without a row get one (row_of). A no-op unless the store is
+ * one-sided. 0, or -1 without memory. */
+int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const void *tag, int tag_bytes,
+                           const int *type, int ntypes, const double *parity);
 
 #ifdef __cplusplus
 }

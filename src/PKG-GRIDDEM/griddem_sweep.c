@@ -194,7 +194,7 @@ typedef struct sweep_context {
   double dt;
   int history_update;
   griddem_history *hist;
-  const int *row_of;
+  int *row_of;
   double *f, *torque;    /* of the particles, added into where owned */
   double *vatom;
   int want_virial;
@@ -215,6 +215,7 @@ typedef struct contact_batch {
   int type_a[GRIDDEM_CLASSIC_BATCH], type_b[GRIDDEM_CLASSIC_BATCH];
   int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
   int64_t key_b[GRIDDEM_CLASSIC_BATCH], key_a[GRIDDEM_CLASSIC_BATCH];    /* b seen from a, a from b */
+  long entry_a[GRIDDEM_CLASSIC_BATCH], entry_b[GRIDDEM_CLASSIC_BATCH];  /* their history entries */
   int kept[GRIDDEM_CLASSIC_BATCH];
   griddem_classic_batch lanes;
 } contact_batch;
@@ -253,15 +254,17 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 }
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
- * type_a and type_b, group bits ma and mb; key_b the key of b seen from a), at squared distance
- * rsq (within reach): the pair is left where its centres coincide (a fault), it is excluded by
- * excl (NULL: none, or tested already), or (past touching) it is out of reach; otherwise its law
- * is set (*law_of) and its history found (*stored; NULL: none, or contacts not tracked). Returns
- * whether the pair is kept. classic and track are constants of each specialization. */
+ * type_a and type_b, group bits ma and mb; key_b the key of b seen from a, key_a of a seen from
+ * b), at squared distance rsq (within reach): the pair is left where its centres coincide (a
+ * fault), it is excluded by excl (NULL: none, or tested already), or (past touching) it is out of
+ * reach; otherwise its law is set (*law_of) and its history entry found (-1: none, or contacts
+ * not tracked): in a's row (*entry_a), or where a's has none and b is owned, in b's, where it is
+ * kept while the contact was evaluated from b (*entry_b). Returns whether the pair is kept. classic
+ * and track are constants of each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
-                                 int mb, int64_t key_b, const griddem_exclusions *excl, double rsq,
+                                 int mb, int64_t key_b, int64_t key_a, const griddem_exclusions *excl, double rsq,
                                  const int classic, const int track, const griddem_pair_params **law_of,
-                                 const double **stored)
+                                 long *entry_a, long *entry_b)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
@@ -276,12 +279,26 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
     return 0;
   /* the batches' pairs all have the one law */
   const griddem_pair_params *law = classic == CLASSIC_BATCHED ? griddem_model_pair(m, 1, 1) : griddem_model_pair(m, type_a, type_b);
-  *stored = track ? griddem_history_find(cx->hist, cx->row_of[ia], key_b) : NULL;
+  *entry_a = track ? griddem_history_find_entry(cx->hist, cx->row_of[ia], key_b) : -1;
+  *entry_b = track && *entry_a < 0 && ib < cx->nlocal ? griddem_history_find_entry(cx->hist, cx->row_of[ib], key_a) : -1;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (!classic && m->reach_extra > 0.0 && !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *stored != NULL))
+  if (!classic && m->reach_extra > 0.0 &&
+      !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *entry_a >= 0 || *entry_b >= 0))
     return 0;
   *law_of = law;
   return 1;
+}
+
+/* The nv history values a pair_begin found (a's entry, or b's seen from a; none: 0) into hv */
+SWEEP_SPECIALIZED void stored_values(const sweep_context *cx, const griddem_pair_params *law, long entry_a,
+                                     long entry_b, const int nv, double *hv)
+{
+  const int stride = cx->hist ? cx->hist->values : 0;
+  const double *value = cx->hist ? cx->hist->cur.value : NULL;
+  for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++)
+    hv[v] = entry_a >= 0   ? value[(size_t) stride * entry_a + v]
+            : entry_b >= 0 ? law->parity[v] * value[(size_t) stride * entry_b + v]
+                           : 0.0;
 }
 
 /* v += w and v -= w for three doubles, element by element (the first two in one SSE2 operation) */
@@ -306,37 +323,31 @@ static inline void subtract3(double *v, const double *w)
 }
 
 /* What follows the law (law) of the contact of slots a and b, particles ia and ib, that pair_begin
- * kept (separation dx, seen from a; key_b the key of b seen from a, key_a of a seen from b): its
- * history values hv (seen from a; nv of them; track: contacts are kept, and counted by their
- * entries) written to a's next row and, seen from b, to b's if b is owned, else the contact
- * counted; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
+ * kept (separation dx, seen from a; key_b the key of b seen from a; entry_a its entry in a's row):
+ * its history values hv (seen from a; track: contacts are kept, values of them a contact) written
+ * to a's row,
+ * with b's index if b is owned (griddem_history_mirror), the contact counted for each owned
+ * particle; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
  * the heat into a (if heat) likewise; its elastic energy and (virial: the sweep tallies it) its
  * virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
-                                int64_t key_b, int64_t key_a, const griddem_pair_params *law, const double *dx,
+                                int64_t key_b, long entry_a, const double *dx,
                                 const double *hv, const double *fc,
                                 const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
-                                const int track, const int nv, const int stored_values, const int virial)
+                                const int track, const int values, const int virial)
 {
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
   if (track) {
-    /* the contact's entries in the next history: a's as evaluated, b's seen from b */
-    int failed = griddem_history_write(cx->hist, sums->overflow, stored_values, a, key_b, hv);
-    if (b_owned) {
-      double hb[GRIDDEM_MAX_HISTORY];
-      for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hb[v] = law->parity[v] * hv[v];
-      failed |= griddem_history_write(cx->hist, sums->overflow, stored_values, b, key_a, hb);
-    }
-    if (failed) record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
+    if (griddem_history_write(cx->hist, sums->overflow, values, ia, cx->row_of[ia], entry_a, key_b,
+                              b_owned ? ib : -1, hv) != 0)
+      record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
   add3(cx->f + 3 * (size_t) ia, fc), add3(cx->torque + 3 * (size_t) ia, ta);
   if (b_owned) subtract3(cx->f + 3 * (size_t) ib, fc), add3(cx->torque + 3 * (size_t) ib, tb);
-  if (!track) { /* a tracked contact is counted by its entries in the history */
-    ch->ncontact[a]++;
-    if (b_owned) ch->ncontact[b]++;
-  }
+  ch->ncontact[a]++;
+  if (b_owned) ch->ncontact[b]++;
   if (heat) {
     ch->p->heatflow[ia] += heat_into_a;
     if (b_owned) ch->p->heatflow[ib] -= heat_into_a;
@@ -451,14 +462,13 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial)
 {
   const griddem_classic_batch *l = &q->lanes;
-  const griddem_pair_params *law = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
     if (!q->kept[k]) continue;
     const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->key_a[k], law, dx, hv, fc, ta, tb,
-             l->energy[k], 0, 0.0, 1, 3, 3, virial);
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], dx, hv, fc, ta, tb,
+             l->energy[k], 0, 0.0, 1, 3, virial);
   }
 }
 
@@ -475,8 +485,8 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   const griddem_exclusions *excl = cx->excl;
   const int by_bits = excl && griddem_exclusions_by_bits(excl);
   const int both = by_bits ? excl->both_bit | excl->group_both_bits : 0, apart = by_bits ? excl->apart_bit : 0;
+  const griddem_pair_params *law_of_all = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
-    const double *stored = NULL;
     const int ma = q->ma[k], mb = q->mb[k];
     if (griddem_excluded_by_bits(both, apart, ma, mb) && l->rsq[k] != 0.0) {
       q->kept[k] = 0;
@@ -485,9 +495,12 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
     }
     const griddem_pair_params *law;    /* the one law */
     q->kept[k] = pair_begin(cx, q->a[k], q->b[k], q->ia[k], q->ib[k], q->type_a[k], q->type_b[k], ma, mb, q->key_b[k],
-                            by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &law, &stored);
+                            q->key_a[k], by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &law, &q->entry_a[k],
+                            &q->entry_b[k]);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
-    for (int d = 0; d < 3; d++) l->shear[d][k] = stored ? stored[d] : 0.0;
+    double hv[3] = {0.0, 0.0, 0.0};
+    if (q->kept[k]) stored_values(cx, law_of_all, q->entry_a[k], q->entry_b[k], 3, hv);
+    for (int d = 0; d < 3; d++) l->shear[d][k] = hv[d];
   }
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
   if (cx->want_virial || cx->vatom) finish_lanes(cx, sums, q, 1);
@@ -519,12 +532,13 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const int track = values > 0 ? 1 : (values == 0 ? 0 : m->track_contacts);
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
-  const double *stored;
   const int ia = cx->order[a], ib = cx->order[b], ma = p->mask[ia], mb = p->mask[ib];
   const griddem_pair_params *law;
   const int64_t key_b = track ? contact_key(ch, a, b) : 0;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, cx->excl, rsq, classic, track, &law,
-                  &stored))
+  const int64_t key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
+  long entry_a, entry_b;
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, cx->excl, rsq, classic, track,
+                  &law, &entry_a, &entry_b))
     return;
 
   griddem_contact c;
@@ -535,15 +549,14 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
 
   double hv[GRIDDEM_MAX_HISTORY];
-  for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++) hv[v] = stored ? stored[v] : 0.0;
+  stored_values(cx, law, entry_a, entry_b, nv, hv);
 
   double fc[3], ta[3], tb[3];
   const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
                         : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                    : griddem_contact_eval(law, &c, hv, fc, ta, tb);
-  const int64_t key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
-  pair_end(cx, sums, a, b, ia, ib, key_b, key_a, law, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
-           nv, track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
+  pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
+           track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
@@ -1055,7 +1068,7 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
 
 int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
                   int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
-                  int history_update, griddem_history *hist, const int *row_of, double *f,
+                  int history_update, griddem_history *hist, int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
@@ -1069,7 +1082,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   const int nthreads = griddem_max_threads();
   int nslot = 0;
   for (int kc = 0; kc < ncls; kc++) nslot += cls[kc].b->n;
-  if (model->track_contacts && griddem_history_begin(hist, nthreads, nslot, order, row_of, nlocal) != 0) {
+  if (model->track_contacts && griddem_history_begin(hist, nthreads) != 0) {
     result->fault = GRIDDEM_FAULT_MEMORY;
     return result->fault;
   }
@@ -1133,11 +1146,12 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
       for (int c = 0; c < 7; c++) totals[c] += part[c];
     }
 
-  if (model->track_contacts && griddem_history_end(hist) != 0) record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
+  if (model->track_contacts && griddem_history_end(hist, nslot, order, nlocal, row_of) != 0)
+    record_fault(result, GRIDDEM_FAULT_MEMORY, 0, 0);
 
-  /* only owned particles' slots count contacts: by their history entries where contacts are kept */
-  int most = model->track_contacts ? hist->max_count : 0;
-  const long contacts = model->track_contacts ? hist->entries : griddem_history_counts(ch->ncontact, nslot, &most);
+  /* only owned particles' slots count contacts */
+  int most = 0;
+  const long contacts = griddem_history_counts(ch->ncontact, nslot, &most);
   for (int c = 0; c < 6; c++) result->virial[c] = totals[c];
   result->energy = totals[6];
   result->contacts = contacts;

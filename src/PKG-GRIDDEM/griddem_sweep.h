@@ -94,11 +94,12 @@ typedef struct griddem_class_grid {
  * owned, so ghosts receive nothing (newton off across processes). Adds into f and torque
  * (3*nlocal), and half of del*f of each contact into vatom (6*nlocal) if not NULL; sums the virial
  * into result only if want_virial. If model->track_contacts, particle i's history is row
- * row_of[i] of hist (-1: none), and on return hist holds the new rows, the row of slot s being s.
- * excl may be NULL. Returns result->fault. */
+ * row_of[i] of hist (-1: none), which the sweep updates in place (griddem_history_end: rows may
+ * be given, moved or laid out afresh, and row_of with them). excl may be NULL. Returns
+ * result->fault. */
 int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
                   int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
-                  int history_update, griddem_history *hist, const int *row_of, double *f,
+                  int history_update, griddem_history *hist, int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result);
 
 /* Candidate pairs griddem_sweep tests on the classes cls (what a grid layout costs): per class,

@@ -706,7 +706,7 @@ void PairGriddem::engine_step()
   int coarsened = 0;
   griddem_engine_step(&engine, &step, &result, &coarsened);
   last_stats = engine.stats;
-  if (model.track_contacts) fix->commit_step();
+  if (model.track_contacts) fix->commit_step(model, last_stats.max_contacts);
   if (coarsened && !coarsened_warned) {
     coarsened_warned = 1;
     error->warning(FLERR, "Pair style {}: cell edge enlarged from {} to {} so that the grid over this process's atoms stays within {} cells",

@@ -4,6 +4,7 @@
  * message is known; the step's statistics count contacts, the fastest motion and non-finite
  * velocities. */
 #include "check.h"
+#include "complete_history.h"
 #include "griddem_engine.h"
 #include "griddem_threads.h"
 #include "spec_text.h"
@@ -203,6 +204,7 @@ int main(void)
   griddem_sweep_result r;
   int coarsened;
   CHECK(griddem_engine_step(&e, &s, &r, &coarsened) == GRIDDEM_FAULT_NONE && !coarsened, "step runs");
+  CHECK(complete_history(&h, &m, 2, row_of, tag, type) == 0, "history completed");
   CHECK(e.stats.contacts == 3 && e.stats.max_contacts == 2, "contacts %ld, most %d", e.stats.contacts, e.stats.max_contacts);
   CHECK(e.stats.nonfinite_velocity == 0, "velocities finite");
   CHECK_CLOSE(e.stats.max_speed, 1.0, 1e-15, 0.0);

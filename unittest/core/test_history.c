@@ -1,12 +1,16 @@
 /* The CPU contact-history store: rows appended from messages keep their entries and the longest
  * is known (it sizes exchange messages); conversion between values per contact keeps the common
- * values and zeroes the new ones; a sweep's writes give each slot its own entries, with room for
- * its particle's last count plus the margin, and entries beyond the room are folded in; partner
- * tags stay exact integers beyond a double's 2^53. Image keys: a contact's key is the partner tag
- * where the images match and in boxes without image axes, tells apart the images of one partner
- * that can touch a sphere together, does not change when either atom wraps across the boundary,
+ * values and zeroes the new ones; a sweep writes lasting contacts in place, drops those it did not
+ * write, gives new ones the row's room or moves the row (a particle without one gets one), lays
+ * the rows out afresh in slot order once they are mostly holes, and on any thread count keeps the
+ * same; the contacts of owned pairs kept in one row are mirrored into the partner's, found by its
+ * tag where its index moved; partner tags stay exact integers beyond a double's 2^53. Image keys:
+ * a contact's key is the partner tag where the images match and in boxes without image axes,
+ * tells apart the images of one partner that can touch a sphere together, does not change when
+ * either atom wraps across the boundary, is mirrored into the partner's key of the same contact,
  * and stays exact as a double. */
 #include "check.h"
+#include "griddem_contact.h"
 #include "griddem_history.h"
 #include "griddem_threads.h"
 
@@ -16,45 +20,50 @@
 #include <string.h>
 
 #ifdef _OPENMP
-/* the next pool's row layout (a prefix sum over the slots) and the longest row on two threads,
- * from GRIDDEM_THREADED_MIN slots on: one thread's; the ghosts' slots get no room */
-static void check_threaded_layout(void)
+/* the end of a sweep on two threads, from GRIDDEM_THREADED_MIN rows on, keeps what one thread
+ * keeps: of rows of r % 7 contacts, those written (partners of even index), in their order */
+static void check_threaded_end(void)
 {
-  enum { NSLOT = 3 * GRIDDEM_THREADED_MIN + 7, NLOCAL = 2 * GRIDDEM_THREADED_MIN };
-  static int order[NSLOT], row_of[NLOCAL];
-  static long start[2][NSLOT + 1];
+  enum { NROW = 3 * GRIDDEM_THREADED_MIN + 7 };
+  static int row_of[NROW], order[NROW];
+  static double kept[2][NROW][7];
   int most[2];
-  for (int s = 0; s < NSLOT; s++) order[s] = (int) ((7L * s + 3) % NSLOT);    /* a permutation */
-  for (int i = 0; i < NLOCAL; i++) row_of[i] = i % 5 == 0 ? -1 : i / 3;
+  long entries[2];
+  for (int r = 0; r < NROW; r++) order[r] = r;
   for (int k = 0; k < 2; k++) {
     griddem_history h;
     griddem_history_init(&h, 3);
-    /* rows 0..NLOCAL/3 of r % 7 contacts each (partner, then three values per contact) */
-    double entries[7 * 4] = {0.0};
-    for (int e = 0; e < 7; e++) entries[4 * e] = 100 + e;
-    for (int r = 0; r <= NLOCAL / 3; r++) griddem_history_add_row(&h, r % 7, entries, 3);
+    double entries_in[7 * 4] = {0.0};
+    for (int e = 0; e < 7; e++) entries_in[4 * e] = 100 + e, entries_in[4 * e + 1] = e;
+    for (int r = 0; r < NROW; r++) row_of[r] = griddem_history_add_row(&h, r % 7, entries_in, 3);
     omp_set_num_threads(k + 1);
-    CHECK(griddem_threaded(NSLOT) == k, "%d thread(s): layout threaded %d", k + 1, k);
-    CHECK(griddem_history_begin(&h, k + 1, NSLOT, order, row_of, NLOCAL) == 0, "begin on %d thread(s)", k + 1);
-    memcpy(start[k], h.next.start, sizeof(long) * (NSLOT + 1));
-    CHECK(griddem_history_end(&h) == 0, "end");
-    most[k] = h.max_count;
+    CHECK(griddem_threaded(NROW) == k, "%d thread(s): end threaded %d", k + 1, k);
+    CHECK(griddem_history_begin(&h, k + 1) == 0, "begin on %d thread(s)", k + 1);
+    for (int r = 0; r < NROW; r++)
+      for (int e = 0; e < r % 7; e += 2) {
+        const double v[3] = {10.0 * r + e, 0.0, 0.0};
+        griddem_history_write(&h, &h.overflow[0], 3, r, row_of[r], griddem_history_find_entry(&h, row_of[r], 100 + e),
+                              100 + e, -1, v);
+      }
+    CHECK(griddem_history_end(&h, NROW, order, NROW, row_of) == 0, "end");
+    for (int r = 0; r < NROW; r++)
+      for (int e = 0; e < 7; e++) {
+        const double *f = griddem_history_find(&h, row_of[r], 100 + e);
+        kept[k][r][e] = f ? f[0] : -1.0;
+      }
+    most[k] = h.max_count, entries[k] = h.entries;
     griddem_history_free(&h);
   }
   omp_set_num_threads(1);
-  int same = start[0][NSLOT] == start[1][NSLOT] && start[0][NSLOT] > 0;
-  for (int s = 0; s <= NSLOT; s++) same &= start[0][s] == start[1][s];
-  CHECK(same, "two threads lay %d rows out as one (%ld entries of room)", NSLOT, start[1][NSLOT]);
-  /* each slot's room counted here: its row's r % 7 contacts and the margin, none for a ghost or
-     for a particle without a row beyond the margin */
   long wrong = 0;
-  for (int s = 0; s < NSLOT; s++) {
-    const int i = order[s], row = i < NLOCAL ? row_of[i] : -1;
-    const long room = i < NLOCAL ? (row >= 0 ? row % 7 : 0) + GRIDDEM_HISTORY_MARGIN : 0;
-    wrong += start[0][s + 1] - start[0][s] != room;
-  }
-  CHECK(wrong == 0, "%ld of %d slots laid out with other room than their last count and the margin", wrong, NSLOT);
-  CHECK(most[0] == most[1], "longest row %d and %d", most[0], most[1]);
+  for (int r = 0; r < NROW; r++)
+    for (int e = 0; e < 7; e++) {
+      const double want = e < r % 7 && e % 2 == 0 ? 10.0 * r + e : -1.0;
+      wrong += kept[0][r][e] != want || kept[1][r][e] != want;
+    }
+  CHECK(wrong == 0, "%ld entries of %d rows kept otherwise than written, on 1 or 2 threads", wrong, NROW);
+  CHECK(most[0] == most[1] && most[0] == 3 && entries[0] == entries[1], "longest row %d and %d, entries %ld and %ld",
+        most[0], most[1], entries[0], entries[1]);
 }
 #endif
 
@@ -101,6 +110,12 @@ static void check_image_keys(void)
       wrong += griddem_image_key(tag, b, a) != (tag | want << GRIDDEM_KEY_TAG_BITS);
     }
   CHECK(wrong == 0, "relative images of every pair of codes: %ld wrong", wrong);
+  /* a key mirrored is the partner's key of the contact, for every pair of codes */
+  long unmirrored = 0;
+  for (int a = 0; a < 1 << (3 * GRIDDEM_IMAGE_BITS); a += 7)
+    for (int b = 0; b < 1 << (3 * GRIDDEM_IMAGE_BITS); b++)
+      unmirrored += griddem_image_key_mirrored(griddem_image_key(tag, a, b), 777) != griddem_image_key(777, b, a);
+  CHECK(unmirrored == 0, "keys mirrored: %ld wrong", unmirrored);
   /* the largest key: tag below 2^GRIDDEM_KEY_TAG_BITS, every axis's image 15 */
   const int m15[3] = {15, 15, 15};
   const int64_t most = griddem_image_key(((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1, 0, griddem_image_code(m15, 7));
@@ -113,7 +128,7 @@ int main(void)
 {
   check_image_keys();
 #ifdef _OPENMP
-  check_threaded_layout();
+  check_threaded_end();
 #endif
   griddem_history h;
   griddem_history_init(&h, 3);
@@ -139,41 +154,91 @@ int main(void)
   griddem_history_get_row(&h, 1, m);
   CHECK(m[3] == -3.0 && m[6] == 0.0, "converted row 1");
 
-  /* a sweep over slots 0..3 holding particles 1, 0, 2 and the ghost 3 (particle 0 has row 0 with
-     2 contacts, particle 1 row 1 with 1): slot 0 gets room for 1 + margin, slot 1 for 2 + margin,
-     slot 2 for the margin, the ghost none */
-  const int order[4] = {1, 0, 2, 3}, row_of[3] = {0, 1, -1};
-  CHECK(griddem_history_begin(&h, 2, 4, order, row_of, 3) == 0, "begin");
+  /* a sweep in place (particles 0, 1 and 2 owned; 0 has row 0 with partners 7 and 9, 1 row 1
+     with partner 5, 2 none): 0's contact with 9 lasts and 7's ends, and four new ones overflow its
+     row's room; 2 touches 42; 1's contact with 5, an owned particle (index 0), lasts */
+  int row_of[3] = {0, 1, -1};
+  const int order[3] = {1, 0, 2};
+  CHECK(griddem_history_begin(&h, 2) == 0, "begin");
   const int64_t big = 9007199254740993; /* 2^53 + 1: not a double */
   double v[6] = {1, 2, 3, 4, 5, 6};
-  int failed = 0;
-  for (int k = 0; k < 1 + GRIDDEM_HISTORY_MARGIN + 2; k++) { /* two beyond slot 0's room */
+  int failed = griddem_history_write(&h, &h.overflow[0], h.values, 0, 0, griddem_history_find_entry(&h, 0, 9), 9, -1, v);
+  for (int k = 0; k < 4; k++) {
     v[0] = 10 + k;
-    failed |= griddem_history_write(&h, &h.overflow[k % 2], h.values, 0, big + k, v);
+    failed |= griddem_history_write(&h, &h.overflow[k % 2], h.values, 0, 0, griddem_history_find_entry(&h, 0, big + k),
+                                    big + k, -1, v);
   }
   v[0] = -1;
-  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 2, 42, v);
-  CHECK(!failed && h.overflow[0].n + h.overflow[1].n == 2, "two entries overflowed");
-  CHECK(griddem_history_end(&h) == 0, "end");
-  CHECK(h.cur.nrows == 4 && griddem_history_count(&h, 0) == 5 && griddem_history_count(&h, 1) == 0 &&
-            griddem_history_count(&h, 2) == 1 && griddem_history_count(&h, 3) == 0,
-        "rows by slot: %d %d %d %d", griddem_history_count(&h, 0), griddem_history_count(&h, 1),
-        griddem_history_count(&h, 2), griddem_history_count(&h, 3));
-  CHECK(h.max_count == 5, "longest row after the sweep: %d", h.max_count);
-  for (int k = 0; k < 5; k++) {
-    const double *e = griddem_history_find(&h, 0, big + k);
-    CHECK(e && e[0] == 10 + k && e[5] == 6, "slot 0's entry for partner 2^53+1+%d (overflowed or not)", k);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 2, -1, -1, 42, -1, v);
+  v[0] = 8, v[1] = 0.5;
+  failed |= griddem_history_write(&h, &h.overflow[1], h.values, 1, 1, griddem_history_find_entry(&h, 1, 5), 5, 0, v);
+  CHECK(!failed && h.overflow[0].n + h.overflow[1].n == 5, "five entries overflowed: %ld", h.overflow[0].n + h.overflow[1].n);
+  CHECK(griddem_history_end(&h, 3, order, 3, row_of) == 0, "end");
+  CHECK(row_of[0] == 0 && row_of[1] == 1 && row_of[2] == 2, "rows kept, a new one for particle 2: %d %d %d", row_of[0],
+        row_of[1], row_of[2]);
+  CHECK(griddem_history_count(&h, 0) == 5 && griddem_history_count(&h, 1) == 1 && griddem_history_count(&h, 2) == 1,
+        "contacts %d %d %d", griddem_history_count(&h, 0), griddem_history_count(&h, 1), griddem_history_count(&h, 2));
+  CHECK(h.max_count == 5 && h.entries == 7 && h.one_sided, "longest row %d, %ld entries, one-sided", h.max_count, h.entries);
+  griddem_history_get_row(&h, 0, m);
+  CHECK(m[0] == 9 && m[1] == 1 && m[6] == 6, "the lasting contact first, written in place");
+  /* then the new ones, by their threads' lists (0: k = 0, 2; 1: k = 1, 3) */
+  for (int q = 0; q < 4; q++) {
+    const int k = 2 * (q % 2) + q / 2;
+    CHECK(m[7 * (q + 1)] == (double) (big + k) && m[7 * (q + 1) + 1] == 10 + k, "new contact %d in place %d", k, q + 1);
   }
-  CHECK(!griddem_history_find(&h, 0, big + 5) && griddem_history_find(&h, 2, 42)[0] == -1, "no other entries");
+  CHECK(!griddem_history_find(&h, 0, 7), "the contact that ended is gone");
+  CHECK(griddem_history_find(&h, 2, 42)[0] == -1 && griddem_history_find(&h, 1, 5)[1] == 0.5, "other rows");
+  /* the row that overflowed moved, with room to spare: a new contact next step stays in it */
+  CHECK(griddem_history_begin(&h, 1) == 0, "begin again");
+  for (int k = 0; k < 4; k++)
+    failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, 0, griddem_history_find_entry(&h, 0, big + k),
+                                    big + k, -1, v);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, 0, -1, 77, -1, v);
+  CHECK(!failed && h.overflow[0].n == 0, "the moved row holds a new contact");
+  CHECK(griddem_history_end(&h, 3, order, 3, row_of) == 0 && griddem_history_count(&h, 0) == 5 &&
+            griddem_history_count(&h, 1) == 0 && !griddem_history_find(&h, 0, 9) && griddem_history_find(&h, 0, 77),
+        "second sweep: contacts of 9, 5 and 42 ended, 77 new");
 
-  /* the next sweep without overflow: the written pool becomes the history as it is */
-  const int order2[2] = {0, 1}, row_of2[2] = {2, 0};
-  CHECK(griddem_history_begin(&h, 1, 2, order2, row_of2, 2) == 0, "begin again");
-  v[0] = 7;
-  CHECK(griddem_history_write(&h, &h.overflow[0], h.values, 1, 3, v) == 0 && h.overflow[0].n == 0, "written in place");
-  CHECK(griddem_history_end(&h) == 0 && griddem_history_count(&h, 0) == 0 && griddem_history_count(&h, 1) == 1 &&
-            griddem_history_find(&h, 1, 3)[0] == 7 && h.max_count == 1,
-        "second sweep's rows");
+  /* mirrored: particle 1 (tag 11) keeps its contact with particle 0 (tag 5), recorded as owned
+     partner 1 although particle 1 is at index 2 (moved since): found by its tag, mirrored into 1's
+     row, the values times the parity */
+  const int tags[3] = {5, 13, 11}, types[3] = {1, 1, 1};
+  const double parity[4 * GRIDDEM_MAX_HISTORY] = {[3 * GRIDDEM_MAX_HISTORY] = -1, 1, -1, 1, 1, 1};
+  int rows2[3] = {row_of[0], -1, row_of[1]};
+  CHECK(griddem_history_begin(&h, 1) == 0, "begin a third time");
+  v[0] = 3, v[1] = 4, v[2] = 5;
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 11, 1, v);
+  CHECK(griddem_history_end(&h, 3, order, 3, rows2) == 0 && h.one_sided, "end, one-sided");
+  CHECK(!griddem_history_find(&h, rows2[2], 5), "the partner's row lacks the contact");
+  CHECK(griddem_history_mirror(&h, 3, rows2, tags, 4, types, 1, parity) == 0 && !h.one_sided, "mirrored");
+  const double *back = griddem_history_find(&h, rows2[2], 5);
+  CHECK(back && back[0] == -3 && back[1] == 4 && back[2] == -5 && back[3] == 4, "the partner's copy, seen from it");
+  CHECK(griddem_history_count(&h, rows2[0]) == 1 && griddem_history_count(&h, rows2[1]) == 0, "no other copies");
+  CHECK(griddem_history_mirror(&h, 3, rows2, tags, 4, types, 1, parity) == 0 && griddem_history_count(&h, rows2[2]) == 1,
+        "mirroring again changes nothing");
+
+  /* rows mostly holes are laid out afresh in slot order: row of slot s is s, particles left out
+     of the slots have none */
+  griddem_history big_pool;
+  griddem_history_init(&big_pool, 3);
+  enum { NP = 600 };
+  static int rows3[NP], order3[NP / 2];
+  double seven[7 * 4] = {0.0}, one[3] = {1, 2, 3};
+  for (int e = 0; e < 7; e++) seven[4 * e] = 3 + e;
+  for (int i = 0; i < NP; i++) rows3[i] = griddem_history_add_row(&big_pool, 7, seven, 3);
+  for (int s = 0; s < NP / 2; s++) order3[s] = NP - 1 - 2 * s; /* the odd particles, backwards */
+  CHECK(griddem_history_begin(&big_pool, 1) == 0, "begin over %d rows", NP);
+  for (int s = 0; s < NP / 2; s += 10) {
+    const int i = order3[s];
+    griddem_history_write(&big_pool, &big_pool.overflow[0], 3, i, rows3[i], griddem_history_find_entry(&big_pool, rows3[i], 3), 3, -1, one);
+  }
+  CHECK(griddem_history_end(&big_pool, NP / 2, order3, NP, rows3) == 0 && big_pool.cur.nrows == NP / 2, "laid out afresh: %d rows",
+        big_pool.cur.nrows);
+  int laid = 1;
+  for (int s = 0; s < NP / 2; s++) laid &= rows3[order3[s]] == s && griddem_history_count(&big_pool, s) == (s % 10 == 0);
+  for (int i = 0; i < NP; i += 2) laid &= rows3[i] == -1;
+  CHECK(laid && big_pool.entries == NP / 20, "rows by slot, contacts kept (%ld)", big_pool.entries);
+  griddem_history_free(&big_pool);
   CHECK(griddem_history_memory(&h) > 0.0, "memory reported");
   griddem_history_free(&h);
   return check_summary();

@@ -7,6 +7,7 @@
  * (all their pairs excluded) left out of the grid; momentum balance holds; a particle's history row
  * grows with its contacts; faults name the particles. */
 #include "check.h"
+#include "complete_history.h"
 #include "griddem_engine.h"
 #include "griddem_search.h"
 #include "griddem_sweep.h"
@@ -136,7 +137,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     griddem_sweep_result res;
     const griddem_class_grid one = {&g, &b, 0, rmax, 0};
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
-    for (int k = 0; k < N; k++) row_of[b.order[k]] = k;
+    CHECK(complete_history(&hist, m, N, row_of, tag, type) == 0 && !hist.one_sided, "%s: history completed", law);
     all_pairs(m, excluded, 0, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) {
@@ -162,9 +163,14 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     CHECK(fabs(res.energy - energy_ref) <= 1e-12 * energy_ref && energy_ref > 0.0,
           "%s mode %d step %d: energy %g, all-pairs %g", law, mode, step, res.energy, energy_ref);
 
-    /* history rows hold what the all-pairs evaluation holds for each ordered pair */
+    /* history rows hold what the all-pairs evaluation holds for each ordered pair, every contact
+       in both particles' rows once completed */
     double herr = 0.0, hscale = 0.0;
+    long missing = 0;
     for (int i = 0; i < N; i++) {
+      int touching = 0;
+      for (int j = 0; j < N; j++) touching += touched[(size_t) i * N + j];
+      missing += m->track_contacts && griddem_history_count(&hist, row_of[i]) != touching;
       static double row[GRIDDEM_HISTORY_ENTRY(GRIDDEM_MAX_HISTORY) * N];
       griddem_history_get_row(&hist, row_of[i], row);
       for (int k = 0; k < griddem_history_count(&hist, row_of[i]); k++) {
@@ -179,6 +185,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
       }
     }
     CHECK(herr <= 1e-12 * hscale, "%s mode %d step %d: history error %g of %g", law, mode, step, herr, hscale);
+    CHECK(missing == 0, "%s mode %d step %d: %ld rows without each of their contacts", law, mode, step, missing);
 
     /* Newton's third law (the torque lever is the radius, as in stock, so angular momentum is
        not balanced exactly while spheres overlap; no check of it here) */
@@ -274,7 +281,7 @@ static void check_faults(const char *law)
     griddem_bin_points(&b, &g, M, px, ptag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep(&one, 1, b.order, &ch, M, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
-    for (int k = 0; k < M; k++) row_of[b.order[k]] = k;
+    CHECK(complete_history(&hist, &m, M, row_of, ptag, ptype) == 0, "history completed");
     CHECK(res.fault == GRIDDEM_FAULT_NONE && res.max_contacts == M - 1,
           "step %d: a particle with %d contacts, no fault (%d)", step, res.max_contacts, res.fault);
     CHECK(griddem_history_count(&hist, row_of[0]) == M - 1 && hist.max_count == M - 1,
@@ -358,6 +365,7 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
     double vr[6], energy_ref;
     long contacts_ref;
     griddem_engine_step(&e, &st, &res, &coarsened);
+    CHECK(complete_history(&hist, &m, N, row_of, tag, type) == 0, "%s: history completed", what);
     all_pairs(&m, NULL, kinematic_bit, lagging_bit, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     CHECK(e.nclass == (size_classes ? 3 : 1) && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", what,
           e.nclass, res.fault);
@@ -405,8 +413,8 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
             "%s step %d: %d of %d binned particles kinematic, %d grids, %ld on the kinematic ones", what, step,
             kinematic, e.channels.n, e.ngrid, on_kinematic_grids);
       for (int i = 0; i < N; i++)
-        CHECK(!m.track_contacts || !(mask[i] & lagging_bit) || row_of[i] == -1, "%s step %d: lagging particle %d has history row %d",
-              what, step, i, row_of[i]);
+        CHECK(!(mask[i] & lagging_bit) || griddem_history_count(&hist, row_of[i]) == 0,
+              "%s step %d: lagging particle %d keeps %d contacts", what, step, i, griddem_history_count(&hist, row_of[i]));
       CHECK_CLOSE(e.stats.max_speed, vmax, 1e-15, 0.0);
     }
     for (int k = 0; k < 3 * N; k++) x[k] *= 1.002; /* the packing loosens: contacts change */
