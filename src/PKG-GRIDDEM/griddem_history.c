@@ -206,8 +206,9 @@ static void keep_written(griddem_history_pool *p, int values, int r0, int r1)
   const long *start = p->start;
   int *count = p->count;
   for (int r = r0; r < r1; r++) {
-    int64_t *key = partner + start[r];
     const int n = count[r];
+    if (n == 0) continue;
+    int64_t *key = partner + start[r];
     int64_t all = GRIDDEM_HISTORY_WRITTEN;
     for (int k = 0; k < n; k++) all &= key[k];
     if (all) { /* every contact lasted or is new: the common row */
