@@ -325,9 +325,8 @@ static inline void subtract3(double *v, const double *w)
 /* What follows the law (law) of the contact of slots a and b, particles ia and ib, that pair_begin
  * kept (separation dx, seen from a; key_b the key of b seen from a; entry_a its entry in a's row):
  * its history values hv (seen from a; track: contacts are kept, values of them a contact) written
- * to a's row,
- * with b's index if b is owned (griddem_history_mirror), the contact counted for each owned
- * particle; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
+ * to a's row, with b's index if b is owned (griddem_history_mirror), the contact counted for each
+ * owned particle; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
  * the heat into a (if heat) likewise; its elastic energy and (virial: the sweep tallies it) its
  * virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,

@@ -125,19 +125,27 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   double vr[6], energy_ref;
   long contacts_ref;
   /* steps with history: it accumulates and is rotated the same way in both; the particles drift
-     apart, so that jkr pairs that touched hold on past touching */
+     apart, so that jkr pairs that touched hold on past touching, and move by a fraction of a cell,
+     so that pairs change cells and are found from their other side */
   long beyond = 0;
+  static double x_start[3 * N];
+  memcpy(x_start, x, sizeof(x));
+  const double edge = griddem_cell_edge(mode, rmin, rmax, 0.13);
   for (int step = 0; step < 4; step++) {
     memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va));
     if (step > 0)
-      for (int k = 0; k < 3 * N; k++) x[k] *= 1.003;
-    griddem_grid_cover(&g, anchor, N, x, griddem_cell_edge(mode, rmin, rmax, 0.13), 1L << 26);
+      for (int k = 0; k < 3 * N; k++) x[k] = x[k] * 1.003 + (0.37 - 0.13 * (k % 3)) * edge;
+    griddem_grid_cover(&g, anchor, N, x, edge, 1L << 26);
     griddem_bin_points(&b, &g, N, x, tag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
     const griddem_class_grid one = {&g, &b, 0, rmax, 0};
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
-    CHECK(complete_history(&hist, m, N, row_of, tag, type) == 0 && !hist.one_sided, "%s: history completed", law);
+    /* the rows completed every other step, as migrations do: the steps between find a pair's
+       contact in the row of its other particle where the pair changed sides */
+    const int completed = step % 2 == 1;
+    CHECK(!completed || (complete_history(&hist, m, N, row_of, tag, type) == 0 && !hist.one_sided),
+          "%s: history completed", law);
     all_pairs(m, excluded, 0, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) {
@@ -167,7 +175,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
        in both particles' rows once completed */
     double herr = 0.0, hscale = 0.0;
     long missing = 0;
-    for (int i = 0; i < N; i++) {
+    for (int i = 0; completed && i < N; i++) {
       int touching = 0;
       for (int j = 0; j < N; j++) touching += touched[(size_t) i * N + j];
       missing += m->track_contacts && griddem_history_count(&hist, row_of[i]) != touching;
@@ -195,7 +203,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     CHECK(max_abs(fsum, 3) <= 1e-11 * fscale, "%s mode %d: net force %g", law, mode, max_abs(fsum, 3));
   }
   CHECK((m->reach_extra > 0.0) == (beyond > 0), "%s mode %d: %ld contacts past touching", law, mode, beyond);
-  for (int k = 0; k < 3 * N; k++) x[k] /= 1.003 * 1.003 * 1.003;
+  memcpy(x, x_start, sizeof(x));
   griddem_history_free(&hist);
   griddem_bins_free(&b);
   griddem_channels_free(&ch);
