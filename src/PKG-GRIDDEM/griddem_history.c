@@ -15,7 +15,7 @@ void griddem_history_init(griddem_history *h, int values)
 
 static void pool_free(griddem_history_pool *p)
 {
-  free(p->start), free(p->count), free(p->room), free(p->partner), free(p->owned_partner), free(p->value);
+  free(p->start), free(p->count), free(p->room), free(p->written), free(p->partner), free(p->owned_partner), free(p->value);
   memset(p, 0, sizeof(*p));
 }
 
@@ -54,6 +54,8 @@ static int pool_reserve(griddem_history_pool *p, int rows, long entries, int val
   if (ensure((void **) &p->count, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
   rows_cap = p->rows_cap;
   if (ensure((void **) &p->room, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
+  rows_cap = p->rows_cap;
+  if (ensure((void **) &p->written, &rows_cap, rows + 1, sizeof(int)) != 0) return -1;
   if (ensure((void **) &p->partner, &entries_cap, entries, sizeof(int64_t)) != 0) return -1;
   entries_cap = p->entries_cap;
   if (ensure((void **) &p->owned_partner, &entries_cap, entries, sizeof(int)) != 0) return -1;
@@ -85,6 +87,7 @@ static int append_row(griddem_history_pool *p, int count, int room, int values)
   p->start[p->nrows] = p->used;
   p->count[p->nrows] = count;
   p->room[p->nrows] = room;
+  p->written[p->nrows] = 0;
   p->used += room;
   return p->nrows++;
 }
@@ -97,7 +100,7 @@ int griddem_history_add_row(griddem_history *h, int count, const double *entries
   const long first = p->start[row];
   for (int k = 0; k < count; k++) {
     const double *m = entries + (size_t) GRIDDEM_HISTORY_ENTRY(entry_values) * k;
-    p->partner[first + k] = (int64_t) m[0];
+    p->partner[first + k] = (int64_t) m[0] | h->mark;
     p->owned_partner[first + k] = -1;
     for (int v = 0; v < nv; v++) p->value[(size_t) nv * (first + k) + v] = v < entry_values ? m[1 + v] : 0.0;
   }
@@ -137,7 +140,7 @@ int griddem_history_reserve(griddem_history *h, int rows, long entries)
 
 static double pool_memory(const griddem_history_pool *p, int values)
 {
-  return (double) p->rows_cap * (sizeof(long) + 2 * sizeof(int)) +
+  return (double) p->rows_cap * (sizeof(long) + 3 * sizeof(int)) +
       (double) p->entries_cap * (sizeof(int64_t) + sizeof(int) + sizeof(double) * (values > 0 ? values : 1));
 }
 
@@ -167,7 +170,8 @@ int griddem_history_set_values(griddem_history *h, int values)
   return 0;
 }
 
-int griddem_history_begin(griddem_history *h, int nthreads)
+/* nthreads empty overflow lists. 0, or -1 without memory. */
+static int empty_overflow(griddem_history *h, int nthreads)
 {
   if (nthreads > h->noverflow) {
     griddem_history_overflow *o = (griddem_history_overflow *) realloc(h->overflow, sizeof(*o) * (size_t) nthreads);
@@ -176,6 +180,13 @@ int griddem_history_begin(griddem_history *h, int nthreads)
     h->overflow = o, h->noverflow = nthreads;
   }
   for (int k = 0; k < h->noverflow; k++) h->overflow[k].n = 0;
+  return 0;
+}
+
+int griddem_history_begin(griddem_history *h, int nthreads)
+{
+  if (empty_overflow(h, nthreads) != 0) return -1;
+  h->mark ^= GRIDDEM_HISTORY_MARK;
   return 0;
 }
 
@@ -197,32 +208,27 @@ int griddem_history_overflow_append(griddem_history_overflow *o, int values, int
   return 0;
 }
 
-/* Rows r0 .. r1 - 1 keep the entries the sweep wrote (marked), in their order, unmarked */
-static void keep_written(griddem_history_pool *p, int values, int r0, int r1)
+/* Rows r0 .. r1 - 1 keep the entries the sweep wrote (those holding mark), in their order: only
+ * rows with entries it did not write are read */
+static void keep_written(griddem_history_pool *p, int values, int64_t mark, int r0, int r1)
 {
   int64_t *restrict partner = p->partner;
   int *restrict owned = p->owned_partner;
   double *restrict value = p->value;
   const long *start = p->start;
-  int *count = p->count;
+  int *count = p->count, *written = p->written;
   for (int r = r0; r < r1; r++) {
-    const int n = count[r];
-    if (n == 0) continue;
-    int64_t *key = partner + start[r];
-    int64_t all = GRIDDEM_HISTORY_WRITTEN;
-    for (int k = 0; k < n; k++) all &= key[k];
-    if (all) { /* every contact lasted or is new: the common row */
-      for (int k = 0; k < n; k++) key[k] &= ~GRIDDEM_HISTORY_WRITTEN;
-      continue;
-    }
+    const int n = count[r], lasting = written[r];
+    written[r] = 0;
+    if (lasting == n) continue;
+    const long first = start[r];
     int kept = 0;
     for (int k = 0; k < n; k++) {
-      if (!(key[k] & GRIDDEM_HISTORY_WRITTEN)) continue;
-      key[kept] = key[k] & ~GRIDDEM_HISTORY_WRITTEN;
-      owned[start[r] + kept] = owned[start[r] + k];
-      double *to = value + (size_t) values * (start[r] + kept);
-      const double *from = value + (size_t) values * (start[r] + k);
-      for (int v = 0; v < values && kept != k; v++) to[v] = from[v];
+      if ((partner[first + k] & GRIDDEM_HISTORY_MARK) != mark) continue;
+      if (kept != k) {
+        partner[first + kept] = partner[first + k], owned[first + kept] = owned[first + k];
+        for (int v = 0; v < values; v++) value[(size_t) values * (first + kept) + v] = value[(size_t) values * (first + k) + v];
+      }
       kept++;
     }
     count[r] = kept;
@@ -267,7 +273,7 @@ static int fold_overflow(griddem_history *h, int *row_of)
         p->start[r] = to, p->room[r] = room, p->used += room;
       }
       const long e = p->start[r] + p->count[r]++;
-      griddem_history_put(p->partner, p->value, nv, e, o->partner[m], o->value + (size_t) nv * m);
+      griddem_history_put(p->partner, p->value, nv, e, o->partner[m] | h->mark, o->value + (size_t) nv * m);
       p->owned_partner[e] = o->owned_partner[m];
       extra[r]--;
     }
@@ -289,6 +295,7 @@ static int lay_out(griddem_history *h, int nslot, const int *order, int nlocal, 
     const int row = i < nlocal ? row_of[i] : -1;
     const int count = row >= 0 ? from->count[row] : 0;
     to->start[s] = total, to->count[s] = count, to->room[s] = i < nlocal ? count + GRIDDEM_HISTORY_MARGIN : 0;
+    to->written[s] = 0;
     total += to->room[s];
   }
   if (pool_reserve(to, nslot, total, nv) != 0) return -1;
@@ -332,10 +339,10 @@ int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlo
 #pragma omp parallel
     {
       const int t = griddem_thread_num(), nt = griddem_team_size();
-      keep_written(p, h->values, (int) ((long) nrows * t / nt), (int) ((long) nrows * (t + 1) / nt));
+      keep_written(p, h->values, h->mark, (int) ((long) nrows * t / nt), (int) ((long) nrows * (t + 1) / nt));
     }
   } else {
-    keep_written(p, h->values, 0, nrows);
+    keep_written(p, h->values, h->mark, 0, nrows);
   }
   long overflowed = 0;
   for (int k = 0; k < h->noverflow; k++) overflowed += h->overflow[k].n;
@@ -383,7 +390,7 @@ int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const vo
                            const int *type, int ntypes, const double *parity)
 {
   if (!h->one_sided) return 0;
-  if (griddem_history_begin(h, 1) != 0) return -1;
+  if (empty_overflow(h, 1) != 0) return -1;
   griddem_history_pool *p = &h->cur;
   griddem_history_overflow *o = &h->overflow[0];
   const int nv = h->values;
@@ -407,7 +414,7 @@ int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const vo
           failed = j == -2;
           continue;
         }
-      const int64_t mirrored = griddem_image_key_mirrored(key, self);
+      const int64_t mirrored = griddem_image_key_mirrored(key & ~GRIDDEM_HISTORY_MARK, self);
       if (griddem_history_find_entry(h, row_of[j], mirrored) >= 0) continue;
       const double *sign = parity + GRIDDEM_MAX_HISTORY * ((size_t) (ntypes + 1) * type[i] + type[j]);
       double v[GRIDDEM_MAX_HISTORY];
@@ -415,7 +422,7 @@ int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const vo
       const int rj = row_of[j];
       if (rj >= 0 && p->count[rj] < p->room[rj]) {
         const long f = p->start[rj] + p->count[rj]++;
-        griddem_history_put(p->partner, p->value, nv, f, mirrored, v);
+        griddem_history_put(p->partner, p->value, nv, f, mirrored | h->mark, v);
         p->owned_partner[f] = -1;
       } else if (griddem_history_overflow_append(o, nv, j, mirrored, -1, v) != 0)
         failed = 1;

@@ -33,6 +33,7 @@ typedef struct griddem_history_pool {
   long *start;        /* [nrows]: first entry of each row */
   int *count;         /* [nrows]: entries of each row */
   int *room;          /* [nrows]: entries a row holds before it moves */
+  int *written;       /* [nrows]: entries the sweep under way wrote (0 between sweeps) */
   int64_t *partner;   /* [entries]: partner tag */
   int *owned_partner; /* [entries]: the partner's index where the sweep saw it owned, else -1 */
   double *value;      /* [entries * values] */
@@ -58,6 +59,7 @@ typedef struct griddem_history {
   griddem_history_overflow *overflow;
   int noverflow;
   int one_sided;  /* a sweep has left contacts of owned pairs in one row (griddem_history_mirror) */
+  int64_t mark;   /* GRIDDEM_HISTORY_MARK or 0: what every entry holds, and the sweep under way sets */
 } griddem_history;
 
 /* Contacts keyed by partner and periodic image. Where a periodic box is narrower than twice the
@@ -108,9 +110,10 @@ GRIDDEM_INLINE int64_t griddem_image_key(int64_t tag, int self, int partner)
   return tag | (int64_t) relative << GRIDDEM_KEY_TAG_BITS;
 }
 
-/* A sweep marks the entries it writes in their partner key, above the key's bits: an entry
- * written is not found again in that sweep, and the end of the sweep keeps the marked ones. */
-#define GRIDDEM_HISTORY_WRITTEN ((int64_t) 1 << 62)
+/* A bit above a key that the CPU store turns over at each sweep and sets as it writes an entry
+ * (griddem_history.mark), so that the end of a sweep tells the entries it wrote from those it did
+ * not; keys are found, and travel in messages, without it. */
+#define GRIDDEM_HISTORY_MARK ((int64_t) 1 << 62)
 
 /* Room a layout gives a row beyond its contacts: new contacts before the row moves. */
 #define GRIDDEM_HISTORY_MARGIN 2
@@ -120,7 +123,7 @@ GRIDDEM_INLINE int64_t griddem_image_key(int64_t tag, int self, int partner)
 GRIDDEM_INLINE long griddem_history_entry(const int64_t *partner, long first, int count, int64_t tag)
 {
   for (long e = first; e < first + count; e++)
-    if (partner[e] == tag) return e;
+    if ((partner[e] & ~GRIDDEM_HISTORY_MARK) == tag) return e;
   return -1;
 }
 
@@ -137,7 +140,7 @@ GRIDDEM_INLINE void griddem_history_put(int64_t *partner, double *value, int val
 GRIDDEM_INLINE void griddem_history_get(const int64_t *partner, const double *value, int values, long e,
                                         double *m)
 {
-  m[0] = (double) partner[e];
+  m[0] = (double) (partner[e] & ~GRIDDEM_HISTORY_MARK);
   for (int k = 0; k < values; k++) m[1 + k] = value[(size_t) values * e + k];
 }
 
@@ -262,7 +265,8 @@ static inline int griddem_history_write(griddem_history *h, griddem_history_over
       return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
     e = p->start[row] + p->count[row]++;
   }
-  p->partner[e] = partner | GRIDDEM_HISTORY_WRITTEN;
+  p->written[row]++;
+  p->partner[e] = partner | h->mark;
   p->owned_partner[e] = owned_partner;
   for (int k = 0; k < values; k++) p->value[(size_t) values * e + k] = v[k];
   return 0;

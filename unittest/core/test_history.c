@@ -208,14 +208,24 @@ int main(void)
   CHECK(griddem_history_begin(&h, 1) == 0, "begin a third time");
   v[0] = 3, v[1] = 4, v[2] = 5;
   failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 11, 1, v);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 99, -1, v); /* a ghost */
   CHECK(griddem_history_end(&h, 3, order, 3, rows2) == 0 && h.one_sided, "end, one-sided");
   CHECK(!griddem_history_find(&h, rows2[2], 5), "the partner's row lacks the contact");
   CHECK(griddem_history_mirror(&h, 3, rows2, tags, 4, types, 1, parity) == 0 && !h.one_sided, "mirrored");
   const double *back = griddem_history_find(&h, rows2[2], 5);
   CHECK(back && back[0] == -3 && back[1] == 4 && back[2] == -5 && back[3] == 4, "the partner's copy, seen from it");
-  CHECK(griddem_history_count(&h, rows2[0]) == 1 && griddem_history_count(&h, rows2[1]) == 0, "no other copies");
+  CHECK(griddem_history_count(&h, rows2[0]) == 2 && griddem_history_count(&h, rows2[1]) == 0, "no other copies");
   CHECK(griddem_history_mirror(&h, 3, rows2, tags, 4, types, 1, parity) == 0 && griddem_history_count(&h, rows2[2]) == 1,
         "mirroring again changes nothing");
+  /* the next sweep evaluates the contact from particle 0's side, and particle 0's contact with
+     the ghost has ended: the partner's copy and that contact, not written, are dropped */
+  CHECK(griddem_history_begin(&h, 1) == 0, "begin after mirroring");
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], griddem_history_find_entry(&h, rows2[0], 11),
+                                  11, 1, v);
+  CHECK(!failed && griddem_history_end(&h, 3, order, 3, rows2) == 0 && griddem_history_count(&h, rows2[0]) == 1 &&
+            griddem_history_count(&h, rows2[2]) == 0,
+        "the copy not written dropped: rows of %d and %d contacts", griddem_history_count(&h, rows2[0]),
+        griddem_history_count(&h, rows2[2]));
 
   /* rows mostly holes are laid out afresh in slot order: row of slot s is s, particles left out
      of the slots have none */
