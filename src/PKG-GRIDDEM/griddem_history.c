@@ -270,7 +270,7 @@ static int fold_overflow(griddem_history *h, int *row_of)
         memcpy(p->partner + to, p->partner + from, sizeof(int64_t) * (size_t) p->count[r]);
         memcpy(p->owned_partner + to, p->owned_partner + from, sizeof(int) * (size_t) p->count[r]);
         memcpy(p->value + (size_t) nv * to, p->value + (size_t) nv * from, sizeof(double) * (size_t) nv * p->count[r]);
-        p->start[r] = to, p->room[r] = room, p->used += room;
+        p->start[r] = to, p->room[r] = room, p->used += room, h->moved += room;
       }
       const long e = p->start[r] + p->count[r]++;
       griddem_history_put(p->partner, p->value, nv, e, o->partner[m] | h->mark, o->value + (size_t) nv * m);
@@ -308,6 +308,7 @@ static int lay_out(griddem_history *h, int nslot, const int *order, int nlocal, 
     memcpy(to->value + (size_t) nv * b, from->value + (size_t) nv * a, sizeof(double) * (size_t) nv * to->count[s]);
   }
   to->nrows = nslot, to->used = total;
+  h->moved = 0;
   for (int i = 0; i < nlocal; i++) row_of[i] = -1;
   for (int s = 0; s < nslot; s++)
     if (order[s] < nlocal) row_of[order[s]] = s;
@@ -348,9 +349,11 @@ int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlo
   for (int k = 0; k < h->noverflow; k++) overflowed += h->overflow[k].n;
   if (overflowed && fold_overflow(h, row_of) != 0) return -1;
   h->entries = griddem_history_counts(p->count, p->nrows, &h->max_count);
-  /* holes: rows moved or of atoms gone, and room beyond the margin; the sweep reads rows in slot
-     order, which a fresh layout restores */
-  if (p->used > 2 * (h->entries + (long) GRIDDEM_HISTORY_MARGIN * nslot) + 1024 && lay_out(h, nslot, order, nlocal, row_of) != 0)
+  /* the sweep reads rows in slot order, which moved rows leave and a fresh layout restores: once
+     as much room has moved as there are contacts (a layout copies them), or holes (rows moved or
+     of atoms gone, room beyond the margin) fill half the pool */
+  if ((h->moved > h->entries || p->used > 2 * (h->entries + (long) GRIDDEM_HISTORY_MARGIN * nslot) + 1024) &&
+      lay_out(h, nslot, order, nlocal, row_of) != 0)
     return -1;
   h->one_sided = 1;
   return 0;

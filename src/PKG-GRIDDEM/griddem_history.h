@@ -60,6 +60,7 @@ typedef struct griddem_history {
   int noverflow;
   int one_sided;  /* a sweep has left contacts of owned pairs in one row (griddem_history_mirror) */
   int64_t mark;   /* GRIDDEM_HISTORY_MARK or 0: what every entry holds, and the sweep under way sets */
+  long moved;     /* room given to rows moved since the rows were last laid out in slot order */
 } griddem_history;
 
 /* Contacts keyed by partner and periodic image. Where a periodic box is narrower than twice the
