@@ -12,8 +12,8 @@
  * as fix neigh/history fills both partners' arrays before atoms migrate. A new contact goes into
  * its row's spare room, or into its thread's overflow list; the end of the sweep drops the
  * entries no contact wrote this step, moves each row that overflowed to the pool's end with room
- * to grow, and lays every row out afresh in slot order only when moved rows and rows of departed
- * atoms leave the pool mostly holes. */
+ * to grow, and lays every row out afresh in slot order once as much room has moved as there are
+ * contacts, or holes fill half the pool. */
 #ifndef GRIDDEM_HISTORY_H
 #define GRIDDEM_HISTORY_H
 
@@ -238,12 +238,12 @@ double griddem_history_memory(const griddem_history *h);
 /* Change the values per contact of every row (a model with other sub-models). 0, or -1. */
 int griddem_history_set_values(griddem_history *h, int values);
 
-/* For the sweep: make nthreads overflow lists empty (0, or -1 without memory); write one
- * contact of a particle (below); then keep what was written: rows lose the entries no write
- * reached, overflowed contacts join their rows (a particle without one gets one, in row_of), and
- * where holes fill most of the pool the rows are laid out afresh, the row of slot s (owned
- * particle order[s], s < nslot) being s and other owned particles' (below nlocal) none (0, or
- * -1 without memory). */
+/* For the sweep: make nthreads overflow lists empty and turn the mark over (0, or -1 without
+ * memory); write one contact of a particle (below); then keep what was written: rows lose the
+ * entries no write reached, overflowed contacts join their rows (a particle without one gets one,
+ * in row_of), and where rows have moved or left holes enough (above) the rows are laid out
+ * afresh, the row of slot s (owned particle order[s], s < nslot) being s and other owned
+ * particles' (below nlocal) none (0, or -1 without memory). */
 int griddem_history_begin(griddem_history *h, int nthreads);
 int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlocal, int *row_of);
 
