@@ -53,7 +53,7 @@ typedef struct griddem_history_overflow {
 typedef struct griddem_history {
   int values;     /* history values per contact */
   int max_count;  /* most entries in one row (sizes exchange messages) */
-  long entries;   /* entries in all rows, after a sweep (its contacts counted from each owned side) */
+  long entries;   /* entries in all rows (after a sweep, a contact of two owned particles in one) */
   griddem_history_pool cur;   /* the history */
   griddem_history_pool spare; /* where a fresh layout of the rows is written */
   griddem_history_overflow *overflow;
