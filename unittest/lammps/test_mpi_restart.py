@@ -8,7 +8,10 @@ layout per type pair.
 contact history), and so do 2 OpenMP threads on one rank; a run continued from a restart file
 reproduces the uninterrupted run bit for bit. A sphere with ~1000 contacts crosses between ranks
 (its history fills one exchange message of thousands of values) and the trajectory equals one
-rank's. The same for a 1:7 polydisperse gas on two size classes (cell classes)."""
+rank's. The same for a 1:7 polydisperse gas on two size classes (cell classes). Fix balance defined
+before the pair style moves atoms in its own pre-exchange, before fix griddem's has mirrored the
+contacts the sweep kept in one row: the rows it sends are completed as they are read, and 2
+ranks still equal 1."""
 import os
 import sys
 
@@ -67,6 +70,7 @@ PAIRS = {
 def main():
     size_classes(t.workdir())
     check_models(t.workdir())
+    balance_first(t.workdir())
     big_sphere(t.workdir())
     t.finish()
 
@@ -166,6 +170,25 @@ def check_models(wd):
             t.check(len(a) == len(b) == 2, "%s restart on %d ranks: two snapshots each" % (label, n))
             t.check(a[-1][1] == b[-1][1], "%s restart on %d ranks: step 100 identical bit for bit" % (label, n))
             t.check(a[0][1] == b[0][1], "%s restart on %d ranks: step 50 forces identical bit for bit" % (label, n))
+
+
+def balance_first(wd):
+    """griddem/hooke/history on check_models's gas, fix balance (every 10 steps, recursive
+    bisection, which migrates atoms itself) defined before the pair style, so that its
+    pre-exchange runs before fix griddem's: 2 ranks against 1 rank without it, after 100 steps."""
+    data = os.path.join(wd, "data.balance")
+    t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0, ntypes=2)
+    snaps = {}
+    # positions unwrapped: fix balance wraps atoms across the periodic box at its own steps
+    unwrapped = DUMP.replace(" x y z ", " xu yu zu ")
+    for n, balance in ((1, ""), (2, "comm_style tiled\nfix lb all balance 10 1.0 rcb\n")):
+        text = SETUP.replace("{pair}", balance + PAIRS["hooke"]).format(start="read_data " + data) + \
+            unwrapped.format(every=100, name="balance%d" % n) + "run 100\n"
+        t.run_ok(text, wd, nprocs=n, name="in.balance%d" % n)
+        snaps[n] = t.read_dump(os.path.join(wd, "dump.balance%d" % n))
+        t.check(len(snaps[n][1]) == 900, "balance first, %d ranks: no atom lost" % n)
+    err = t.max_rel_diff(snaps[2], snaps[1], ["xu", "yu", "zu"] + STATE[3:])
+    t.check(err <= 1e-10, "fix balance before fix griddem, 2 ranks vs 1: trajectory differs by %.3g relative" % err)
 
 
 def big_sphere(wd):
