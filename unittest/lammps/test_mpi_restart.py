@@ -11,7 +11,8 @@ reproduces the uninterrupted run bit for bit. A sphere with ~1000 contacts cross
 rank's. The same for a 1:7 polydisperse gas on two size classes (cell classes). Fix balance defined
 before the pair style moves atoms in its own pre-exchange, before fix griddem's has mirrored the
 contacts the sweep kept in one row: the rows it sends are completed as they are read, and 2
-ranks still equal 1."""
+ranks still equal 1. A restart file written during a run on 1 rank (restart N), read on 2, continues
+the uninterrupted run."""
 import os
 import sys
 
@@ -71,6 +72,7 @@ def main():
     size_classes(t.workdir())
     check_models(t.workdir())
     balance_first(t.workdir())
+    restart_mid_run(t.workdir())
     big_sphere(t.workdir())
     t.finish()
 
@@ -189,6 +191,26 @@ def balance_first(wd):
         t.check(len(snaps[n][1]) == 900, "balance first, %d ranks: no atom lost" % n)
     err = t.max_rel_diff(snaps[2], snaps[1], ["xu", "yu", "zu"] + STATE[3:])
     t.check(err <= 1e-10, "fix balance before fix griddem, 2 ranks vs 1: trajectory differs by %.3g relative" % err)
+
+
+def restart_mid_run(wd):
+    """griddem/hooke/history on check_models's gas, 1 rank: a restart file written by `restart` at
+    the last step of a 50-step run (before the run ends, the rows as that step's sweep left them),
+    read on 2 ranks and run 50 steps, against 1 rank running on (a new run, whose set-up a restart
+    run has too)."""
+    data = os.path.join(wd, "data.mid")
+    t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0, ntypes=2)
+    unwrapped = DUMP.replace(" x y z ", " xu yu zu ")
+    whole = SETUP.replace("{pair}", PAIRS["hooke"]).format(start="read_data " + data) + \
+        "restart 50 restart.mid\n" + unwrapped.format(every=100, name="mid_whole") + "run 50\nrun 50\n"
+    t.run_ok(whole, wd, name="in.mid_whole")
+    again = SETUP.replace("{pair}", PAIRS["hooke"]).format(start="read_restart restart.mid.50") + \
+        unwrapped.format(every=100, name="mid_again") + "run 50\n"
+    t.run_ok(again, wd, nprocs=2, name="in.mid_again")
+    a = t.read_dump(os.path.join(wd, "dump.mid_whole"))
+    b = t.read_dump(os.path.join(wd, "dump.mid_again"))
+    err = t.max_rel_diff(b, a, ["xu", "yu", "zu"] + STATE[3:])
+    t.check(err <= 1e-10, "restart written mid-run on 1 rank, read on 2: step 100 differs by %.3g relative" % err)
 
 
 def big_sphere(wd):
