@@ -236,8 +236,8 @@ static void keep_written(griddem_history_pool *p, int values, int64_t mark, int 
 }
 
 /* The overflowed contacts into their particles' rows: a row that cannot hold its particle's moves
- * to the pool's end with the margin to spare, a particle without a row gets one. The pool's
- * count of entries of row r, as a particle's overflow is counted, is held in its spare's count. */
+ * to the pool's end with the margin to spare, a particle without a row gets one. The contacts
+ * of each row still to place are counted in the spare pool's count array, free until a layout. */
 static int fold_overflow(griddem_history *h, int *row_of)
 {
   griddem_history_pool *p = &h->cur;
