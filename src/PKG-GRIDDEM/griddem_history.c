@@ -208,13 +208,22 @@ int griddem_history_overflow_append(griddem_history_overflow *o, int values, int
   return 0;
 }
 
+/* n entries of pool from, from entry a on, copied to pool to (which may be from) from entry b on,
+ * where they do not overlap: partner keys, owned partners and values (rows hold a few: no call) */
+static inline void copy_entries(const griddem_history_pool *from, long a, griddem_history_pool *to, long b, long n,
+                                int values)
+{
+  for (long k = 0; k < n; k++) {
+    to->partner[b + k] = from->partner[a + k], to->owned_partner[b + k] = from->owned_partner[a + k];
+    for (int v = 0; v < values; v++) to->value[(size_t) values * (b + k) + v] = from->value[(size_t) values * (a + k) + v];
+  }
+}
+
 /* Rows r0 .. r1 - 1 keep the entries the sweep wrote (those holding mark), in their order: only
  * rows with entries it did not write are read */
 static void keep_written(griddem_history_pool *p, int values, int64_t mark, int r0, int r1)
 {
-  int64_t *restrict partner = p->partner;
-  int *restrict owned = p->owned_partner;
-  double *restrict value = p->value;
+  const int64_t *partner = p->partner;
   const long *start = p->start;
   int *count = p->count, *written = p->written;
   for (int r = r0; r < r1; r++) {
@@ -225,10 +234,7 @@ static void keep_written(griddem_history_pool *p, int values, int64_t mark, int 
     int kept = 0;
     for (int k = 0; k < n; k++) {
       if ((partner[first + k] & GRIDDEM_HISTORY_MARK) != mark) continue;
-      if (kept != k) {
-        partner[first + kept] = partner[first + k], owned[first + kept] = owned[first + k];
-        for (int v = 0; v < values; v++) value[(size_t) values * (first + kept) + v] = value[(size_t) values * (first + k) + v];
-      }
+      if (kept != k) copy_entries(p, first + k, p, first + kept, 1, values);
       kept++;
     }
     count[r] = kept;
@@ -266,11 +272,8 @@ static int fold_overflow(griddem_history *h, int *row_of)
       if (p->count[r] == p->room[r]) { /* moved with room for the rest of its overflow */
         const int room = p->count[r] + extra[r] + GRIDDEM_HISTORY_MARGIN;
         if (pool_reserve(p, p->nrows, p->used + room, nv) != 0) return -1;
-        const long from = p->start[r], to = p->used;
-        memcpy(p->partner + to, p->partner + from, sizeof(int64_t) * (size_t) p->count[r]);
-        memcpy(p->owned_partner + to, p->owned_partner + from, sizeof(int) * (size_t) p->count[r]);
-        memcpy(p->value + (size_t) nv * to, p->value + (size_t) nv * from, sizeof(double) * (size_t) nv * p->count[r]);
-        p->start[r] = to, p->room[r] = room, p->used += room, h->moved += room;
+        copy_entries(p, p->start[r], p, p->used, p->count[r], nv);
+        p->start[r] = p->used, p->room[r] = room, p->used += room, h->moved += room;
       }
       const long e = p->start[r] + p->count[r]++;
       griddem_history_put(p->partner, p->value, nv, e, o->partner[m] | h->mark, o->value + (size_t) nv * m);
@@ -302,10 +305,7 @@ static int lay_out(griddem_history *h, int nslot, const int *order, int nlocal, 
   for (int s = 0; s < nslot; s++) {
     const int i = order[s];
     if (i >= nlocal || row_of[i] < 0) continue;
-    const long a = from->start[row_of[i]], b = to->start[s];
-    memcpy(to->partner + b, from->partner + a, sizeof(int64_t) * (size_t) to->count[s]);
-    memcpy(to->owned_partner + b, from->owned_partner + a, sizeof(int) * (size_t) to->count[s]);
-    memcpy(to->value + (size_t) nv * b, from->value + (size_t) nv * a, sizeof(double) * (size_t) nv * to->count[s]);
+    copy_entries(from, from->start[row_of[i]], to, to->start[s], to->count[s], nv);
   }
   to->nrows = nslot, to->used = total;
   h->moved = 0;
@@ -422,9 +422,8 @@ int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const vo
       const double *sign = parity + GRIDDEM_MAX_HISTORY * ((size_t) (ntypes + 1) * type[i] + type[j]);
       double v[GRIDDEM_MAX_HISTORY];
       for (int q = 0; q < nv && q < GRIDDEM_MAX_HISTORY; q++) v[q] = sign[q] * p->value[(size_t) nv * e + q];
-      const int rj = row_of[j];
-      if (rj >= 0 && p->count[rj] < p->room[rj]) {
-        const long f = p->start[rj] + p->count[rj]++;
+      const long f = griddem_history_append(p, row_of[j]);
+      if (f >= 0) {
         griddem_history_put(p->partner, p->value, nv, f, mirrored | h->mark, v);
         p->owned_partner[f] = -1;
       } else if (griddem_history_overflow_append(o, nv, j, mirrored, -1, v) != 0)

@@ -251,6 +251,12 @@ int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlo
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int particle, int64_t partner,
                                     int owned_partner, const double *v);
 
+/* The next entry of row (-1: none) of pool p, counted in it, or -1 where its room is full */
+static inline long griddem_history_append(griddem_history_pool *p, int row)
+{
+  return row < 0 || p->count[row] == p->room[row] ? -1 : p->start[row] + p->count[row]++;
+}
+
 /* The sweep's write of particle's contact with partner (values v; owned_partner: the partner's
  * index if it is owned, else -1): at entry e where the step's find found it in the particle's
  * row, else appended to that row (row_of[particle], -1: none) or to the thread's overflow list.
@@ -261,11 +267,8 @@ static inline int griddem_history_write(griddem_history *h, griddem_history_over
                                         const double *v)
 {
   griddem_history_pool *p = &h->cur;
-  if (e < 0) {
-    if (row < 0 || p->count[row] == p->room[row])
-      return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
-    e = p->start[row] + p->count[row]++;
-  }
+  if (e < 0 && (e = griddem_history_append(p, row)) < 0)
+    return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
   p->written[row]++;
   p->partner[e] = partner | h->mark;
   p->owned_partner[e] = owned_partner;

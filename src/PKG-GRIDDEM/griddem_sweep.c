@@ -194,7 +194,7 @@ typedef struct sweep_context {
   double dt;
   int history_update;
   griddem_history *hist;
-  int *row_of;
+  const int *row_of;
   double *f, *torque;    /* of the particles, added into where owned */
   double *vatom;
   int want_virial;
