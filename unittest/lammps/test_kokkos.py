@@ -23,6 +23,7 @@ GRIDDEM_KK_GPUS=N (a CUDA/HIP build on a GPU machine) the kk runs use `-k on g N
 instead of OpenMP threads and 1 and 2 ranks; a build whose only host back end is Serial (lmp -h:
 "KOKKOS package API: Serial") runs on 1 thread and 1 and 2 ranks. `--only laws,growth,...` runs the named sections
 (SECTIONS, at the end) alone."""
+import collections
 import os
 import re
 import subprocess
@@ -1108,20 +1109,24 @@ def check_synchronisation(wd, data):
                 % (label, rc, t.errors(out)[:1]))
         if rc != 0 or not os.path.exists(log):
             continue
-        steps = [tuple(int(v) for v in line.split()) for line in open(log)][1:]    # after the setup
+        # per compute: synchronisations, allocations, and the first allocation's bytes and label
+        steps = [line.rstrip("\n").split(" ", 3) for line in open(log)][1:]    # after the setup
         builds = int(re.search(r"Neighbor list builds = (\d+)", out).group(1))
-        steady = [syncs for syncs, allocated in steps if not allocated]
-        print("%s: %d computes after the setup, %d allocating; of the others %d with one blocking "
+        steady = [int(f[0]) for f in steps if f[1] == "0"]
+        allocating = collections.Counter(" ".join(f[2:]) for f in steps if f[1] != "0")
+        print("%s: %d computes after the setup, %d allocating%s; of the others %d with one blocking "
               "synchronisation, %d with two, %d with more; %d neighbor list builds"
-              % (label, len(steps), len(steps) - len(steady), steady.count(1), steady.count(2),
-                 sum(1 for n in steady if n > 2), builds))
-        t.check(len(steps) == 200 and min(n for n, _ in steps) >= 1,
+              % (label, len(steps), len(steps) - len(steady),
+                 " (first allocation, bytes and label: %s)" % dict(allocating.most_common(3)) if allocating else "",
+                 steady.count(1), steady.count(2), sum(1 for n in steady if n > 2), builds))
+        t.check(len(steps) == 200 and min(int(f[0]) for f in steps) >= 1,
                 "%s: every step's compute counted, each reads its results" % label)
-        t.check(len(steady) >= 190, "%s: %d of 200 computes allocate nothing" % (label, len(steady)))
+        t.check(len(steady) >= 190, "%s: %d of 200 computes allocate nothing (first allocations: %s)"
+                % (label, len(steady), dict(allocating.most_common(3))))
         most = 1 if builds == 0 else 2
-        t.check(max(steady) <= most and steady.count(2) <= builds,
+        t.check(steady and max(steady) <= most and steady.count(2) <= builds,
                 "%s: one blocking synchronisation a step, two at the %d reneighborings (%d with "
-                "two, most %d)" % (label, builds, steady.count(2), max(steady)))
+                "two, most %s)" % (label, builds, steady.count(2), max(steady) if steady else "none counted"))
 
 def check_replanned(wd, data):
     """A step whose atoms left the grid planned from the last step is planned again from a scan:

@@ -722,8 +722,8 @@ void PairGriddemKokkos<DeviceType, Base>::search(const GriddemKKFind<DeviceType,
   const int nall = this->atom->nlocal + this->atom->nghost;
   constexpr bool on_host =
       std::is_same<typename DeviceType::execution_space, Kokkos::DefaultHostExecutionSpace>::value;
-  const int mode = this->fix()->options.search;
-  if (mode == GRIDDEM_SEARCH_THREAD || (mode == GRIDDEM_SEARCH_AUTO && on_host)) {
+  // auto is the thread search, the faster on the GPU measured (bench/results/README.md)
+  if (this->fix()->options.search != GRIDDEM_SEARCH_TEAM) {
     griddem_kk_for("griddem/kk:find", Kokkos::RangePolicy<DeviceType>(0, nall), find);
     return;
   }
