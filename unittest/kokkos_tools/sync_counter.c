@@ -2,12 +2,13 @@
  * synchronisations inside each profiling region named "griddem/kk:compute" (one pair compute()
  * each), as a device with memory of its own has them: a synchronisation is a run of fences with
  * no kernel launched between them (a second fence with no new work costs the host no further
- * wait), with the allocations made in it (a View that grew). A DualView's sync fences even when it copies nothing where host and device share their
- * memory (a host build) and does not fence where they do not (a GPU), so its fence is counted only
- * after a deep copy. Allocations of no bytes are not counted. At exit it writes one line per region, "synchronisations allocations" and,
- * where it allocated, the first allocation's bytes and label (so that a failing check names the
- * View), to the file GRIDDEM_SYNC_LOG names. Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos
- * header is needed. */
+ * wait), with the allocations made in it (a View that grew; allocations of no bytes are not
+ * counted). A DualView's sync fences even when it copies nothing where host and device share
+ * their memory (a host build) and does not fence where they do not (a GPU), so its fence is
+ * counted only after a deep copy. At exit it writes one line per region to the file
+ * GRIDDEM_SYNC_LOG names: "synchronisations allocations" and, where it allocated, the first
+ * allocation's bytes and label, so that a failing check names the View. Plain C: the Kokkos
+ * Tools interface is a set of C symbols, so no Kokkos header is needed. */
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
