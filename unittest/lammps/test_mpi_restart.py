@@ -37,6 +37,9 @@ dump snap all custom {every} dump.{name} id x y z vx vy vz omegax omegay omegaz 
 dump_modify snap format float %.17g sort id
 """
 STATE = ["x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"]
+# positions unwrapped, for runs in which fix balance or a restart wraps atoms at other steps
+DUMP_UNWRAPPED = DUMP.replace(" x y z ", " xu yu zu ")
+STATE_UNWRAPPED = ["xu", "yu", "zu"] + STATE[3:]
 
 
 PAIRS = {
@@ -121,12 +124,19 @@ def per_model(out):
     return {k: "\n".join(v) for k, v in parts.items()}
 
 
-def check_models(wd):
-    """Every model of PAIRS on 1, 2 and 4 ranks, 2 threads, and read from restarts; one lmp run
-    per case holds all the models, one after another (clear), to spare the start-up of ~30 runs."""
+def write_gas(wd):
+    """The gas of check_models, balance_first and restart_mid_run: 900 spheres of radii 0.1-0.3 and
+    two types in a 4.5 box, written to wd; its path."""
     data = os.path.join(wd, "data.gas")
     t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0,
                            ntypes=2)
+    return data
+
+
+def check_models(wd):
+    """Every model of PAIRS on 1, 2 and 4 ranks, 2 threads, and read from restarts; one lmp run
+    per case holds all the models, one after another (clear), to spare the start-up of ~30 runs."""
+    data = write_gas(wd)
 
     # each run stops at step 50 to write a restart file and goes on to step 100: the ranks and
     # threads are compared at step 100, and the runs on 1 and 2 ranks are the uninterrupted
@@ -178,18 +188,15 @@ def balance_first(wd):
     """griddem/hooke/history on check_models's gas, fix balance (every 10 steps, recursive
     bisection, which migrates atoms itself) defined before the pair style, so that its
     pre-exchange runs before fix griddem's: 2 ranks against 1 rank without it, after 100 steps."""
-    data = os.path.join(wd, "data.balance")
-    t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0, ntypes=2)
+    data = write_gas(wd)
     snaps = {}
-    # positions unwrapped: fix balance wraps atoms across the periodic box at its own steps
-    unwrapped = DUMP.replace(" x y z ", " xu yu zu ")
     for n, balance in ((1, ""), (2, "comm_style tiled\nfix lb all balance 10 1.0 rcb\n")):
         text = SETUP.replace("{pair}", balance + PAIRS["hooke"]).format(start="read_data " + data) + \
-            unwrapped.format(every=100, name="balance%d" % n) + "run 100\n"
+            DUMP_UNWRAPPED.format(every=100, name="balance%d" % n) + "run 100\n"
         t.run_ok(text, wd, nprocs=n, name="in.balance%d" % n)
         snaps[n] = t.read_dump(os.path.join(wd, "dump.balance%d" % n))
         t.check(len(snaps[n][1]) == 900, "balance first, %d ranks: no atom lost" % n)
-    err = t.max_rel_diff(snaps[2], snaps[1], ["xu", "yu", "zu"] + STATE[3:])
+    err = t.max_rel_diff(snaps[2], snaps[1], STATE_UNWRAPPED)
     t.check(err <= 1e-10, "fix balance before fix griddem, 2 ranks vs 1: trajectory differs by %.3g relative" % err)
 
 
@@ -198,18 +205,16 @@ def restart_mid_run(wd):
     the last step of a 50-step run (before the run ends, the rows as that step's sweep left them),
     read on 2 ranks and run 50 steps, against 1 rank running on (a new run, whose set-up a restart
     run has too)."""
-    data = os.path.join(wd, "data.mid")
-    t.write_random_spheres(data, 900, (4.5, 4.5, 4.5), 0.1, 0.3, seed=3, vscale=5.0, wscale=5.0, ntypes=2)
-    unwrapped = DUMP.replace(" x y z ", " xu yu zu ")
+    data = write_gas(wd)
     whole = SETUP.replace("{pair}", PAIRS["hooke"]).format(start="read_data " + data) + \
-        "restart 50 restart.mid\n" + unwrapped.format(every=100, name="mid_whole") + "run 50\nrun 50\n"
+        "restart 50 restart.mid\n" + DUMP_UNWRAPPED.format(every=100, name="mid_whole") + "run 50\nrun 50\n"
     t.run_ok(whole, wd, name="in.mid_whole")
     again = SETUP.replace("{pair}", PAIRS["hooke"]).format(start="read_restart restart.mid.50") + \
-        unwrapped.format(every=100, name="mid_again") + "run 50\n"
+        DUMP_UNWRAPPED.format(every=100, name="mid_again") + "run 50\n"
     t.run_ok(again, wd, nprocs=2, name="in.mid_again")
     a = t.read_dump(os.path.join(wd, "dump.mid_whole"))
     b = t.read_dump(os.path.join(wd, "dump.mid_again"))
-    err = t.max_rel_diff(b, a, ["xu", "yu", "zu"] + STATE[3:])
+    err = t.max_rel_diff(b, a, STATE_UNWRAPPED)
     t.check(err <= 1e-10, "restart written mid-run on 1 rank, read on 2: step 100 differs by %.3g relative" % err)
 
 
