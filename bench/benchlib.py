@@ -1,7 +1,8 @@
 """Shared by the benchmark harnesses: the machine's name, the last run's loop time, one input run on
-ranks and threads, one result recorded."""
+ranks and threads, one result recorded, LAMMPS's chute with a law of pair granular."""
 import os
 import platform
+import re
 import subprocess
 import sys
 
@@ -63,3 +64,22 @@ def record(path, scene, style, ranks, threads, loop, steps, atoms, **extra):
     print(json.dumps(line))
     with open(path, "a") as f:
         f.write(json.dumps(line) + "\n")
+
+
+# The composed laws of the examples' pair granular scenes, with the stiffness and friction of
+# LAMMPS's chute: "rolling" is examples/rom-blade's and rom-hopper's set of sub-models,
+# "nohistory" that of examples/hopper, packing and sliding.
+GRANULAR_LAWS = {
+    "rolling": "hooke 200000 0.01 damping coeff_restitution tangential linear_history 100000 1.0 0.5 "
+               "rolling sds 100000 0.1 0.2",
+    "nohistory": "hooke 200000 50 damping velocity tangential linear_nohistory 1.0 0.5"}
+# each gran/hooke/history style's pair granular twin
+GRANULAR_TWIN = {"gran/hooke/history": "granular", "griddem/hooke/history": "griddem/granular"}
+
+
+def chute_granular(text, law):
+    """LAMMPS's chute input (bench/in.chute) with each pair style's pair granular twin and
+    GRANULAR_LAWS[law] for every type pair."""
+    def twin(m):
+        return "pair_style      %s\npair_coeff      * * %s" % (GRANULAR_TWIN[m.group(1)], GRANULAR_LAWS[law])
+    return re.sub(r"pair_style\s+(\S+).*\npair_coeff\s+\* \*", twin, text)

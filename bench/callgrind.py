@@ -2,7 +2,9 @@
 """Instructions per step (valgrind callgrind, one OpenMP thread) of the run loop, the pair style's
 compute and LAMMPS's neighbor-list builds, for stock gran/hooke/history and griddem/hooke/history
 on LAMMPS's chute (bench/in.chute, 32,000 atoms) or the 1:4 bidisperse squeeze of
-bench/squeeze.py. Instruction counts do not depend on what else runs on the machine, so two
+bench/squeeze.py; or stock granular and griddem/granular on the chute with a composed law of
+pair granular (--scene chute-granular, --law: the law of examples/rom-blade and rom-hopper,
+"rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not depend on what else runs on the machine, so two
 builds compare where wall times drift. Only the timestep loop is counted (Verlet::run, not the
 setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
 its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
@@ -10,7 +12,7 @@ over the pairs in contact a step (mean over the counted steps), counted in a sec
 LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to
 bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.
 
-usage: bench/callgrind.py [--scene chute|squeeze] [--steps N] [--lmp build/lmp] [--build NAME]
+usage: bench/callgrind.py [--scene chute|squeeze|chute-granular] [--law rolling|nohistory] [--steps N] [--lmp build/lmp] [--build NAME]
                           [--only stock,griddem] [--lammps-bench DIR] [--keep DIR] [--cell MODE]"""
 import argparse
 import datetime
@@ -30,6 +32,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
 from griddemtools import lammps, log  # noqa: E402
 
 STYLES = {"stock": "gran/hooke/history", "griddem": "griddem/hooke/history"}
+
 # inclusive counts reported, by a pattern of callgrind_annotate's function names
 FUNCTIONS = {"loop": r"PROGRAM TOTALS",
              "pair": r"LAMMPS_NS::Pair\w+::compute\(int, int\)",
@@ -42,6 +45,10 @@ def chute_input(args, style, wd):
     with open(os.path.join(args.lammps_bench, "in.chute")) as f:
         text = f.read()
     return re.sub(r"run\s+100", "run %d" % args.steps, text.replace("gran/hooke/history", style))
+
+
+def chute_granular_input(args, style, wd):
+    return benchlib.chute_granular(chute_input(args, style, wd), args.law)
 
 
 def squeeze_input(args, style, wd):
@@ -68,7 +75,8 @@ def touching_pairs(args, text, wd):
 
 
 def count(args, label, wd):
-    text = (chute_input if args.scene == "chute" else squeeze_input)(args, STYLES[label], wd)
+    scene = {"chute": chute_input, "squeeze": squeeze_input, "chute-granular": chute_granular_input}[args.scene]
+    text = scene(args, STYLES[label], wd)
     if args.cell and label == "griddem":
         head, _, tail = text.rpartition("\nrun")
         text = head + "\nfix griddem_bench_grid all griddem cell %s\nrun" % args.cell + tail
@@ -93,7 +101,8 @@ def count(args, label, wd):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--scene", choices=["chute", "squeeze"], default="chute")
+    ap.add_argument("--scene", choices=["chute", "squeeze", "chute-granular"], default="chute")
+    ap.add_argument("--law", choices=sorted(benchlib.GRANULAR_LAWS), default="rolling", help="chute-granular's law")
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
     ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
@@ -108,6 +117,7 @@ def main():
         wd = tempfile.mkdtemp(prefix="griddem-callgrind-")
         per_step, pairs = count(args, label, wd)
         line = {"date": datetime.date.today().isoformat(), "device": benchlib.device(), "scene": args.scene,
+                **({"law": args.law} if args.scene == "chute-granular" else {}),
                 "steps": args.steps, "style": label, "build": build,
                 **({"cell": args.cell} if args.cell and label == "griddem" else {}),
                 "instructions_per_step": {k: round(v) for k, v in per_step.items()},

@@ -2,11 +2,13 @@
 """CPU benchmark: LAMMPS's chute scene (bench/in.chute, 32,000 atoms) with stock
 gran/hooke/history and with griddem/hooke/history with its defaults and in each cell mode, on 1
 and 2 MPI ranks (and griddem multi with 2 OpenMP threads where the cores allow), in one job on
-one machine. Appends one JSON line per run to bench/results/cpu.jsonl, naming the build (--build,
-default the checkout's commit) so that two builds run back to back compare.
+one machine. --law LAW: each style's pair granular twin (stock granular, griddem/granular) with a
+composed law of the examples (benchlib.GRANULAR_LAWS) instead. Appends one JSON line per run to
+bench/results/cpu.jsonl, naming the build (--build, default the checkout's commit) so that two
+builds run back to back compare.
 
 usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]
-                      [--lammps-bench DIR]"""
+                      [--law rolling|nohistory] [--lammps-bench DIR]"""
 import argparse
 import os
 import re
@@ -37,6 +39,8 @@ def main():
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
     ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default=None, help="comma-separated variant labels to run")
+    ap.add_argument("--law", choices=sorted(benchlib.GRANULAR_LAWS), default=None,
+                    help="pair granular with this law (default: gran/hooke/history's)")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
     args = ap.parse_args()
 
@@ -54,9 +58,12 @@ def main():
             text = stock.replace("gran/hooke/history", style)
             text = text.replace("pair_coeff      * *", "pair_coeff      * *\n" + fix)
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
+            if args.law:
+                text = benchlib.chute_granular(text, args.law)
             loop, steps, atoms, out = benchlib.run_lmp(args.lmp, wd, text, ranks, threads)
             sections = timing_sections(out)
             benchlib.record(out_path, "chute", label, ranks, threads, loop, steps, atoms, build=build,
+                            **({"law": args.law} if args.law else {}),
                             pair_pct=sections.get("Pair"), neigh_pct=sections.get("Neigh"))
 
 main()

@@ -112,25 +112,48 @@ GRIDDEM_INLINE int griddem_classic_hertz(const griddem_pair_params *p)
   return p->normal.model == GRIDDEM_NORMAL_HERTZ;
 }
 
-/* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
- * set in c; returns the elastic energy stored in its springs (c->fr is set only with a rolling
- * model; c->heat is the heat into i from c's temperatures, which only a heat model reads). hist
- * holds the pair's history values seen from i (read, and advanced if c->history_update). Seen from
- * j every output and the odd history values change sign exactly, so one evaluation serves both
- * atoms. */
-GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
-                                           double *hist, double *f, double *ti, double *tj)
+/* The sub-model of each axis of a law. A caller that knows them at compile time passes them to
+ * griddem_contact_eval_models as constants, and the axes' switches fold away. */
+typedef struct griddem_law_models {
+  enum griddem_normal_model normal;
+  enum griddem_damping_model damping;
+  enum griddem_tangential_model tangential;
+  enum griddem_rolling_model rolling;
+  enum griddem_twisting_model twisting;
+  enum griddem_heat_model heat;
+} griddem_law_models;
+
+GRIDDEM_INLINE griddem_law_models griddem_law_models_of(const griddem_pair_params *p)
 {
-  if (p->classic) return griddem_classic_eval(p, c, hist, f, ti, tj, griddem_classic_hertz(p));
+  const griddem_law_models m = {p->normal.model, p->damping.model, p->tangential.model,
+                                p->rolling.model, p->twisting.model, p->heat.model};
+  return m;
+}
+
+/* griddem_contact_eval of a composed (not classic) law p whose sub-models are m */
+GRIDDEM_INLINE double griddem_contact_eval_models(const griddem_pair_params *p, griddem_law_models m,
+                                                  griddem_contact *c, double *hist, double *f, double *ti,
+                                                  double *tj)
+{
+  /* p's coefficients, with the models of m */
+  griddem_normal_params normal = p->normal;
+  griddem_damping_params damping = p->damping;
+  griddem_tangential_params tangential = p->tangential;
+  griddem_rolling_params rolling = p->rolling;
+  griddem_twisting_params twisting = p->twisting;
+  griddem_heat_params heat = p->heat;
+  normal.model = m.normal, damping.model = m.damping, tangential.model = m.tangential;
+  rolling.model = m.rolling, twisting.model = m.twisting, heat.model = m.heat;
+
   c->energy = 0.0;
   griddem_contact_kinematics(c);
-  if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&p->normal, c);
-  c->heat = p->heat.model != GRIDDEM_HEAT_NONE ? griddem_heat_flow(&p->heat, c) : 0.0;
-  griddem_normal_force(&p->normal, c);
-  c->fntot = c->fnormal + griddem_damping_force(&p->damping, c);
+  if (p->need_contact_radius) c->contact_radius = griddem_normal_contact_radius(&normal, c);
+  c->heat = m.heat != GRIDDEM_HEAT_NONE ? griddem_heat_flow(&heat, c) : 0.0;
+  griddem_normal_force(&normal, c);
+  c->fntot = c->fnormal + griddem_damping_force(&damping, c);
   if (p->limit_damping && c->fntot < 0.0) c->fntot = 0.0;
-  c->fncrit = griddem_normal_fncrit(&p->normal, c);
-  griddem_tangential_force(&p->tangential, c, hist);
+  c->fncrit = griddem_normal_fncrit(&normal, c);
+  griddem_tangential_force(&tangential, c, hist);
 
   for (int k = 0; k < 3; k++) f[k] = c->fntot * c->n[k] + c->fs[k];
   /* torque of the tangential force about each centre */
@@ -141,31 +164,43 @@ GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem
   const double di = c->radi - 0.5 * c->delta, dj = c->radj - 0.5 * c->delta;
   ti[0] = di * t1, ti[1] = di * t2, ti[2] = di * t3;
   tj[0] = dj * t1, tj[1] = dj * t2, tj[2] = dj * t3;
-  if (p->rolling.model == GRIDDEM_ROLLING_NONE && p->twisting.model == GRIDDEM_TWISTING_NONE)
-    return c->energy;
+  if (m.rolling == GRIDDEM_ROLLING_NONE && m.twisting == GRIDDEM_TWISTING_NONE) return c->energy;
 
   double relrot[3];
   for (int k = 0; k < 3; k++) relrot[k] = c->wi[k] - c->wj[k];
-  if (p->rolling.model != GRIDDEM_ROLLING_NONE) {
+  if (m.rolling != GRIDDEM_ROLLING_NONE) {
     const double vrl[3] = {c->reff * (relrot[1] * n[2] - relrot[2] * n[1]),
                            c->reff * (relrot[2] * n[0] - relrot[0] * n[2]),
                            c->reff * (relrot[0] * n[1] - relrot[1] * n[0])};
-    griddem_rolling_force(&p->rolling, c, vrl, hist + p->hist_rolling);
+    griddem_rolling_force(&rolling, c, vrl, hist + p->hist_rolling);
     const double *fr = c->fr;
     const double tr[3] = {c->reff * (n[1] * fr[2] - n[2] * fr[1]),
                           c->reff * (n[2] * fr[0] - n[0] * fr[2]),
                           c->reff * (n[0] * fr[1] - n[1] * fr[0])};
     for (int k = 0; k < 3; k++) ti[k] += tr[k], tj[k] -= tr[k];
   }
-  if (p->twisting.model != GRIDDEM_TWISTING_NONE) {
+  if (m.twisting != GRIDDEM_TWISTING_NONE) {
     c->magtwist = griddem_dot3(relrot, n);
-    griddem_twisting_force(&p->twisting, c, hist + p->hist_twisting);
+    griddem_twisting_force(&twisting, c, hist + p->hist_twisting);
     for (int k = 0; k < 3; k++) {
       const double tt = c->magtortwist * n[k];
       ti[k] += tt, tj[k] -= tt;
     }
   }
   return c->energy;
+}
+
+/* Force on i (f[3]; j gets -f) and torques on i and j of one interacting pair whose inputs are
+ * set in c; returns the elastic energy stored in its springs (c->fr is set only with a rolling
+ * model; c->heat is the heat into i from c's temperatures, which only a heat model reads). hist
+ * holds the pair's history values seen from i (read, and advanced if c->history_update). Seen from
+ * j every output and the odd history values change sign exactly, so one evaluation serves both
+ * atoms. */
+GRIDDEM_INLINE double griddem_contact_eval(const griddem_pair_params *p, griddem_contact *c,
+                                           double *hist, double *f, double *ti, double *tj)
+{
+  if (p->classic) return griddem_classic_eval(p, c, hist, f, ti, tj, griddem_classic_hertz(p));
+  return griddem_contact_eval_models(p, griddem_law_models_of(p), c, hist, f, ti, tj);
 }
 
 #ifdef __cplusplus

@@ -139,20 +139,72 @@ static inline int64_t contact_key(const griddem_channels *ch, int from, int to)
  * calls it directly, with the normal model and the history size of those styles as constants;
  * where it is one and the same law with shear history for every type pair and the history
  * advances (a step of a run), the contacts are gathered into batches that evaluate the law as
- * vector lanes (griddem_classic_batch.h); every other model (and a mix of laws across type pairs)
- * takes the composed law, the reference the tests compare the others with. */
+ * vector lanes (griddem_classic_batch.h). Where every type pair's law is composed of the
+ * sub-models of one row of COMPILED_LAWS, the body evaluates them with the models and the history
+ * size as constants. Every other model (and a mix of laws across type pairs) takes the composed
+ * law with its models read at run time, the reference the tests compare the others with. */
 enum sweep_law {
   SWEEP_COMPOSED,
   SWEEP_CLASSIC_BATCH,      /* gran/hooke/history or gran/hertz/history, one law, in batches */
   SWEEP_HOOKE_SHEAR,        /* gran/hooke/history: 3 shear values per contact */
   SWEEP_HOOKE_NO_HISTORY,   /* gran/hooke (or no friction): no history, no contacts kept */
   SWEEP_HERTZ_SHEAR,        /* gran/hertz/history */
-  SWEEP_HERTZ_NO_HISTORY    /* gran/hertz/history without friction */
+  SWEEP_HERTZ_NO_HISTORY,   /* gran/hertz/history without friction */
+  SWEEP_COMPILED            /* + k: the models of COMPILED_LAWS[k] */
 };
 
-/* The pair body's classic argument: which classic law, or none; CLASSIC_BATCHED: the one law of
- * SWEEP_CLASSIC_BATCH, evaluated in batches */
-enum { COMPOSED = 0, CLASSIC_HOOKE = 1, CLASSIC_HERTZ = 2, CLASSIC_BATCHED = 3 };
+/* The composed laws of the examples' and bench's scenes: the sub-models of each axis, and the
+ * history values per contact they keep (0: no contacts kept). The coefficients may differ by
+ * type pair. */
+typedef struct compiled_law {
+  griddem_law_models models;
+  int values;
+} compiled_law;
+
+static const compiled_law COMPILED_LAWS[] = {
+    /* examples/rom-blade and rom-hopper */
+    {{GRIDDEM_NORMAL_HOOKE, GRIDDEM_DAMPING_COEFF_RESTITUTION, GRIDDEM_TANGENTIAL_LINEAR_HISTORY, GRIDDEM_ROLLING_SDS,
+      GRIDDEM_TWISTING_NONE, GRIDDEM_HEAT_NONE},
+     6},
+    /* examples/hopper, packing, sliding and free-fall */
+    {{GRIDDEM_NORMAL_HOOKE, GRIDDEM_DAMPING_VELOCITY, GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, GRIDDEM_ROLLING_NONE,
+      GRIDDEM_TWISTING_NONE, GRIDDEM_HEAT_NONE},
+     0},
+    /* examples/heat-bed */
+    {{GRIDDEM_NORMAL_HERTZ, GRIDDEM_DAMPING_VISCOELASTIC, GRIDDEM_TANGENTIAL_LINEAR_NOHISTORY, GRIDDEM_ROLLING_NONE,
+      GRIDDEM_TWISTING_NONE, GRIDDEM_HEAT_RADIUS},
+     0}};
+#define NCOMPILED ((int) (sizeof COMPILED_LAWS / sizeof COMPILED_LAWS[0]))
+
+/* The pair body's law argument: the composed law with its models read at run time, a classic
+ * law (CLASSIC_BATCHED: the one law of SWEEP_CLASSIC_BATCH, evaluated in batches), or
+ * COMPILED + k: COMPILED_LAWS[k]'s */
+enum { COMPOSED = 0, CLASSIC_HOOKE = 1, CLASSIC_HERTZ = 2, CLASSIC_BATCHED = 3, COMPILED = 4 };
+#define IS_CLASSIC(body) ((body) >= CLASSIC_HOOKE && (body) <= CLASSIC_BATCHED)
+
+static int same_models(griddem_law_models a, griddem_law_models b)
+{
+  return a.normal == b.normal && a.damping == b.damping && a.tangential == b.tangential && a.rolling == b.rolling &&
+         a.twisting == b.twisting && a.heat == b.heat;
+}
+
+/* SWEEP_COMPILED + k where every type pair's law is composed of COMPILED_LAWS[k]'s models and
+ * keeps its history (hist: the store's layout); otherwise SWEEP_COMPOSED */
+static int compiled_law_of(const griddem_model *m, const griddem_history *hist)
+{
+  for (int k = 0; k < NCOMPILED; k++) {
+    const compiled_law *law = COMPILED_LAWS + k;
+    int all = law->values ? m->track_contacts && m->history_size == law->values && hist->values == law->values
+                          : !m->track_contacts && m->history_size == 0;
+    for (int i = 1; all && i <= m->ntypes; i++)
+      for (int j = 1; all && j <= m->ntypes; j++) {
+        const griddem_pair_params *p = griddem_model_pair(m, i, j);
+        all = !p->classic && same_models(griddem_law_models_of(p), law->models);
+      }
+    if (all) return SWEEP_COMPILED + k;
+  }
+  return SWEEP_COMPOSED;
+}
 
 /* Whether two classic laws compute the same: what griddem_classic_contact reads of them */
 static int same_classic_law(const griddem_pair_params *a, const griddem_pair_params *b)
@@ -167,6 +219,7 @@ static int sweep_law_of(const griddem_model *m, const griddem_history *hist, int
 {
   if (m->reach_extra != 0.0) return SWEEP_COMPOSED;
   const griddem_pair_params *first = griddem_model_pair(m, 1, 1);
+  if (!first->classic) return compiled_law_of(m, hist);
   const int hertz = griddem_classic_hertz(first);
   int one_law = griddem_classic_batchable(first);
   for (int i = 1; i <= m->ntypes; i++)
@@ -253,17 +306,41 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
   return griddem_classic_eval(p, c, hist, f, ti, tj, 1);
 }
 
+/* The composed law out of line once per row of COMPILED_LAWS, its models constants in each copy */
+#define COMPILED_LAW_EVAL(k)                                                                                        \
+  CLASSIC_LAW double compiled_law_##k(const griddem_pair_params *p, griddem_contact *c, double *hist, double *f,    \
+                                      double *ti, double *tj)                                                      \
+  {                                                                                                                 \
+    return griddem_contact_eval_models(p, COMPILED_LAWS[k].models, c, hist, f, ti, tj);                            \
+  }
+COMPILED_LAW_EVAL(0)
+COMPILED_LAW_EVAL(1)
+COMPILED_LAW_EVAL(2)
+typedef char one_evaluation_per_compiled_law[NCOMPILED == 3 ? 1 : -1];
+
+/* The law of body (COMPOSED or COMPILED + k), a constant of each copy of the pair body */
+SWEEP_SPECIALIZED double composed_law(const int body, const griddem_pair_params *p, griddem_contact *c, double *hist,
+                                      double *f, double *ti, double *tj)
+{
+  switch (body - COMPILED) {
+    case 0: return compiled_law_0(p, c, hist, f, ti, tj);
+    case 1: return compiled_law_1(p, c, hist, f, ti, tj);
+    case 2: return compiled_law_2(p, c, hist, f, ti, tj);
+    default: return griddem_contact_eval(p, c, hist, f, ti, tj);
+  }
+}
+
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types
  * type_a and type_b, group bits ma and mb; key_b the key of b seen from a, key_a of a seen from
  * b), at squared distance rsq (within reach): the pair is left where its centres coincide (a
  * fault), it is excluded by excl (NULL: none, or tested already), or (past touching) it is out of
  * reach; otherwise its law is set (*law_of) and its history entry found (-1: none, or contacts
  * not tracked): in a's row (*entry_a), or where a's has none and b is owned, in b's, where it is
- * kept while the contact was evaluated from b (*entry_b). Returns whether the pair is kept. classic
+ * kept while the contact was evaluated from b (*entry_b). Returns whether the pair is kept. body
  * and track are constants of each specialization. */
 SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, int ib, int type_a, int type_b, int ma,
                                  int mb, int64_t key_b, int64_t key_a, const griddem_exclusions *excl, double rsq,
-                                 const int classic, const int track, const griddem_pair_params **law_of,
+                                 const int body, const int track, const griddem_pair_params **law_of,
                                  long *entry_a, long *entry_b)
 {
   const griddem_channels *ch = cx->ch;
@@ -278,11 +355,11 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
                                                               griddem_key_at(p->molecule, p->tag_bytes, ib), mb))))
     return 0;
   /* the batches' pairs all have the one law */
-  const griddem_pair_params *law = classic == CLASSIC_BATCHED ? griddem_model_pair(m, 1, 1) : griddem_model_pair(m, type_a, type_b);
+  const griddem_pair_params *law = body == CLASSIC_BATCHED ? griddem_model_pair(m, 1, 1) : griddem_model_pair(m, type_a, type_b);
   *entry_a = track ? griddem_history_find_entry(cx->hist, cx->row_of[ia], key_b) : -1;
   *entry_b = track && *entry_a < 0 && ib < cx->nlocal ? griddem_history_find_entry(cx->hist, cx->row_of[ib], key_a) : -1;
   /* past touching (reach_extra > 0) only pairs that touched before may still interact */
-  if (!classic && m->reach_extra > 0.0 &&
+  if (!IS_CLASSIC(body) && m->reach_extra > 0.0 &&
       !griddem_contact_touch(law, rsq, ch->r[a], ch->r[b], *entry_a >= 0 || *entry_b >= 0))
     return 0;
   *law_of = law;
@@ -518,13 +595,13 @@ static inline void batch_pair(const sweep_context *cx, sweep_sums *sums, int a, 
 }
 
 /* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
- * reach) seen from a, which is owned; b receives its share if it is owned too. classic (CLASSIC_HOOKE
+ * reach) seen from a, which is owned; b receives its share if it is owned too. body (CLASSIC_HOOKE
  * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED;
- * a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history values per
- * contact, or -1: the model's, with contacts kept as it says) are constants of each
+ * COMPILED + k; a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history
+ * values per contact, or -1: the model's, with contacts kept as it says) are constants of each
  * specialization. */
 SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
-                                  double rsq, const int classic, const int values)
+                                  double rsq, const int body, const int values)
 {
   const griddem_model *m = cx->model;
   const int nv = values >= 0 ? values : m->history_size;
@@ -536,7 +613,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const int64_t key_b = track ? contact_key(ch, a, b) : 0;
   const int64_t key_a = track && ib < cx->nlocal ? contact_key(ch, b, a) : 0;
   long entry_a, entry_b;
-  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, cx->excl, rsq, classic, track,
+  if (!pair_begin(cx, a, b, ia, ib, p->type[ia], p->type[ib], ma, mb, key_b, key_a, cx->excl, rsq, body, track,
                   &law, &entry_a, &entry_b))
     return;
 
@@ -544,16 +621,16 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   griddem_contact_setup(&c, dx, rsq, ch->r[a], ch->r[b], p->v + 3 * (size_t) ia, p->v + 3 * (size_t) ib,
                         p->omega + 3 * (size_t) ia, p->omega + 3 * (size_t) ib, p->rmass[ia], p->rmass[ib],
                         (ma & p->frozen_bit) != 0, (mb & p->frozen_bit) != 0, cx->dt, cx->history_update);
-  const int heat = !classic && p->heatflow;    /* the classic laws conduct no heat */
+  const int heat = !IS_CLASSIC(body) && p->heatflow;    /* the classic laws conduct no heat */
   if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
 
   double hv[GRIDDEM_MAX_HISTORY];
   stored_values(cx, law, entry_a, entry_b, nv, hv);
 
   double fc[3], ta[3], tb[3];
-  const double energy = classic == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
-                        : classic == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
-                                                   : griddem_contact_eval(law, &c, hv, fc, ta, tb);
+  const double energy = body == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
+                        : body == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
+                                                : composed_law(body, law, &c, hv, fc, ta, tb);
   pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
            track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
 }
@@ -567,9 +644,9 @@ typedef struct hit_list {
 } hit_list;
 
 /* Slot s's touching candidates in the order found, each pair seen from an owned slot, by the
- * pair body specialized for (classic, values) */
+ * pair body specialized for (body, values) */
 SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int s, const hit_list *hits,
-                                     const int classic, const int values)
+                                     const int body, const int values)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
@@ -578,17 +655,17 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
     const int t = hits->slot[q];
     const int t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
-    if (classic == CLASSIC_BATCHED) {    /* read with the batch's other pairs */
+    if (body == CLASSIC_BATCHED) {    /* read with the batch's other pairs */
       if (s_owned) batch_pair(cx, sums, s, t, order[s], order[t]);
       else batch_pair(cx, sums, t, s, order[t], order[s]);
       continue;
     }
     const double dx[3] = {ch->x[s] - ch->x[t], ch->y[s] - ch->y[t], ch->z[s] - ch->z[t]};
     const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-    if (s_owned) sweep_pair(cx, sums, s, t, dx, rsq, classic, values);
+    if (s_owned) sweep_pair(cx, sums, s, t, dx, rsq, body, values);
     else {    /* seen from t: the separation negated, exactly */
       const double dt[3] = {-dx[0], -dx[1], -dx[2]};
-      sweep_pair(cx, sums, t, s, dt, rsq, classic, values);
+      sweep_pair(cx, sums, t, s, dt, rsq, body, values);
     }
   }
 }
@@ -601,6 +678,9 @@ static void evaluate_each(const sweep_context *cx, sweep_sums *sums, int s, cons
     case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
     case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 3); break;
     case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 0); break;
+    case SWEEP_COMPILED: evaluate_hits(cx, sums, s, hits, COMPILED, COMPILED_LAWS[0].values); break;
+    case SWEEP_COMPILED + 1: evaluate_hits(cx, sums, s, hits, COMPILED + 1, COMPILED_LAWS[1].values); break;
+    case SWEEP_COMPILED + 2: evaluate_hits(cx, sums, s, hits, COMPILED + 2, COMPILED_LAWS[2].values); break;
     default: evaluate_hits(cx, sums, s, hits, COMPOSED, -1);
   }
 }

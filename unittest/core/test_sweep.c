@@ -2,7 +2,8 @@
  * all-pairs evaluation of the same contact law from both sides of every pair (the sweep evaluates
  * each pair once and hands the partner the mirrored result) on a dense polydisperse (1:4)
  * configuration of two types, in every cell mode, for the gran/hooke(/history) laws and pair
- * granular sub-models (a per-type-pair table; jkr's contacts past touching included), with
+ * granular sub-models (a per-type-pair table; jkr's contacts past touching included; the laws the
+ * sweep compiles with constant sub-models, and laws one sub-model away from them), with
  * excluded type pairs and with 1 or 3 threads; through the engine, size classes and idle particles
  * (all their pairs excluded) left out of the grid; momentum balance holds; a particle's history row
  * grows with its contacts; faults name the particles. */
@@ -21,7 +22,7 @@
 #include <string.h>
 
 enum { N = 400 };
-static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N];
+static double x[3 * N], v[3 * N], w[3 * N], rad[N], mass[N], temp[N];
 static int tag[N], type[N], mask[N];
 
 static void make_configuration(double rlo, double rhi)
@@ -29,6 +30,7 @@ static void make_configuration(double rlo, double rhi)
   for (int i = 0; i < N; i++) {
     rad[i] = rlo + (rhi - rlo) * check_uniform();
     mass[i] = 4.0 * rad[i] * rad[i] * rad[i];
+    temp[i] = 1.0 + check_uniform();
     for (int d = 0; d < 3; d++) {
       x[3 * i + d] = 2.0 * check_uniform(); /* dense: many overlaps */
       v[3 * i + d] = check_uniform() - 0.5;
@@ -41,12 +43,14 @@ static void make_configuration(double rlo, double rhi)
 }
 
 /* All ordered pairs from i's view, history in a dense matrix of nv values per ordered pair and
- * whether the pair interacted in touched (jkr holds pairs that touched before). */
+ * whether the pair interacted in touched (jkr holds pairs that touched before); heat (NULL: not
+ * wanted): the heat into each particle by laws with a heat model. */
 static void all_pairs(const griddem_model *m, const unsigned char *excluded, int both_bit, int apart_bit, double dt,
                       int update,
                       double *hist, unsigned char *touched, double *f, double *t, double *vir,
-                      double *energy, long *contacts)
+                      double *energy, long *contacts, double *heat)
 {
+  if (heat) memset(heat, 0, sizeof(double) * N);
   const int nv = m->history_size;
   memset(f, 0, sizeof(double) * 3 * N);
   memset(t, 0, sizeof(double) * 3 * N);
@@ -77,11 +81,13 @@ static void all_pairs(const griddem_model *m, const unsigned char *excluded, int
       c.radi = rad[i], c.radj = rad[j];
       c.meff = griddem_effective_mass(mass[i], mass[j], 0, 0);
       c.dt = dt, c.history_update = update;
+      c.temp_i = temp[i], c.temp_j = temp[j];
       double fc[3], ti[3], tj[3], hv[GRIDDEM_MAX_HISTORY] = {0};
       for (int k = 0; k < nv; k++) hv[k] = h[k];
       *energy += 0.5 * griddem_contact_eval(law, &c, hv, fc, ti, tj);
       for (int k = 0; k < nv; k++) h[k] = hv[k];
       for (int d = 0; d < 3; d++) f[3 * i + d] += fc[d], t[3 * i + d] += ti[d];
+      if (heat && law->heat.model != GRIDDEM_HEAT_NONE) heat[i] += c.heat;
       vir[0] += 0.5 * c.dx[0] * fc[0], vir[1] += 0.5 * c.dx[1] * fc[1];
       vir[2] += 0.5 * c.dx[2] * fc[2], vir[3] += 0.5 * c.dx[0] * fc[1];
       vir[4] += 0.5 * c.dx[0] * fc[2], vir[5] += 0.5 * c.dx[1] * fc[2];
@@ -110,6 +116,8 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   griddem_bins b = {0};
   griddem_channels ch = {0};
   griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  static double heatflow[N], heat_ref[N];
+  part.temperature = temp, part.heatflow = heatflow;
   griddem_exclusions excl = {excluded, 2, 0, NULL, 0, 0};
 
   griddem_history hist;
@@ -132,7 +140,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   memcpy(x_start, x, sizeof(x));
   const double edge = griddem_cell_edge(mode, rmin, rmax, 0.13);
   for (int step = 0; step < 4; step++) {
-    memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va));
+    memset(f, 0, sizeof(f)), memset(t, 0, sizeof(t)), memset(va, 0, sizeof(va)), memset(heatflow, 0, sizeof(heatflow));
     if (step > 0)
       for (int k = 0; k < 3 * N; k++) x[k] = x[k] * 1.003 + (0.37 - 0.13 * (k % 3)) * edge;
     griddem_grid_cover(&g, anchor, N, x, edge, 1L << 26);
@@ -146,7 +154,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     const int completed = step % 2 == 1;
     CHECK(!completed || (complete_history(&hist, m, N, row_of, tag, type) == 0 && !hist.one_sided),
           "%s: history completed", law);
-    all_pairs(m, excluded, 0, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    all_pairs(m, excluded, 0, 0, dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref, heat_ref);
     for (int i = 0; i < N; i++)
       for (int j = 0; j < N; j++) {
         const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
@@ -168,6 +176,11 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     CHECK(ferr <= 1e-12 * fscale, "%s mode %d step %d: force error %g of %g", law, mode, step, ferr, fscale);
     CHECK(terr <= 1e-12 * tscale, "%s mode %d step %d: torque error %g of %g", law, mode, step, terr, tscale);
     CHECK(verr <= 1e-12 * max_abs(vr, 6), "%s mode %d step %d: virial error %g", law, mode, step, verr);
+    const double qscale = max_abs(heat_ref, N);
+    double qerr = 0.0;
+    for (int i = 0; i < N; i++) qerr = fmax(qerr, fabs(heatflow[i] - heat_ref[i]));
+    CHECK(qerr <= 1e-12 * qscale && (qscale > 0.0) == (strstr(law, " heat ") != NULL),
+          "%s mode %d step %d: heat error %g of %g", law, mode, step, qerr, qscale);
     CHECK(fabs(res.energy - energy_ref) <= 1e-12 * energy_ref && energy_ref > 0.0,
           "%s mode %d step %d: energy %g, all-pairs %g", law, mode, step, res.energy, energy_ref);
 
@@ -240,6 +253,26 @@ static const char *const LAWS[] = {
     "hertz 8e4 5 tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05",
     "hertz/material 1e5 5 0.3 tangential mindlin_rescale NULL 0.5 %g twisting marshall",
     "jkr 1e5 5 0.3 %g damping mass_velocity tangential mindlin NULL 0.5 0.4 rolling sds 20 0.1 0.05 twisting sds 1 0.01 0.1",
+};
+
+/* Laws with the sub-models of each row of the sweep's compiled laws (griddem_sweep.c's
+ * COMPILED_LAWS), evaluated with their models as constants, and laws that differ from a row on one
+ * axis, which must take the composed law with its models read at run time: a sweep that took them
+ * for the row would evaluate the row's model on that axis. */
+static const char *const COMPILED_ROWS[] = {
+    "hooke 2000 0.3 damping coeff_restitution tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05",
+    "hooke 2000 50 damping velocity tangential linear_nohistory 1.0 %g",
+    "hertz 8e4 5 tangential linear_nohistory 1.0 %g heat radius 1.0",
+};
+static const char *const NEAR_ROWS[] = {
+    "hertz 8e4 0.3 damping coeff_restitution tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05",
+    "hooke 2000 50 damping mass_velocity tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05",
+    "hooke 2000 0.3 damping coeff_restitution tangential linear_history 1500 0.5 %g rolling sds 20 0.1 0.05 "
+    "twisting sds 1 0.01 0.1",
+    "hooke 2000 50 damping mass_velocity tangential linear_nohistory 1.0 %g",
+    "hertz 2000 50 damping velocity tangential linear_nohistory 1.0 %g",
+    "hertz 8e4 5 tangential linear_nohistory 1.0 %g heat area 1.0",
+    "hertz 8e4 5 tangential linear_nohistory 1.0 %g",
 };
 
 /* The same law for every type pair (model_of's friction argument not used) */
@@ -374,7 +407,8 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
     long contacts_ref;
     griddem_engine_step(&e, &st, &res, &coarsened);
     CHECK(complete_history(&hist, &m, N, row_of, tag, type) == 0, "%s: history completed", what);
-    all_pairs(&m, NULL, kinematic_bit, lagging_bit, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref);
+    all_pairs(&m, NULL, kinematic_bit, lagging_bit, st.dt, 1, dense, touched, fr, tr, vr, &energy_ref, &contacts_ref,
+              NULL);
     CHECK(e.nclass == (size_classes ? 3 : 1) && res.fault == GRIDDEM_FAULT_NONE, "%s: %d classes, fault %d", what,
           e.nclass, res.fault);
     CHECK(res.contacts == contacts_ref && contacts_ref > (idle ? N / 8 : sizes == SIZES_FEW_LARGE ? N / 4 : N),
@@ -502,6 +536,14 @@ static void all_checks(void)
     for (size_t k = 0; k < sizeof(LAWS) / sizeof(LAWS[0]); k++) {
       const griddem_model m = model_of(LAWS[k]);
       compare_mode(mode, LAWS[k], &m, NULL, 1);
+    }
+    for (size_t k = 0; k < sizeof(COMPILED_ROWS) / sizeof(COMPILED_ROWS[0]); k++) {
+      const griddem_model m = model_of(COMPILED_ROWS[k]);
+      compare_mode(mode, COMPILED_ROWS[k], &m, NULL, 1 + 2 * (k == 0));
+    }
+    for (size_t k = 0; k < sizeof(NEAR_ROWS) / sizeof(NEAR_ROWS[0]); k++) {
+      const griddem_model m = model_of(NEAR_ROWS[k]);
+      compare_mode(mode, NEAR_ROWS[k], &m, NULL, 1);
     }
     const griddem_model m = model_of(LAWS[3]);
     compare_mode(mode, "granular, type pair 2-2 excluded", &m, exclude_22, 1);
