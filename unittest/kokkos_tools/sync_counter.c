@@ -7,8 +7,11 @@
  * their memory (a host build) and does not fence where they do not (a GPU), so its fence is
  * counted only after a deep copy. At exit it writes one line per region to the file
  * GRIDDEM_SYNC_LOG names: "synchronisations allocations" and, where it allocated, the first
- * allocation's bytes and label, so that a failing check names the View. Plain C: the Kokkos
- * Tools interface is a set of C symbols, so no Kokkos header is needed. */
+ * allocation's bytes and label, so that a failing check names the View. It also writes each fill
+ * of a griddem/kk View that has room (the initialization Kokkos gives an allocation unless told
+ * not to), in the whole run, as a line "bytes label" of the file named GRIDDEM_SYNC_LOG with
+ * ".fills" added. Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos header
+ * is needed. */
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -26,6 +29,10 @@ static char first[128];      /* the open region's first allocation: bytes and la
 static int *counts;          /* two per finished region: count, allocated */
 static char (*firsts)[128];  /* one per finished region */
 static size_t ncounts, capacity;
+static char allocated_label[128];  /* the last allocation's label and bytes: a fill follows it */
+static uint64_t allocated_bytes;
+static char *fills;                /* "bytes label\n" per fill of a griddem/kk View with room */
+static size_t nfills;
 
 void kokkosp_init_library(const int seq, const uint64_t version, const uint32_t ndevices,
                           void *devices)
@@ -70,9 +77,27 @@ void kokkosp_pop_profile_region(void)
 
 static void launched(void) { in_run = 0, copied = 0; }
 
+/* Kokkos names a View's initialization "Kokkos::View::initialization [label]..." */
+static void record_fill(const char *name)
+{
+  static const char prefix[] = "Kokkos::View::initialization [";
+  if (strncmp(name, prefix, sizeof prefix - 1) != 0) return;
+  const char *label = name + sizeof prefix - 1, *end = strchr(label, ']');
+  const size_t n = end ? (size_t) (end - label) : 0;
+  if (!n || strncmp(label, "griddem/kk:", 11) != 0 || strlen(allocated_label) != n ||
+      strncmp(label, allocated_label, n) != 0 || allocated_bytes == 0)
+    return;
+  char line[160];
+  const int len = snprintf(line, sizeof line, "%llu %s\n", (unsigned long long) allocated_bytes, allocated_label);
+  fills = (char *) realloc(fills, nfills + (size_t) len + 1);
+  memcpy(fills + nfills, line, (size_t) len + 1);
+  nfills += (size_t) len;
+}
+
 void kokkosp_begin_parallel_for(const char *name, const uint32_t dev, uint64_t *id)
 {
-  (void) name, (void) dev, (void) id;
+  (void) dev, (void) id;
+  record_fill(name);
   launched();
 }
 void kokkosp_begin_parallel_reduce(const char *name, const uint32_t dev, uint64_t *id)
@@ -101,6 +126,8 @@ void kokkosp_allocate_data(const struct SpaceHandle space, const char *label, co
                            const uint64_t size)
 {
   (void) space, (void) ptr;
+  snprintf(allocated_label, sizeof allocated_label, "%s", label);
+  allocated_bytes = size;
   // Kokkos's CUDA team launch asks for its level-1 scratch even when a kernel needs none: no
   // memory, nothing grew
   if (size == 0) return;
@@ -125,4 +152,10 @@ void kokkosp_finalize_library(void)
   for (size_t k = 0; k < ncounts; k += 2)
     fprintf(out, "%d %d%s%s\n", counts[k], counts[k + 1], firsts[k / 2][0] ? " " : "", firsts[k / 2]);
   fclose(out);
+  char fills_path[4096];
+  snprintf(fills_path, sizeof fills_path, "%s.fills", path);
+  if ((out = fopen(fills_path, "w"))) {
+    if (nfills) fputs(fills, out);
+    fclose(out);
+  }
 }

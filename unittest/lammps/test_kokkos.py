@@ -1095,7 +1095,9 @@ def check_synchronisation(wd, data):
     allocations. The dense scene, 200 steps of griddem/hooke/history/kk: without reneighboring
     after the setup, every compute that allocates nothing makes one; reneighboring whenever an
     atom moved half the skin, such computes make at most two, and at most as many make two as
-    LAMMPS built neighbor lists."""
+    LAMMPS built neighbor lists. The history pools (fix griddem/kk's partner and value arrays, and
+    their host mirrors) are never filled when they are allocated, in the setup or in a step: a
+    row names the entries it holds, each written before it is read."""
     if not sync_counter_found():
         return
     for label, neigh in (("never", "neigh_modify every 1000 delay 0 check no"),
@@ -1127,6 +1129,11 @@ def check_synchronisation(wd, data):
         t.check(steady and max(steady) <= most and steady.count(2) <= builds,
                 "%s: one blocking synchronisation a step, two at the %d reneighborings (%d with "
                 "two, most %s)" % (label, builds, steady.count(2), max(steady) if steady else "none counted"))
+        fills = [line.split() for line in open(log + ".fills")] if os.path.exists(log + ".fills") else None
+        pool_fills = [f for f in fills or [] if re.match(r"griddem/kk:(partner|value)", f[1])]
+        t.check(fills is not None and not pool_fills,
+                "%s: no history pool filled when allocated (%s)" % (
+                    label, "no fill log" if fills is None else "%d fills: %s" % (len(pool_fills), pool_fills[:3])))
 
 def check_replanned(wd, data):
     """A step whose atoms left the grid planned from the last step is planned again from a scan:

@@ -13,9 +13,19 @@
 #include "memory_kokkos.h"
 
 #include <climits>
+#include <string>
 #include <cstring>
 
 using namespace LAMMPS_NS;
+
+/* A pool's entries are written before they are read (a row names those it holds): its arrays are
+   allocated without the fill a View gets by default, on the device and in the host mirror alike,
+   so that a pool that grows on a GPU costs the host neither a pass over its mirror nor the
+   mirror's memory until something reads it there */
+template <class Pool> static Pool pool_array(const char *label, long n)
+{
+  return Pool(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+}
 
 template <class DeviceType>
 FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg) :
@@ -112,13 +122,13 @@ void FixGriddemKokkos<DeviceType>::reserve_pool(int p, long entries, long keep)
                style, entries);
   const long room = MAX(entries, (long) (1.25 * k_partner[p].extent(0)));
   if (keep) {
-    k_partner[p].resize(room);
-    k_value[p].resize(room * nv);
+    k_partner[p].resize(Kokkos::view_alloc(Kokkos::WithoutInitializing), room);
+    k_value[p].resize(Kokkos::view_alloc(Kokkos::WithoutInitializing), room * nv);
   } else {    // the old pool freed first: the peak is the new one
     k_partner[p] = tdual_partners();
     k_value[p] = tdual_values();
-    k_partner[p] = tdual_partners("griddem/kk:partner", room);
-    k_value[p] = tdual_values("griddem/kk:value", room * nv);
+    k_partner[p] = pool_array<tdual_partners>("griddem/kk:partner", room);
+    k_value[p] = pool_array<tdual_values>("griddem/kk:value", room * nv);
   }
 }
 
@@ -178,7 +188,7 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
       for (int k = 0; k < values; k++)
         converted.h_view((long) e * values + k) = k < nv ? k_value[cur].h_view((long) e * nv + k) : 0.0;
   k_value[cur] = converted;
-  k_value[1 - cur] = tdual_values("griddem/kk:value", k_partner[1 - cur].extent(0) * values);
+  k_value[1 - cur] = pool_array<tdual_values>("griddem/kk:value", k_partner[1 - cur].extent(0) * values);
   nv = values;
   modify_host();
   update_maxexchange();
