@@ -179,7 +179,8 @@ def gpu_mem_used():
 
 
 def run(cmd, cwd, timeout, gpu, env_extra=None):
-    """(exit code or -signal, output, peak host RSS MiB, peak GPU MiB above idle or None, timed out)"""
+    """(exit code or -signal, output, peak host RSS MiB, peak GPU MiB above idle or None, timed out,
+    seconds from start to end)"""
     log = open(os.path.join(cwd, "out.txt"), "w+")
     poll = None
     if gpu:
@@ -201,6 +202,7 @@ def run(cmd, cwd, timeout, gpu, env_extra=None):
             p.kill()
         time.sleep(0.1)
     p.returncode = os.waitstatus_to_exitcode(status)
+    wall = time.time() - start
     gpu_peak = None
     if poll:
         poll.terminate()
@@ -209,7 +211,7 @@ def run(cmd, cwd, timeout, gpu, env_extra=None):
     log.seek(0)
     out = log.read()
     log.close()
-    return p.returncode, out, usage.ru_maxrss / 1024.0, gpu_peak, timed_out
+    return p.returncode, out, usage.ru_maxrss / 1024.0, gpu_peak, timed_out, wall
 
 
 def build_census(wd):
@@ -226,7 +228,7 @@ def census(cmd, wd, timeout, gpu, lib, steps):
     table = os.path.join(wd, "census.txt")
     if os.path.exists(table):
         os.remove(table)
-    rc, out, _, _, _ = run(cmd, wd, timeout, gpu, {"KOKKOS_TOOLS_LIBS": lib, "GRIDDEM_CENSUS": table})
+    rc, out = run(cmd, wd, timeout, gpu, {"KOKKOS_TOOLS_LIBS": lib, "GRIDDEM_CENSUS": table})[:2]
     if rc != 0 or not os.path.exists(table):
         return None, None
     rows = []
@@ -356,7 +358,7 @@ def main():
                 with open(os.path.join(wd, "in.run"), "w") as f:
                     f.write(text)
                 cmd = [args.lmp] + kk + variables + ["-in", "in.run", "-log", "none"]
-                rc, out, rss, gpu_mem, timed_out = run(cmd, wd, args.timeout, gpu, blocking)
+                rc, out, rss, gpu_mem, timed_out, wall = run(cmd, wd, args.timeout, gpu, blocking)
                 runs = log.loop_times(out)
                 if rc == 0 and runs:
                     loop, steps, n = runs[-1].seconds, runs[-1].steps, runs[-1].atoms
@@ -372,6 +374,7 @@ def main():
                     record.update(status="failed", reason=reason(rc, out, timed_out, args.timeout))
                     failed.add((style, variant))
                 record["host_peak_rss_mib"] = round(rss, 1)
+                record["wall_s"] = round(wall, 2)
                 if gpu:
                     record["gpu_peak_mem_mib"] = gpu_mem
                     record["gpu_mem_how"] = "nvidia-smi memory.used, polled every 200 ms, less the idle value"

@@ -20,8 +20,10 @@ a session cut short still keeps what it reached:
   bound    bench/gpu.py --launch-blocking: one stock run at 2M, for the bound on any pair style
   poly     bench/gpu.py --scene poly: the 1:10 polydisperse squeeze at 2M, stock kk and griddem
   census   bench/gpu.py --census at 8M: each kernel's time per step
-  largest  the largest chute that the griddem history style's memory slope (peak GPU memory at
-           8M and 32M from the chute step) says fits in 90% of the device's memory, 100 steps
+  largest  the largest chute that fits, by the griddem history style's slopes from the chute
+           step's two largest sizes (8M and 32M): its peak GPU memory in 90% of the device's, its
+           peak host memory in 90% of the host's available memory, and its whole run (set-up
+           included) in 80% of the step's cap; 100 steps
 
 Each step after start checks what it needs (the bundle's files, a KOKKOS lmp, cc) and records one
 line: ok, or skipped or failed with its reason; the next step runs either way. Without cc the
@@ -270,7 +272,7 @@ def census(s, line, cap, sizes):
 
 def largest(s, line, cap, sizes):
     s.need_kokkos()
-    atoms, how = largest_size(s.results, s.cpu)
+    atoms, how = largest_size(s.results, s.cpu, cap)
     line["how"] = how
     if atoms is None:
         raise Skipped(how)
@@ -303,34 +305,47 @@ def bench_lines(path, **match):
     return [l for l in lines if all(l.get(k) == v for k, v in match.items())]
 
 
-def device_memory_mib(cpu):
-    """Memory the runs can fill: the GPU's total (nvidia-smi), or the host's available memory."""
-    if cpu:
-        with open("/proc/meminfo") as f:
-            return float(next(l.split()[1] for l in f if l.startswith("MemAvailable"))) / 1024.0
+def gpu_memory_mib():
+    """The GPU's memory (nvidia-smi)."""
     out = subprocess.run(["nvidia-smi", "--query-gpu=memory.total", "--format=csv,noheader,nounits", "-i", "0"],
                          stdout=subprocess.PIPE, universal_newlines=True).stdout
     return float(out.split()[0])
 
 
-def largest_size(results, cpu):
-    """(atoms, how) from the griddem history style's chute memory at its two largest sizes."""
-    key = "host_peak_rss_mib" if cpu else "gpu_peak_mem_mib"
-    most = {}    # per size, the most memory of its runs (one a search mode)
-    for l in bench_lines(results, scene="chute", style=HISTORY, status="ok"):
-        if l.get(key) and not l.get("kernels") and not l.get("launch_blocking"):
-            most[l["natoms"]] = max(most.get(l["natoms"], 0.0), l[key])
-    ok = sorted(most.items())
-    if len(ok) < 2:
-        return None, "fewer than two chute sizes with griddem/hooke/history/kk measured"
-    (n1, m1), (n2, m2) = ok[-2], ok[-1]
-    slope = (m2 - m1) / float(n2 - n1)  # MiB per atom
-    if slope <= 0:
-        return None, "memory did not grow from %d to %d atoms" % (n1, n2)
-    room = 0.9 * device_memory_mib(cpu)
-    atoms = int((room - (m2 - slope * n2)) / slope)
-    how = "%.0f B/atom from %d to %d atoms; 90%% of %.0f MiB" % (slope * 2**20, n1, n2, room / 0.9)
-    return atoms, how
+def host_memory_mib():
+    """The host's available memory."""
+    with open("/proc/meminfo") as f:
+        return float(next(l.split()[1] for l in f if l.startswith("MemAvailable"))) / 1024.0
+
+
+def largest_size(results, cpu, cap):
+    """(atoms, how): the most atoms of a chute of the griddem history style that the chute step's
+    two largest sizes say fits, linearly in the atoms, in 90% of the device's memory (the host's
+    on a dry run), in 90% of the host's available memory, and in 80% of cap seconds, the whole
+    run; how names each bound."""
+    # per quantity, its growth through (n1, n2): the most of each size's runs (one a search mode)
+    keys = [("gpu_peak_mem_mib", None if cpu else gpu_memory_mib(), 0.9, "GPU MiB"),
+            ("host_peak_rss_mib", host_memory_mib(), 0.9, "host MiB"),
+            ("wall_s", cap, 0.8, "s")]
+    fits, hows = [], []
+    for key, whole, share, unit in keys:
+        if whole is None:
+            continue
+        most = {}
+        for l in bench_lines(results, scene="chute", style=HISTORY, status="ok"):
+            if l.get(key) and not l.get("kernels") and not l.get("launch_blocking"):
+                most[l["natoms"]] = max(most.get(l["natoms"], 0.0), l[key])
+        ok = sorted(most.items())
+        if len(ok) < 2:
+            return None, "fewer than two chute sizes with griddem/hooke/history/kk's %s measured" % key
+        (n1, m1), (n2, m2) = ok[-2], ok[-1]
+        slope = (m2 - m1) / float(n2 - n1)
+        if slope <= 0:
+            return None, "%s did not grow from %d to %d atoms" % (key, n1, n2)
+        fits.append(int((share * whole - (m2 - slope * n2)) / slope))
+        hows.append("%d atoms: %.4g %s per million atoms from %d to %d, %d%% of %.0f %s" % (
+            fits[-1], slope * 1e6, unit, n1, n2, round(100 * share), whole, unit))
+    return min(fits), "; ".join(hows)
 
 
 def main():
