@@ -4,16 +4,17 @@ compute and LAMMPS's neighbor-list builds, for stock gran/hooke/history and grid
 on LAMMPS's chute (bench/in.chute, 32,000 atoms) or the 1:4 bidisperse squeeze of
 bench/squeeze.py; or stock granular and griddem/granular on the chute with a composed law of
 pair granular (--scene chute-granular, --law: the law of examples/rom-blade and rom-hopper,
-"rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not depend on what else runs on the machine, so two
-builds compare where wall times drift. Only the timestep loop is counted (Verlet::run, not the
+"rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not
+depend on what else runs on the machine, so two builds compare where wall times drift. Only the timestep loop is counted (Verlet::run, not the
 setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
 its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
 over the pairs in contact a step (mean over the counted steps), counted in a second, plain run by
 LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to
 bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.
 
-usage: bench/callgrind.py [--scene chute|squeeze|chute-granular] [--law rolling|nohistory] [--steps N] [--lmp build/lmp] [--build NAME]
-                          [--only stock,griddem] [--lammps-bench DIR] [--keep DIR] [--cell MODE]"""
+usage: bench/callgrind.py [--scene chute|squeeze|chute-granular] [--law rolling|nohistory] [--steps N]
+                          [--lmp build/lmp] [--build NAME] [--only stock,griddem] [--lammps-bench DIR]
+                          [--keep DIR] [--cell MODE]"""
 import argparse
 import datetime
 import json
@@ -32,7 +33,6 @@ sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
 from griddemtools import lammps, log  # noqa: E402
 
 STYLES = {"stock": "gran/hooke/history", "griddem": "griddem/hooke/history"}
-
 # inclusive counts reported, by a pattern of callgrind_annotate's function names
 FUNCTIONS = {"loop": r"PROGRAM TOTALS",
              "pair": r"LAMMPS_NS::Pair\w+::compute\(int, int\)",

@@ -320,20 +320,22 @@ def host_memory_mib():
 
 def largest_size(results, cpu, cap):
     """(atoms, how): the most atoms of a chute of the griddem history style that the chute step's
-    two largest sizes say fits, linearly in the atoms, in 90% of the device's memory (the host's
-    on a dry run), in 90% of the host's available memory, and in half of cap seconds, the whole
-    run; how names each bound."""
+    two largest sizes say fits, linearly in the atoms, in 90% of the GPU's memory (not on a dry
+    run), in 90% of the host's available memory, and in half of cap seconds, the whole run; how
+    names each bound."""
     # per quantity, its growth through (n1, n2): the most of each size's runs (one a search mode)
     keys = [("gpu_peak_mem_mib", None if cpu else gpu_memory_mib(), 0.9, "GPU MiB"),
             ("host_peak_rss_mib", host_memory_mib(), 0.9, "host MiB"),
             ("wall_s", cap, 0.5, "s")]
+    runs = [l for l in bench_lines(results, scene="chute", style=HISTORY, status="ok")
+            if not l.get("kernels") and not l.get("launch_blocking")]
     fits, hows = [], []
     for key, whole, share, unit in keys:
         if whole is None:
             continue
         most = {}
-        for l in bench_lines(results, scene="chute", style=HISTORY, status="ok"):
-            if l.get(key) and not l.get("kernels") and not l.get("launch_blocking"):
+        for l in runs:
+            if l.get(key):
                 most[l["natoms"]] = max(most.get(l["natoms"], 0.0), l[key])
         ok = sorted(most.items())
         if len(ok) < 2:

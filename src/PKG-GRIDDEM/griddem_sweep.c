@@ -316,18 +316,17 @@ CLASSIC_LAW double classic_hertz(const griddem_pair_params *p, griddem_contact *
 COMPILED_LAW_EVAL(0)
 COMPILED_LAW_EVAL(1)
 COMPILED_LAW_EVAL(2)
-typedef char one_evaluation_per_compiled_law[NCOMPILED == 3 ? 1 : -1];
+static double (*const COMPILED_EVAL[])(const griddem_pair_params *, griddem_contact *, double *, double *, double *,
+                                       double *) = {compiled_law_0, compiled_law_1, compiled_law_2};
+typedef char one_evaluation_per_compiled_law[sizeof COMPILED_EVAL / sizeof COMPILED_EVAL[0] == NCOMPILED ? 1 : -1];
 
-/* The law of body (COMPOSED or COMPILED + k), a constant of each copy of the pair body */
+/* The law of body (COMPOSED or COMPILED + k), a constant of each copy of the pair body, so that
+ * the table's entry is a direct call */
 SWEEP_SPECIALIZED double composed_law(const int body, const griddem_pair_params *p, griddem_contact *c, double *hist,
                                       double *f, double *ti, double *tj)
 {
-  switch (body - COMPILED) {
-    case 0: return compiled_law_0(p, c, hist, f, ti, tj);
-    case 1: return compiled_law_1(p, c, hist, f, ti, tj);
-    case 2: return compiled_law_2(p, c, hist, f, ti, tj);
-    default: return griddem_contact_eval(p, c, hist, f, ti, tj);
-  }
+  return body >= COMPILED ? COMPILED_EVAL[body - COMPILED](p, c, hist, f, ti, tj)
+                          : griddem_contact_eval(p, c, hist, f, ti, tj);
 }
 
 /* What precedes the law of the pair of slots a (owned) and b, of particles ia and ib (of types

@@ -8,9 +8,8 @@
  * counted only after a deep copy. At exit it writes one line per region to the file
  * GRIDDEM_SYNC_LOG names: "synchronisations allocations" and, where it allocated, the first
  * allocation's bytes and label, so that a failing check names the View. It also writes each fill
- * of a griddem/kk View that has room (the initialization Kokkos gives an allocation unless told
- * not to), in the whole run, as a line "bytes label" of the file named GRIDDEM_SYNC_LOG with
- * ".fills" added. Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos header
+ * of a View that has room (the initialization Kokkos gives an allocation unless told not to), in
+ * the whole run, as a line "bytes label" of the file named GRIDDEM_SYNC_LOG with ".fills" added. Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos header
  * is needed. */
 #include <stdbool.h>
 #include <stdint.h>
@@ -31,7 +30,7 @@ static char (*firsts)[128];  /* one per finished region */
 static size_t ncounts, capacity;
 static char allocated_label[128];  /* the last allocation's label and bytes: a fill follows it */
 static uint64_t allocated_bytes;
-static char *fills;                /* "bytes label\n" per fill of a griddem/kk View with room */
+static char *fills;                /* "bytes label\n" per fill of a View with room */
 static size_t nfills;
 
 void kokkosp_init_library(const int seq, const uint64_t version, const uint32_t ndevices,
@@ -84,8 +83,7 @@ static void record_fill(const char *name)
   if (strncmp(name, prefix, sizeof prefix - 1) != 0) return;
   const char *label = name + sizeof prefix - 1, *end = strchr(label, ']');
   const size_t n = end ? (size_t) (end - label) : 0;
-  if (!n || strncmp(label, "griddem/kk:", 11) != 0 || strlen(allocated_label) != n ||
-      strncmp(label, allocated_label, n) != 0 || allocated_bytes == 0)
+  if (!n || strlen(allocated_label) != n || strncmp(label, allocated_label, n) != 0 || allocated_bytes == 0)
     return;
   char line[160];
   const int len = snprintf(line, sizeof line, "%llu %s\n", (unsigned long long) allocated_bytes, allocated_label);

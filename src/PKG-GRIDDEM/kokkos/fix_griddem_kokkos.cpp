@@ -13,8 +13,8 @@
 #include "memory_kokkos.h"
 
 #include <climits>
-#include <string>
 #include <cstring>
+#include <string>
 
 using namespace LAMMPS_NS;
 
@@ -38,8 +38,8 @@ FixGriddemKokkos<DeviceType>::FixGriddemKokkos(LAMMPS *lmp, int narg, char **arg
   datamask_read = datamask_modify = EMPTY_MASK;
 
   for (int p = 0; p < 2; p++) {
-    k_partner[p] = tdual_partners("griddem/kk:partner", 0);
-    k_value[p] = tdual_values("griddem/kk:value", 0);
+    k_partner[p] = pool_array<tdual_partners>("griddem/kk:partner", 0);
+    k_value[p] = pool_array<tdual_values>("griddem/kk:value", 0);
   }
   grow_arrays(atom->nmax);    // rows start empty (Views are zero-filled)
   update_maxexchange();
@@ -182,7 +182,7 @@ template <class DeviceType> void FixGriddemKokkos<DeviceType>::set_values(int va
   if (values == nv) return;
   sync_host();
   const int nlocal = atom->nlocal;
-  tdual_values converted("griddem/kk:value", k_partner[cur].extent(0) * values);
+  tdual_values converted = pool_array<tdual_values>("griddem/kk:value", k_partner[cur].extent(0) * values);
   for (int i = 0; i < nlocal; i++)
     for (int e = k_first[cur].h_view(i); e < k_first[cur].h_view(i) + k_count[cur].h_view(i); e++)
       for (int k = 0; k < values; k++)
