@@ -6,7 +6,8 @@
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
-                                  [--eps 0.1] [--v0 0.45] [--every 50]
+                                  [--eps 0.1] [--v0 0.45] [--every 50] [--drive match|box] [--guard yes|no]
+                                  [--overlap 0.1]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
             [--figure PNG]
 
@@ -203,6 +204,10 @@ class Hopper:
         return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every)
 
 
+# in.blade's own defaults of the reduced run's drive and guard
+BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
+
+
 class Blade:
     """examples/rom-blade: the blade's velocity is the control, the model's grid moves with it."""
     pair = "griddem/granular"
@@ -213,6 +218,8 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "blade")
         self.name = "rom-blade train %s test %s steps %d" % (a.train_traj, a.test_traj, a.steps)
+        chosen = dict(drive=a.drive, guard=a.guard, overlap=a.overlap)
+        self.name += "".join(" %s %s" % (k, v) for k, v in chosen.items() if v != BLADE_DEFAULTS[k])
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, variables, os.path.join(BLADE, "in.blade-scene"))
@@ -235,7 +242,8 @@ class Blade:
         return dict(zlow=zlow, push=push, steps=self.a.scan_steps if scan else self.a.steps)
 
     def rom(self):
-        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every)
+        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=self.a.drive, guard=self.a.guard,
+                    overlap=self.a.overlap)
 
 
 SCENES = dict(pile=Pile, hopper=Hopper, blade=Blade)
@@ -349,6 +357,14 @@ def main():
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
                     "push speed)")
     ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
+    ap.add_argument("--drive", choices=("match", "box"), default=BLADE_DEFAULTS["drive"],
+                    help="blade: fix griddem/rom keyword drive (box: every atom in the model's grid is driven, "
+                    "as the paper's blade)")
+    ap.add_argument("--guard", choices=("yes", "no"), default=BLADE_DEFAULTS["guard"],
+                    help="blade: keep the atoms near the blade resolved (in.blade's region guard)")
+    ap.add_argument("--overlap", type=float, default=BLADE_DEFAULTS["overlap"],
+                    help="blade: fix griddem/rom keyword overlap (the overlap that releases a kinematic atom, "
+                    "over the smaller radius)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="pile: initial pile height")

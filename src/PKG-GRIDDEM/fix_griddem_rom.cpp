@@ -41,7 +41,7 @@ constexpr double STORE_PAYBACK = 8.0;
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
-    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false), store_wanted(true), store_active(false),
+    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false), drive_box(false), store_wanted(true), store_active(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -83,6 +83,12 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     }
     else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "freeze") freeze = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+    else if (word == "drive") {
+      const std::string how = arg[iarg + 1];
+      if (how != "match" && how != "box")
+        error->all(FLERR, "Fix griddem/rom: keyword drive must be match or box, not {}", how);
+      drive_box = how == "box";
+    }
     else if (word == "store") store_wanted = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
     iarg += 2;
@@ -709,11 +715,22 @@ void FixGriddemRom::classify()
   for (int i = 0; i < nlocal; i++) {
     if (!use[i]) continue;
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
-    if (!griddem_rom_inside(&grid, x[i]) || (resolved && resolved->match(x[i][0], x[i][1], x[i][2]))) {
+    if (resolved && resolved->match(x[i][0], x[i][1], x[i][2])) {
       left += was;
       continue;
     }
+    if (!griddem_rom_inside(&grid, x[i])) {
+      // drive box: the field is zero outside the box, so an atom at rest there is kinematic (held
+      // at rest) and one that moves (one that left the box with the field's velocity) is dynamic
+      if (drive_box) next[i] = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
+      left += was && !next[i];
+      continue;
+    }
     griddem_rom_interpolate(&grid, field.data(), x[i], &u[3 * i]);
+    if (drive_box) {    // the model drives every atom in its box, whatever it did before
+      next[i] = 1;
+      continue;
+    }
     const double dx = v[i][0] - u[3 * i], dy = v[i][1] - u[3 * i + 1], dz = v[i][2] - u[3 * i + 2];
     // a kinematic atom follows the field only while it changes by at most eps v0 between
     // classifications: a larger jump (a control switched, a mass distribution the model
@@ -729,7 +746,9 @@ void FixGriddemRom::classify()
   std::vector<int> kinematic(nall);
   for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
   int hits = 0, overlaps = 0;
-  if (nall && griddem_rom_check_contacts(nlocal, nall, x[0], v[0], radius, kinematic.data(), u.data(), threshold,
+  // drive box: only the overlap bound releases an atom (a hit does not)
+  const double hit_threshold = drive_box ? INFINITY : threshold;
+  if (nall && griddem_rom_check_contacts(nlocal, nall, x[0], v[0], radius, kinematic.data(), u.data(), hit_threshold,
                                          overlap_max, next.data(), &hits, &overlaps, &check_grid, &check_bins) != 0)
     error->one(FLERR, "Fix griddem/rom: out of memory for the contact check of {} atoms", nall);
 

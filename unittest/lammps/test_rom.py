@@ -34,6 +34,10 @@
   missing or not equal-style are refused naming them; the
   density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
   numpy binning of the dumped atoms in the frame (its training data);
+- drive box (the paper's blade): every atom of the group in the model's box is kinematic whatever
+  its velocity and whatever hits it (against drive match, where the same atoms stay dynamic);
+  outside the box an atom at rest is held at rest and one that moves is dynamic, also one the
+  field carried out of the box (counted in f_rom[5]); a drive other than match or box is refused;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
   schedule file): every weight to 1e-3."""
 import math
@@ -887,11 +891,66 @@ run 10
              ("block 1.5", "rom_dynamic", "keyword block must be between 0 and 1"),
              ("reach -1", "rom_dynamic", "keyword reach must be >= 0"),
              ("reach 5", "rom_dynamic", "keyword reach 5 exceeds the ghost cutoff's bound"),
+             ("drive sideways", "rom_dynamic", "keyword drive must be match or box, not sideways"),
              ("", "all", "fix integrate (nve/sphere) integrates group all, which holds atoms of the fix's group")]
     for kw, grp, expected in cases:
         name = "in.kw_" + (kw or grp).replace(" ", "_")
         rc, out = t.run_lmp(base.format(m=model, kw=kw, grp=grp), WD, name=name)
         t.check(rc != 0 and expected in out, "%s / integrator on %s refused naming it (%r)" % (kw, grp, expected))
+
+
+def drive_box():
+    """Keyword drive box against drive match on one scene. Frame x 0..3 (3 voxels of 1) placed at
+    origin 1 (x 1..4); field vx = 1 in the last voxel (centre 3.5) and 0 elsewhere, so u = 0 for
+    x <= 2.5 and u = (1, 0, 0) beyond x = 3.5; eps v0 = 0.5; classifications at steps 5 and 10.
+    Atom 1 in the box at x 2 and vx 0.9 (0.9 from u); atom 2 at rest outside (x 5); atom 3 outside at vz
+    0.6; atom 4 at rest at x 3.9995, where u = 1; atom 5 at rest at x 2.5, hit at the first
+    classification by atom 6 (not in the fix's group) coming down at vz -1."""
+    frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
+    model = os.path.join(WD, "drive.model")
+    t.write_rom_model(model, (3, 1, 1), frame, version=2, frame="moving",
+                      vx_of_voxel=lambda m: 1.0 if m == 2 else 0.0)
+    base = resting_spheres((2.0, 3.0, 3.0), (5.0, 3.0, 3.0), (5.0, 1.5, 1.5), (3.9995, 1.5, 4.5),
+                           (2.5, 4.5, 3.0), (2.5, 4.5, 3.995)) + """
+set atom 1 vx 0.9
+set atom 3 vz 0.6
+set atom 6 vz -1.0
+group romable id 1:5
+""" + PAIR + """
+fix rom romable griddem/rom model {m} eps 0.5 v0 1 every 5 origin 1 0 0 drive {how}
+fix integrate rom_dynamic nve/sphere
+dump d all custom 5 drive_{how}.dump id x y z vx vy vz f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step f_rom[1] f_rom[3] f_rom[5]
+thermo 5
+run 10
+"""
+    snaps = {}
+    for how in ("match", "box"):
+        out = t.run_ok(base.format(m=model, how=how), WD, name="in.drive_" + how)
+        snaps[how] = t.read_dumps(os.path.join(WD, "drive_%s.dump" % how))
+    m5 = snaps["match"][1][1]
+    t.check([m5[k][6] for k in (1, 2, 4, 5)] == [0.0] * 4,
+            "drive match: the atom 0.9 off the field, the resting ones outside the box or where u = 1, "
+            "and the hit one stay dynamic")
+    b5, b10 = snaps["box"][1][1], snaps["box"][2][1]
+    dt = 0.001
+    t.check(b5[1][6] == b10[1][6] == 1.0 and b10[1][3:6] == [0.0] * 3 and b10[1][0] == b5[1][0] and
+            abs(b10[1][0] - (2.0 + 0.9 * 5 * dt)) <= 1e-13,
+            "drive box: the atom 0.9 off the field is kinematic and held where u = 0 (x %.17g)" % b10[1][0])
+    t.check(b5[2][6] == b10[2][6] == 1.0 and b10[2][0] == 5.0 and b10[2][3:6] == [0.0] * 3,
+            "drive box: the atom at rest outside the box is kinematic at rest")
+    t.check(b5[3][6] == b10[3][6] == 0.0 and abs(b10[3][2] - (1.5 + 0.6 * 10 * dt)) <= 1e-13,
+            "drive box: the atom moving outside the box is dynamic and flies on (z %.17g)" % b10[3][2])
+    x4 = 3.9995 + 5 * dt * b5[4][3]
+    t.check(b5[4][6] == 1.0 and abs(b5[4][3] - 1.0) <= 1e-15 and b10[4][6] == 0.0 and
+            abs(b10[4][0] - x4) <= 1e-13 and b10[4][3] == b5[4][3],
+            "drive box: the atom the field (vx %.17g) carries out of the box leaves it moving, dynamic "
+            "(x %.17g)" % (b5[4][3], b10[4][0]))
+    t.check(b5[5][6] == b10[5][6] == 1.0, "drive box: the atom hit at the classification stays kinematic")
+    hits, left = t.thermo_values(out, "f_rom[3]"), t.thermo_values(out, "f_rom[5]")
+    t.check(hits[-1] == 0 and left[-1] == 1, "drive box: no release by a hit, one by leaving the box (%s, %s)"
+            % (hits, left))
 
 
 def newcomer():
@@ -1081,6 +1140,7 @@ moving_frame(2)
 frame_binning()
 rejoin()
 keyword_checks()
+drive_box()
 model_step()
 boundary(1)
 boundary(2)
