@@ -1,14 +1,14 @@
 """The force on the blade (examples/rom-blade): force.TAG.txt holds, every 100 steps, the means over
 those steps of the force the run measures on the blade (Fx, Fz: minus the blade's contact forces
 on the spheres), of the force the reduced run's model predicts (Fx, Fz of fix griddem/rom's
-f_rom[14], f_rom[16]; 0 in a resolved run), and the blade's position.
+f_rom[14], f_rom[16]; 0 in a resolved run).
 Force accuracy = 1 - time-mean |F - F_resolved| / time-mean |F_resolved| (|.|: the norm of (Fx, Fz),
 means over all rows of the run)."""
 import numpy as np
 
 
 def read_force(tag):
-    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz, bx, bz."""
+    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz."""
     return np.loadtxt("force.%s.txt" % tag, comments="#")
 
 

@@ -321,9 +321,13 @@ void FixGriddemRom::setup(int)
   int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
     mask[i] = (mask[i] & kinematic_bit) ? (mask[i] & ~dynamic_bit) : (mask[i] | dynamic_bit);
+  const bool never_classified = next_model < 0;
   last_model = update->ntimestep;
   if (next_model <= update->ntimestep) next_model = update->ntimestep + model_step;
   comm->forward_comm(this);
+  // drive box drives every atom in the box whatever its motion: from the first step on (drive
+  // match first classifies after N steps)
+  if (drive_box && never_classified) classify();
   mark_near();
   store_active = store_active && cap > 0.0;    // without reach no atom lags
   plan_store();

@@ -34,8 +34,9 @@
   missing or not equal-style are refused naming them; the
   density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
   numpy binning of the dumped atoms in the frame (its training data);
-- drive box (the paper's blade): every atom of the group in the model's box is kinematic whatever
-  its velocity and whatever hits it (against drive match, where the same atoms stay dynamic);
+- drive box (the paper's blade): from the set-up on, every atom of the group in the model's box is
+  kinematic whatever its velocity and whatever hits it (against drive match, where the same atoms
+  stay dynamic);
   outside the box an atom at rest is held at rest and one that moves is dynamic, also one the
   field carried out of the box (counted in f_rom[5]); a drive other than match or box is refused;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
@@ -902,10 +903,11 @@ run 10
 def drive_box():
     """Keyword drive box against drive match on one scene. Frame x 0..3 (3 voxels of 1) placed at
     origin 1 (x 1..4); field vx = 1 in the last voxel (centre 3.5) and 0 elsewhere, so u = 0 for
-    x <= 2.5 and u = (1, 0, 0) beyond x = 3.5; eps v0 = 0.5; classifications at steps 5 and 10.
-    Atom 1 in the box at x 2 and vx 0.9 (0.9 from u); atom 2 at rest outside (x 5); atom 3 outside at vz
-    0.6; atom 4 at rest at x 3.9995, where u = 1; atom 5 at rest at x 2.5, hit at the first
-    classification by atom 6 (not in the fix's group) coming down at vz -1."""
+    x <= 2.5 and u = (1, 0, 0) beyond x = 3.5; eps v0 = 0.5; every 5. drive box classifies at the
+    set-up too (steps 0, 5, 10), drive match at steps 5 and 10. Atom 1 in the box at x 2 and vx
+    0.9 (0.9 from u); atom 2 at rest outside (x 5); atom 3 outside at vz 0.6; atom 4 at rest at x
+    3.9995, where u = 1; atom 5 at rest at x 2.5, touched by atom 6 (not in the fix's group)
+    coming down at vz -1."""
     frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
     model = os.path.join(WD, "drive.model")
     t.write_rom_model(model, (3, 1, 1), frame, version=2, frame="moving",
@@ -921,37 +923,39 @@ fix rom romable griddem/rom model {m} eps 0.5 v0 1 every 5 origin 1 0 0 drive {h
 fix integrate rom_dynamic nve/sphere
 dump d all custom 5 drive_{how}.dump id x y z vx vy vz f_rom
 dump_modify d format float %.17g sort id
-thermo_style custom step f_rom[1] f_rom[3] f_rom[5]
+thermo_style custom step f_rom[1] f_rom[3] f_rom[5] f_rom[7]
 thermo 5
 run 10
 """
-    snaps = {}
+    snaps, outs = {}, {}
     for how in ("match", "box"):
-        out = t.run_ok(base.format(m=model, how=how), WD, name="in.drive_" + how)
+        outs[how] = t.run_ok(base.format(m=model, how=how), WD, name="in.drive_" + how)
         snaps[how] = t.read_dumps(os.path.join(WD, "drive_%s.dump" % how))
-    m5 = snaps["match"][1][1]
-    t.check([m5[k][6] for k in (1, 2, 4, 5)] == [0.0] * 4,
-            "drive match: the atom 0.9 off the field, the resting ones outside the box or where u = 1, "
-            "and the hit one stay dynamic")
-    b5, b10 = snaps["box"][1][1], snaps["box"][2][1]
+    m0, m5 = snaps["match"][0][1], snaps["match"][1][1]
+    t.check(all(m0[k][6] == 0.0 for k in m0) and [m5[k][6] for k in (1, 2, 4, 5)] == [0.0] * 4,
+            "drive match: no atom kinematic before the first model step; then the atom 0.9 off the field, "
+            "the resting ones outside the box or where u = 1, and the hit one stay dynamic")
+    b0, b5, b10 = (snaps["box"][k][1] for k in range(3))
     dt = 0.001
-    t.check(b5[1][6] == b10[1][6] == 1.0 and b10[1][3:6] == [0.0] * 3 and b10[1][0] == b5[1][0] and
-            abs(b10[1][0] - (2.0 + 0.9 * 5 * dt)) <= 1e-13,
-            "drive box: the atom 0.9 off the field is kinematic and held where u = 0 (x %.17g)" % b10[1][0])
-    t.check(b5[2][6] == b10[2][6] == 1.0 and b10[2][0] == 5.0 and b10[2][3:6] == [0.0] * 3,
+    t.check(b0[1][6] == b5[1][6] == b10[1][6] == 1.0 and b10[1][3:6] == [0.0] * 3 and b10[1][0] == 2.0,
+            "drive box: the atom 0.9 off the field is kinematic from the set-up on and held where u = 0 "
+            "(x %.17g)" % b10[1][0])
+    t.check(b0[2][6] == b10[2][6] == 1.0 and b10[2][0] == 5.0 and b10[2][3:6] == [0.0] * 3,
             "drive box: the atom at rest outside the box is kinematic at rest")
-    t.check(b5[3][6] == b10[3][6] == 0.0 and abs(b10[3][2] - (1.5 + 0.6 * 10 * dt)) <= 1e-13,
+    t.check(b0[3][6] == b10[3][6] == 0.0 and abs(b10[3][2] - (1.5 + 0.6 * 10 * dt)) <= 1e-13,
             "drive box: the atom moving outside the box is dynamic and flies on (z %.17g)" % b10[3][2])
-    x4 = 3.9995 + 5 * dt * b5[4][3]
-    t.check(b5[4][6] == 1.0 and abs(b5[4][3] - 1.0) <= 1e-15 and b10[4][6] == 0.0 and
-            abs(b10[4][0] - x4) <= 1e-13 and b10[4][3] == b5[4][3],
+    x5 = 3.9995 + 5 * dt * b0[4][3]
+    t.check(b0[4][6] == 1.0 and abs(b0[4][3] - 1.0) <= 1e-15 and b5[4][6] == 0.0 and
+            abs(b5[4][0] - x5) <= 1e-13 and b5[4][3] == b0[4][3] and abs(b10[4][0] - (x5 + 5 * dt * b0[4][3])) <= 1e-13,
             "drive box: the atom the field (vx %.17g) carries out of the box leaves it moving, dynamic "
-            "(x %.17g)" % (b5[4][3], b10[4][0]))
-    t.check(b5[5][6] == b10[5][6] == 1.0, "drive box: the atom hit at the classification stays kinematic")
+            "(x %.17g at step 5)" % (b0[4][3], b5[4][0]))
+    t.check(b0[5][6] == b5[5][6] == b10[5][6] == 1.0, "drive box: the atom hit at the classifications stays kinematic")
+    out = outs["box"]
     hits, left = t.thermo_values(out, "f_rom[3]"), t.thermo_values(out, "f_rom[5]")
-    t.check(hits[-1] == 0 and left[-1] == 1, "drive box: no release by a hit, one by leaving the box (%s, %s)"
-            % (hits, left))
-
+    classified = t.thermo_values(out, "f_rom[7]")
+    t.check(hits[-1] == 0 and left[-1] == 1 and classified[-1] == 3,
+            "drive box: no release by a hit, one by leaving the box, three classifications (%s, %s, %s)"
+            % (hits, left, classified))
 
 def newcomer():
     """An atom inserted (fix deposit) overlapping a lagging kinematic atom by 0.1 feels it in its
