@@ -650,7 +650,8 @@ void FixGriddemRom::store_lagging()
     if (!(mask[i] & lagging_bit)) continue;
     if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
     stored_used += avec->pack_exchange(i, &stored[stored_used]);
-    avec->copy(atom->nlocal - 1, i, 1);
+    // the last atom fills the hole (the last one itself leaves none: most of a bed lags at once)
+    if (i != atom->nlocal - 1) avec->copy(atom->nlocal - 1, i, 1);
     atom->nlocal--;
     taken++;
   }

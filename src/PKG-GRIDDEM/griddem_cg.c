@@ -1,6 +1,8 @@
 /* GRIDDEM coarse-graining: assignment weights, the Gaussian kernel, direct convolution. */
 #include "griddem_cg.h"
 
+#include "griddem_touching_pairs.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -157,6 +159,13 @@ void griddem_cg_convolve_direct(const int m[3], const double *kernel, const doub
       }
 }
 
+static int count_pair(void *ctx, int i, int j)
+{
+  (void) j;
+  ((double *) ctx)[i] += 1.0;
+  return 0;
+}
+
 int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *radius, double *count,
                         griddem_grid *g, griddem_bins *b)
 {
@@ -164,19 +173,5 @@ int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *rad
   griddem_stencil stencil;
   const int binned = griddem_bin_for_contacts(g, b, &stencil, nall, x, radius);
   if (binned != 0) return binned < 0 ? -1 : 0;
-  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
-  for (int i = 0; i < nlocal; i++) {
-    const double *xi = x + 3 * (long) i;
-    const int nruns = griddem_stencil_runs(&stencil, g, b, b->cell[i], lo, hi);
-    for (int q = 0; q < nruns; q++)
-      for (int s = lo[q]; s < hi[q]; s++) {
-        const int j = b->order[s];
-        if (j == i) continue;
-        const double *xj = x + 3 * (long) j;
-        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-        const double touch = radius[i] + radius[j];
-        if (dx * dx + dy * dy + dz * dz < touch * touch) count[i] += 1.0;
-      }
-  }
-  return 0;
+  return griddem_touching_pairs(g, b, &stencil, x, radius, nlocal, NULL, count_pair, count);
 }

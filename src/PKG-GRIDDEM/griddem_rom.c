@@ -1,6 +1,8 @@
 /* GRIDDEM reduced-order model: voxel mass field, linear prediction, interpolation. */
 #include "griddem_rom.h"
 
+#include "griddem_touching_pairs.h"
+
 #include "griddem_cg.h"
 
 #include <math.h>
@@ -99,6 +101,38 @@ void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, con
     for (int d = 0; d < 3; d++) v[d] += weight[c] * field[3 * voxel[c] + d];
 }
 
+/* The classification's rules for one touching pair (i would be kinematic) */
+typedef struct contact_check {
+  const double *x, *v, *radius, *u;
+  const int *kinematic;
+  double threshold, overlap_max;
+  int *next, *hits, *overlaps;
+} contact_check;
+
+static int check_pair(void *ctx, int i, int j)
+{
+  contact_check *c = (contact_check *) ctx;
+  const double *xi = c->x + 3 * (long) i, *xj = c->x + 3 * (long) j;
+  const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+  const double r = sqrt(dx * dx + dy * dy + dz * dz);
+  const double ri = c->radius[i], rj = c->radius[j];
+  const double rmin = ri < rj ? ri : rj;
+  if ((ri + rj) - r > c->overlap_max * rmin) {
+    c->next[i] = 0;
+    *c->overlaps += c->kinematic[i];
+    return 1;
+  }
+  if (c->kinematic[j]) return 0;
+  const double *vi = c->kinematic[i] ? c->v + 3 * (long) i : c->u + 3 * (long) i, *vj = c->v + 3 * (long) j;
+  const double rx = vi[0] - vj[0], ry = vi[1] - vj[1], rz = vi[2] - vj[2];
+  if (sqrt(rx * rx + ry * ry + rz * rz) > c->threshold) {
+    c->next[i] = 0;
+    *c->hits += c->kinematic[i];
+    return 1;
+  }
+  return 0;
+}
+
 int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const double *v,
                                const double *radius, const int *kinematic, const double *u,
                                double threshold, double overlap_max, int *next, int *hits,
@@ -107,36 +141,8 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
   griddem_stencil stencil;
   const int binned = griddem_bin_for_contacts(g, b, &stencil, nall, x, radius);
   if (binned != 0) return binned < 0 ? -1 : 0;
-  int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
-  for (int i = 0; i < nlocal; i++) {
-    if (!next[i]) continue;
-    const double *xi = x + 3 * (long) i;
-    const double *vi = kinematic[i] ? v + 3 * (long) i : u + 3 * (long) i;
-    const int nruns = griddem_stencil_runs(&stencil, g, b, b->cell[i], lo, hi);
-    for (int q = 0; next[i] && q < nruns; q++)
-      for (int s = lo[q]; next[i] && s < hi[q]; s++) {
-        const int j = b->order[s];
-        if (j == i) continue;
-        const double *xj = x + 3 * (long) j;
-        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-        const double r = sqrt(dx * dx + dy * dy + dz * dz), touch = radius[i] + radius[j];
-        if (r >= touch) continue;
-        const double rmin = radius[i] < radius[j] ? radius[i] : radius[j];
-        if (touch - r > overlap_max * rmin) {
-          next[i] = 0;
-          *overlaps += kinematic[i];
-          continue;
-        }
-        if (kinematic[j]) continue;
-        const double *vj = v + 3 * (long) j;
-        const double rx = vi[0] - vj[0], ry = vi[1] - vj[1], rz = vi[2] - vj[2];
-        if (sqrt(rx * rx + ry * ry + rz * rz) > threshold) {
-          next[i] = 0;
-          *hits += kinematic[i];
-        }
-      }
-  }
-  return 0;
+  contact_check c = {x, v, radius, u, kinematic, threshold, overlap_max, next, hits, overlaps};
+  return griddem_touching_pairs(g, b, &stencil, x, radius, nlocal, next, check_pair, &c);
 }
 
 int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *radius,

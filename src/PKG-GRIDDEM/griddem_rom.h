@@ -55,9 +55,10 @@ void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, con
                              double v[3]);
 
 /* The contact checks of a classification, on a grid of the particles (edge: the longest contact
- * distance) instead of a neighbor list. Particles 0..nall-1 (owned first, then ghosts), kinematic
- * marks their states before the classification. For each owned i with next[i] = 1, every other
- * particle j touching it (distance below ri + rj): next[i] becomes 0 if their overlap exceeds
+ * distance) instead of a neighbor list (griddem_touching_pairs). Particles 0..nall-1 (owned first,
+ * then ghosts), kinematic marks their states before the classification. For each owned i with
+ * next[i] = 1, every other particle j touching it (squared distance below (ri + rj)^2), in the
+ * search's order, until one releases i: next[i] becomes 0 if their overlap exceeds
  * overlap_max min(ri, rj), or if j is not kinematic and its velocity differs from i's (v of i if
  * i is kinematic, else u[3 i..]) by more than threshold; the first such partner found is counted
  * in *overlaps or *hits when i was kinematic. g and b are the caller's scratch, kept between

@@ -2,9 +2,13 @@
  * each sphere of a cluster, exactly the slots of the documented test in run order, on random
  * polydisperse scenes with random clusters, runs and own runs, and on ties at the contact distance;
  * spheres clearly inside or outside the contact distance are found or not whatever the rounding;
- * lanes past the cluster are never written; the widest kernel the processor runs is chosen. */
+ * lanes past the cluster are never written; the widest kernel the processor runs is chosen.
+ * griddem_touching_pairs with each kernel: the touching pairs of random polydisperse spheres binned
+ * for their contacts, each query's in the documented order, against the pairs written out; a visit
+ * that returns nonzero ends its sphere's pairs; spheres that are not queries get none. */
 #include "check.h"
 #include "griddem_search.h"
+#include "griddem_touching_pairs.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -168,6 +172,68 @@ static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int w
   }
 }
 
+/* griddem_touching_pairs: the visits, in order */
+#define NPAIRS_MAX 200000
+typedef struct pair_log {
+  int n, i[NPAIRS_MAX], j[NPAIRS_MAX];
+} pair_log;
+
+static pair_log got_pairs, want_pairs;
+
+static int log_pair(void *ctx, int i, int j)
+{
+  pair_log *log = (pair_log *) ctx;
+  if (log->n < NPAIRS_MAX) log->i[log->n] = i, log->j[log->n] = j;
+  log->n++;
+  return i % 3 == 0;    /* every third sphere's pairs end at its first */
+}
+
+static void touching_pairs(const char *name)
+{
+  static double x[3 * NSPHERE], radius[NSPHERE];
+  static int query[NSPHERE];
+  griddem_grid g = {0};
+  griddem_bins b = {0};
+  griddem_stencil stencil;
+  long pairs = 0;
+  for (int scene = 0; scene < 20; scene++) {
+    const int n = NSPHERE / 2 + (int) (check_uniform() * NSPHERE / 2), nquery = n - n / 4;
+    const double box = 4.0 + 4.0 * check_uniform();
+    for (int t = 0; t < n; t++) {
+      x[3 * t] = -3.0 + box * check_uniform(), x[3 * t + 1] = box * check_uniform(), x[3 * t + 2] = box * check_uniform();
+      radius[t] = 0.02 + (scene % 2 ? 0.4 : 0.1) * check_uniform();
+      query[t] = check_uniform() < 0.8;
+    }
+    CHECK(griddem_bin_for_contacts(&g, &b, &stencil, n, x, radius) == 0, "scene %d binned", scene);
+    got_pairs.n = 0;
+    CHECK(griddem_touching_pairs(&g, &b, &stencil, x, radius, nquery, query, log_pair, &got_pairs) == 0,
+          "kernel %s: scene %d searched", name, scene);
+    /* written out: the queries in slot order, each one's partners along the stencil's runs */
+    want_pairs.n = 0;
+    int lo[GRIDDEM_STENCIL_MAX_ROWS], hi[GRIDDEM_STENCIL_MAX_ROWS];
+    for (int t = 0; t < n; t++) {
+      const int i = b.order[t];
+      if (i >= nquery || !query[i]) continue;
+      const int nruns = griddem_stencil_runs(&stencil, &g, &b, b.cell[i], lo, hi);
+      int stop = 0;
+      for (int q = 0; q < nruns && !stop; q++)
+        for (int u = lo[q]; u < hi[q] && !stop; u++) {
+          const int j = b.order[u];
+          const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+          const double s = radius[i] + radius[j];
+          if (j != i && (dx * dx + dy * dy) + dz * dz < s * s) stop = log_pair(&want_pairs, i, j);
+        }
+    }
+    int same = got_pairs.n == want_pairs.n && want_pairs.n <= NPAIRS_MAX;
+    for (int k = 0; same && k < want_pairs.n; k++)
+      same = got_pairs.i[k] == want_pairs.i[k] && got_pairs.j[k] == want_pairs.j[k];
+    CHECK(same, "kernel %s: scene %d: %d visits, %d written out", name, scene, got_pairs.n, want_pairs.n);
+    pairs += want_pairs.n;
+  }
+  CHECK(pairs > 10000, "kernel %s: %ld pairs visited (the scenes touch)", name, pairs);
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
   /* the widest kernel the processor runs is the one the sweep uses */
@@ -188,6 +254,8 @@ int main(void)
     ties(KERNELS[k], fn, width);
     near_ties(KERNELS[k], fn, width);
     run_ends_and_margins(KERNELS[k], fn, width);
+    CHECK(griddem_touching_use(KERNELS[k]) == 0, "kernel %s not chosen", KERNELS[k]);
+    touching_pairs(KERNELS[k]);
     CHECK(griddem_touching_use(KERNELS[k]) == 0 && griddem_touching() == fn && griddem_touching_width() == width &&
               strcmp(griddem_touching_name(), KERNELS[k]) == 0, "kernel %s not made the sweep's", KERNELS[k]);
     printf("kernel %s (width %d): %d failed\n", KERNELS[k], width, check_failed - failed);
