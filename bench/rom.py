@@ -6,8 +6,8 @@
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
-                                  [--eps 0.1] [--v0 0.45] [--every 50] [--drive match|box] [--guard yes|no]
-                                  [--overlap 0.1]
+                                  [--eps 0.1] [--v0 0.45] [--every 50] [--drive box|match] [--guard no|yes]
+                                  [--overlap 1.0]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
             [--figure PNG]
 
@@ -34,8 +34,9 @@ Scene pile (examples/rom-pile): the outlet width is the control; --steps is the 
 run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
 (in.build); the control is the feed rate, a history of --seg-step segments. Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
-speed P and raised (trajectory Z:P), its velocity the controls; adds the blade-force accuracies
-(examples/rom-blade/blade_force.py)."""
+speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
+blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
+kept resolved near the blade); adds the blade-force accuracies (examples/rom-blade/blade_force.py)."""
 import argparse
 import contextlib
 import datetime
@@ -204,7 +205,8 @@ class Hopper:
         return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every)
 
 
-# in.blade's own defaults of the reduced run's drive and guard
+# in.blade's own defaults of the reduced run's drive, guard and overlap (a record's scene names
+# those chosen otherwise)
 BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
 
 
@@ -292,7 +294,7 @@ def study(scene, a):
     times = {stock: [loop_seconds(scene.wd, t) for t in stock_tags], scene.pair: [loop_seconds(scene.wd, ref)]}
     reduced = [loop_seconds(scene.wd, t) for t in rom_tags]
     style, seconds = pick_baseline(times)
-    record = dict(build=a.build, baseline=dict(pair_style=style, loop_s=seconds),
+    record = dict(build=a.build, reduced_settings=scene.rom(), baseline=dict(pair_style=style, loop_s=seconds),
                   speedup=seconds / statistics.median(reduced),
                   loop_s={stock: times[stock], scene.pair: times[scene.pair], "reduced": reduced,
                           "do_nothing": loop_seconds(scene.wd, nothing)},
@@ -357,14 +359,16 @@ def main():
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
                     "push speed)")
     ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
-    ap.add_argument("--drive", choices=("match", "box"), default=BLADE_DEFAULTS["drive"],
-                    help="blade: fix griddem/rom keyword drive (box: every atom in the model's grid is driven, "
-                    "as the paper's blade)")
-    ap.add_argument("--guard", choices=("yes", "no"), default=BLADE_DEFAULTS["guard"],
-                    help="blade: keep the atoms near the blade resolved (in.blade's region guard)")
-    ap.add_argument("--overlap", type=float, default=BLADE_DEFAULTS["overlap"],
-                    help="blade: fix griddem/rom keyword overlap (the overlap that releases a kinematic atom, "
-                    "over the smaller radius)")
+    ap.add_argument("--drive", choices=("match", "box"), default="box",
+                    help="blade: fix griddem/rom keyword drive (default box: every atom in the model's grid is "
+                    "driven, as the paper's blade; match: those the field matches)")
+    ap.add_argument("--guard", choices=("yes", "no"), default="no",
+                    help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
+                    "the paper's blade)")
+    ap.add_argument("--overlap", type=float, default=1.0,
+                    help="blade: fix griddem/rom keyword overlap, the overlap with another atom that releases a "
+                    "kinematic one, over the smaller radius (default 1.0: the field drives the heap ahead of the "
+                    "blade into itself; 0.1 releases some fifty atoms at each classification)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="pile: initial pile height")
