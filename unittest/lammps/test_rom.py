@@ -36,7 +36,7 @@
   numpy binning of the dumped atoms in the frame (its training data);
 - drive box (the paper's blade): from the set-up on, every atom of the group in the model's box is
   kinematic whatever its velocity and whatever hits it (against drive match, where the same atoms
-  stay dynamic);
+  stay dynamic), on 1 and 2 processes alike;
   outside the box an atom at rest is held at rest and one that moves is dynamic, also one the
   field carried out of the box (counted in f_rom[5]); a drive other than match or box is refused;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
@@ -956,6 +956,11 @@ run 10
     t.check(hits[-1] == 0 and left[-1] == 1 and classified[-1] == 3,
             "drive box: no release by a hit, one by leaving the box, three classifications (%s, %s, %s)"
             % (hits, left, classified))
+    # two processes (x split at 3: atoms 1, 5, 6 on one, 2, 3, 4 on the other): the same dumps
+    t.run_ok(base.format(m=model, how="box").replace("region box", "processors 2 1 1\nregion box").replace(
+        "drive_box.dump", "drive_box2.dump"), WD, nprocs=2, name="in.drive_box2")
+    two = t.read_dumps(os.path.join(WD, "drive_box2.dump"))
+    t.check(two == snaps["box"], "drive box: two processes give the one process's dumps, digit for digit")
 
 def newcomer():
     """An atom inserted (fix deposit) overlapping a lagging kinematic atom by 0.1 feels it in its
