@@ -727,13 +727,13 @@ void FixGriddemRom::classify()
     if (!griddem_rom_inside(&grid, x[i])) {
       // drive box: the field is zero outside the box, so an atom at rest there is kinematic (held
       // at rest) and one that moves (one that left the box with the field's velocity) is dynamic
-      if (drive_box) next[i] = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
+      if (drive_box) next[i] = eps > 0.0 && sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
       left += was && !next[i];
       continue;
     }
     griddem_rom_interpolate(&grid, field.data(), x[i], &u[3 * i]);
-    if (drive_box) {    // the model drives every atom in its box, whatever it did before
-      next[i] = 1;
+    if (drive_box) {    // the model drives every atom in its box, whatever it did before (eps 0: none)
+      next[i] = eps > 0.0;
       continue;
     }
     const double dx = v[i][0] - u[3 * i], dy = v[i][1] - u[3 * i + 1], dz = v[i][2] - u[3 * i + 2];

@@ -6,7 +6,8 @@
   there, bytes other than printable ASCII as \\xNN;
 - the counters f_rom[2], [3], [4], [7] (made kinematic, released by hits, by overlaps,
   classifications) on a scene counted by hand over two runs;
-- eps = 0: no atom becomes kinematic and the run is the plain run, digit for digit;
+- eps = 0: no atom becomes kinematic and the run is the plain run, digit for digit (drive match and
+  drive box);
 - a uniform predicted field U (weights: bias only): a resting atom (|v - U| = |U| <= eps v0)
   becomes kinematic, its velocity is U exactly and it moves by U dt per step although gravity
   acts; an atom whose speed relative to U exceeds eps v0 stays dynamic and falls freely;
@@ -244,6 +245,13 @@ run 400
     t.check(moved, "the eps 0 scene has collisions (velocities change)")
     t.check(same, "eps 0: positions, velocities, spins, forces equal the plain run exactly")
     t.check(all(v[8] == 0.0 for snap in rom for v in snap[1].values()), "eps 0: no atom kinematic")
+    # drive box too: eps 0 switches the reduction off
+    t.run_ok(base.format(dyn="rom_dynamic", rom="fix rom all griddem/rom model %s eps 0 v0 1 every 1 drive box" % model,
+                         dump="rom0box.dump", extra="f_rom"), WD, name="in.rom0box")
+    box = t.read_dumps(os.path.join(WD, "rom0box.dump"))
+    t.check(len(box) == 3 and all(all(r[1][tag][:8] == p[1][tag] for tag in p[1]) for p, r in zip(plain, box)) and
+            all(v[8] == 0.0 for snap in box for v in snap[1].values()),
+            "eps 0 with drive box: no atom kinematic, the plain run exactly")
 
 
 def uniform_field():
