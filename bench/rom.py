@@ -6,7 +6,7 @@
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
-                                  [--eps 0.1] [--v0 0.45] [--every 50] [--drive box|match] [--guard no|yes]
+                                  [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match] [--guard no|yes]
                                   [--overlap 1.0]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
             [--figure PNG]
@@ -377,7 +377,7 @@ def main():
     ap.add_argument("--train", default="3,4,5,6", help="pile: outlet widths of the training runs")
     ap.add_argument("--test", type=float, default=4.5, help="pile: outlet width of the test")
     ap.add_argument("--eps", type=float, help="default pile 0.1, hopper 0.3, blade 0.1")
-    ap.add_argument("--every", type=int, help="default pile 10, hopper and blade 50")
+    ap.add_argument("--every", type=int, help="default pile 10, hopper 50, blade 500 (the CFL rule shortens it)")
     ap.add_argument("--block", type=float, default=0.0, help="pile: fix griddem/rom keyword block (0: atom by atom)")
     ap.add_argument("--walls", default="rom_dynamic", help="pile: group of the walls in the reduced run (all: the "
                     "force rule watches kinematic atoms at walls)")
@@ -387,7 +387,7 @@ def main():
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0), hopper=dict(steps=0, eps=0.3, every=50, v0=0.36),
-                    blade=dict(steps=10000, eps=0.1, every=50, v0=0.45))[a.scene]
+                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)
