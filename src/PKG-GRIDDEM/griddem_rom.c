@@ -1,9 +1,8 @@
 /* GRIDDEM reduced-order model: voxel mass field, linear prediction, interpolation. */
 #include "griddem_rom.h"
 
-#include "griddem_touching_pairs.h"
-
 #include "griddem_cg.h"
+#include "griddem_touching_pairs.h"
 
 #include <math.h>
 #include <stddef.h>
