@@ -351,8 +351,11 @@ int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlo
   h->entries = griddem_history_counts(p->count, p->nrows, &h->max_count);
   /* the sweep reads rows in slot order, which moved rows leave and a fresh layout restores: once
      as much room has moved as there are contacts (a layout copies them), or holes (rows moved or
-     of atoms gone, room beyond the margin) fill half the pool */
-  if ((h->moved > h->entries || p->used > 2 * (h->entries + (long) GRIDDEM_HISTORY_MARGIN * nslot) + 1024) &&
+     of atoms gone, room beyond the margin) fill half the pool, or rows outnumber twice the slots
+     (rows of atoms gone, which each step's pass over the rows would walk: fix griddem/rom's store
+     takes most of a bed out at once) */
+  if ((h->moved > h->entries || p->used > 2 * (h->entries + (long) GRIDDEM_HISTORY_MARGIN * nslot) + 1024 ||
+       p->nrows > 2L * nslot + 1024) &&
       lay_out(h, nslot, order, nlocal, row_of) != 0)
     return -1;
   h->one_sided = 1;
