@@ -37,9 +37,9 @@
   numpy binning of the dumped atoms in the frame (its training data);
 - drive box (the paper's blade): from the set-up on, every atom of the group in the model's box is
   kinematic whatever its velocity and whatever hits it (against drive match, where the same atoms
-  stay dynamic), on 1 and 2 processes alike;
-  outside the box an atom at rest is held at rest and one that moves is dynamic, also one the
-  field carried out of the box (counted in f_rom[5]); a drive other than match or box is refused;
+  stay dynamic); outside the box an atom at rest is held at rest and one that moves is dynamic,
+  also one the field carried out of the box (counted in f_rom[5]); 2 processes give 1 process's
+  dumps; a drive other than match or box is refused;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
   schedule file): every weight to 1e-3."""
 import math
@@ -969,6 +969,7 @@ run 10
         "drive_box.dump", "drive_box2.dump"), WD, nprocs=2, name="in.drive_box2")
     two = t.read_dumps(os.path.join(WD, "drive_box2.dump"))
     t.check(two == snaps["box"], "drive box: two processes give the one process's dumps, digit for digit")
+
 
 def newcomer():
     """An atom inserted (fix deposit) overlapping a lagging kinematic atom by 0.1 feels it in its
