@@ -5,8 +5,8 @@ on LAMMPS's chute (bench/in.chute, 32,000 atoms) or the 1:4 bidisperse squeeze o
 bench/squeeze.py; or stock granular and griddem/granular on the chute with a composed law of
 pair granular (--scene chute-granular, --law: the law of examples/rom-blade and rom-hopper,
 "rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not
-depend on what else runs on the machine, so two builds compare where wall times drift. Only the timestep loop is counted (Verlet::run, not the
-setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
+depend on what else runs on the machine, so two builds compare where wall times drift. Only the
+timestep loop is counted (Verlet::run, not the setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
 its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
 over the pairs in contact a step (mean over the counted steps), counted in a second, plain run by
 LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to

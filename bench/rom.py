@@ -220,8 +220,7 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "blade")
         self.name = "rom-blade train %s test %s steps %d" % (a.train_traj, a.test_traj, a.steps)
-        chosen = dict(drive=a.drive, guard=a.guard, overlap=a.overlap)
-        self.name += "".join(" %s %s" % (k, v) for k, v in chosen.items() if v != BLADE_DEFAULTS[k])
+        self.name += "".join(" %s %s" % (k, v) for k, v in self.rom().items() if BLADE_DEFAULTS.get(k, v) != v)
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, variables, os.path.join(BLADE, "in.blade-scene"))

@@ -41,7 +41,8 @@ constexpr double STORE_PAYBACK = 8.0;
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
-    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0), block_fraction(0.0), freeze(false), drive_box(false), store_wanted(true), store_active(false),
+    v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0),
+    block_fraction(0.0), freeze(false), drive_box(false), store_wanted(true), store_active(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -727,7 +728,8 @@ void FixGriddemRom::classify()
     if (!griddem_rom_inside(&grid, x[i])) {
       // drive box: the field is zero outside the box, so an atom at rest there is kinematic (held
       // at rest) and one that moves (one that left the box with the field's velocity) is dynamic
-      if (drive_box) next[i] = eps > 0.0 && sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
+      if (drive_box)
+        next[i] = eps > 0.0 && sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
       left += was && !next[i];
       continue;
     }

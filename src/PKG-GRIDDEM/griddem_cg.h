@@ -63,8 +63,8 @@ void griddem_cg_convolve_direct(const int m[3], const double *kernel, const doub
 
 /* The coordination channel: for each of the first nlocal of nall points (owned first, then
  * ghosts), count[i] = the other points touching it (squared centre distance below the squared sum
- * of radii), found through the full stencil of a grid of all nall points (griddem_touching_pairs). g and b are the caller's scratch,
- * kept between calls (griddem_bins_free b at the end). 0, or -1 without memory. */
+ * of radii), found through the full stencil of a grid of all nall points (griddem_touching_pairs).
+ * g and b are the caller's scratch, kept between calls (griddem_bins_free b at the end). 0, or -1 without memory. */
 int griddem_cg_contacts(int nlocal, int nall, const double *x, const double *radius, double *count,
                         griddem_grid *g, griddem_bins *b);
 

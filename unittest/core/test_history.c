@@ -264,7 +264,8 @@ int main(void)
   for (int i = 0; i < NGONE; i++) rows4[i] = griddem_history_add_row(&gone, 0, NULL, 3);
   for (int s = 0; s < NLEFT; s++) order4[s] = s;
   CHECK(griddem_history_begin(&gone, 1) == 0, "begin over %d rows without contacts", NGONE);
-  CHECK(griddem_history_end(&gone, NLEFT, order4, NLEFT, rows4) == 0 && gone.cur.nrows == NLEFT && rows4[NLEFT - 1] == NLEFT - 1,
+  CHECK(griddem_history_end(&gone, NLEFT, order4, NLEFT, rows4) == 0 && gone.cur.nrows == NLEFT &&
+            rows4[NLEFT - 1] == NLEFT - 1,
         "rows of particles gone laid out afresh: %d rows for %d slots", gone.cur.nrows, NLEFT);
   griddem_history_free(&gone);
   CHECK(griddem_history_memory(&h) > 0.0, "memory reported");

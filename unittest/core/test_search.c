@@ -200,7 +200,9 @@ static void touching_pairs(const char *name)
     const int n = NSPHERE / 2 + (int) (check_uniform() * NSPHERE / 2), nquery = n - n / 4;
     const double box = 4.0 + 4.0 * check_uniform();
     for (int t = 0; t < n; t++) {
-      x[3 * t] = -3.0 + box * check_uniform(), x[3 * t + 1] = box * check_uniform(), x[3 * t + 2] = box * check_uniform();
+      x[3 * t] = -3.0 + box * check_uniform();
+      x[3 * t + 1] = box * check_uniform();
+      x[3 * t + 2] = box * check_uniform();
       radius[t] = 0.02 + (scene % 2 ? 0.4 : 0.1) * check_uniform();
       query[t] = check_uniform() < 0.8;
     }

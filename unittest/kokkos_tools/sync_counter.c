@@ -9,8 +9,8 @@
  * GRIDDEM_SYNC_LOG names: "synchronisations allocations" and, where it allocated, the first
  * allocation's bytes and label, so that a failing check names the View. It also writes each fill
  * of a View that has room (the initialization Kokkos gives an allocation unless told not to), in
- * the whole run, as a line "bytes label" of the file named GRIDDEM_SYNC_LOG with ".fills" added. Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos header
- * is needed. */
+ * the whole run, as a line "bytes label" of the file named GRIDDEM_SYNC_LOG with ".fills" added.
+ * Plain C: the Kokkos Tools interface is a set of C symbols, so no Kokkos header is needed. */
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
