@@ -5,8 +5,9 @@
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
+                                  [--drive dense|match|box] [--dense 0.5] [--overlap 1.0]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
-                                  [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match] [--guard no|yes]
+                                  [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
                                   [--overlap 1.0]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
             [--figure PNG]
@@ -32,7 +33,9 @@ The errors over time (bench/romfigure.py) go to the example's reference/errors.p
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
 run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
-(in.build); the control is the feed rate, a history of --seg-step segments. Scene blade
+(in.build); the control is the feed rate, a history of --seg-step segments; the reduced run
+drives the material where it is dense (--drive dense, density 0.5, overlap 1.0), DEM resolves the
+gas-like rest (the feed stream, the jet under the outlet). Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
@@ -177,6 +180,7 @@ class Hopper:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "hopper")
         self.name = "rom-hopper seg %d train %s test %s" % (a.seg, a.train_feed, a.test_feed)
+        self.name += "".join(" %s %s" % (k, v) for k, v in self.rom().items() if HOPPER_DEFAULTS.get(k, v) != v)
 
     def run(self, tag, variables, inp="in.feed"):
         lmp_run(self.lmp, self.wd, os.path.join(HOPPER, inp), tag, variables, os.path.join(HOPPER, "in.hopper-scene"))
@@ -202,12 +206,19 @@ class Hopper:
         return dict(rate=rates[:1], seg=self.a.scan_steps) if scan else dict(rate=rates, seg=self.a.seg)
 
     def rom(self):
-        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every)
+        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=drive_setting(self.a),
+                    overlap=self.a.overlap)
 
 
-# in.blade's own defaults of the reduced run's drive, guard and overlap (a record's scene names
+# in.blade's and in.feed's own defaults of the reduced run's settings (a record's scene names
 # those chosen otherwise)
 BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
+HOPPER_DEFAULTS = dict(drive="match", overlap=0.1)
+
+
+def drive_setting(a):
+    """fix griddem/rom's drive keyword's values from --drive and --dense"""
+    return "dense %g" % a.dense if a.drive == "dense" else a.drive
 
 
 class Blade:
@@ -243,8 +254,8 @@ class Blade:
         return dict(zlow=zlow, push=push, steps=self.a.scan_steps if scan else self.a.steps)
 
     def rom(self):
-        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=self.a.drive, guard=self.a.guard,
-                    overlap=self.a.overlap)
+        return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=drive_setting(self.a),
+                    guard=self.a.guard, overlap=self.a.overlap)
 
 
 SCENES = dict(pile=Pile, hopper=Hopper, blade=Blade)
@@ -358,14 +369,18 @@ def main():
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
                     "push speed)")
     ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
-    ap.add_argument("--drive", choices=("match", "box"), default="box",
-                    help="blade: fix griddem/rom keyword drive (default box: every atom in the model's grid is "
-                    "driven, as the paper's blade; match: those the field matches)")
+    ap.add_argument("--drive", choices=("match", "box", "dense"),
+                    help="hopper, blade: fix griddem/rom keyword drive (default hopper dense: the atoms where the "
+                    "material is dense are driven, DEM resolves the gas-like rest; blade box: every atom in the "
+                    "model's grid is driven, as the paper's blade; match: those the field matches)")
+    ap.add_argument("--dense", type=float, default=0.5,
+                    help="with --drive dense: the density from which the model drives an atom (default 0.5; the "
+                    "hopper's heaps are about 0.6)")
     ap.add_argument("--guard", choices=("yes", "no"), default="no",
                     help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
                     "the paper's blade)")
     ap.add_argument("--overlap", type=float, default=1.0,
-                    help="blade: fix griddem/rom keyword overlap, the overlap with another atom that releases a "
+                    help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that releases a "
                     "kinematic one, over the smaller radius (default 1.0: the field drives the heap ahead of the "
                     "blade into itself; 0.1 releases some fifty atoms at each classification)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
@@ -385,8 +400,9 @@ def main():
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
-    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0), hopper=dict(steps=0, eps=0.3, every=50, v0=0.36),
-                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45))[a.scene]
+    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="dense"),
+                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)

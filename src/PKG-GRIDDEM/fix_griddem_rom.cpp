@@ -42,7 +42,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
     v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0),
-    block_fraction(0.0), freeze(false), drive_box(false), store_wanted(true), store_active(false),
+    block_fraction(0.0), freeze(false), drive(DRIVE_MATCH), dense_min(0.0), store_wanted(true), store_active(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -86,9 +86,15 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     else if (word == "freeze") freeze = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else if (word == "drive") {
       const std::string how = arg[iarg + 1];
-      if (how != "match" && how != "box")
-        error->all(FLERR, "Fix griddem/rom: keyword drive must be match or box, not {}", how);
-      drive_box = how == "box";
+      if (how == "match") drive = DRIVE_MATCH;
+      else if (how == "box") drive = DRIVE_BOX;
+      else if (how == "dense") {
+        if (iarg + 2 >= narg) utils::missing_cmd_args(FLERR, "fix griddem/rom drive dense", error);
+        drive = DRIVE_DENSE;
+        dense_min = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+        if (dense_min <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword drive dense needs a density > 0, not {}", arg[iarg + 2]);
+        iarg++;
+      } else error->all(FLERR, "Fix griddem/rom: keyword drive must be match, box or dense, not {}", how);
     }
     else if (word == "store") store_wanted = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else error->all(FLERR, "Fix griddem/rom: unknown keyword {}", word);
@@ -328,7 +334,7 @@ void FixGriddemRom::setup(int)
   comm->forward_comm(this);
   // drive box drives every atom in the box whatever its motion: from the first step on (drive
   // match first classifies after N steps)
-  if (drive_box && never_classified) classify();
+  if (drive != DRIVE_MATCH && never_classified) classify();
   mark_near();
   store_active = store_active && cap > 0.0;    // without reach no atom lags
   plan_store();
@@ -728,13 +734,17 @@ void FixGriddemRom::classify()
     if (!griddem_rom_inside(&grid, x[i])) {
       // drive box: the field is zero outside the box, so an atom at rest there is kinematic (held
       // at rest) and one that moves (one that left the box with the field's velocity) is dynamic
-      if (drive_box)
+      if (drive == DRIVE_BOX)
         next[i] = eps > 0.0 && sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) <= threshold;
       left += was && !next[i];
       continue;
     }
-    griddem_rom_interpolate(&grid, field.data(), x[i], &u[3 * i]);
-    if (drive_box) {    // the model drives every atom in its box, whatever it did before (eps 0: none)
+    griddem_rom_interpolate(&grid, field.data(), 3, x[i], &u[3 * i]);
+    // the model drives every atom in its box (drive box), or where the material is dense (drive
+    // dense), whatever it did before (eps 0: none)
+    double rho = 0.0;
+    if (drive == DRIVE_DENSE) griddem_rom_interpolate(&grid, density.data(), 1, x[i], &rho);
+    if (drive == DRIVE_BOX || (drive == DRIVE_DENSE && rho >= dense_min)) {
       next[i] = eps > 0.0;
       continue;
     }
@@ -753,8 +763,8 @@ void FixGriddemRom::classify()
   std::vector<int> kinematic(nall);
   for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
   int hits = 0, overlaps = 0;
-  // drive box: only the overlap bound releases an atom (a hit does not)
-  const double hit_threshold = drive_box ? INFINITY : threshold;
+  // drive box or dense: only the overlap bound releases an atom (a hit does not)
+  const double hit_threshold = drive == DRIVE_MATCH ? threshold : INFINITY;
   if (nall && griddem_rom_check_contacts(nlocal, nall, x[0], v[0], radius, kinematic.data(), u.data(), hit_threshold,
                                          overlap_max, next.data(), &hits, &overlaps, &check_grid, &check_bins) != 0)
     error->one(FLERR, "Fix griddem/rom: out of memory for the contact check of {} atoms", nall);

@@ -76,7 +76,9 @@ class FixGriddemRom : public Fix {
   double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
   double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
   bool freeze;              // keyword freeze: kinematic atoms get velocity 0, not the field
-  bool drive_box;           // keyword drive box: every atom of the group in the model's box is kinematic
+  enum Drive { DRIVE_MATCH, DRIVE_BOX, DRIVE_DENSE };
+  Drive drive;              // keyword drive: which atoms the model drives (doc/fix_griddem_rom.md)
+  double dense_min;         // drive dense: the density from which the model drives an atom
   bool store_wanted;        // keyword store: lagging atoms leave LAMMPS's arrays between reach tests
   bool store_active;        // this run stores them (init, setup)
   std::vector<class Compute *> cg_computes;    // computes griddem/cg, whose steps need every atom

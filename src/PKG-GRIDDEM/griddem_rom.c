@@ -89,15 +89,15 @@ void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feat
   }
 }
 
-void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, const double x[3],
-                             double v[3])
+void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, int ncomp, const double x[3],
+                             double *out)
 {
   int voxel[8];
   double weight[8];
   griddem_rom_weights(g, x, voxel, weight);
-  v[0] = v[1] = v[2] = 0.0;
+  for (int d = 0; d < ncomp; d++) out[d] = 0.0;
   for (int c = 0; c < 8; c++)
-    for (int d = 0; d < 3; d++) v[d] += weight[c] * field[3 * voxel[c] + d];
+    for (int d = 0; d < ncomp; d++) out[d] += weight[c] * field[(long) ncomp * voxel[c] + d];
 }
 
 /* The classification's rules for one touching pair (i would be kinematic) */

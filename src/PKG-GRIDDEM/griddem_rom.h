@@ -50,9 +50,10 @@ void griddem_rom_deposit(const griddem_rom_grid *g, int n, const double *x, int 
 /* out[r] = sum_c w[r * ncol + c] * feature[c] for r < nrow. */
 void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feature, double *out);
 
-/* The velocity (3 components; field[3 m + d]) interpolated at x with griddem_rom_weights. */
-void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, const double x[3],
-                             double v[3]);
+/* A voxel field of ncomp components (field[ncomp m + d]: the velocity 3, the density 1)
+ * interpolated at x with griddem_rom_weights into out[ncomp]. */
+void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, int ncomp, const double x[3],
+                             double *out);
 
 /* The contact checks of a classification, on a grid of the particles (edge: the longest contact
  * distance) instead of a neighbor list (griddem_touching_pairs). Particles 0..nall-1 (owned first,

@@ -52,14 +52,19 @@ static void check_interpolation(void)
     /* between the first and last voxel centres along x and z: no clamping */
     const double p[3] = {-0.5 + check_uniform() * 3.0, check_uniform() * 1.5, 2.5 + check_uniform() * 4.0};
     double v[3];
-    griddem_rom_interpolate(&G, field, p, v);
+    griddem_rom_interpolate(&G, field, 3, p, v);
     CHECK_CLOSE(v[0], 2.0 * p[0] - p[2], 1e-12, 1e-12);
     CHECK_CLOSE(v[1], 0.7, 1e-14, 0.0);
     CHECK_CLOSE(v[2], 0.25 * p[2], 1e-12, 1e-12);
+    /* one component (a density): the x component's values alone */
+    double scalar[60], s;
+    for (int m = 0; m < 60; m++) scalar[m] = field[3 * m];
+    griddem_rom_interpolate(&G, scalar, 1, p, &s);
+    CHECK_CLOSE(s, 2.0 * p[0] - p[2], 1e-12, 1e-12);
   }
   const double corner[3] = {-0.99, 0.01, 6.99};
   double v[3];
-  griddem_rom_interpolate(&G, field, corner, v);
+  griddem_rom_interpolate(&G, field, 3, corner, v);
   CHECK_CLOSE(v[1], 0.7, 1e-14, 0.0);
   CHECK(griddem_rom_inside(&G, corner) && !griddem_rom_inside(&G, (const double[3]){3.0, 0.5, 3.0}) &&
             griddem_rom_inside(&G, (const double[3]){0.0, 1.6, 3.0}),

@@ -900,7 +900,8 @@ run 10
              ("block 1.5", "rom_dynamic", "keyword block must be between 0 and 1"),
              ("reach -1", "rom_dynamic", "keyword reach must be >= 0"),
              ("reach 5", "rom_dynamic", "keyword reach 5 exceeds the ghost cutoff's bound"),
-             ("drive sideways", "rom_dynamic", "keyword drive must be match or box, not sideways"),
+             ("drive sideways", "rom_dynamic", "keyword drive must be match, box or dense, not sideways"),
+             ("drive dense 0", "rom_dynamic", "keyword drive dense needs a density > 0, not 0"),
              ("", "all", "fix integrate (nve/sphere) integrates group all, which holds atoms of the fix's group")]
     for kw, grp, expected in cases:
         name = "in.kw_" + (kw or grp).replace(" ", "_")
@@ -969,6 +970,58 @@ run 10
         "drive_box.dump", "drive_box2.dump"), WD, nprocs=2, name="in.drive_box2")
     two = t.read_dumps(os.path.join(WD, "drive_box2.dump"))
     t.check(two == snaps["box"], "drive box: two processes give the one process's dumps, digit for digit")
+
+
+def drive_dense():
+    """Keyword drive dense: the model drives the atoms where the density it deposits (interpolated
+    at the atom by the field's weights) is at least RHO; elsewhere drive match's rule. The frame of
+    drive_box (voxels 1 x 6 x 6 centred at x 1.5, 2.5, 3.5 once placed, vx = 1 in the last);
+    unit spheres of mass pi/6 placed at voxel centres along x, so each deposits its whole mass into
+    one voxel: three at x 1.5 (density 3 (pi/6) / 36 = 0.0436; atom 1 moving at vx 0.9, 0.9 off
+    u = 0), atom 4 at rest at x 3.5 (density 0.0145, 1 off u = 1), atom 5 at rest at x 2.5 (density
+    0.0145, on u = 0), atom 6 at rest outside the box; atom 7, not in the fix's group, touches
+    atom 2 coming down at vz -1 (a hit, which releases no atom with drive dense). RHO 0.03: atoms
+    1-3 driven (atom 1 held at rest), 5 kinematic by the match rule, 4 and 6 dynamic; RHO 0.05:
+    atom 1 dynamic as with drive match. Both classify at the set-up (steps 0, 5, 10)."""
+    frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
+    model = os.path.join(WD, "dense.model")
+    t.write_rom_model(model, (3, 1, 1), frame, version=2, frame="moving",
+                      vx_of_voxel=lambda m: 1.0 if m == 2 else 0.0)
+    base = resting_spheres((1.5, 1.5, 3.0), (1.5, 3.0, 3.0), (1.5, 4.5, 3.0), (3.5, 3.0, 3.0), (2.5, 1.5, 1.5),
+                           (5.0, 3.0, 3.0), (1.5, 3.0, 3.995)) + """
+set atom 1 vx 0.9
+set atom 7 vz -1.0
+group romable id 1:6
+""" + PAIR + """
+fix rom romable griddem/rom model {m} eps 0.5 v0 1 every 5 origin 1 0 0 drive dense {rho}
+fix integrate rom_dynamic nve/sphere
+dump d all custom 5 {name}.dump id x y z vx vy vz f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step f_rom[1] f_rom[3] f_rom[7]
+thermo 5
+run 10
+"""
+    dt = 0.001
+    expected = {"0.03": ({1, 2, 3, 5}, 1.5), "0.05": ({2, 3, 5}, 1.5 + 0.9 * 10 * dt)}
+    snaps = {}
+    for rho, (kinematic, x1) in expected.items():
+        name = "dense_%s" % rho
+        out = t.run_ok(base.format(m=model, rho=rho, name=name), WD, name="in." + name)
+        snaps[rho] = t.read_dumps(os.path.join(WD, name + ".dump"))
+        states = [{k for k, a in snap[1].items() if a[6] == 1.0} for snap in snaps[rho]]
+        t.check(states == [kinematic] * 3, "drive dense %s: kinematic atoms %s at steps 0, 5, 10 (got %s)"
+                % (rho, sorted(kinematic), [sorted(s) for s in states]))
+        last = snaps[rho][-1][1]
+        t.check(abs(last[1][0] - x1) <= 1e-13 and last[1][3] == (0.0 if 1 in kinematic else 0.9),
+                "drive dense %s: atom 1 at x %.17g (expected %.17g), vx %.17g" % (rho, last[1][0], x1, last[1][3]))
+        t.check(t.thermo_values(out, "f_rom[1]") == [len(kinematic)] * 3 and t.thermo_values(out, "f_rom[7]")[-1] == 3
+                and t.thermo_values(out, "f_rom[3]")[-1] == 0,
+                "drive dense %s: %d kinematic at each output, three classifications, no release by the hit"
+                % (rho, len(kinematic)))
+    t.run_ok(base.format(m=model, rho="0.03", name="dense2").replace("region box", "processors 2 1 1\nregion box"),
+             WD, nprocs=2, name="in.dense2")
+    t.check(t.read_dumps(os.path.join(WD, "dense2.dump")) == snaps["0.03"],
+            "drive dense: two processes give the one process's dumps, digit for digit")
 
 
 def newcomer():
@@ -1159,6 +1212,7 @@ frame_binning()
 rejoin()
 keyword_checks()
 drive_box()
+drive_dense()
 model_step()
 boundary(1)
 boundary(2)
