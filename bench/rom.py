@@ -5,7 +5,7 @@
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
                                   [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
-                                  [--drive dense|match|box] [--dense 0.5] [--overlap 1.0]
+                                  [--drive dense|match|box] [--dense 0.5] [--overlap 0.5]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
                                   [--overlap 1.0]
@@ -34,7 +34,7 @@ The errors over time (bench/romfigure.py) go to the example's reference/errors.p
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
 run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
 (in.build); the control is the feed rate, a history of --seg-step segments; the reduced run
-drives the material where it is dense (--drive dense, density 0.5, overlap 1.0), DEM resolves the
+drives the material where it is dense (--drive dense, density 0.5, overlap 0.5), DEM resolves the
 gas-like rest (the feed stream, the jet under the outlet). Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
@@ -379,9 +379,10 @@ def main():
     ap.add_argument("--guard", choices=("yes", "no"), default="no",
                     help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
                     "the paper's blade)")
-    ap.add_argument("--overlap", type=float, default=1.0,
+    ap.add_argument("--overlap", type=float,
                     help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that releases a "
-                    "kinematic one, over the smaller radius (default 1.0: the field drives the heap ahead of the "
+                    "kinematic one, over the smaller radius (default hopper 0.5: with 1.0 an atom released from a "
+                    "deep overlap was thrown out of the box; blade 1.0: the field drives the heap ahead of the "
                     "blade into itself; 0.1 releases some fifty atoms at each classification)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")
@@ -401,8 +402,8 @@ def main():
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="dense"),
-                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box"))[a.scene]
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="dense", overlap=0.5),
+                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)
