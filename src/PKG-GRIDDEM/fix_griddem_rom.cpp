@@ -92,7 +92,8 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
         if (iarg + 2 >= narg) utils::missing_cmd_args(FLERR, "fix griddem/rom drive dense", error);
         drive = DRIVE_DENSE;
         dense_min = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
-        if (dense_min <= 0.0) error->all(FLERR, "Fix griddem/rom: keyword drive dense needs a density > 0, not {}", arg[iarg + 2]);
+        if (dense_min <= 0.0)
+          error->all(FLERR, "Fix griddem/rom: keyword drive dense needs a density > 0, not {}", arg[iarg + 2]);
         iarg++;
       } else error->all(FLERR, "Fix griddem/rom: keyword drive must be match, box or dense, not {}", how);
     }
@@ -332,8 +333,8 @@ void FixGriddemRom::setup(int)
   last_model = update->ntimestep;
   if (next_model <= update->ntimestep) next_model = update->ntimestep + model_step;
   comm->forward_comm(this);
-  // drive box drives every atom in the box whatever its motion: from the first step on (drive
-  // match first classifies after N steps)
+  // drive box and dense drive atoms whatever their motion: from the first step on (drive match
+  // first classifies after N steps)
   if (drive != DRIVE_MATCH && never_classified) classify();
   mark_near();
   store_active = store_active && cap > 0.0;    // without reach no atom lags
