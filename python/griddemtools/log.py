@@ -22,11 +22,13 @@ def text_of(path_or_text):
 def thermo_table(path_or_text, *columns):
     """Rows of thermo columns, each a tuple of the columns' values, from every table that has all
     of them, in order. A table starts at a line whose first word is Step and ends at a Loop line
-    or at a row of its width that is not all numbers; lines of another width inside it (a
-    WARNING) are passed over."""
+    or at a row of its width that is not all numbers; WARNING lines and lines of another width
+    inside it are passed over."""
     rows, at = [], None
     for line in text_of(path_or_text).splitlines():
         words = line.split()
+        if words[:1] == ["WARNING:"]:
+            continue
         if words[:1] == ["Step"]:
             at = [words.index(c) for c in columns] if all(c in words for c in columns) else None
             width = len(words)

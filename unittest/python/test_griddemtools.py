@@ -83,14 +83,16 @@ CHUNKS = """# Chunk-averaged data for fix profile and group flow
   3 1.25 1 0.01 2.5
 """
 
-# a log of two runs: the first's table broken by a WARNING line, the second's columns in
-# another order and one more; loop lines with and without a CPU use line; between the runs a line (a print's)
-# of as many numbers as the table has columns, not a row of it
+# a log of two runs: the first's table broken by WARNING lines (one as many words as the table
+# has columns), the second's columns in another order and one more; loop lines with and without a
+# CPU use line; between the runs a line (a print's) of as many numbers as the table has columns,
+# not a row of it
 LOG = """LAMMPS (4 Feb 2025)
 thermo_style custom step temp v_h
 Per MPI rank memory allocation (min/avg/max) = 5 | 5 | 5 Mbytes
    Step          Temp            v_h
          0   0              0.95
+WARNING: insertions (src/x.cpp:2)
         10   1.5            0.9
 WARNING: something the run says (src/x.cpp:1)
         20   2.5            0.5
