@@ -380,8 +380,9 @@ def main():
                     help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
                     "the paper's blade)")
     ap.add_argument("--overlap", type=float,
-                    help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that releases a "
-                    "kinematic one, over the smaller radius (default hopper 0.5: with 1.0 an atom released from a "
+                    help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that "
+                    "releases a kinematic one, over the smaller radius (default hopper 0.5: with 1.0 an atom released "
+                    "from a "
                     "deep overlap was thrown out of the box; blade 1.0: the field drives the heap ahead of the "
                     "blade into itself; 0.1 releases some fifty atoms at each classification)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
