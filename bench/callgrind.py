@@ -6,8 +6,8 @@ bench/squeeze.py; or stock granular and griddem/granular on the chute with a com
 pair granular (--scene chute-granular, --law: the law of examples/rom-blade and rom-hopper,
 "rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not
 depend on what else runs on the machine, so two builds compare where wall times drift. Only the
-timestep loop is counted (Verlet::run, not the setup); stock rebuilds its lists every ~50 steps on the chute, so give it enough steps (100) for
-its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
+timestep loop is counted (Verlet::run, not the setup); stock rebuilds its lists every ~50 steps
+on the chute, so give it enough steps (100) for its neighbor share to show. The cost per touching pair is the pair compute's instructions a step
 over the pairs in contact a step (mean over the counted steps), counted in a second, plain run by
 LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to
 bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.

@@ -180,7 +180,7 @@ class Hopper:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "hopper")
         self.name = "rom-hopper seg %d train %s test %s" % (a.seg, a.train_feed, a.test_feed)
-        self.name += "".join(" %s %s" % (k, v) for k, v in self.rom().items() if HOPPER_DEFAULTS.get(k, v) != v)
+        self.name += settings_named(self.rom(), HOPPER_DEFAULTS)
 
     def run(self, tag, variables, inp="in.feed"):
         lmp_run(self.lmp, self.wd, os.path.join(HOPPER, inp), tag, variables, os.path.join(HOPPER, "in.hopper-scene"))
@@ -216,6 +216,11 @@ BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
 HOPPER_DEFAULTS = dict(drive="match", overlap=0.1)
 
 
+def settings_named(settings, defaults):
+    """The settings that differ from an input's own defaults, as " key value" each"""
+    return "".join(" %s %s" % (k, v) for k, v in settings.items() if defaults.get(k, v) != v)
+
+
 def drive_setting(a):
     """fix griddem/rom's drive keyword's values from --drive and --dense"""
     return "dense %g" % a.dense if a.drive == "dense" else a.drive
@@ -231,7 +236,7 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "blade")
         self.name = "rom-blade train %s test %s steps %d" % (a.train_traj, a.test_traj, a.steps)
-        self.name += "".join(" %s %s" % (k, v) for k, v in self.rom().items() if BLADE_DEFAULTS.get(k, v) != v)
+        self.name += settings_named(self.rom(), BLADE_DEFAULTS)
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, variables, os.path.join(BLADE, "in.blade-scene"))
@@ -382,8 +387,7 @@ def main():
     ap.add_argument("--overlap", type=float,
                     help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that "
                     "releases a kinematic one, over the smaller radius (default hopper 0.5: with 1.0 an atom released "
-                    "from a "
-                    "deep overlap was thrown out of the box; blade 1.0: the field drives the heap ahead of the "
+                    "from a deep overlap was thrown out of the box; blade 1.0: the field drives the heap ahead of the "
                     "blade into itself; 0.1 releases some fifty atoms at each classification)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")

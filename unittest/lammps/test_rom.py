@@ -39,7 +39,11 @@
   kinematic whatever its velocity and whatever hits it (against drive match, where the same atoms
   stay dynamic); outside the box an atom at rest is held at rest and one that moves is dynamic,
   also one the field carried out of the box (counted in f_rom[5]); 2 processes give 1 process's
-  dumps; a drive other than match or box is refused;
+  dumps; a drive other than match, box or dense, and drive dense without a positive density, are
+  refused;
+- drive dense: from the set-up on, the atoms where the deposited density reaches RHO are driven
+  whatever their velocity and whatever hits them, the others classified as with drive match (the
+  densities by hand, two thresholds); 2 processes give 1 process's dumps;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
   schedule file): every weight to 1e-3."""
 import math
