@@ -3,8 +3,9 @@
 
     /usr/bin/python3 bench/rom.py [--scene pile] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
-    /usr/bin/python3 bench/rom.py --scene hopper [--seg 1500] [--train-feed R,R,R,R/R,R,R,R/...]
-                                  [--test-feed R,R,R,R] [--eps 0.3] [--v0 0.36] [--every 50]
+    /usr/bin/python3 bench/rom.py --scene hopper [--seg 4000] [--train-feed R,R,../R,R,../...]
+                                  [--train-outlet J,J,../J,J,../...] [--test-feed R,R,..]
+                                  [--test-outlet J,J,..] [--eps 0.3] [--v0 0.36] [--every 50]
                                   [--drive dense|match|box] [--dense 0.5] [--overlap 0.5]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
@@ -32,10 +33,12 @@ bench/results/rom.jsonl; what the study could not measure is named with its reas
 The errors over time (bench/romfigure.py) go to the example's reference/errors.png.
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
-run. Scene hopper (examples/rom-hopper, 22,000 polydisperse spheres): the pile is built once
-(in.build); the control is the feed rate, a history of --seg-step segments; the reduced run
-drives the material where it is dense (--drive dense, density 0.5, overlap 0.5), DEM resolves the
-gas-like rest (the feed stream, the jet under the outlet). Scene blade
+run. Scene hopper (examples/rom-hopper, the method's paper's pile, up to some 17,000 polydisperse
+spheres): every run fills the empty container; the controls are the feed rate and the speed of the
+kinematic outlet, histories of --seg-step segments (the test's last outlet speed beyond the
+trained range); the reduced run drives the material where it is dense (--drive dense, density
+0.5, overlap 0.5), DEM resolves the gas-like rest (the feed stream, the jet under the outlet).
+Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
@@ -171,39 +174,50 @@ class Pile:
 
 
 class Hopper:
-    """examples/rom-hopper: the feed rate is the control, a history of --seg-step segments."""
+    """examples/rom-hopper, the paper's pile: filled from empty, the feed rate and the outlet's
+    speed are the controls, histories of --seg-step segments."""
     pair = "griddem/granular"
     example = HOPPER
     skins = "0.03,0.06,0.12"
 
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
-        self.wd = os.path.join(a.work, "hopper")
-        self.name = "rom-hopper seg %d train %s test %s" % (a.seg, a.train_feed, a.test_feed)
+        self.wd = os.path.join(a.work, "hopper-paper")
+        self.name = "rom-hopper seg %d train %s outlet %s test %s outlet %s" % (
+            a.seg, a.train_feed, a.train_outlet, a.test_feed, a.test_outlet)
         self.name += settings_named(self.rom(), HOPPER_DEFAULTS)
 
-    def run(self, tag, variables, inp="in.feed"):
-        lmp_run(self.lmp, self.wd, os.path.join(HOPPER, inp), tag, variables, os.path.join(HOPPER, "in.hopper-scene"))
+    def run(self, tag, variables):
+        lmp_run(self.lmp, self.wd, os.path.join(HOPPER, "in.feed"), tag, variables,
+                os.path.join(HOPPER, "in.hopper-scene"))
 
     def train(self):
-        if not os.path.exists(os.path.join(self.wd, "pile.restart")):
-            self.run("build", {}, "in.build")
+        feeds, outlets = self.a.train_feed.split("/"), self.a.train_outlet.split("/")
+        if len(feeds) != len(outlets):
+            raise SystemExit("--train-feed and --train-outlet: as many histories each")
         specs = []
-        for history in self.a.train_feed.split("/"):
-            tag = "train.f%s.s%d" % (history.replace(",", "_"), self.a.seg)
-            rates = history.split(",")
+        for feed, outlet in zip(feeds, outlets):
+            rates, speeds = feed.split(","), outlet.split(",")
+            if len(rates) != len(speeds):
+                raise SystemExit("--train-feed %s and --train-outlet %s: as many segments each" % (feed, outlet))
+            tag = "train.f%s.j%s.s%d" % (feed.replace(",", "_"), outlet.replace(",", "_"), self.a.seg)
             with open(os.path.join(self.wd, "ctl.%s.txt" % tag), "w") as f:
-                f.write("# until_step feed_rate\n")
-                f.writelines("%d %s\n" % ((k + 1) * self.a.seg, r) for k, r in enumerate(rates))
+                f.write("# until_step feed_rate outlet_speed\n")
+                f.writelines("%d %s %s\n" % ((k + 1) * self.a.seg, r, j) for k, (r, j) in enumerate(zip(rates, speeds)))
             if not os.path.exists(os.path.join(self.wd, "cg.%s.txt" % tag)):
-                self.run(tag, dict(rate=rates, seg=self.a.seg))
+                self.run(tag, dict(rate=rates, outlet_speed=speeds, seg=self.a.seg))
             specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
-        model = "rom.%s.s%d.model" % (self.a.train_feed.replace(",", "_").replace("/", "-"), self.a.seg)
+        model = "rom.%s.j%s.s%d.model" % (self.a.train_feed.replace(",", "_").replace("/", "-"),
+                                          self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
         return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
 
     def test(self, scan=False):
-        rates = self.a.test_feed.split(",")
-        return dict(rate=rates[:1], seg=self.a.scan_steps) if scan else dict(rate=rates, seg=self.a.seg)
+        rates, speeds = self.a.test_feed.split(","), self.a.test_outlet.split(",")
+        if len(rates) != len(speeds):
+            raise SystemExit("--test-feed and --test-outlet: as many segments each")
+        if scan:
+            return dict(rate=rates[:1], outlet_speed=speeds[:1], seg=self.a.scan_steps)
+        return dict(rate=rates, outlet_speed=speeds, seg=self.a.seg)
 
     def rom(self):
         return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=drive_setting(self.a),
@@ -365,10 +379,14 @@ def main():
     ap.add_argument("--scan-steps", type=int, default=2000, help="steps of each run of the skin scan")
     ap.add_argument("--repeats", type=int, default=3, help="reduced runs (timing repeats)")
     ap.add_argument("--build", help="the build's name in the record (default: git describe of this repository)")
-    ap.add_argument("--seg", type=int, default=1500, help="hopper: steps per feed-rate segment")
-    ap.add_argument("--train-feed", default="0.05,0.2,0.1,0/0.15,0,0.2,0.05/0,0.1,0.05,0.2",
+    ap.add_argument("--seg", type=int, default=4000, help="hopper: steps per control segment")
+    ap.add_argument("--train-feed", default="0.2,0.2,0.1,0.1,0,0/0.15,0.2,0.2,0,0.1,0/0.2,0.1,0.15,0.05,0,0.1",
                     help="hopper: the training runs' feed-rate histories (segments by commas, runs by /)")
-    ap.add_argument("--test-feed", default="0.12,0.03,0.18,0.08", help="hopper: the test's feed-rate history")
+    ap.add_argument("--train-outlet", default="0,0.1,0.2,0.4,0.3,0/0,0,0.3,0.2,0.4,0.1/0.1,0.4,0,0.3,0.2,0.4",
+                    help="hopper: the training runs' outlet-speed histories, segment by segment with --train-feed")
+    ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
+    ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
+                    help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
     ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
     ap.add_argument("--train-traj", default="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2",
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
