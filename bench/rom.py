@@ -5,7 +5,8 @@
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 4000] [--train-feed R,R,../R,R,../...]
                                   [--train-outlet J,J,../J,J,../...] [--test-feed R,R,..]
-                                  [--test-outlet J,J,..] [--eps 0.3] [--v0 0.36] [--every 50]
+                                  [--test-outlet J,J,..] [--form occupancy|linear] [--eps 0.3]
+                                  [--v0 0.36] [--every 50]
                                   [--drive dense|match|box] [--dense 0.5] [--overlap 0.5]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
@@ -128,11 +129,12 @@ def lmp_run(lmp, wd, inp, tag, variables, scene=None):
     lammps.run(lmp, args, wd, output=None, check=True)
 
 
-def trained(wd, script, model, inputs):
-    """The model file (in wd), made by the example's training script from inputs unless it is
-    there already."""
+def trained(wd, script, model, inputs, options=()):
+    """The model file (in wd), made by the example's training script (with options) from inputs
+    unless it is there already."""
     if not os.path.exists(os.path.join(wd, model)):
-        subprocess.run([sys.executable, script, model] + inputs, cwd=wd, check=True, stdout=subprocess.DEVNULL)
+        subprocess.run([sys.executable, script] + list(options) + [model] + inputs, cwd=wd, check=True,
+                       stdout=subprocess.DEVNULL)
     return model
 
 
@@ -183,8 +185,8 @@ class Hopper:
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "hopper-paper")
-        self.name = "rom-hopper seg %d train %s outlet %s test %s outlet %s" % (
-            a.seg, a.train_feed, a.train_outlet, a.test_feed, a.test_outlet)
+        self.name = "rom-hopper seg %d train %s outlet %s test %s outlet %s model %s" % (
+            a.seg, a.train_feed, a.train_outlet, a.test_feed, a.test_outlet, a.form)
         self.name += settings_named(self.rom(), HOPPER_DEFAULTS)
 
     def run(self, tag, variables):
@@ -207,9 +209,9 @@ class Hopper:
             if not os.path.exists(os.path.join(self.wd, "cg.%s.txt" % tag)):
                 self.run(tag, dict(rate=rates, outlet_speed=speeds, seg=self.a.seg))
             specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
-        model = "rom.%s.j%s.s%d.model" % (self.a.train_feed.replace(",", "_").replace("/", "-"),
-                                          self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
-        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
+        model = "rom.%s.%s.j%s.s%d.model" % (self.a.form, self.a.train_feed.replace(",", "_").replace("/", "-"),
+                                             self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
+        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs, ["--form", self.a.form])
 
     def test(self, scan=False):
         rates, speeds = self.a.test_feed.split(","), self.a.test_outlet.split(",")
@@ -387,6 +389,9 @@ def main():
     ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
     ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
                     help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
+    ap.add_argument("--form", choices=("occupancy", "linear"), default="occupancy",
+                    help="hopper: the model's form (train_rom.py --form; default occupancy: each voxel's velocity "
+                    "its density times a linear function of the controls)")
     ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
     ap.add_argument("--train-traj", default="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2",
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "

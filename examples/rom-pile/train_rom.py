@@ -2,7 +2,7 @@
 """Ridge regression of the voxel velocity field on the voxel density field and the controls,
 from resolved runs' coarse-grained fields (dump grid of compute griddem/cg density vx vy vz).
 
-    train_rom.py OUT.model DUMP:CONTROLS [DUMP:CONTROLS ...]
+    train_rom.py [--form occupancy] OUT.model DUMP:CONTROLS [DUMP:CONTROLS ...]
 
 CONTROLS: the run's control values, CONTROL[,CONTROL...] (constant), or @FILE for controls that
 change during the run: FILE has rows "UNTIL_STEP CONTROL [CONTROL...]", in increasing
@@ -14,7 +14,12 @@ training frames (a spread below 5% of the median spread counts as that: a voxel 
 runs almost never fill gets no huge weight); targets: vx, vy, vz of every voxel. Closed form: W = (X'X + lambda I)^-1 X'Y on
 centred data. lambda is chosen by leave-one-run-out validation (mean squared velocity error
 over the held-out run's frames) from a logarithmic grid, then the model is refitted on all runs
-and written with the scaling folded in (plain weights on raw densities and controls)."""
+and written with the scaling folded in (plain weights on raw densities and controls).
+
+--form occupancy: each voxel's velocity is its own density times a linear function of [1,
+controls] (the model file's form occupancy); fitted voxel by voxel, W_m = (A'A + lambda s I)^-1 A'Y_m
+with A = density_m [1, controls] over the frames and s the mean of A'A's diagonal, lambda again
+by leave-one-run-out validation."""
 import os
 import sys
 
@@ -78,20 +83,50 @@ def predict(Wfull, X):
     return Wfull[:, 0][None, :] + X @ Wfull[:, 1:].T
 
 
+def occupancy_fit(nvox):
+    """fit(X, Y, lam) and predict(W, X) of the occupancy form for features X = [densities of nvox
+    voxels, controls] and targets Y = [vx, vy, vz of every voxel]."""
+    def controls(X):
+        return np.hstack([np.ones((len(X), 1)), X[:, nvox:]])
+
+    def fit(X, Y, lam):
+        F = controls(X)
+        W = np.zeros((Y.shape[1], F.shape[1]))
+        for m in range(nvox):
+            A = X[:, m:m + 1] * F
+            G = A.T @ A
+            scale = np.trace(G) / len(G)
+            if scale > 0:
+                W[3 * m:3 * m + 3] = np.linalg.solve(G + lam * scale * np.eye(len(G)), A.T @ Y[:, 3 * m:3 * m + 3]).T
+        return W
+
+    def predict_occupancy(W, X):
+        return (controls(X) @ W.T) * np.repeat(X[:, :nvox], 3, axis=1)
+    return fit, predict_occupancy
+
+
 def main():
-    if len(sys.argv) < 4:
+    args = sys.argv[1:]
+    form = "linear"
+    if args[:1] == ["--form"]:
+        form, args = args[1], args[2:]
+    if len(args) < 2 or form not in ("linear", "occupancy"):
         raise SystemExit(__doc__)
-    out, specs = sys.argv[1], sys.argv[2:]
+    out, specs = args[0], args[1:]
     runs, n, box = load(specs)
-    W, note = fit_validated(runs, "velocity")
-    write_model(out, n, box, W[1], W[0], "trained by train_rom.py on %s\n%s" % (" ".join(specs), note))
+    if form == "occupancy":
+        W, note = fit_validated(runs, "velocity", *occupancy_fit(n[0] * n[1] * n[2]), lams=10.0 ** np.arange(-6, 1.01, 0.5))
+    else:
+        W, note = fit_validated(runs, "velocity")
+    write_model(out, n, box, W[1], W[0], "trained by train_rom.py (form %s) on %s\n%s" % (form, " ".join(specs), note),
+                form=form)
     print(note)
 
 
-def fit_validated(runs, what):
-    """Ridge fit of runs [(name, X, Y)] with lambda chosen by leave-one-run-out validation from a
-    logarithmic grid; returns ((weights, lambda), a note on the fit)."""
-    lams = 10.0 ** np.arange(-3, 5.01, 0.5)
+def fit_validated(runs, what, fit=fit, predict=predict, lams=10.0 ** np.arange(-3, 5.01, 0.5)):
+    """Ridge fit of runs [(name, X, Y)] with lambda chosen by leave-one-run-out validation from the
+    logarithmic grid lams (fit and predict: the model's form); returns ((weights, lambda), a note
+    on the fit)."""
     scores = []
     for lam in lams:
         err = []

@@ -183,16 +183,17 @@ void FixGriddemRom::read_model(const char *file)
   MPI_Bcast(&msg[0], len, MPI_CHAR, 0, world);
   if (len) error->all(FLERR, "Fix griddem/rom: {}", msg);
   frame_grid = model.box;
-  int flags[3] = {model.moving, model.ncontrol, model.force != nullptr};
+  int flags[4] = {model.moving, model.ncontrol, model.force != nullptr, model.form};
   MPI_Bcast(frame_grid.n, 3, MPI_INT, 0, world);
   MPI_Bcast(frame_grid.lo, 3, MPI_DOUBLE, 0, world);
   MPI_Bcast(frame_grid.hi, 3, MPI_DOUBLE, 0, world);
-  MPI_Bcast(flags, 3, MPI_INT, 0, world);
+  MPI_Bcast(flags, 4, MPI_INT, 0, world);
   grid = frame_grid;
   moving = flags[0] != 0;
   ncontrol = flags[1];
+  form = flags[3];
   const int nvox = griddem_rom_nvoxel(&grid);
-  const size_t ncol = 1 + nvox + ncontrol;
+  const size_t ncol = form == GRIDDEM_ROM_OCCUPANCY ? 1 + ncontrol : 1 + nvox + ncontrol;
   weights.resize(3 * nvox * ncol);
   force_weights.resize(flags[2] ? 3 * ncol : 0);
   if (comm->me == 0) {
@@ -712,10 +713,17 @@ void FixGriddemRom::classify()
   std::vector<double> local(nvox, 0.0);
   if (nlocal) griddem_rom_deposit(&grid, nlocal, x[0], 3, rmass, use.data(), local.data());
   MPI_Allreduce(local.data(), density.data(), nvox, MPI_DOUBLE, MPI_SUM, world);
-  feature[0] = 1.0;
-  for (int m = 0; m < nvox; m++) feature[1 + m] = density[m];
-  for (int c = 0; c < ncontrol; c++) feature[1 + nvox + c] = input->variable->compute_equal(control_vars[c]);
-  griddem_rom_predict(3 * nvox, 1 + nvox + ncontrol, weights.data(), feature.data(), field.data());
+  std::vector<double> control(ncontrol);
+  for (int c = 0; c < ncontrol; c++) control[c] = input->variable->compute_equal(control_vars[c]);
+  if (form == GRIDDEM_ROM_OCCUPANCY) {
+    griddem_rom_predict_occupancy(nvox, ncontrol, weights.data(), control.data(), density.data(), feature.data(),
+                                  field.data());
+  } else {
+    feature[0] = 1.0;
+    for (int m = 0; m < nvox; m++) feature[1 + m] = density[m];
+    for (int c = 0; c < ncontrol; c++) feature[1 + nvox + c] = control[c];
+    griddem_rom_predict(3 * nvox, 1 + nvox + ncontrol, weights.data(), feature.data(), field.data());
+  }
   if (!force_weights.empty())
     griddem_rom_predict(3, 1 + nvox + ncontrol, force_weights.data(), feature.data(), force_predicted);
   fill_grid();

@@ -65,7 +65,8 @@ class FixGriddemRom : public Fix {
   int origin_vars[3];
   double origin[3];               // the frame's origin now (constants from keyword origin)
   int ncontrol;
-  std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol]
+  int form;    // the model's form, enum griddem_rom_form
+  std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol] (occupancy: [1 + ncontrol])
   std::vector<double> force_weights;    // model block 'force': [3][1 + nvoxel + ncontrol], or empty
   double force_predicted[3];            // the force block's prediction at the last classification
   std::vector<std::string> control_names;

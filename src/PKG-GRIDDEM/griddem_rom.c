@@ -89,6 +89,16 @@ void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feat
   }
 }
 
+void griddem_rom_predict_occupancy(int nvoxel, int ncontrol, const double *w, const double *control,
+                                   const double *density, double *scratch, double *out)
+{
+  scratch[0] = 1.0;
+  for (int c = 0; c < ncontrol; c++) scratch[1 + c] = control[c];
+  griddem_rom_predict(3 * nvoxel, 1 + ncontrol, w, scratch, out);
+  for (int m = 0; m < nvoxel; m++)
+    for (int d = 0; d < 3; d++) out[3 * m + d] *= density[m];
+}
+
 void griddem_rom_interpolate(const griddem_rom_grid *g, const double *field, int ncomp, const double x[3],
                              double *out)
 {

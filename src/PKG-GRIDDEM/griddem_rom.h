@@ -2,7 +2,7 @@
  * particles by cloud-in-cell weights (the same weights and boundary rule as griddem_cg_cic, so the
  * field equals compute griddem/cg's density with a kernel width far below the voxel edge), a
  * linear (ridge-regression) map from features [1, density of each voxel, controls] to the voxel
- * velocities, and the trilinear interpolation of that velocity field at a point (the same
+ * velocities (or each voxel's density times a linear map of [1, controls]), and the trilinear interpolation of that velocity field at a point (the same
  * weights again). Voxel m = i + nx (j + ny k); its centre is lo + (i + 1/2) h. */
 #ifndef GRIDDEM_ROM_H
 #define GRIDDEM_ROM_H
@@ -14,8 +14,13 @@ extern "C" {
 #endif
 
 /* the model file's format: version 1 (box = simulation box, velocity rows), version 2 adds the
- * optional lines 'frame moving' and 'force' (doc/fix_griddem_rom.md) */
-#define GRIDDEM_ROM_VERSION 2
+ * optional lines 'frame moving' and 'force', version 3 the line 'form' (doc/fix_griddem_rom.md) */
+#define GRIDDEM_ROM_VERSION 3
+
+/* The model's form. Linear: each voxel velocity is a linear function of the features [1, density
+ * of every voxel, controls]. Occupancy: each voxel velocity is the voxel's own density times a
+ * linear function of [1, controls] (the material moves where it is, at a rate the controls set). */
+enum griddem_rom_form { GRIDDEM_ROM_LINEAR, GRIDDEM_ROM_OCCUPANCY };
 
 typedef struct griddem_rom_grid {
   int n[3];
@@ -49,6 +54,11 @@ void griddem_rom_deposit(const griddem_rom_grid *g, int n, const double *x, int 
 
 /* out[r] = sum_c w[r * ncol + c] * feature[c] for r < nrow. */
 void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feature, double *out);
+
+/* The occupancy form's field: out[3 m + d] = density[m] (w[r][0] + sum_c w[r][1 + c] control[c]),
+ * r = 3 m + d, w a [3 nvoxel][1 + ncontrol] matrix; scratch holds 1 + ncontrol doubles. */
+void griddem_rom_predict_occupancy(int nvoxel, int ncontrol, const double *w, const double *control,
+                                   const double *density, double *scratch, double *out);
 
 /* A voxel field of ncomp components (field[ncomp m + d]: the velocity 3, the density 1)
  * interpolated at x with griddem_rom_weights into out[ncomp]. */

@@ -147,11 +147,12 @@ static void number(model_parser *ps, double *out, const char *what)
   ps->p++;
 }
 
-/* an optional line of version 2, named by its first word */
-static int optional(model_parser *ps, const char *key)
+/* an optional line of format version `version` or later, named by its first word */
+static int optional(model_parser *ps, const char *key, int version)
 {
   if (ps->failed || ps->p >= ps->nwords || !word_is(&ps->words[ps->p], key)) return 0;
-  if (ps->version < 2) fail(ps, ps->p, "'%s' needs format version 2 (the file has version 1)", key);
+  if (ps->version < version)
+    fail(ps, ps->p, "'%s' needs format version %d (the file has version %g)", key, version, ps->version);
   return !ps->failed;
 }
 
@@ -234,7 +235,7 @@ static void parse_words(model_parser *ps, griddem_rom_model *model)
   size_t at = ps->p;
   if (expect(ps, "griddem/rom", "VERSION", 1)) {
     number(ps, &ps->version, "the format version");
-    if (!ps->failed && ps->version != 1 && ps->version != GRIDDEM_ROM_VERSION)
+    if (!ps->failed && (ps->version < 1 || ps->version > GRIDDEM_ROM_VERSION || ps->version != floor(ps->version)))
       fail(ps, at, "format version %s is not supported (this build reads versions 1 to %d)",
            shown(&ps->words[ps->p - 1], s), GRIDDEM_ROM_VERSION);
   }
@@ -250,7 +251,7 @@ static void parse_words(model_parser *ps, griddem_rom_model *model)
     for (int k = 0; k < 6; k++) number(ps, &box[k], "a box bound");
   for (int k = 0; k < 3 && !ps->failed; k++)
     if (!(box[2 * k + 1] > box[2 * k])) fail(ps, at, "box bounds along axis %c are not increasing", "xyz"[k]);
-  if (optional(ps, "frame") && expect(ps, "frame", "moving", 1)) {
+  if (optional(ps, "frame", 2) && expect(ps, "frame", "moving", 1)) {
     if (!word_is(&ps->words[ps->p], "moving"))
       fail(ps, ps->p, "expected 'frame moving' (the only frame), found '%s'", shown(&ps->words[ps->p], s));
     ps->p++;
@@ -261,6 +262,14 @@ static void parse_words(model_parser *ps, griddem_rom_model *model)
   if (!ps->failed && (controls < 0 || controls != floor(controls)))
     fail(ps, at, "number of controls %s is not a count", number_text(controls, a));
   if (expect(ps, "lambda", "L", 1)) number(ps, &lambda, "the ridge parameter");
+  if (optional(ps, "form", 3) && expect(ps, "form", "linear|occupancy", 1)) {
+    if (word_is(&ps->words[ps->p], "occupancy"))
+      model->form = GRIDDEM_ROM_OCCUPANCY;
+    else if (!word_is(&ps->words[ps->p], "linear"))
+      fail(ps, ps->p, "expected 'form linear' or 'form occupancy', found '%s'", shown(&ps->words[ps->p], s));
+    ps->p++;
+  }
+  const int occupancy = model->form == GRIDDEM_ROM_OCCUPANCY;
   double nrow = 0.0, ncol = 0.0;
   const size_t weights_at = ps->p;
   if (expect(ps, "weights", "NROW NCOL", 2)) {
@@ -277,20 +286,24 @@ static void parse_words(model_parser *ps, griddem_rom_model *model)
   if (!ps->failed && nrow != 3 * nvox)
     fail(ps, weights_at, "weights has %s rows; grid size %s %s %s needs 3 x %s = %s", e, a, b, c, d,
          number_text(3 * nvox, g));
-  if (!ps->failed && ncol != 1 + nvox + controls)
+  if (!ps->failed && occupancy && ncol != 1 + controls)
+    fail(ps, weights_at, "weights has %s columns; form occupancy with %s controls needs 1 + %s = %s", f,
+         number_text(controls, g), g, number_text(1 + controls, h));
+  if (!ps->failed && !occupancy && ncol != 1 + nvox + controls)
     fail(ps, weights_at, "weights has %s columns; grid size %s %s %s and %s controls need 1 + %s + %s = %s", f, a, b, c,
          number_text(controls, g), d, g, number_text(1 + nvox + controls, h));
   block(ps, &model->weights, weights_at, nrow, ncol);
   if (!ps->failed && ps->p < ps->nwords) {
     if (!word_is(&ps->words[ps->p], "force")) {
       char force[NUMBER_SIZE + 32] = "";
-      if (ps->version >= 2) snprintf(force, sizeof force, " or a block 'force 3 %s'", f);
+      if (ps->version >= 2 && !occupancy) snprintf(force, sizeof force, " or a block 'force 3 %s'", f);
       fail(ps, ps->p, "expected the end of the file%s after the %s x %s weights, found '%s'", force, e, f,
            shown(&ps->words[ps->p], s));
     }
     const size_t force_at = ps->p;
     double frow = 0.0, fcol = 0.0;
-    if (optional(ps, "force") && expect(ps, "force", "3 NCOL", 2)) {
+    if (occupancy && !ps->failed) fail(ps, force_at, "a 'force' block needs form linear (the file has form occupancy)");
+    if (optional(ps, "force", 2) && expect(ps, "force", "3 NCOL", 2)) {
       number(ps, &frow, "the number of rows");
       number(ps, &fcol, "the number of columns");
     }

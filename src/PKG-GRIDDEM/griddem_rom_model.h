@@ -1,4 +1,4 @@
-/* GRIDDEM reduced-order model file (fix griddem/rom; format versions 1 and 2, see
+/* GRIDDEM reduced-order model file (fix griddem/rom; format versions 1 to 3, see
  * doc/fix_griddem_rom.md): '#' starts a comment; then
  *   griddem/rom VERSION
  *   grid NX NY NZ
@@ -6,9 +6,11 @@
  *   frame moving             (version 2, optional: the box is relative to the fix's origin)
  *   controls NC
  *   lambda L
- *   weights NROW NCOL        (NROW = 3 NX NY NZ, NCOL = 1 + NX NY NZ + NC)
+ *   form linear|occupancy    (version 3, optional: default linear)
+ *   weights NROW NCOL        (NROW = 3 NX NY NZ; NCOL = 1 + NX NY NZ + NC, occupancy 1 + NC)
  * and NROW x NCOL numbers: row 3 m + d gives velocity component d of voxel m = i + NX (j + NY k)
- * as bias + sum_m' w density(m') + sum_c w control(c); then optionally (version 2)
+ * as bias + sum_m' w density(m') + sum_c w control(c) (occupancy: density(m) (bias + sum_c w
+ * control(c))); then optionally (version 2, form linear)
  *   force 3 NCOL
  * and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features; then the end of
  * the file. Every mismatch is an error that names it, its line and what was expected there. */
@@ -29,7 +31,8 @@ typedef struct griddem_rom_model {
   int moving;              /* line 'frame moving' */
   int ncontrol;
   double lambda;           /* the ridge parameter of the training (recorded, not used) */
-  double *weights;         /* [3 nvoxel][1 + nvoxel + ncontrol] */
+  int form;                /* enum griddem_rom_form */
+  double *weights;         /* [3 nvoxel][1 + nvoxel + ncontrol], occupancy [3 nvoxel][1 + ncontrol] */
   double *force;           /* block 'force': [3][1 + nvoxel + ncontrol], or NULL without it */
 } griddem_rom_model;
 

@@ -78,6 +78,13 @@ static void check_predict(void)
   griddem_rom_predict(2, 3, w, f, out);
   CHECK_CLOSE(out[0], 1.0 - 4.0 + 1.5, 1e-15, 0.0);
   CHECK_CLOSE(out[1], -1.0 - 1.0 + 2.0, 1e-15, 1e-15);
+
+  /* the occupancy form: two voxels, one control; row r = 3 m + d is density(m) (w0 + w1 c) */
+  const double w2[12] = {1, 2, 0, 1, -1, 0.5, 0.25, 4, 3, 0, 2, -2}, density[2] = {0.5, 2.0}, control[1] = {3.0};
+  const double expected[6] = {0.5 * 7, 0.5 * 3, 0.5 * 0.5, 2.0 * 12.25, 2.0 * 3, 2.0 * -4};
+  double scratch[2], field[6];
+  griddem_rom_predict_occupancy(2, 1, w2, control, density, scratch, field);
+  for (int r = 0; r < 6; r++) CHECK_CLOSE(field[r], expected[r], 1e-15, 0.0);
 }
 
 /* The classification's contact checks on the grid equal a brute-force check of every pair: the

@@ -1,5 +1,5 @@
-/* The reduced-order model file: a version 1 and a version 2 text (comments, a moving frame, a
- * force block) read back number for number; each malformed text refused with the message that
+/* The reduced-order model file: a version 1, a version 2 (comments, a moving frame, a force
+ * block) and two version 3 texts (form occupancy, and linear by default) read back number for number; each malformed text refused with the message that
  * names its line and what was expected there (those of unittest/lammps/test_rom.py among them);
  * bytes other than printable ASCII shown as \xNN, at most 40 of them; numbers in messages as
  * LAMMPS's fmt writes them ("{}"); a file that is missing. */
@@ -100,11 +100,34 @@ static void check_good(void)
   CHECK(griddem_rom_model_parse(NAME, text, strlen(text), &m, message, sizeof message) == 0, "version 2: %s",
         message);
   CHECK(m.version == 2 && m.moving && m.force && m.force[0] == 1.0 && m.force[7] == 8.0 && m.force[11] == 1e-3 &&
-            m.weights[23] == 5.375,
+            m.weights[23] == 5.375 && m.form == GRIDDEM_ROM_LINEAR,
         "version 2: moving frame, force block, weights");
   griddem_rom_model_free(&m);
   free(text);
   free(head2);
+
+  /* version 3, form occupancy: 6 rows of 1 + 1 columns */
+  char *v3 = replaced(HEAD1, "griddem/rom 1", "griddem/rom 3");
+  char *head3 = replaced(v3, "weights 6 4", "form occupancy\nweights 6 2");
+  char *w = weights_text(6, 2);
+  text = malloc(strlen(head3) + strlen(w) + 1);
+  strcat(strcpy(text, head3), w);
+  CHECK(griddem_rom_model_parse(NAME, text, strlen(text), &m, message, sizeof message) == 0, "version 3: %s",
+        message);
+  CHECK(m.version == 3 && m.form == GRIDDEM_ROM_OCCUPANCY && m.ncontrol == 1 && m.weights[2 * 5 + 1] == 5.125,
+        "version 3: form occupancy, weights");
+  griddem_rom_model_free(&m);
+  free(text);
+  free(w);
+  free(head3);
+  /* version 3 without a form line: linear */
+  text = model_text(v3, "");
+  CHECK(griddem_rom_model_parse(NAME, text, strlen(text), &m, message, sizeof message) == 0 &&
+            m.form == GRIDDEM_ROM_LINEAR && m.weights[23] == 5.375,
+        "version 3 without form: linear (%s)", message);
+  griddem_rom_model_free(&m);
+  free(text);
+  free(v3);
 }
 
 static void check_messages(void)
@@ -116,8 +139,10 @@ static void check_messages(void)
   REFUSED("# only\n  # comments\n",
           "model file m.model holds no words: expected 'griddem/rom VERSION', found the end of the file");
   REFUSED("griddem/rom\n", "model file m.model, line 1: 'griddem/rom' needs 1 values (VERSION), found the end of the file");
-  REFUSED("griddem/rom 3\n", "model file m.model, line 1: format version 3 is not supported (this build reads "
-                             "versions 1 to 2)");
+  REFUSED("griddem/rom 4\n", "model file m.model, line 1: format version 4 is not supported (this build reads "
+                             "versions 1 to 3)");
+  REFUSED("griddem/rom 2.5\n", "model file m.model, line 1: format version 2.5 is not supported (this build reads "
+                               "versions 1 to 3)");
   REFUSED("\ngriddem/rom one\n", "model file m.model, line 2: expected the format version (a finite number), found 'one'");
   REFUSED("griddem/rom 1\ngrid 2 1\n", "model file m.model, line 2: 'grid' needs 3 values (NX NY NZ), found the end of "
                                        "the file");
@@ -181,6 +206,27 @@ static void check_messages(void)
   REFUSED(t, "model file m.model, at its end (line 15): 'force 3 4' (line 14) needs 3 x 4 = 12 values, found 4");
   free(t);
   free(head2);
+  /* the form line */
+  t = replaced(v2, "weights 6 4", "form occupancy\nweights 6 2");
+  REFUSED(t, "model file m.model, line 7: 'form' needs format version 3 (the file has version 2)");
+  free(t);
+  char *v3 = replaced(good, "griddem/rom 1", "griddem/rom 3");
+  t = replaced(v3, "weights 6 4", "form quadratic\nweights 6 4");
+  REFUSED(t, "model file m.model, line 7: expected 'form linear' or 'form occupancy', found 'quadratic'");
+  free(t);
+  t = replaced(v3, "weights 6 4", "form occupancy\nweights 6 4");
+  REFUSED(t, "model file m.model, line 8: weights has 4 columns; form occupancy with 1 controls needs 1 + 1 = 2");
+  free(t);
+  char *occupancy = replaced(v3, "weights 6 4", "form occupancy\nweights 6 1");
+  t = replaced(occupancy, "weights 6 1", "weights 6 2");
+  char *cut = replaced(t, "0 0.125 0.25 0.375\n1 1.125 1.25 1.375\n2 2.125 2.25 2.375\n3 3.125 3.25 3.375\n"
+                          "4 4.125 4.25 4.375\n5 5.125 5.25 5.375\n",
+                       "0 0.125\n1 1.125\n2 2.125\n3 3.125\n4 4.125\n5 5.125\nforce 3 2\n");
+  REFUSED(cut, "model file m.model, line 15: a 'force' block needs form linear (the file has form occupancy)");
+  free(cut);
+  free(t);
+  free(occupancy);
+  free(v3);
 
   /* binary bytes: a word of 64 bytes without white space is shown as its first 40 (7 bytes of an
    * ELF header, 33 NUL bytes), then ... */

@@ -44,8 +44,11 @@
 - drive dense: from the set-up on, the atoms where the deposited density reaches RHO are driven
   whatever their velocity and whatever hits them, the others classified as with drive match (the
   densities by hand, two thresholds); 2 processes give 1 process's dumps;
+- a model of form occupancy (version 3): each voxel's field is its own density (as dumped) times
+  the bias plus the control's weight times the control, on 1 and 2 processes;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
-  schedule file): every weight to 1e-3."""
+  schedule file): every weight to 1e-3; with --form occupancy an exact occupancy map the same
+  way."""
 import math
 import os
 import sys
@@ -104,7 +107,7 @@ def model_checks():
     good = os.path.join(WD, "good.model")
     t.write_rom_model(good, (3, 3, 3), BOX, controls=1)
     cases = [
-        ("version", dict(version=3), "format version 3"),
+        ("version", dict(version=4), "format version 4"),
         ("grid size", dict(nrow=3 * 26), "grid size 3 3 3"),
         ("columns", dict(ncol=1 + 27), "grid size 3 3 3 and 1 controls"),
         ("controls", dict(controls=2), "has 2 controls, the fix names 1"),
@@ -505,8 +508,48 @@ run 10
             "(densities summed in another order: %.2g)" % diff)
 
 
+def occupancy_form():
+    """A model of form occupancy: voxel m's velocity is density(m) (w0 + w1 c) with c = 2 (an
+    equal-style variable) and per-component weights: (0.2 + 0.1 c, -0.1, 0.05 m c) = (0.4, -0.1,
+    0.1 m) times the density the fix dumps, on the lattice of field_output (1 and 2 processes)."""
+    model = os.path.join(WD, "occupancy.model")
+    with open(model, "w") as f:
+        f.write("griddem/rom 3\ngrid 3 3 3\nbox %s\ncontrols 1\nlambda 0\nform occupancy\nweights 81 2\n"
+                % " ".join("%.17g" % b for b in BOX))
+        for m in range(27):
+            f.write("0.2 0.1\n-0.1 0\n0 %.17g\n" % (0.05 * m))
+    frames = []
+    for nprocs in (1, 2):
+        text = HEAD.format(bnd="f f f").replace("region box", "processors %d 1 1\nregion box" % nprocs) + """
+lattice sc 0.2962962962962963 origin 0.5 0.5 0.5
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 0 0 0
+""" + PAIR + """
+variable c equal 2
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 control v_c
+fix integrate rom_dynamic nve/sphere
+dump g all grid 5 occ{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
+dump_modify g sort id format float %.17g
+run 5
+""".format(m=model, n=nprocs)
+        t.run_ok(text, WD, nprocs=nprocs, name="in.occ%d" % nprocs)
+        with open(os.path.join(WD, "occ%d.txt" % nprocs)) as f:
+            lines = f.read().splitlines()
+        k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS"))
+        frames.append([[float(v) for v in line.split()] for line in lines[k + 1:k + 28]])
+    rows = frames[0]
+    worst = max(abs(r[d] - r[3] * (0.4, -0.1, 0.1 * m)[d]) for m, r in enumerate(rows) for d in range(3))
+    t.check(len(rows) == 27 and min(r[3] for r in rows) > 0 and worst <= 1e-15,
+            "form occupancy: each voxel's field is its density times (0.4, -0.1, 0.1 m) (worst %.2g)" % worst)
+    diff = max(abs(a - b) for r1, r2 in zip(frames[0], frames[1]) for a, b in zip(r1, r2))
+    t.check(len(frames[1]) == 27 and diff <= 1e-14, "form occupancy: 2 processes write the field of 1 (%.2g)" % diff)
+
+
 def training():
-    """Synthetic dumps whose velocities are an exact linear function of density and control."""
+    """Synthetic dumps whose velocities are an exact linear function of density and control; then
+    an exact occupancy map (density times a linear function of the control)."""
     import random
     rng = random.Random(5)
     n, m = (2, 1, 2), 4
@@ -554,6 +597,39 @@ def training():
                 for r in range(nrow))
     t.check(worst <= 1e-3, "train_rom.py recovers the exact linear map, controls constant and scheduled (worst "
             "weight error %.2g)" % worst)
+
+    # form occupancy: vel[3 v + d] = rho[v] (B[r][0] + B[r][1] control), the same runs' densities
+    B = [[rng.uniform(-1, 1) for _ in range(2)] for _ in range(3 * m)]
+    specs = []
+    for run, control in enumerate((1.0, 2.0, 0.5)):
+        path = os.path.join(WD, "occ_syn%d.txt" % run)
+        with open(path, "w") as f:
+            for frame in range(30):
+                rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
+                vel = [rho[r // 3] * (B[r][0] + B[r][1] * control) for r in range(3 * m)]
+                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % (frame * 10))
+                f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
+                f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
+                for v in range(m):
+                    f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
+        specs.append("%s:%g" % (path, control))
+    occ_model = os.path.join(WD, "occ_syn.model")
+    proc = subprocess.run(["/usr/bin/python3", script, "--form", "occupancy", occ_model] + specs,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    t.check(proc.returncode == 0, "train_rom.py --form occupancy runs: " + proc.stdout[-300:])
+    if proc.returncode != 0:
+        return
+    words = []
+    with open(occ_model) as f:
+        for line in f:
+            words += line.split("#")[0].split()
+    k = words.index("weights")
+    t.check(words[:2] == ["griddem/rom", "3"] and words[k - 2:k] == ["form", "occupancy"] and
+            words[k + 1:k + 3] == ["12", "2"], "occupancy model header: version 3, form occupancy, 12 x 2 weights")
+    W = [[float(x) for x in words[k + 3 + 2 * r:k + 5 + 2 * r]] for r in range(3 * m)]
+    worst = max(abs(W[r][c] - B[r][c]) for r in range(3 * m) for c in range(2))
+    t.check(worst <= 1e-3, "train_rom.py --form occupancy recovers the exact occupancy map (worst weight error "
+            "%.2g)" % worst)
 
 
 def model_step():
@@ -1229,6 +1305,7 @@ release()
 loaded()
 field_jump()
 field_output()
+occupancy_form()
 resolved_region()
 training()
 eps_zero()
