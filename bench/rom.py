@@ -5,9 +5,9 @@
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
     /usr/bin/python3 bench/rom.py --scene hopper [--seg 4000] [--train-feed R,R,../R,R,../...]
                                   [--train-outlet J,J,../J,J,../...] [--test-feed R,R,..]
-                                  [--test-outlet J,J,..] [--form occupancy|linear] [--eps 0.3]
-                                  [--v0 0.36] [--every 50]
-                                  [--drive dense|match|box] [--dense 0.5] [--overlap 0.5]
+                                  [--test-outlet J,J,..] [--form occupancy|linear] [--components xz]
+                                  [--eps 0.3] [--v0 0.36] [--every 50] [--drive match|dense|box]
+                                  [--dense 0.5] [--overlap 0.1]
     /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
                                   [--overlap 1.0]
@@ -37,8 +37,9 @@ Scene pile (examples/rom-pile): the outlet width is the control; --steps is the 
 run. Scene hopper (examples/rom-hopper, the method's paper's pile, up to some 17,000 polydisperse
 spheres): every run fills the empty container; the controls are the feed rate and the speed of the
 kinematic outlet, histories of --seg-step segments (the test's last outlet speed beyond the
-trained range); the reduced run drives the material where it is dense (--drive dense, density
-0.5, overlap 0.5), DEM resolves the gas-like rest (the feed stream, the jet under the outlet).
+trained range); the model's form is occupancy (each voxel's velocity its density times a linear
+function of the controls, vx and vz only); the reduced run drives the atoms that move with the
+field (--drive match, overlap 0.1: with drive dense, atoms were lost, see the example's README).
 Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
@@ -185,8 +186,8 @@ class Hopper:
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, "hopper-paper")
-        self.name = "rom-hopper seg %d train %s outlet %s test %s outlet %s model %s" % (
-            a.seg, a.train_feed, a.train_outlet, a.test_feed, a.test_outlet, a.form)
+        self.name = "rom-hopper seg %d train %s outlet %s test %s outlet %s model %s %s" % (
+            a.seg, a.train_feed, a.train_outlet, a.test_feed, a.test_outlet, a.form, a.components)
         self.name += settings_named(self.rom(), HOPPER_DEFAULTS)
 
     def run(self, tag, variables):
@@ -209,9 +210,11 @@ class Hopper:
             if not os.path.exists(os.path.join(self.wd, "cg.%s.txt" % tag)):
                 self.run(tag, dict(rate=rates, outlet_speed=speeds, seg=self.a.seg))
             specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
-        model = "rom.%s.%s.j%s.s%d.model" % (self.a.form, self.a.train_feed.replace(",", "_").replace("/", "-"),
-                                             self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
-        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs, ["--form", self.a.form])
+        model = "rom.%s.%s.%s.j%s.s%d.model" % (
+            self.a.form, self.a.components, self.a.train_feed.replace(",", "_").replace("/", "-"),
+            self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
+        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs,
+                       ["--form", self.a.form, "--components", self.a.components])
 
     def test(self, scan=False):
         rates, speeds = self.a.test_feed.split(","), self.a.test_outlet.split(",")
@@ -392,15 +395,18 @@ def main():
     ap.add_argument("--form", choices=("occupancy", "linear"), default="occupancy",
                     help="hopper: the model's form (train_rom.py --form; default occupancy: each voxel's velocity "
                     "its density times a linear function of the controls)")
+    ap.add_argument("--components", default="xz",
+                    help="hopper: the velocity components the model predicts (train_rom.py --components; default xz: "
+                    "the slice's mean vy is noise that would drive atoms into its front and rear walls)")
     ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
     ap.add_argument("--train-traj", default="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2",
                     help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
                     "push speed)")
     ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
     ap.add_argument("--drive", choices=("match", "box", "dense"),
-                    help="hopper, blade: fix griddem/rom keyword drive (default hopper dense: the atoms where the "
-                    "material is dense are driven, DEM resolves the gas-like rest; blade box: every atom in the "
-                    "model's grid is driven, as the paper's blade; match: those the field matches)")
+                    help="hopper, blade: fix griddem/rom keyword drive (default hopper match: those the field "
+                    "matches; blade box: every atom in the model's grid is driven, as the paper's blade; dense: the "
+                    "atoms where the material is dense are driven, DEM resolves the gas-like rest)")
     ap.add_argument("--dense", type=float, default=0.5,
                     help="with --drive dense: the density from which the model drives an atom (default 0.5; the "
                     "hopper's heaps are about 0.6)")
@@ -409,9 +415,8 @@ def main():
                     "the paper's blade)")
     ap.add_argument("--overlap", type=float,
                     help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that "
-                    "releases a kinematic one, over the smaller radius (default hopper 0.5: with 1.0 an atom released "
-                    "from a deep overlap was thrown out of the box; blade 1.0: the field drives the heap ahead of the "
-                    "blade into itself; 0.1 releases some fifty atoms at each classification)")
+                    "releases a kinematic one, over the smaller radius (default hopper 0.1, fix griddem/rom's own; blade "
+                    "1.0: the field drives the heap ahead of the blade into itself)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="pile: initial pile height")
@@ -430,7 +435,7 @@ def main():
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="dense", overlap=0.5),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:

@@ -2,7 +2,7 @@
 """Ridge regression of the voxel velocity field on the voxel density field and the controls,
 from resolved runs' coarse-grained fields (dump grid of compute griddem/cg density vx vy vz).
 
-    train_rom.py [--form occupancy] OUT.model DUMP:CONTROLS [DUMP:CONTROLS ...]
+    train_rom.py [--form occupancy] [--components xz] OUT.model DUMP:CONTROLS [DUMP:CONTROLS ...]
 
 CONTROLS: the run's control values, CONTROL[,CONTROL...] (constant), or @FILE for controls that
 change during the run: FILE has rows "UNTIL_STEP CONTROL [CONTROL...]", in increasing
@@ -17,9 +17,15 @@ over the held-out run's frames) from a logarithmic grid, then the model is refit
 and written with the scaling folded in (plain weights on raw densities and controls).
 
 --form occupancy: each voxel's velocity is its own density times a linear function of [1,
-controls] (the model file's form occupancy); fitted voxel by voxel, W_m = (A'A + lambda s I)^-1 A'Y_m
-with A = density_m [1, controls] over the frames and s the mean of A'A's diagonal, lambda again
-by leave-one-run-out validation."""
+controls] (the model file's form occupancy); fitted voxel by voxel by least squares weighted by
+the density, as the velocity error is: W_m = (A'DA + lambda s I)^-1 A'DY_m with A = density_m [1,
+controls] over the frames, D their densities and s the scale of a voxel full of dense material
+(the 95th percentile density) in every frame; lambda by leave-one-run-out validation of the
+density-weighted error.
+
+--components: the velocity components the model predicts (default xyz); the others' weights are
+zero (a quasi-2D slice between walls: xz, so that no driven atom drifts into the walls with the
+slice-averaged vy, which is noise)."""
 import os
 import sys
 
@@ -84,66 +90,86 @@ def predict(Wfull, X):
 
 
 def occupancy_fit(nvox):
-    """fit(X, Y, lam) and predict(W, X) of the occupancy form for features X = [densities of nvox
-    voxels, controls] and targets Y = [vx, vy, vz of every voxel]."""
+    """fit(X, Y, lam), predict(W, X) and the validation's weights (the densities) of the occupancy
+    form for features X = [densities of nvox voxels, controls] and targets Y = [vx, vy, vz of every
+    voxel]."""
     def controls(X):
         return np.hstack([np.ones((len(X), 1)), X[:, nvox:]])
 
     def fit(X, Y, lam):
+        # least squares weighted by the density, as the velocity error is: the dilute, fast
+        # material (the feed stream) that DEM resolves counts little; one ridge scale for every
+        # voxel, that of a voxel full of dense material in every frame, so a voxel the training
+        # runs only saw dilute gets weights near zero, not of order velocity / density
         F = controls(X)
+        dense = np.percentile(X[:, :nvox], 95)
+        scale = len(X) * dense ** 3 * np.mean(np.sum(F ** 2, axis=1))
         W = np.zeros((Y.shape[1], F.shape[1]))
         for m in range(nvox):
-            A = X[:, m:m + 1] * F
-            G = A.T @ A
-            scale = np.trace(G) / len(G)
-            if scale > 0:
-                W[3 * m:3 * m + 3] = np.linalg.solve(G + lam * scale * np.eye(len(G)), A.T @ Y[:, 3 * m:3 * m + 3]).T
+            root = np.sqrt(X[:, m:m + 1])
+            A = root * X[:, m:m + 1] * F
+            W[3 * m:3 * m + 3] = np.linalg.solve(A.T @ A + lam * scale * np.eye(F.shape[1]),
+                                                 A.T @ (root * Y[:, 3 * m:3 * m + 3])).T
         return W
 
     def predict_occupancy(W, X):
         return (controls(X) @ W.T) * np.repeat(X[:, :nvox], 3, axis=1)
-    return fit, predict_occupancy
+
+    def weights(X):
+        return np.repeat(X[:, :nvox], 3, axis=1)
+    return fit, predict_occupancy, weights
 
 
 def main():
     args = sys.argv[1:]
-    form = "linear"
-    if args[:1] == ["--form"]:
-        form, args = args[1], args[2:]
-    if len(args) < 2 or form not in ("linear", "occupancy"):
+    options = dict(form="linear", components="xyz")
+    while args[:1] in (["--form"], ["--components"]) and len(args) > 1:
+        options[args[0][2:]], args = args[1], args[2:]
+    form, components = options["form"], options["components"]
+    if len(args) < 2 or form not in ("linear", "occupancy") or not components or set(components) - set("xyz"):
         raise SystemExit(__doc__)
     out, specs = args[0], args[1:]
     runs, n, box = load(specs)
     if form == "occupancy":
-        W, note = fit_validated(runs, "velocity", *occupancy_fit(n[0] * n[1] * n[2]), lams=10.0 ** np.arange(-6, 1.01, 0.5))
+        W, note = fit_validated(runs, "velocity", *occupancy_fit(n[0] * n[1] * n[2]),
+                                lams=10.0 ** np.arange(-6, 1.01, 0.5))
     else:
         W, note = fit_validated(runs, "velocity")
-    write_model(out, n, box, W[1], W[0], "trained by train_rom.py (form %s) on %s\n%s" % (form, " ".join(specs), note),
-                form=form)
+    weights = W[0].copy()
+    for d, c in enumerate("xyz"):
+        if c not in components:
+            weights[d::3] = 0.0
+    write_model(out, n, box, W[1], weights, "trained by train_rom.py (form %s, components %s) on %s\n%s"
+                % (form, components, " ".join(specs), note), form=form)
     print(note)
 
 
-def fit_validated(runs, what, fit=fit, predict=predict, lams=10.0 ** np.arange(-3, 5.01, 0.5)):
+def fit_validated(runs, what, fit=fit, predict=predict, weights=None, lams=10.0 ** np.arange(-3, 5.01, 0.5)):
     """Ridge fit of runs [(name, X, Y)] with lambda chosen by leave-one-run-out validation from the
-    logarithmic grid lams (fit and predict: the model's form); returns ((weights, lambda), a note
-    on the fit)."""
+    logarithmic grid lams (fit and predict: the model's form; weights(X): the weight of each
+    squared error, default 1); returns ((weights, lambda), a note on the fit)."""
+    def mean_square(P, Y, X):
+        w = weights(X) if weights else np.ones_like(Y)
+        return np.sum(w * (P - Y) ** 2) / np.sum(w)
+
+    rms = "density-weighted rms" if weights else "rms"
     scores = []
     for lam in lams:
         err = []
         for k, (path, Xv, Yv) in enumerate(runs):
             Xt = np.vstack([r[1] for j, r in enumerate(runs) if j != k])
             Yt = np.vstack([r[2] for j, r in enumerate(runs) if j != k])
-            err.append(np.mean((predict(fit(Xt, Yt, lam), Xv) - Yv) ** 2))
+            err.append(mean_square(predict(fit(Xt, Yt, lam), Xv), Yv, Xv))
         scores.append(np.mean(err))
-        print("lambda %-10.4g leave-one-run-out rms %s error %.5f" % (lam, what, np.sqrt(scores[-1])))
+        print("lambda %-10.4g leave-one-run-out %s %s error %.5f" % (lam, rms, what, np.sqrt(scores[-1])))
     best = lams[int(np.argmin(scores))]
     X = np.vstack([r[1] for r in runs])
     Y = np.vstack([r[2] for r in runs])
     W = fit(X, Y, best)
-    train_rms = np.sqrt(np.mean((predict(W, X) - Y) ** 2))
-    zero_rms = np.sqrt(np.mean(Y ** 2))
-    note = ("%s: %d frames; lambda %.4g (standardised features) by leave-one-run-out validation: rms %.5f; "
-            "training rms %.5f; rms of the data %.5f" % (what, len(X), best, np.sqrt(min(scores)), train_rms, zero_rms))
+    train_rms = np.sqrt(mean_square(predict(W, X), Y, X))
+    zero_rms = np.sqrt(mean_square(0.0 * Y, Y, X))
+    note = ("%s: %d frames; lambda %.4g by leave-one-run-out validation: %s %.5f; training %.5f; of the data %.5f"
+            % (what, len(X), best, rms, np.sqrt(min(scores)), train_rms, zero_rms))
     return (W, best), note
 
 
