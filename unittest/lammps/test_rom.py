@@ -472,13 +472,10 @@ run 200
     t.check(rc != 0 and "region nowhere (keyword resolved) does not exist" in out, "a missing region is refused by name")
 
 
-def field_output():
-    """The predicted field and the density as grid data (dump grid): a uniform field U in every
-    voxel, the density summing to the mass of the 64 atoms (lattice spacing 1.5; CIC keeps mass),
-    1 and 2 processes equal (to the order of the sum over processes)."""
-    U = (0.3, -0.2, 0.1)
-    model = os.path.join(WD, "grid.model")
-    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+def lattice_fields(model, name, before=""):
+    """The field and density (rows vx, vy, vz, density of the 27 voxels) that fix griddem/rom with
+    model dumps at step 10 on 64 unit spheres at rest on a lattice of spacing 1.5 (lines before:
+    the fix's controls), on 1 and 2 processes."""
     frames = []
     for nprocs in (1, 2):
         text = HEAD.format(bnd="f f f").replace("region box", "processors %d 1 1\nregion box" % nprocs) + """
@@ -487,18 +484,29 @@ create_atoms 1 box
 set type 1 diameter 1.0
 set type 1 density 1.0
 velocity all set 0 0 0
-""" + PAIR + """
-fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+""" + PAIR + before + """
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5{controls}
 fix integrate rom_dynamic nve/sphere
-dump g all grid 5 field{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
+dump g all grid 5 {name}{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
 dump_modify g sort id format float %.17g
 run 10
-""".format(m=model, n=nprocs)
-        t.run_ok(text, WD, nprocs=nprocs, name="in.field%d" % nprocs)
-        with open(os.path.join(WD, "field%d.txt" % nprocs)) as f:
+""".format(m=model, n=nprocs, name=name, controls=" control v_c" if before else "")
+        t.run_ok(text, WD, nprocs=nprocs, name="in.%s%d" % (name, nprocs))
+        with open(os.path.join(WD, "%s%d.txt" % (name, nprocs))) as f:
             lines = f.read().splitlines()
         k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS"))
         frames.append([[float(v) for v in line.split()] for line in lines[k + 1:k + 28]])
+    return frames
+
+
+def field_output():
+    """The predicted field and the density as grid data (dump grid): a uniform field U in every
+    voxel, the density summing to the mass of the 64 atoms (lattice spacing 1.5; CIC keeps mass),
+    1 and 2 processes equal (to the order of the sum over processes)."""
+    U = (0.3, -0.2, 0.1)
+    model = os.path.join(WD, "grid.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    frames = lattice_fields(model, "field")
     rows = frames[0]
     t.check(len(rows) == 27 and all(r[:3] == list(U) for r in rows), "dump grid: the field is U in all 27 voxels")
     mass = sum(r[3] for r in rows) * 2.0 ** 3
@@ -518,33 +526,39 @@ def occupancy_form():
                 % " ".join("%.17g" % b for b in BOX))
         for m in range(27):
             f.write("0.2 0.1\n-0.1 0\n0 %.17g\n" % (0.05 * m))
-    frames = []
-    for nprocs in (1, 2):
-        text = HEAD.format(bnd="f f f").replace("region box", "processors %d 1 1\nregion box" % nprocs) + """
-lattice sc 0.2962962962962963 origin 0.5 0.5 0.5
-create_atoms 1 box
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 0 0 0
-""" + PAIR + """
-variable c equal 2
-fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 control v_c
-fix integrate rom_dynamic nve/sphere
-dump g all grid 5 occ{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
-dump_modify g sort id format float %.17g
-run 5
-""".format(m=model, n=nprocs)
-        t.run_ok(text, WD, nprocs=nprocs, name="in.occ%d" % nprocs)
-        with open(os.path.join(WD, "occ%d.txt" % nprocs)) as f:
-            lines = f.read().splitlines()
-        k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS"))
-        frames.append([[float(v) for v in line.split()] for line in lines[k + 1:k + 28]])
+    frames = lattice_fields(model, "occ", before="variable c equal 2\n")
     rows = frames[0]
     worst = max(abs(r[d] - r[3] * (0.4, -0.1, 0.1 * m)[d]) for m, r in enumerate(rows) for d in range(3))
     t.check(len(rows) == 27 and min(r[3] for r in rows) > 0 and worst <= 1e-15,
             "form occupancy: each voxel's field is its density times (0.4, -0.1, 0.1 m) (worst %.2g)" % worst)
     diff = max(abs(a - b) for r1, r2 in zip(frames[0], frames[1]) for a, b in zip(r1, r2))
     t.check(len(frames[1]) == 27 and diff <= 1e-14, "form occupancy: 2 processes write the field of 1 (%.2g)" % diff)
+
+
+def model_words(script, options, name, specs):
+    """The words (comments left out) of the model file name that train_rom.py (script) with
+    options makes from specs in WD, or None (reported) when it fails."""
+    import subprocess
+    out_model = os.path.join(WD, name)
+    proc = subprocess.run(["/usr/bin/python3", script] + options + [out_model] + specs, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True)
+    t.check(proc.returncode == 0, "train_rom.py %s runs: %s" % (" ".join(options), proc.stdout[-300:]))
+    if proc.returncode != 0:
+        return None
+    words = []
+    with open(out_model) as f:
+        for line in f:
+            words += line.split("#")[0].split()
+    return words
+
+
+def write_synthetic_frame(f, step, rho, vel):
+    """One frame of a dump grid of compute griddem/cg (density vx vy vz) on a 2 x 1 x 2 grid."""
+    f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % step)
+    f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
+    f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
+    for v in range(len(rho)):
+        f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
 
 
 def training():
@@ -569,25 +583,13 @@ def training():
                 w = control if control is not None else (0.5 if step <= 100 else 2.5 if step <= 200 else 1.5)
                 rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
                 vel = [b[r] + sum(A[r][k] * rho[k] for k in range(m)) + A[r][m] * w for r in range(3 * m)]
-                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % step)
-                f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
-                f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
-                for v in range(m):
-                    f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
+                write_synthetic_frame(f, step, rho, vel)
         specs.append("%s:%s" % (path, "%g" % control if control is not None else "@" + schedule))
     here = os.path.dirname(os.path.abspath(__file__))
     script = os.path.join(os.path.dirname(os.path.dirname(here)), "examples", "rom-pile", "train_rom.py")
-    import subprocess
-    out_model = os.path.join(WD, "syn.model")
-    proc = subprocess.run(["/usr/bin/python3", script, out_model] + specs, stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, universal_newlines=True)
-    t.check(proc.returncode == 0, "train_rom.py runs: " + proc.stdout[-300:])
-    if proc.returncode != 0:
+    words = model_words(script, [], "syn.model", specs)
+    if words is None:
         return
-    words = []
-    with open(out_model) as f:
-        for line in f:
-            words += line.split("#")[0].split()
     k = words.index("weights")
     nrow, ncol = int(words[k + 1]), int(words[k + 2])
     t.check(words[:2] == ["griddem/rom", "1"] and words[2:6] == ["grid", "2", "1", "2"] and
@@ -607,22 +609,11 @@ def training():
             for frame in range(30):
                 rho = [rng.uniform(0.0, 1.0) for _ in range(m)]
                 vel = [rho[r // 3] * (B[r][0] + B[r][1] * control) for r in range(3 * m)]
-                f.write("ITEM: TIMESTEP\n%d\nITEM: BOX BOUNDS ff ff ff\n0 4\n0 1\n0 4\n" % (frame * 10))
-                f.write("ITEM: DIMENSION\n3\nITEM: GRID SIZE nx ny nz\n2 1 2\n")
-                f.write("ITEM: GRID CELLS c_cg:grid:density c_cg:grid:vx c_cg:grid:vy c_cg:grid:vz\n")
-                for v in range(m):
-                    f.write("%.17g %.17g %.17g %.17g\n" % (rho[v], vel[3 * v], vel[3 * v + 1], vel[3 * v + 2]))
+                write_synthetic_frame(f, frame * 10, rho, vel)
         specs.append("%s:%g" % (path, control))
-    occ_model = os.path.join(WD, "occ_syn.model")
-    proc = subprocess.run(["/usr/bin/python3", script, "--form", "occupancy", occ_model] + specs,
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
-    t.check(proc.returncode == 0, "train_rom.py --form occupancy runs: " + proc.stdout[-300:])
-    if proc.returncode != 0:
+    words = model_words(script, ["--form", "occupancy"], "occ_syn.model", specs)
+    if words is None:
         return
-    words = []
-    with open(occ_model) as f:
-        for line in f:
-            words += line.split("#")[0].split()
     k = words.index("weights")
     t.check(words[:2] == ["griddem/rom", "3"] and words[k - 2:k] == ["form", "occupancy"] and
             words[k + 1:k + 3] == ["12", "2"], "occupancy model header: version 3, form occupancy, 12 x 2 weights")
