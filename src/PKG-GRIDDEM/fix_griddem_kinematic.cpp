@@ -100,7 +100,7 @@ void FixGriddemKinematic::post_force(int /*vflag*/)
   double **omega = atom->omega_flag ? atom->omega : nullptr;
   double **torque = atom->torque_flag ? atom->torque : nullptr;
   const int *mask = atom->mask;
-  bigint mine = 0;
+  held = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit) || !region->match(x[i][0], x[i][1], x[i][2])) continue;
     for (int d = 0; d < 3; d++) {
@@ -109,12 +109,14 @@ void FixGriddemKinematic::post_force(int /*vflag*/)
       if (omega) omega[i][d] = 0.0;
       if (torque) torque[i][d] = 0.0;
     }
-    mine++;
+    held++;
   }
-  MPI_Allreduce(&mine, &held, 1, MPI_LMP_BIGINT, MPI_SUM, world);
 }
 
+// summed over the processes only when asked (thermo), not at every step
 double FixGriddemKinematic::compute_scalar()
 {
-  return (double) held;
+  bigint all = 0;
+  MPI_Allreduce(&held, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  return (double) all;
 }

@@ -39,7 +39,7 @@ class FixGriddemKinematic : public Fix {
   Component velocity[3];
   std::string region_id;
   class Region *region;
-  bigint held;    // atoms held this step (all processes), the fix's scalar
+  bigint held;    // atoms of this process held at the last step (the scalar sums them)
 };
 
 }    // namespace LAMMPS_NS

@@ -6,7 +6,8 @@ Four spheres under gravity in a box with the region z < 2: atom 1 starts inside,
 region; atom 4 is outside the fix's group. Positions are checked against a step-by-step model of
 the documented rule (velocity Verlet with gravity 1 until the end-of-step position is in the
 region, then the prescribed velocity from the next step on), to 1e-12; with a constant velocity
-and with an equal-style variable; on 1 and 2 processes. Bad input is refused naming the cause."""
+and with an equal-style variable; on 1 and 2 processes (f_ID summed over them). Bad input is
+refused naming the cause, also a missing velocity variable and run style respa."""
 import os
 import sys
 
@@ -130,6 +131,10 @@ def main():
          "variable vz is not equal-style"),
         ("too few values", script("-0.2").replace("velocity 0.1 0 v_vz", "velocity 0.1 0"),
          "expected region R velocity VX VY VZ"),
+        ("missing variable", script("-0.2").replace("velocity 0.1 0 v_vz", "velocity 0.1 0 v_nothere"),
+         "variable nothere does not exist"),
+        ("run style respa", script("-0.2").replace("\nrun ", "\nrun_style respa 2 2\nrun "),
+         "does not support run style respa"),
     ]
     for label, text, message in refused:
         rc, out = t.run_lmp(text, wd)
