@@ -200,9 +200,7 @@ class Hopper:
             raise SystemExit("--train-feed and --train-outlet: as many histories each")
         specs = []
         for feed, outlet in zip(feeds, outlets):
-            rates, speeds = feed.split(","), outlet.split(",")
-            if len(rates) != len(speeds):
-                raise SystemExit("--train-feed %s and --train-outlet %s: as many segments each" % (feed, outlet))
+            rates, speeds = segments(feed, outlet, "--train-feed %s and --train-outlet %s" % (feed, outlet))
             tag = "train.f%s.j%s.s%d" % (feed.replace(",", "_"), outlet.replace(",", "_"), self.a.seg)
             with open(os.path.join(self.wd, "ctl.%s.txt" % tag), "w") as f:
                 f.write("# until_step feed_rate outlet_speed\n")
@@ -217,9 +215,7 @@ class Hopper:
                        ["--form", self.a.form, "--components", self.a.components])
 
     def test(self, scan=False):
-        rates, speeds = self.a.test_feed.split(","), self.a.test_outlet.split(",")
-        if len(rates) != len(speeds):
-            raise SystemExit("--test-feed and --test-outlet: as many segments each")
+        rates, speeds = segments(self.a.test_feed, self.a.test_outlet, "--test-feed and --test-outlet")
         if scan:
             return dict(rate=rates[:1], outlet_speed=speeds[:1], seg=self.a.scan_steps)
         return dict(rate=rates, outlet_speed=speeds, seg=self.a.seg)
@@ -233,6 +229,15 @@ class Hopper:
 # those chosen otherwise)
 BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
 HOPPER_DEFAULTS = dict(drive="match", overlap=0.1)
+
+
+def segments(feed, outlet, what):
+    """A history's feed rates and outlet speeds, segment by segment (what: the options, named
+    where their numbers of segments differ)"""
+    rates, speeds = feed.split(","), outlet.split(",")
+    if len(rates) != len(speeds):
+        raise SystemExit("%s: as many segments each" % what)
+    return rates, speeds
 
 
 def settings_named(settings, defaults):
@@ -408,8 +413,7 @@ def main():
                     "matches; blade box: every atom in the model's grid is driven, as the paper's blade; dense: the "
                     "atoms where the material is dense are driven, DEM resolves the gas-like rest)")
     ap.add_argument("--dense", type=float, default=0.5,
-                    help="with --drive dense: the density from which the model drives an atom (default 0.5; the "
-                    "hopper's heaps are about 0.6)")
+                    help="with --drive dense: the density from which the model drives an atom (default 0.5)")
     ap.add_argument("--guard", choices=("yes", "no"), default="no",
                     help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
                     "the paper's blade)")

@@ -112,12 +112,13 @@ def occupancy_fit(nvox):
                                                  A.T @ (root * Y[:, 3 * m:3 * m + 3])).T
         return W
 
-    def predict_occupancy(W, X):
-        return (controls(X) @ W.T) * np.repeat(X[:, :nvox], 3, axis=1)
-
-    def weights(X):
+    def densities(X):
+        """each voxel's density under its three velocity components"""
         return np.repeat(X[:, :nvox], 3, axis=1)
-    return fit, predict_occupancy, weights
+
+    def predict_occupancy(W, X):
+        return (controls(X) @ W.T) * densities(X)
+    return fit, predict_occupancy, densities
 
 
 def main():
@@ -135,11 +136,11 @@ def main():
                                 lams=10.0 ** np.arange(-6, 1.01, 0.5))
     else:
         W, note = fit_validated(runs, "velocity")
-    weights = W[0].copy()
+    model_weights = W[0].copy()
     for d, c in enumerate("xyz"):
         if c not in components:
-            weights[d::3] = 0.0
-    write_model(out, n, box, W[1], weights, "trained by train_rom.py (form %s, components %s) on %s\n%s"
+            model_weights[d::3] = 0.0
+    write_model(out, n, box, W[1], model_weights, "trained by train_rom.py (form %s, components %s) on %s\n%s"
                 % (form, components, " ".join(specs), note), form=form)
     print(note)
 

@@ -2,8 +2,9 @@
  * particles by cloud-in-cell weights (the same weights and boundary rule as griddem_cg_cic, so the
  * field equals compute griddem/cg's density with a kernel width far below the voxel edge), a
  * linear (ridge-regression) map from features [1, density of each voxel, controls] to the voxel
- * velocities (or each voxel's density times a linear map of [1, controls]), and the trilinear interpolation of that velocity field at a point (the same
- * weights again). Voxel m = i + nx (j + ny k); its centre is lo + (i + 1/2) h. */
+ * velocities (or each voxel's density times a linear map of [1, controls]), and the trilinear
+ * interpolation of that velocity field at a point (the same weights again). Voxel m = i + nx (j +
+ * ny k); its centre is lo + (i + 1/2) h. */
 #ifndef GRIDDEM_ROM_H
 #define GRIDDEM_ROM_H
 
