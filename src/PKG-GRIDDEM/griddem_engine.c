@@ -317,11 +317,14 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
       return GRIDDEM_FAULT_MEMORY;
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax, cls[0].kinematic = 0;
     all->order = e->bins[0].order;
-    return GRIDDEM_FAULT_NONE;
+  } else {
+    all->n = bin_gathered(e, s, scan, apart_bit, kinematic_bit, cls, coarsened);
+    all->order = e->order;
+    if (all->n < 0) return GRIDDEM_FAULT_MEMORY;
   }
-  all->n = bin_gathered(e, s, scan, apart_bit, kinematic_bit, cls, coarsened);
-  all->order = e->order;
-  return all->n < 0 ? GRIDDEM_FAULT_MEMORY : GRIDDEM_FAULT_NONE;
+  for (int c = 0; c < e->ngrid; c++)
+    griddem_owned_cells(cls[c].g, scan->owned_lo, scan->owned_hi, p->nlocal, cls[c].owned_lo, cls[c].owned_hi);
+  return GRIDDEM_FAULT_NONE;
 }
 
 void griddem_engine_count_occupancy(griddem_engine *e)

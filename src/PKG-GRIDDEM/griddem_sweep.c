@@ -6,6 +6,7 @@
 #include "griddem_search.h"
 #include "griddem_threads.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -770,6 +771,25 @@ static void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hi
     }
 }
 
+/* Whether one of the slots s0 .. s0 + n - 1 holds an owned particle */
+static inline int any_owned(const sweep_context *cx, int s0, int n)
+{
+  int owned = 0;
+  for (int k = 0; k < n; k++) owned |= cx->order[s0 + k] < cx->nlocal;
+  return owned;
+}
+
+void griddem_owned_cells(const griddem_grid *g, const double lo[3], const double hi[3], int nowned, int owned_lo[3],
+                         int owned_hi[3])
+{
+  for (int d = 0; d < 3; d++)
+    if (nowned > 0) {
+      owned_lo[d] = griddem_axis_cell(lo[d], g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      owned_hi[d] = griddem_axis_cell(hi[d], g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+    } else
+      owned_lo[d] = INT_MAX, owned_hi[d] = INT_MIN;
+}
+
 /* A stencil's rows in one grid's cells: per row, where the slots of a cell's first and past its
  * last stencil cell begin, as offsets in cell_start from the cell row's first cell for the cell
  * x = 0 (nx dy + nx ny dz + dxlo, and + dxhi + 1), and its cells along x; the rows' extent in y
@@ -801,6 +821,11 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
   const long nxy = (long) nx * g->n[1], rowcell = nx * (long) y + nxy * z;
   const int first = start[rowcell], last = start[rowcell + nx];
   if (first == last) return;
+  /* a row outside the owned cells holds ghosts only; none has an owned candidate where the row's
+     stencil misses them too */
+  const int *olo = k->owned_lo, *ohi = k->owned_hi;
+  if (y + sc->dymax < olo[1] || y + sc->dymin > ohi[1] || z + sc->dzmax < olo[2] || z + sc->dzmin > ohi[2]) return;
+  const int ghost_row = y < olo[1] || y > ohi[1] || z < olo[2] || z > ohi[2];
   const int *row0 = into->b->cell_start + rowcell;
 
   /* the stencil rows inside the grid: all of them away from its faces */
@@ -809,19 +834,20 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
   const int *dxlo = sc->dxlo, *dxhi = sc->dxhi;
   int nvalid = nrows, xsafe_lo = sc->xsafe_lo, xsafe_hi = nx - 1 - sc->xsafe_hi;
   long kept_lo[nrows], kept_hi[nrows];
-  int kept_dxlo[nrows], kept_dxhi[nrows];
+  int kept_dxlo[nrows], kept_dxhi[nrows], kept_row[nrows];
+  const int *stencil_row = NULL;    /* of each run (NULL: run q is stencil row q) */
   if (y + sc->dymin < 0 || y + sc->dymax >= g->n[1] || z + sc->dzmin < 0 || z + sc->dzmax >= g->n[2]) {
     nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
     for (int r = 0; r < nrows; r++) {
       const int yy = y + sc->row[r].dy, zz = z + sc->row[r].dz;
       if (yy < 0 || yy >= g->n[1] || zz < 0 || zz >= g->n[2]) continue;
       kept_lo[nvalid] = sc->lo[r], kept_hi[nvalid] = sc->hi[r];
-      kept_dxlo[nvalid] = sc->dxlo[r], kept_dxhi[nvalid] = sc->dxhi[r];
+      kept_dxlo[nvalid] = sc->dxlo[r], kept_dxhi[nvalid] = sc->dxhi[r], kept_row[nvalid] = r;
       if (-sc->dxlo[r] > xsafe_lo) xsafe_lo = -sc->dxlo[r];
       if (nx - 1 - sc->dxhi[r] < xsafe_hi) xsafe_hi = nx - 1 - sc->dxhi[r];
       nvalid++;
     }
-    off_lo = kept_lo, off_hi = kept_hi, dxlo = kept_dxlo, dxhi = kept_dxhi;
+    off_lo = kept_lo, off_hi = kept_hi, dxlo = kept_dxlo, dxhi = kept_dxhi, stencil_row = kept_row;
   }
 
   /* each stencil row's cell starts from this cell row's x = 0, the into grid's base added */
@@ -847,7 +873,21 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
         lo[q] = into_base + row_lo[q][x0 - dxlo[q]], hi[q] = into_base + row_hi[q][x1 - dxhi[q]];
         total += hi[q] - lo[q];
       }
-    if (own) lo[0] = base + s0 + 1;
+    if (ghost_row || xb < olo[0] || xa > ohi[0]) {
+      /* ghosts (cells outside the owned ones): their owned candidates only, each run clipped to
+         the owned cells; the own run then starts past the cluster or is empty */
+      total = 0;
+      for (int q = 0; q < nvalid; q++) {
+        const griddem_stencil_row *r = &sc->row[stencil_row ? stencil_row[q] : q];
+        const int yy = y + r->dy, zz = z + r->dz;
+        const int x0 = xa + dxlo[q] < olo[0] ? olo[0] : xa + dxlo[q], x1 = xb + dxhi[q] > ohi[0] ? ohi[0] : xb + dxhi[q];
+        if (yy < olo[1] || yy > ohi[1] || zz < olo[2] || zz > ohi[2] || x1 < x0) lo[q] = hi[q] = 0;
+        else lo[q] = into_base + row_lo[q][x0 - dxlo[q]], hi[q] = into_base + row_hi[q][x1 - dxhi[q]];
+        total += hi[q] - lo[q];
+      }
+      if (total == 0) continue;
+    } else if (own)
+      lo[0] = base + s0 + 1;
     search_cluster(cx, sums, hits, base + s0, ni, own, lo, hi, nvalid, total);
   }
 }
@@ -909,10 +949,20 @@ static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid
       if (!near) break;
       memcpy(box, grown, sizeof(box));
     }
-    int b[6];
+    int b[6], empty = 0;
+    const int ghosts = !any_owned(cx, s, ni);
     for (int d = 0; d < 3; d++) {
       b[d] = griddem_axis_cell(box[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
       b[3 + d] = griddem_axis_cell(box[3 + d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      if (ghosts) { /* only their owned candidates: the block clipped to the owned cells */
+        b[d] = b[d] < l->owned_lo[d] ? l->owned_lo[d] : b[d];
+        b[3 + d] = b[3 + d] > l->owned_hi[d] ? l->owned_hi[d] : b[3 + d];
+        empty |= b[3 + d] < b[d];
+      }
+    }
+    if (empty) {
+      q += ni;
+      continue;
     }
     if (memcmp(b, block, sizeof(b)) != 0) {
       nrange = total = 0;

@@ -74,14 +74,23 @@ typedef struct griddem_sweep_result {
 /* One size class: its particles binned on its own grid g (b's slots are slots base.. of the
  * channels), and the largest radius it may hold. One class is the plain single grid. kinematic:
  * its particles are kinematic, and no pair of two kinematic particles interacts (the sweep
- * searches no such pair: neither within the class nor across two kinematic classes). */
+ * searches no such pair: neither within the class nor across two kinematic classes). owned_lo ..
+ * owned_hi: a box of g's cells (inclusive, empty where lo > hi along an axis) outside which no
+ * owned particle's centre lies; a ghost's candidates outside it are ghosts, whose pairs with it are
+ * not evaluated, so the sweep tests none of them (griddem_owned_cells makes it). */
 typedef struct griddem_class_grid {
   const griddem_grid *g;
   const griddem_bins *b;
   int base;
   double rmax;
   int kinematic;
+  int owned_lo[3], owned_hi[3];
 } griddem_class_grid;
+
+/* The cells of g that the box lo..hi of the owned particles' centres covers, into owned_lo ..
+ * owned_hi (an empty box where there is no owned particle: nowned 0). */
+void griddem_owned_cells(const griddem_grid *g, const double lo[3], const double hi[3], int nowned, int owned_lo[3],
+                         int owned_hi[3]);
 
 /* One sweep over ncls size classes, cls[0] holding the largest spheres: pairs within a class on
  * its own grid (forward half stencil in sorted order), pairs across two classes by searching the

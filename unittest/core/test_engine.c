@@ -66,6 +66,75 @@ static void candidates(const griddem_model *m)
   griddem_engine_free(&e);
 }
 
+/* Ghosts as a process holds them: the periodic images of a box of owned particles in a shell as
+ * thick as LAMMPS's ghost cutoff (the longest contact distance and a skin). A ghost's pairs with
+ * other ghosts are not evaluated, so the sweep tests only its owned candidates; every owned
+ * particle's force (Hooke springs between particles at rest) and contacts are still those of a
+ * direct sum over every pair with an owned particle, through the shell's faces, edges and corners,
+ * on one grid and with size classes (pairs across classes found from either class). */
+static void ghost_shell(const griddem_model *m, int size_classes)
+{
+  enum { NOWN = 300, NMAX = 27 * NOWN };
+  const double L = 5.0, kn = 1e3;
+  static double x[3 * NMAX], v[3 * NMAX], w[3 * NMAX], rad[NMAX], mass[NMAX], f[3 * NMAX], t[3 * NMAX], fref[3 * NMAX];
+  static int tag[NMAX], type[NMAX], mask[NMAX], row_of[NMAX];
+  double rmin = 1e30, rmax = 0.0;
+  for (int i = 0; i < NOWN; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = L * check_uniform();
+    rad[i] = i % 10 == 0 ? 0.6 + 0.1 * check_uniform() : 0.15 + 0.1 * check_uniform();
+    rmin = rad[i] < rmin ? rad[i] : rmin, rmax = rad[i] > rmax ? rad[i] : rmax;
+  }
+  const double shell = 2.0 * rmax + 0.1;
+  int n = NOWN;
+  for (int sx = -1; sx <= 1; sx++)
+    for (int sy = -1; sy <= 1; sy++)
+      for (int sz = -1; sz <= 1; sz++)
+        for (int i = 0; i < NOWN && (sx || sy || sz); i++) {
+          const double y[3] = {x[3 * i] + sx * L, x[3 * i + 1] + sy * L, x[3 * i + 2] + sz * L};
+          int inside = 1;
+          for (int d = 0; d < 3; d++) inside &= y[d] >= -shell && y[d] < L + shell;
+          if (!inside) continue;
+          for (int d = 0; d < 3; d++) x[3 * n + d] = y[d];
+          rad[n++] = rad[i];
+        }
+  for (int i = 0; i < n; i++) {
+    for (int d = 0; d < 3; d++) v[3 * i + d] = w[3 * i + d] = f[3 * i + d] = t[3 * i + d] = fref[3 * i + d] = 0.0;
+    mass[i] = 1.0, tag[i] = i % NOWN + 1, type[i] = 1, mask[i] = 1, row_of[i] = -1;
+  }
+  long contacts = 0;
+  for (int i = 0; i < NOWN; i++)
+    for (int j = 0; j < n; j++) {
+      const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+      const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+      if (j == i || r >= rad[i] + rad[j]) continue;
+      contacts++;
+      for (int d = 0; d < 3; d++) fref[3 * i + d] += kn * (rad[i] + rad[j] - r) * dx[d] / r;
+    }
+  griddem_history h;
+  griddem_history_init(&h, 3);
+  griddem_particles part = {NOWN, n, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_step s;
+  memset(&s, 0, sizeof(s));
+  s.particles = part, s.model = m, s.rmin = rmin, s.rmax = rmax, s.max_cells = 1L << 24, s.size_classes = size_classes;
+  s.cell_edge = griddem_cell_edge(size_classes ? GRIDDEM_CELL_AUTO : GRIDDEM_CELL_MULTI, rmin, rmax, 0.0);
+  s.dt = 1e-4, s.history_update = 1, s.hist = &h, s.row_of = row_of, s.f = f, s.torque = t;
+  griddem_engine e;
+  griddem_engine_init(&e);
+  griddem_sweep_result r;
+  int coarsened;
+  CHECK(griddem_engine_step(&e, &s, &r, &coarsened) == GRIDDEM_FAULT_NONE, "ghost shell: step runs");
+  double worst = 0.0, largest = 0.0;
+  for (int k = 0; k < 3 * NOWN; k++) {
+    worst = fabs(f[k] - fref[k]) > worst ? fabs(f[k] - fref[k]) : worst;
+    largest = fabs(fref[k]) > largest ? fabs(fref[k]) : largest;
+  }
+  CHECK(n > 2 * NOWN && e.ngrid == (size_classes ? 2 : 1) && e.stats.contacts == contacts && worst <= 1e-12 * largest,
+        "ghost shell (%d grids): %d owned, %d ghosts; contacts %ld (direct sum %ld); largest force difference %g of %g",
+        e.ngrid, NOWN, n - NOWN, e.stats.contacts, contacts, worst, largest);
+  griddem_engine_free(&e);
+  griddem_history_free(&h);
+}
+
 #ifdef _OPENMP
 /* the scan of GRIDDEM_THREADED_MIN particles and more on two threads (min, max and sum
  * reductions): one thread's box, fastest speed and radius range; a NaN and an infinite speed
@@ -185,6 +254,9 @@ int main(void)
   griddem_model m;
   memset(&m, 0, sizeof(m));
   m.ntypes = 1, m.pair = table, m.history_size = 3, m.track_contacts = 1;
+
+  ghost_shell(&m, 0);
+  ghost_shell(&m, 1);
 
   /* a row of three: particle 0 between 1 and 2, 3 apart; 2 and 3 are ghosts */
   double x[12] = {0, 0, 0, 0.9, 0, 0, -0.9, 0, 0, 5, 5, 5}, v[12] = {0, 1, 0, 0, -1, 0, 0, 0, 2, 3, 0, 0};

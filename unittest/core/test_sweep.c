@@ -102,6 +102,13 @@ static double max_abs(const double *a, int n)
   return m;
 }
 
+/* One class of particles all owned: any cell of g may hold one */
+static griddem_class_grid all_owned(const griddem_grid *g, const griddem_bins *b, double rmax)
+{
+  const griddem_class_grid k = {g, b, 0, rmax, 0, {0, 0, 0}, {g->n[0] - 1, g->n[1] - 1, g->n[2] - 1}};
+  return k;
+}
+
 static void compare_mode(int mode, const char *law, const griddem_model *m, const unsigned char *excluded,
                          int threads)
 {
@@ -147,7 +154,7 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     griddem_bin_points(&b, &g, N, x, tag, 4);
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
-    const griddem_class_grid one = {&g, &b, 0, rmax, 0};
+    const griddem_class_grid one = all_owned(&g, &b, rmax);
     griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
     /* the rows completed every other step, as migrations do: the steps between find a pair's
        contact in the row of its other particle where the pair changed sides */
@@ -303,7 +310,7 @@ static void check_faults(const char *law)
   griddem_grid_cover(&g, anchor, 3, px, 1.0, 1000);
   griddem_bin_points(&b, &g, 3, px, ptag, 4);
   griddem_channels_fill(&ch, &b, &part);
-  const griddem_class_grid one = {&g, &b, 0, 1.0, 0};
+  griddem_class_grid one = all_owned(&g, &b, 1.0);
   griddem_sweep(&one, 1, b.order, &ch, 3, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
   CHECK(res.fault == GRIDDEM_FAULT_COINCIDENT, "coincident centres reported: %d", res.fault);
   CHECK(res.fault_i == 1 || res.fault_i == 2, "first particle of the coincident pair");
@@ -321,6 +328,7 @@ static void check_faults(const char *law)
     griddem_grid_cover(&g, anchor, M, px, 2.0, 1000);
     griddem_bin_points(&b, &g, M, px, ptag, 4);
     griddem_channels_fill(&ch, &b, &part);
+    one = all_owned(&g, &b, 1.0);
     griddem_sweep(&one, 1, b.order, &ch, M, &m, NULL, 1e-3, 1, &hist, row_of, f, t, NULL, 0, &res);
     CHECK(complete_history(&hist, &m, M, row_of, ptag, ptype) == 0, "history completed");
     CHECK(res.fault == GRIDDEM_FAULT_NONE && res.max_contacts == M - 1,
