@@ -797,6 +797,23 @@ void FixGriddemRom::classify()
       }
   }
 
+  // the box: a kinematic atom moves with the field until the next classification, at most `period`
+  // steps; one the field would carry out through a face that is not periodic (its centre on or past
+  // it) stays dynamic, which LAMMPS would otherwise lose (walls there act on dynamic atoms only)
+  double held_box = 0;
+  if (!freeze) {
+    const double ahead = period * update->dt;
+    for (int i = 0; i < nlocal; i++)
+      for (int d = 0; d < 3 && next[i]; d++) {
+        const double to = x[i][d] + ahead * u[3 * i + d];
+        if ((domain->boundary[d][0] == 1 && to <= domain->boxlo[d]) ||
+            (domain->boundary[d][1] == 1 && to >= domain->boxhi[d])) {
+          next[i] = 0;
+          held_box += 1;
+        }
+      }
+  }
+
   double nkin = 0, umax = 0;
   for (int i = 0; i < nlocal; i++) {
     const int was = (mask[i] & kinematic_bit) ? 1 : 0;
@@ -823,9 +840,11 @@ void FixGriddemRom::classify()
   mine[RELEASED_LEFT] = left;
   mine[RELEASED_JUMP] = jumps;
   mine[HELD_BY_VOXEL] = held;
+  mine[HELD_BY_BOX] = held_box;
   MPI_Allreduce(mine, all, NCOUNTER, MPI_DOUBLE, MPI_SUM, world);
   counts[KINEMATIC] = all[KINEMATIC];
-  for (const int k : {MADE_KINEMATIC, RELEASED_HIT, RELEASED_OVERLAP, RELEASED_LEFT, RELEASED_JUMP, HELD_BY_VOXEL})
+  for (const int k : {MADE_KINEMATIC, RELEASED_HIT, RELEASED_OVERLAP, RELEASED_LEFT, RELEASED_JUMP, HELD_BY_VOXEL,
+                      HELD_BY_BOX})
     counts[k] += all[k];
   counts[CLASSIFICATIONS] += 1;
 
@@ -912,13 +931,16 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-/* the counters (Counter), the force the model's block 'force' predicts, the atoms stored and
-   the scene's atoms (LAMMPS's and stored) */
+/* the counters up to SECONDS, the force the model's block 'force' predicts, the atoms stored, the
+   scene's atoms (LAMMPS's and stored), and the counters after SECONDS */
 double FixGriddemRom::compute_vector(int n)
 {
-  if (n < NCOUNTER) return counts[n];
-  if (n < NCOUNTER + 3) return force_predicted[n - NCOUNTER];
-  return n == NCOUNTER + 3 ? nstored_all : (double) atom->natoms + nstored_all;
+  const int first = SECONDS + 1;
+  if (n < first) return counts[n];
+  if (n < first + 3) return force_predicted[n - first];
+  if (n == first + 3) return nstored_all;
+  if (n == first + 4) return (double) atom->natoms + nstored_all;
+  return counts[n - 5];
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)

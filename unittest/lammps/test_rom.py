@@ -44,6 +44,9 @@
 - drive dense: from the set-up on, the atoms where the deposited density reaches RHO are driven
   whatever their velocity and whatever hits them, the others classified as with drive match (the
   densities by hand, two thresholds); 2 processes give 1 process's dumps;
+- the box: an atom the field would carry out through a face that is not periodic stays dynamic
+  (held at rest, or with the velocity it had), one driven through a periodic face stays
+  kinematic, and nothing is lost (f_rom[19] counts them);
 - a model of form occupancy (version 3): each voxel's field is its own density (as dumped) times
   the bias plus the control's weight times the control, on 1 and 2 processes;
 - train_rom.py recovers an exact linear map (synthetic fields, one run's control following a
@@ -1043,6 +1046,51 @@ run 10
     t.check(two == snaps["box"], "drive box: two processes give the one process's dumps, digit for digit")
 
 
+def box_guard():
+    """The field never carries an atom out through a face that is not periodic: a uniform field
+    U = (-1, 0, -1), eps v0 2 (every resting atom qualifies), every 100 (0.1 of travel a model step),
+    boundary p p f, spheres of radius 0.05, no gravity, a floor wall at z = 0 for dynamic atoms.
+    Atom 1 (x 0.05, z 3) is driven through the periodic x face; atom 2 (z 0.06) would be carried to
+    z -0.04 and is held dynamic at rest at both classifications; atom 3 (z 0.16) is driven to z 0.06,
+    then held dynamic with its velocity and bounces off the floor. Without the guard LAMMPS loses
+    atom 2 before step 200."""
+    U = (-1.0, 0.0, -1.0)
+    model = os.path.join(WD, "guard.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    text = HEAD.format(bnd="p p f") + """
+create_atoms 1 single 0.05 3 3
+create_atoms 1 single 3 3 0.06
+create_atoms 1 single 4.5 4.5 0.16
+set type 1 diameter 0.1
+set type 1 density 1000
+velocity all set 0 0 0
+""" + PAIR + """
+fix rom all griddem/rom model {m} eps 2 v0 1 every 100
+fix integrate rom_dynamic nve/sphere
+fix floor rom_dynamic wall/gran hooke/history 2000 NULL 50 NULL 0.5 1 zplane 0.0 NULL
+dump d all custom 50 guard.dump id x y z vx vy vz f_rom
+dump_modify d format float %.17g sort id
+thermo_style custom step atoms f_rom[1] f_rom[19]
+thermo 50
+run 250
+""".format(m=model)
+    out = t.run_ok(text, WD, name="in.guard")
+    snaps = t.read_dumps(os.path.join(WD, "guard.dump"))    # steps 0, 50, .., 250
+    s100, s200, s250 = snaps[2][1], snaps[4][1], snaps[5][1]
+    # (a lagging atom is dumped where the last model step, 200, left it)
+    t.check(s100[1][6] == s250[1][6] == 1.0 and abs(s250[1][0] - (6.0 + 0.05 - 0.1)) <= 1e-12 and
+            abs(s250[1][2] - (3.0 - 0.1)) <= 1e-12,
+            "the atom driven through the periodic face stays kinematic (x %.17g, z %.17g)" % (s250[1][0], s250[1][2]))
+    t.check(all(s[2][6] == 0.0 and s[2][2] == 0.06 and s[2][3:6] == [0.0] * 3 for s in (s100, s200, s250)),
+            "the atom the field would carry out through the floor stays dynamic, at rest")
+    t.check(s100[3][6] == 1.0 and s200[3][6] == 0.0 and abs(s200[3][2] - 0.06) <= 1e-12 and
+            s200[3][3:6] == [-1.0, 0.0, -1.0] and s250[3][2] > 0.0 and s250[3][5] > 0.0,
+            "the atom driven to z 0.06 is then held dynamic with its velocity and bounces off the floor "
+            "(z %.17g, vz %.17g at step 250)" % (s250[3][2], s250[3][5]))
+    t.check(t.thermo_values(out, "Atoms")[-1] == 3 and t.thermo_values(out, "f_rom[19]")[-1] == 3,
+            "no atom lost; three held by the box (%s)" % t.thermo_values(out, "f_rom[19]"))
+
+
 def drive_dense():
     """Keyword drive dense: the model drives the atoms where the density it deposits (interpolated
     at the atom by the field's weights) is at least RHO; elsewhere drive match's rule. The frame of
@@ -1284,6 +1332,7 @@ rejoin()
 keyword_checks()
 drive_box()
 drive_dense()
+box_guard()
 model_step()
 boundary(1)
 boundary(2)
