@@ -64,16 +64,13 @@ EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
 HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 BLADE = os.path.join(ROOT, "examples", "rom-blade")
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-# the examples' measures of a reduced run against a resolved one
-sys.path.insert(0, EXAMPLE)
+# the blade example's own measures: its force, its frame's binning
 sys.path.insert(0, BLADE)
 from blade_force import force_accuracy  # noqa: E402
-from compare import kinematic_fraction, near_fraction  # noqa: E402
-from romtools import read_model  # noqa: E402
 from train_blade import load_run  # noqa: E402
-from train_rom import predict  # noqa: E402
 from griddemtools import lammps, log  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
+from griddemtools.rom import kinematic_fraction, near_fraction, predict, read_model  # noqa: E402
 
 # a scene's griddem pair style -> the stock LAMMPS style with neighbor lists that it twins
 STOCK_TWIN = {"griddem/hooke/history": "gran/hooke/history", "griddem/granular": "granular"}
@@ -344,8 +341,9 @@ def study(scene, a):
     # run: the first is measured)
     left_out = {}
     with in_folder(scene.wd):
-        record.update(kinematic_fraction=kinematic_fraction(rom_tags[0]), near_fraction=near_fraction(rom_tags[0]),
-                      do_nothing_kinematic_fraction=kinematic_fraction(nothing))
+        record.update(kinematic_fraction=kinematic_fraction("log." + rom_tags[0]),
+                      near_fraction=near_fraction("log." + rom_tags[0]),
+                      do_nothing_kinematic_fraction=kinematic_fraction("log." + nothing))
     s = series_of(scene.wd, ref, rom_tags[0])
     record.update(romerror.accuracies(s), characteristic_speed=s["characteristic_speed"], frames=len(s["steps"]))
     if "characteristic_temperature" in s:

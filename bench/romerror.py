@@ -11,7 +11,7 @@ voxels do not count.
 - surface-height error e_h(t) = sum_c |h'_c - h_c| / sum_c (h_c - h_ref,c): the area integral of
   |h' - h| over the volume between the resolved surface h and the reference surface h_ref, here the
   container's floor and walls. Per voxel column h - h_ref is the mass-equivalent thickness of the
-  material above z = 0 (examples/rom-pile/compare.py's heights: mass per area over one bulk
+  material above z = 0 (griddemtools.rom's heights: mass per area over one bulk
   density), which is the height of the surface above the floor and walls it rests on.
 
 An accuracy is one minus an error; a run's is reported as the time mean and as the mean over the
@@ -21,8 +21,8 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "rom-pile"))
-from compare import heights  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))  # griddemtools
+from griddemtools.rom import heights  # noqa: E402
 
 
 def velocity_error(rho, v_res, v_rom, speed):

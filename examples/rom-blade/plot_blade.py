@@ -18,9 +18,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rom-pile"))
-from compare import kinematic_series  # noqa: E402
-from plot_rom import accuracy_panel, run_tags  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+from griddemtools.rom import accuracy_panel, kinematic_series, run_tags  # noqa: E402
 from blade_force import read_force  # noqa: E402
 from train_blade import read_snapshots, read_table  # noqa: E402
 
@@ -46,7 +45,7 @@ def main():
     accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left")
     ax = fig.add_subplot(4, 2, 6)
     for column, label in (("v_nkin", "kinematic"), ("v_nnear", "kinematic within reach (move every step)")):
-        steps, frac = kinematic_series(rom_tag, column)
+        steps, frac = kinematic_series("log.%s" % rom_tag, column)
         ax.plot(steps, frac, label=label)
     ax.set_xlabel("step")
     ax.set_ylabel("share of the spheres")

@@ -13,7 +13,7 @@ cloud-in-cell weights and boundary rule of fix griddem/rom (griddem_rom_weights:
 non-periodic boundary go to the boundary voxel; atoms outside the box are left out), density =
 mass / voxel volume, velocity = momentum / mass (0 in an empty voxel). Features: the densities and
 the controls (vbx, vbz); targets: the voxel velocities, and separately the force (x, 0, z), each
-fitted by train_rom.py's ridge with its own lambda (leave-one-run-out). Writes a model of format
+fitted by griddemtools.rom's ridge (train_rom.py's) with its own lambda (leave-one-run-out). Writes a model of format
 version 2 with 'frame moving' (fix griddem/rom ... origin v_bx 0 0) and the 'force' block."""
 import os
 import sys
@@ -22,10 +22,8 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))  # griddemtools
-sys.path.insert(0, os.path.join(HERE, "..", "rom-pile"))
 from griddemtools import dump  # noqa: E402
-from romtools import write_model  # noqa: E402
-from train_rom import fit_validated  # noqa: E402
+from griddemtools.rom import fit_validated, write_model  # noqa: E402
 
 # the frame: x from 6 behind the blade's front face to 18 ahead of it (the whole bed for every
 # blade position of the study), the slice's depth (y periodic, one voxel), z from the floor to 4

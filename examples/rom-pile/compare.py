@@ -23,8 +23,8 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
 from griddemtools import log  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
+from griddemtools.rom import counters, heights, kinematic_fraction, near_fraction  # noqa: E402
 
-RHO_BULK = 0.6
 LOG = "log.{}"
 
 
@@ -34,56 +34,6 @@ def log_of(tag):
 
 def loop_time(tag):
     return sum(run.seconds for run in log.loop_times(log_of(tag)))
-
-
-def heights(frame):
-    nx, ny, nz = frame.n
-    box = frame.box
-    hz = (box[5] - box[4]) / nz
-    zc = box[4] + (np.arange(nz) + 0.5) * hz
-    rho = np.asarray(frame.columns["density"]).reshape(nz, ny, nx)
-    inside = zc > 0
-    return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
-
-
-def kinematic_series(tag, column="v_nkin"):
-    """(steps, share of the atoms) at the thermo rows of log.TAG with atoms: column v_nkin the
-    kinematic atoms, v_nnear those of them moving at DEM's step; empty for a run without them."""
-    rows = [r for r in log.thermo_table(log_of(tag), "Step", "Atoms", column) if r[1] > 0]
-    return np.array([int(r[0]) for r in rows]), np.array([r[2] / r[1] for r in rows])
-
-
-def counters(tag):
-    """The fix's counters printed at the end of a reduced run (ROM-COUNTS name value ...)."""
-    with open(log_of(tag)) as f:
-        for line in f:
-            if line.startswith("ROM-COUNTS"):
-                w = line.split()[1:]
-                return {w[k]: float(w[k + 1]) for k in range(0, len(w), 2)}
-    return {}
-
-
-def kinematic_fraction(tag):
-    """Mean over the thermo lines of the kinematic share of the atoms, 0 for a resolved run."""
-    frac = kinematic_series(tag)[1]
-    return float(np.mean(frac)) if frac.size else 0.0
-
-
-def near_fraction(tag):
-    """Mean over the thermo lines of the share of the atoms that are kinematic and move at DEM's
-    step (within reach of a dynamic atom)."""
-    frac = kinematic_series(tag, "v_nnear")[1]
-    return float(np.mean(frac)) if frac.size else 0.0
-
-
-def height_accuracy_series(res, rom):
-    """(steps, accuracy of each frame): 1 - mean |h_rom - h_res| / mean h_res."""
-    nf = min(len(res), len(rom))
-    acc = []
-    for k in range(nf):
-        hr, hm = heights(res[k]), heights(rom[k])
-        acc.append(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr))
-    return np.array([res[k].step for k in range(nf)]), np.array(acc)
 
 
 def compare(res_tag, rom_tag):
@@ -107,8 +57,8 @@ def compare(res_tag, rom_tag):
                 height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),
                 final_height_accuracy=float(1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])),
                 velocity_error=float(np.linalg.norm(vm - vr) / np.linalg.norm(vr)), voxels=int(mask.sum()),
-                kinematic_fraction=kinematic_fraction(rom_tag), near_fraction=near_fraction(rom_tag),
-                **{"n_" + k: v for k, v in counters(rom_tag).items()}, heights_resolved=hr[-1], heights_reduced=hm[-1])
+                kinematic_fraction=kinematic_fraction(log_of(rom_tag)), near_fraction=near_fraction(log_of(rom_tag)),
+                **{"n_" + k: v for k, v in counters(log_of(rom_tag)).items()}, heights_resolved=hr[-1], heights_reduced=hm[-1])
 
 
 def main():

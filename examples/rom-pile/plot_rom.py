@@ -17,33 +17,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
-from compare import height_accuracy_series, kinematic_series  # noqa: E402
 from griddemtools import dump  # noqa: E402
-from griddemtools.grid import read_grid_dump  # noqa: E402
-
-
-def accuracy_panel(ax, res_tag, rom_tag, noise_tag, bar, bottom, legend_at):
-    """Surface-height accuracy of each frame (cg.TAG.txt) of the reduced run against the resolved
-    one, of a resolved run with another seed (NOISE_TAG, the noise floor; None: not drawn), and
-    the goal's bar."""
-    res = read_grid_dump("cg.%s.txt" % res_tag)
-    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
-    ax.plot(steps, acc, label="reduced vs resolved")
-    if noise_tag:
-        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
-        ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
-    ax.axhline(bar, color="grey", lw=0.5)
-    ax.set_xlabel("step")
-    ax.set_ylabel("surface-height accuracy")
-    ax.set_ylim(bottom, 1.0)
-    ax.legend(loc=legend_at)
-
-
-def run_tags(args, usage):
-    """RESOLVED_TAG ROM_TAG [NOISE_TAG] OUT.png from the command line: (res, rom, noise or None, out)."""
-    if len(args) not in (3, 4):
-        raise SystemExit(usage)
-    return args[0], args[1], args[2] if len(args) == 4 else None, args[-1]
+from griddemtools.rom import accuracy_panel, kinematic_series, run_tags  # noqa: E402
 
 
 def main():
@@ -65,7 +40,7 @@ def main():
         ax.set_ylabel("z / d")
     accuracy_panel(fig.add_subplot(2, 2, 3), res_tag, rom_tag, noise_tag, 0.9, 0.5, "lower right")
     ax = fig.add_subplot(2, 2, 4)
-    steps, frac = kinematic_series(rom_tag)
+    steps, frac = kinematic_series("log.%s" % rom_tag)
     ax.plot(steps, frac)
     ax.set_xlabel("step")
     ax.set_ylabel("kinematic fraction (after a classification)")

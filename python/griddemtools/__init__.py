@@ -1,5 +1,6 @@
 """GRIDDEM's Python tools for the examples' and the benchmarks' scripts: readers of LAMMPS's text
-outputs and the way those scripts start LAMMPS. Standard library only.
+outputs and the way those scripts start LAMMPS. Standard library only, but for plot (matplotlib)
+and rom (numpy), which only the scripts that draw or fit import.
 
   items     the ITEM headers of a text dump and the lines under each (dump and grid read them)
   dump      atom dumps (dump custom, atom): snapshots of per-atom columns
@@ -10,6 +11,8 @@ outputs and the way those scripts start LAMMPS. Standard library only.
   lammps    the lmp to run (GRIDDEM_LMP or build/lmp) and how: mpirun, threads, root's Open MPI
   analytic  the analytic references of the NN4DEM single-particle scenes
   plot      drawing helpers shared by the examples' figures (matplotlib)
+  rom       fix griddem/rom's model files, the ridge fits of a model, and what a reduced run is
+            measured by (fill heights, kinematic shares): examples/rom-*, bench/rom.py (numpy)
 
 A script finds the package by one line that puts this repository's python/ folder first on its
 path, relative to the script's own file (examples/NAME/x.py: "..", "..", "python"; bench/x.py:
