@@ -30,7 +30,7 @@ import benchlib
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-from griddemtools import lammps, log  # noqa: E402
+from griddemtools import lammps, log, squeeze  # noqa: E402
 
 STYLES = {"stock": "gran/hooke/history", "griddem": "griddem/hooke/history"}
 # inclusive counts reported, by a pattern of callgrind_annotate's function names
@@ -52,11 +52,9 @@ def chute_granular_input(args, style, wd):
 
 
 def squeeze_input(args, style, wd):
-    sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
-    import test_bidisperse_squeeze as scene
     data = os.path.join(wd, "data.squeeze")
-    scene.write_packing(data)
-    return scene.TEMPLATE.format(data=data, pair=style, scale=scene.SCALE, most="", steps=args.steps, name="cg")
+    squeeze.write_packing(data)
+    return squeeze.TEMPLATE.format(data=data, pair=style, scale=squeeze.SCALE, most="", steps=args.steps, name="cg")
 
 
 def touching_pairs(args, text, wd):

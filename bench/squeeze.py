@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """CPU benchmark: the 1:4 bidisperse squeeze (12 spheres of diameter 4 among 1,940 of diameter 1,
-fix deform to 0.7 of the box, Hooke kn 1000, dt 0.001; the configuration of
-unittest/lammps/test_bidisperse_squeeze.py) with stock gran/hooke/history and griddem/hooke/history
-(defaults, and each cell mode given), on 1 and 2 MPI ranks, in one job. Appends one JSON line per
-run to bench/results/cpu.jsonl.
+fix deform to 0.7 of the box, Hooke kn 1000, dt 0.001: python/griddemtools/squeeze.py, the scene
+of unittest/lammps/test_bidisperse_squeeze.py) with stock gran/hooke/history and
+griddem/hooke/history (defaults, and each cell mode given), on 1 and 2 MPI ranks, in one job.
+Appends one JSON line per run to bench/results/cpu.jsonl.
 
 usage: bench/squeeze.py [--steps 3000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]"""
 import argparse
@@ -15,8 +15,8 @@ import benchlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
-sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
-import test_bidisperse_squeeze as scene  # noqa: E402
+sys.path.insert(0, os.path.join(TOP, "python"))  # griddemtools
+from griddemtools import squeeze as scene  # noqa: E402
 
 VARIANTS = [("gran/hooke/history", "", "stock"),
             ("griddem/hooke/history", "", "griddem defaults"),

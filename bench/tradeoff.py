@@ -30,13 +30,12 @@ import matplotlib.pyplot as plt
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-# the test suite's random packings, its squeeze scene and its comparison of two dumps' forces
+# the test suite's random packings and its comparison of two dumps' forces
 sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
 import griddem_testlib as t  # noqa: E402
 import benchlib  # noqa: E402
-from griddemtools import dump, lammps, log  # noqa: E402
+from griddemtools import dump, lammps, log, squeeze  # noqa: E402
 import poured_bed  # noqa: E402
-import test_bidisperse_squeeze as squeeze  # noqa: E402
 
 # (label, pair style, tangential arguments replacing "xmu dampflag", fix griddem cell)
 HOOKE = "{kn} NULL {gn} NULL {xmu} 1"

@@ -11,6 +11,7 @@ and rom (numpy), which only the scripts that draw or fit import.
   lammps    the lmp to run (GRIDDEM_LMP or build/lmp) and how: mpirun, threads, root's Open MPI
   analytic  the analytic references of the NN4DEM single-particle scenes
   plot      drawing helpers shared by the examples' figures (matplotlib)
+  squeeze   the 1:4 bidisperse squeeze's packing and input (a test's and the benchmarks' scene)
   rom       fix griddem/rom's model files, the ridge fits of a model, and what a reduced run is
             measured by (fill heights, kinematic shares): examples/rom-*, bench/rom.py (numpy)
 
