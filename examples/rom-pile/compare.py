@@ -48,6 +48,7 @@ def compare(res_tag, rom_tag):
     vr = np.array([np.mean([res[k].columns[c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     vm = np.array([np.mean([rom[k].columns[c] for k in half], axis=0)[mask] for c in ("vx", "vz")])
     tr, tm = loop_time(res_tag), loop_time(rom_tag)
+    rom_log = log_of(rom_tag)
     extra = {}
     if "temperature" in res[0].columns and "temperature" in rom[0].columns:
         Tr = np.mean([res[k].columns["temperature"] for k in half], axis=0)[mask]
@@ -57,8 +58,8 @@ def compare(res_tag, rom_tag):
                 height_accuracy=float(1.0 - np.mean(np.abs(hm - hr)) / np.mean(hr)),
                 final_height_accuracy=float(1.0 - np.mean(np.abs(hm[-1] - hr[-1])) / np.mean(hr[-1])),
                 velocity_error=float(np.linalg.norm(vm - vr) / np.linalg.norm(vr)), voxels=int(mask.sum()),
-                kinematic_fraction=kinematic_fraction(log_of(rom_tag)), near_fraction=near_fraction(log_of(rom_tag)),
-                **{"n_" + k: v for k, v in counters(log_of(rom_tag)).items()}, heights_resolved=hr[-1], heights_reduced=hm[-1])
+                kinematic_fraction=kinematic_fraction(rom_log), near_fraction=near_fraction(rom_log),
+                **{"n_" + k: v for k, v in counters(rom_log).items()}, heights_resolved=hr[-1], heights_reduced=hm[-1])
 
 
 def main():
