@@ -8,6 +8,7 @@ import numpy as np
 from . import log
 from .grid import read_grid_dump
 
+
 def write_model(path, n, box, lam, weights, note="", frame=None, force=None, form="linear"):
     """weights: array [3 nvoxel, 1 + nvoxel + ncontrol] (row 3 m + d, columns bias, densities,
     controls), or with form "occupancy" [3 nvoxel, 1 + ncontrol] (columns bias, controls; the row's
