@@ -935,12 +935,12 @@ void FixGriddemRom::unpack_forward_comm(int n, int first, double *buf)
    scene's atoms (LAMMPS's and stored), and the counters after SECONDS */
 double FixGriddemRom::compute_vector(int n)
 {
-  const int first = SECONDS + 1;
+  const int first = SECONDS + 1, after = first + 5;    // the five values between the counters
   if (n < first) return counts[n];
   if (n < first + 3) return force_predicted[n - first];
   if (n == first + 3) return nstored_all;
   if (n == first + 4) return (double) atom->natoms + nstored_all;
-  return counts[n - 5];
+  return counts[first + n - after];
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)

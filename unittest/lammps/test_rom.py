@@ -1084,7 +1084,7 @@ run 250
     t.check(all(s[2][6] == 0.0 and s[2][2] == 0.06 and s[2][3:6] == [0.0] * 3 for s in (s100, s200, s250)),
             "the atom the field would carry out through the floor stays dynamic, at rest")
     t.check(s100[3][6] == 1.0 and s200[3][6] == 0.0 and abs(s200[3][2] - 0.06) <= 1e-12 and
-            s200[3][3:6] == [-1.0, 0.0, -1.0] and s250[3][2] > 0.0 and s250[3][5] > 0.0,
+            all(abs(s200[3][3 + d] - U[d]) <= 4e-16 for d in range(3)) and s250[3][2] > 0.0 and s250[3][5] > 0.0,
             "the atom driven to z 0.06 is then held dynamic with its velocity and bounces off the floor "
             "(z %.17g, vz %.17g at step 250)" % (s250[3][2], s250[3][5]))
     t.check(t.thermo_values(out, "Atoms")[-1] == 3 and t.thermo_values(out, "f_rom[19]")[-1] == 3,
