@@ -82,9 +82,14 @@ def pick_baseline(loop_times):
     return style, statistics.median(loop_times[style])
 
 
+def log_path(wd, tag):
+    """A run's log (lmp_run writes log.TAG in the study's folder)."""
+    return os.path.join(wd, "log." + tag)
+
+
 def loop_seconds(wd, tag):
     """Loop time of a run (summed over the runs of its log: a run in segments has several)."""
-    return sum(run.seconds for run in log.loop_times(os.path.join(wd, "log." + tag)))
+    return sum(run.seconds for run in log.loop_times(log_path(wd, tag)))
 
 
 @contextlib.contextmanager
@@ -340,10 +345,9 @@ def study(scene, a):
     # accuracies against the griddem resolved run of the same seed (the reduced runs repeat one
     # run: the first is measured)
     left_out = {}
-    with in_folder(scene.wd):
-        record.update(kinematic_fraction=kinematic_fraction("log." + rom_tags[0]),
-                      near_fraction=near_fraction("log." + rom_tags[0]),
-                      do_nothing_kinematic_fraction=kinematic_fraction("log." + nothing))
+    record.update(kinematic_fraction=kinematic_fraction(log_path(scene.wd, rom_tags[0])),
+                  near_fraction=near_fraction(log_path(scene.wd, rom_tags[0])),
+                  do_nothing_kinematic_fraction=kinematic_fraction(log_path(scene.wd, nothing)))
     s = series_of(scene.wd, ref, rom_tags[0])
     record.update(romerror.accuracies(s), characteristic_speed=s["characteristic_speed"], frames=len(s["steps"]))
     if "characteristic_temperature" in s:
@@ -370,7 +374,7 @@ def study(scene, a):
                 "force_accuracy_measured"]
             record.update(open_loop_accuracy(model, openloop))
     record["left_out"] = left_out
-    text = log.text_of(os.path.join(scene.wd, "log." + ref))
+    text = log.text_of(log_path(scene.wd, ref))
     runs = log.loop_times(text)
     return dict(date=datetime.date.today().isoformat(), device=benchlib.device(), scene=scene.name,
                 natoms=runs[-1].atoms, steps=sum(r.steps for r in runs), ranks=1, threads=1, **record)
