@@ -1,32 +1,35 @@
-/* Candidate search kernels; see griddem_search.h. Every kernel evaluates
+/* Candidate search kernels; see griddem_search.h. Every kernel decides with
  * ((dx dx + dy dy) + dz dz) < s s in double with separate multiplies and adds: this file is
- * compiled without contraction (-ffp-contract=off), so the plain-C kernel rounds as the vector
- * lanes do. Touching pairs are rare among the candidates, so a candidate costs its test and one
- * predictable branch; only a touching lane is written out. */
+ * compiled without contraction (-ffp-contract=off), so the vector kernels' last test rounds as the
+ * plain-C kernel does. Touching pairs are rare among the candidates, so a vector of candidates
+ * costs its float test and one predictable branch; only a lane that passes is tested again. */
 #include "griddem_search.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
-/* The cluster's spheres that candidate t may touch: the first lanes(t) (all ni, or in the own run
- * those before t) */
-static inline int live_lanes(int own_run, int i0, int ni, int t)
+double griddem_search_slack(double extent)
 {
-  return own_run && t - i0 < ni ? t - i0 : ni;
+  return ldexp(extent, -20);
+}
+
+/* The documented test of sphere i against candidate t */
+static inline int touches(const griddem_spheres *sp, double reach, int i, int t)
+{
+  const double dx = sp->x[i] - sp->x[t], dy = sp->y[i] - sp->y[t], dz = sp->z[i] - sp->z[t];
+  const double s = (sp->r[i] + reach) + sp->r[t];
+  return dx * dx + dy * dy + dz * dz < s * s;
 }
 
 static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int ni, int own, const int *lo,
                             const int *hi, int nruns, int *const *slot, int *n)
 {
-  const double *X = sp->x, *Y = sp->y, *Z = sp->z, *R = sp->r;
   for (int q = 0; q < nruns; q++)
     for (int t = lo[q]; t < hi[q]; t++) {
-      const int lanes = live_lanes(own && q == 0, i0, ni, t);
-      for (int k = 0; k < lanes; k++) {
-        const int i = i0 + k;
-        const double dx = X[i] - X[t], dy = Y[i] - Y[t], dz = Z[i] - Z[t], s = (R[i] + reach) + R[t];
-        if (dx * dx + dy * dy + dz * dz < s * s) slot[k][n[k]++] = t;
-      }
+      const int lanes = own && q == 0 && t - i0 < ni ? t - i0 : ni;    /* the own run: spheres before t */
+      for (int k = 0; k < lanes; k++)
+        if (touches(sp, reach, i0 + k, t)) slot[k][n[k]++] = t;
     }
 }
 
@@ -34,27 +37,68 @@ static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int
 #define GRIDDEM_SEARCH_X86 1
 #include <immintrin.h>
 
-/* One run of candidates against the cluster (xi .. ri: its spheres' lanes), the own run's slots
- * at or before a sphere left out of its list; own_run is a constant of each inlined copy, so the
- * other runs' loop keeps no count for it */
-__attribute__((target("avx2"), always_inline)) static inline void run_avx2(const griddem_spheres *sp, int i0, int ni,
-                                                                          const int own_run, int lo, int hi, __m256d xi,
-                                                                          __m256d yi, __m256d zi, __m256d ri,
+/* A cluster's spheres (up to 8) as float lanes, NaN past the cluster, where no float test passes:
+ * centres, and radius + reach + slack summed in double first. Reads the float copies up to slot
+ * i0 + 7 (within their padding), the doubles only within the cluster. */
+typedef struct cluster_lanes {
+  __m256 x, y, z, s;
+} cluster_lanes;
+
+__attribute__((target("avx2"), always_inline)) static inline cluster_lanes cluster_lanes_of(const griddem_spheres *sp,
+                                                                                             double reach, int i0,
+                                                                                             int ni)
+{
+  const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(ni), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256 none = _mm256_set1_ps(NAN), on = _mm256_castsi256_ps(live);
+  const __m256d add = _mm256_set1_pd(reach), slack = _mm256_set1_pd((double) sp->slack);
+  const __m256d r0 = _mm256_maskload_pd(sp->r + i0, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live))),
+                r1 = _mm256_maskload_pd(sp->r + i0 + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1)));
+  const __m256 s = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r1, add), slack)),
+                                   _mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r0, add), slack)));
+  const cluster_lanes c = {_mm256_blendv_ps(none, _mm256_loadu_ps(sp->xf + i0), on),
+                           _mm256_blendv_ps(none, _mm256_loadu_ps(sp->yf + i0), on),
+                           _mm256_blendv_ps(none, _mm256_loadu_ps(sp->zf + i0), on), _mm256_blendv_ps(none, s, on)};
+  return c;
+}
+
+/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j; lanes:
+ * every lane) checked in lane order, so each sphere's slots stay in run order. Candidates past
+ * the run (t + 1 at its end), and in the own run those at or before the sphere (within the
+ * cluster's width of its start), are masked first; each lane left is checked again (the mask's
+ * only in the case of an own run that starts before the cluster ends). */
+static inline void passed(const griddem_spheres *sp, double reach, int i0, int own_run, int t, int hi, unsigned lanes,
+                          unsigned bits, int *const *slot, int *n)
+{
+  const unsigned first = 0x55555555u, second = 0xaaaaaaaau;    /* candidates t, t + 1 */
+  if (t + 1 >= hi) bits &= first;
+  const int o = t - i0;    /* the own run: sphere k takes t + j > i0 + k, so k < o + j */
+  if (own_run && o > 0 && 2 * o < 32) bits &= (first & ((1u << 2 * o) - 1u)) | (second & ((2u << (2 * o + 1)) - 1u));
+  for (bits &= lanes; bits; bits &= bits - 1) {
+    const int l = __builtin_ctz(bits), k = l / 2, u = t + l % 2;
+    if (u >= hi || (own_run && u <= i0 + k)) continue;
+    if (touches(sp, reach, i0 + k, u)) slot[k][n[k]++] = u;
+  }
+}
+
+/* One run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and t + 1
+ * at once: each candidate pair's floats loaded as one 64-bit value and broadcast. own_run is a
+ * constant of each inlined copy. */
+__attribute__((target("avx2"), always_inline)) static inline void run_avx2(const griddem_spheres *sp, double reach,
+                                                                          int i0, const int own_run, int lo, int hi,
+                                                                          __m256 xi, __m256 yi, __m256 zi, __m256 si,
                                                                           int *const *slot, int *n)
 {
-  const double *X = sp->x, *Y = sp->y, *Z = sp->z, *R = sp->r;
-  for (int t = lo; t < hi; t++) {
-    const __m256d dx = _mm256_sub_pd(xi, _mm256_set1_pd(X[t])), dy = _mm256_sub_pd(yi, _mm256_set1_pd(Y[t])),
-                  dz = _mm256_sub_pd(zi, _mm256_set1_pd(Z[t])), s = _mm256_add_pd(ri, _mm256_set1_pd(R[t]));
-    const __m256d d2 =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    unsigned bits = (unsigned) _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(s, s), _CMP_LT_OQ));
-    if (!bits) continue;
-    bits &= (1u << live_lanes(own_run, i0, ni, t)) - 1u;
-    for (; bits; bits &= bits - 1) {
-      const int k = __builtin_ctz(bits);
-      slot[k][n[k]++] = t;
-    }
+  for (int t = lo; t < hi; t += 2) {
+    double px, py, pz, pr;
+    memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8), memcpy(&pr, sp->rf + t, 8);
+    const __m256 dx = _mm256_sub_ps(xi, _mm256_castpd_ps(_mm256_set1_pd(px))),
+                 dy = _mm256_sub_ps(yi, _mm256_castpd_ps(_mm256_set1_pd(py))),
+                 dz = _mm256_sub_ps(zi, _mm256_castpd_ps(_mm256_set1_pd(pz))),
+                 s = _mm256_add_ps(si, _mm256_castpd_ps(_mm256_set1_pd(pr)));
+    const __m256 d2 =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    const unsigned bits = (unsigned) _mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(s, s), _CMP_LT_OQ));
+    if (bits) passed(sp, reach, i0, own_run, t, hi, 0xffu, bits, slot, n);
   }
 }
 
@@ -62,35 +106,32 @@ __attribute__((target("avx2"))) static void touching_avx2(const griddem_spheres 
                                                           int own, const int *lo, const int *hi, int nruns,
                                                           int *const *slot, int *n)
 {
-  const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
-  const __m256i cluster = _mm256_cmpgt_epi64(_mm256_set1_epi64x(ni), lane);
-  const __m256d xi = _mm256_maskload_pd(sp->x + i0, cluster), yi = _mm256_maskload_pd(sp->y + i0, cluster),
-                zi = _mm256_maskload_pd(sp->z + i0, cluster),
-                ri = _mm256_add_pd(_mm256_maskload_pd(sp->r + i0, cluster), _mm256_set1_pd(reach));
+  const cluster_lanes c = cluster_lanes_of(sp, reach, i0, ni);
+  const __m256i pairs = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3);    /* lane 2 k + j: sphere k */
+  const __m256 xi = _mm256_permutevar8x32_ps(c.x, pairs), yi = _mm256_permutevar8x32_ps(c.y, pairs),
+               zi = _mm256_permutevar8x32_ps(c.z, pairs), si = _mm256_permutevar8x32_ps(c.s, pairs);
   for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx2(sp, i0, ni, 1, lo[q], hi[q], xi, yi, zi, ri, slot, n);
-    else run_avx2(sp, i0, ni, 0, lo[q], hi[q], xi, yi, zi, ri, slot, n);
+    if (own && q == 0) run_avx2(sp, reach, i0, 1, lo[q], hi[q], xi, yi, zi, si, slot, n);
+    else run_avx2(sp, reach, i0, 0, lo[q], hi[q], xi, yi, zi, si, slot, n);
 }
 
-__attribute__((target("avx512f"), always_inline)) static inline void run_avx512(const griddem_spheres *sp, int i0,
-                                                                               int ni, const int own_run, int lo,
-                                                                               int hi, __m512d xi, __m512d yi,
-                                                                               __m512d zi, __m512d ri,
-                                                                               int *const *slot, int *n)
+__attribute__((target("avx512f"), always_inline)) static inline void run_avx512(const griddem_spheres *sp,
+                                                                               double reach, int i0,
+                                                                               const int own_run, int lo, int hi,
+                                                                               __m512 xi, __m512 yi, __m512 zi,
+                                                                               __m512 si, int *const *slot, int *n)
 {
-  const double *X = sp->x, *Y = sp->y, *Z = sp->z, *R = sp->r;
-  for (int t = lo; t < hi; t++) {
-    const __m512d dx = _mm512_sub_pd(xi, _mm512_set1_pd(X[t])), dy = _mm512_sub_pd(yi, _mm512_set1_pd(Y[t])),
-                  dz = _mm512_sub_pd(zi, _mm512_set1_pd(Z[t])), s = _mm512_add_pd(ri, _mm512_set1_pd(R[t]));
-    const __m512d d2 =
-        _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
-    unsigned bits = (unsigned) _mm512_cmp_pd_mask(d2, _mm512_mul_pd(s, s), _CMP_LT_OQ);
-    if (!bits) continue;
-    bits &= (1u << live_lanes(own_run, i0, ni, t)) - 1u;
-    for (; bits; bits &= bits - 1) {
-      const int k = __builtin_ctz(bits);
-      slot[k][n[k]++] = t;
-    }
+  for (int t = lo; t < hi; t += 2) {
+    double px, py, pz, pr;
+    memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8), memcpy(&pr, sp->rf + t, 8);
+    const __m512 dx = _mm512_sub_ps(xi, _mm512_castpd_ps(_mm512_set1_pd(px))),
+                 dy = _mm512_sub_ps(yi, _mm512_castpd_ps(_mm512_set1_pd(py))),
+                 dz = _mm512_sub_ps(zi, _mm512_castpd_ps(_mm512_set1_pd(pz))),
+                 s = _mm512_add_ps(si, _mm512_castpd_ps(_mm512_set1_pd(pr)));
+    const __m512 d2 =
+        _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
+    const unsigned bits = (unsigned) _mm512_cmp_ps_mask(d2, _mm512_mul_ps(s, s), _CMP_LT_OQ);
+    if (bits) passed(sp, reach, i0, own_run, t, hi, 0xffffu, bits, slot, n);
   }
 }
 
@@ -98,13 +139,15 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
                                                                int ni, int own, const int *lo, const int *hi,
                                                                int nruns, int *const *slot, int *n)
 {
-  const __mmask8 cluster = (__mmask8) ((1u << ni) - 1u);
-  const __m512d xi = _mm512_maskz_loadu_pd(cluster, sp->x + i0), yi = _mm512_maskz_loadu_pd(cluster, sp->y + i0),
-                zi = _mm512_maskz_loadu_pd(cluster, sp->z + i0),
-                ri = _mm512_add_pd(_mm512_maskz_loadu_pd(cluster, sp->r + i0), _mm512_set1_pd(reach));
+  const cluster_lanes c = cluster_lanes_of(sp, reach, i0, ni);
+  const __m512i pairs = _mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
+  const __m512 xi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.x)),
+               yi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.y)),
+               zi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.z)),
+               si = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.s));
   for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx512(sp, i0, ni, 1, lo[q], hi[q], xi, yi, zi, ri, slot, n);
-    else run_avx512(sp, i0, ni, 0, lo[q], hi[q], xi, yi, zi, ri, slot, n);
+    if (own && q == 0) run_avx512(sp, reach, i0, 1, lo[q], hi[q], xi, yi, zi, si, slot, n);
+    else run_avx512(sp, reach, i0, 0, lo[q], hi[q], xi, yi, zi, si, slot, n);
 }
 #endif
 

@@ -4,11 +4,14 @@
  * The grid keeps a cell's spheres in consecutive slots, so the candidates of a sphere are a few
  * runs of slots (one per stencil row, or per row of a block of a coarser grid), and consecutive
  * spheres of one cell row share them. A kernel tests a cluster of up to GRIDDEM_CLUSTER_MAX such
- * spheres against each candidate at once, one sphere per vector lane (as GROMACS's cluster-pair
- * kernels do), reading the spheres as four arrays (x, y, z, radius by slot). A plain-C kernel is
- * the reference; the AVX2 (4 lanes) and AVX-512 (8 lanes) kernels compute the same expression in
- * the same order lane by lane (no fused multiply-add), so every kernel finds the same slots in the
- * same order. The widest kernel the processor runs is chosen at first use. */
+ * spheres against some candidates at once, a pair of sphere and candidate per vector lane (as
+ * GROMACS's cluster-pair kernels do), reading the spheres as four arrays (x, y, z, radius by
+ * slot). A plain-C kernel is the reference, in double. The AVX2 (4 spheres by 2 candidates in 8
+ * float lanes) and AVX-512 (8 by 2 in 16) kernels first test single-precision copies against a
+ * contact distance widened by a slack that covers their rounding, so that no touching pair fails
+ * it, and then test each pair that passes with the reference's expression in double, in the same
+ * order (no fused multiply-add): every kernel finds the same slots in the same order. The widest
+ * kernel the processor runs is chosen at first use. */
 #ifndef GRIDDEM_SEARCH_H
 #define GRIDDEM_SEARCH_H
 
@@ -16,12 +19,25 @@
 extern "C" {
 #endif
 
-/* The spheres in slot order: centre and radius of each slot. */
+/* The spheres in slot order: centre and radius of each slot; the same rounded to float (each
+ * array readable GRIDDEM_SEARCH_PAD slots past the last), and the slack of the float test, at
+ * least griddem_search_slack of the spheres' extent. */
 typedef struct griddem_spheres {
   const double *x, *y, *z, *r;
+  const float *xf, *yf, *zf, *rf;
+  float slack;
 } griddem_spheres;
 
-/* The most spheres in a cluster (the widest kernel's lanes). */
+/* Slots past the last that the vector kernels read (and never use) */
+#define GRIDDEM_SEARCH_PAD 8
+
+/* The slack that makes the float test pass every pair whose double test does: extent bounds
+ * every |coordinate| plus the largest contact distance (radius + reach + radius). Rounding a
+ * coordinate to float moves it by at most 2^-24 of its size, and the float test's own roundings
+ * add a few units of 2^-24 of the contact distance: 2^-20 of the extent covers both twice over. */
+double griddem_search_slack(double extent);
+
+/* The most spheres in a cluster (the widest kernel's). */
 #define GRIDDEM_CLUSTER_MAX 8
 
 /* For each sphere k < ni of the cluster of slots i0 + k, append to slot[k] (count n[k]) the slots

@@ -33,16 +33,29 @@ static inline void fill_slot(griddem_channels *ch, int i, const griddem_particle
   ch->y[s] = p->x[3 * (size_t) i + 1];
   ch->z[s] = p->x[3 * (size_t) i + 2];
   ch->r[s] = p->radius[i];
+  ch->xf[s] = (float) ch->x[s], ch->yf[s] = (float) ch->y[s], ch->zf[s] = (float) ch->z[s], ch->rf[s] = (float) ch->r[s];
   ch->tag[s] = griddem_key_at(p->tag, p->tag_bytes, i);
   if (p->image) ch->image[s] = p->image[i];
   ch->ncontact[s] = 0;
 }
 
+/* The largest |coordinate| of slots s0 .. s1 - 1 (a NaN is left to the search, whose tests it fails) */
+static double extent_of(const griddem_channels *ch, int s0, int s1)
+{
+  double m = 0.0;
+  for (int s = s0; s < s1; s++) {
+    const double a = fabs(ch->x[s]), b = fabs(ch->y[s]), c = fabs(ch->z[s]);
+    m = a > m ? a : m, m = b > m ? b : m, m = c > m ? c : m;
+  }
+  return m;
+}
+
 /* Slots s0 .. s1 - 1 of the channels, of particles order[s]: one at a time, and four at a time by
- * AVX2's gathers (the same values) */
-static void fill_plain(griddem_channels *ch, const int *order, const griddem_particles *p, int s0, int s1)
+ * AVX2's gathers (the same values); returns their extent */
+static double fill_plain(griddem_channels *ch, const int *order, const griddem_particles *p, int s0, int s1)
 {
   for (int s = s0; s < s1; s++) fill_slot(ch, order[s], p, s);
+  return extent_of(ch, s0, s1);
 }
 
 #ifdef GRIDDEM_SWEEP_GATHER
@@ -53,36 +66,49 @@ __attribute__((target("avx2"), always_inline)) static inline __m256i first_of_th
   return _mm256_add_epi64(wide, _mm256_add_epi64(wide, wide));
 }
 
-__attribute__((target("avx2"))) static void fill_avx2(griddem_channels *ch, const int *order,
-                                                      const griddem_particles *p, int s0, int s1)
+__attribute__((target("avx2"))) static double fill_avx2(griddem_channels *ch, const int *order,
+                                                        const griddem_particles *p, int s0, int s1)
 {
   int s = s0;
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  __m256d most = _mm256_setzero_pd();
   for (; s + 4 <= s1; s += 4) {
     const __m128i i4 = _mm_loadu_si128((const __m128i *) (order + s));
     const __m256i i3 = first_of_three(i4);
-    _mm256_storeu_pd(ch->x + s, _mm256_i64gather_pd(p->x, i3, 8));
-    _mm256_storeu_pd(ch->y + s, _mm256_i64gather_pd(p->x + 1, i3, 8));
-    _mm256_storeu_pd(ch->z + s, _mm256_i64gather_pd(p->x + 2, i3, 8));
-    _mm256_storeu_pd(ch->r + s, _mm256_i32gather_pd(p->radius, i4, 8));
+    const __m256d x = _mm256_i64gather_pd(p->x, i3, 8), y = _mm256_i64gather_pd(p->x + 1, i3, 8),
+                  z = _mm256_i64gather_pd(p->x + 2, i3, 8), r = _mm256_i32gather_pd(p->radius, i4, 8);
+    _mm256_storeu_pd(ch->x + s, x), _mm256_storeu_pd(ch->y + s, y), _mm256_storeu_pd(ch->z + s, z);
+    _mm256_storeu_pd(ch->r + s, r);
+    _mm_storeu_ps(ch->xf + s, _mm256_cvtpd_ps(x)), _mm_storeu_ps(ch->yf + s, _mm256_cvtpd_ps(y));
+    _mm_storeu_ps(ch->zf + s, _mm256_cvtpd_ps(z)), _mm_storeu_ps(ch->rf + s, _mm256_cvtpd_ps(r));
+    most = _mm256_max_pd(most, _mm256_max_pd(_mm256_andnot_pd(sign, x),
+                                             _mm256_max_pd(_mm256_andnot_pd(sign, y), _mm256_andnot_pd(sign, z))));
     const __m256i tag = p->tag_bytes == 8 ? _mm256_i32gather_epi64((const long long *) p->tag, i4, 8)
                                           : _mm256_cvtepi32_epi64(_mm_i32gather_epi32((const int *) p->tag, i4, 4));
     _mm256_storeu_si256((__m256i *) (ch->tag + s), tag);
     if (p->image) _mm_storeu_si128((__m128i *) (ch->image + s), _mm_i32gather_epi32(p->image, i4, 4));
     _mm_storeu_si128((__m128i *) (ch->ncontact + s), _mm_setzero_si128());
   }
-  fill_plain(ch, order, p, s, s1);
+  double lane[4], m = fill_plain(ch, order, p, s, s1);
+  _mm256_storeu_pd(lane, most);
+  for (int k = 0; k < 4; k++) m = lane[k] > m ? lane[k] : m;
+  return m;
 }
 #endif
 
 int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const griddem_particles *p)
 {
   const int n = b->n;
-  if (n > ch->cap) {
+  if (n > ch->cap || !ch->xf) {    /* room for the float copies' padding even where n is 0 */
     const int cap = n + n / 4 + 16;
     if (grow_aligned((void **) &ch->x, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->y, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->z, sizeof(double), cap) != 0 ||
         grow_aligned((void **) &ch->r, sizeof(double), cap) != 0 ||
+        grow_aligned((void **) &ch->xf, sizeof(float), cap + GRIDDEM_SEARCH_PAD) != 0 ||
+        grow_aligned((void **) &ch->yf, sizeof(float), cap + GRIDDEM_SEARCH_PAD) != 0 ||
+        grow_aligned((void **) &ch->zf, sizeof(float), cap + GRIDDEM_SEARCH_PAD) != 0 ||
+        grow_aligned((void **) &ch->rf, sizeof(float), cap + GRIDDEM_SEARCH_PAD) != 0 ||
         grow_aligned((void **) &ch->tag, sizeof(int64_t), cap) != 0 ||
         grow_aligned((void **) &ch->ncontact, sizeof(int), cap) != 0)
       return -1;
@@ -96,24 +122,31 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->n = n;
   ch->p = p;
   ch->keyed_by_image = p->image != NULL;
-  void (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
+  double (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
 #ifdef GRIDDEM_SWEEP_GATHER
   if (griddem_touching_gathers()) fill = fill_avx2;
 #endif
+  double extent = 0.0;
   if (griddem_threaded(n)) {
     enum { BLOCK = 4096 };    /* slots a thread fills at once */
     const int nblock = (n + BLOCK - 1) / BLOCK;
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < nblock; k++) fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
+#pragma omp parallel for schedule(static) reduction(max : extent)
+    for (int k = 0; k < nblock; k++) {
+      const double e = fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
+      extent = e > extent ? e : extent;
+    }
   } else {
-    fill(ch, b->order, p, 0, n);
+    extent = fill(ch, b->order, p, 0, n);
   }
+  ch->extent = extent;
+  for (int s = n; s < n + GRIDDEM_SEARCH_PAD; s++) ch->xf[s] = ch->yf[s] = ch->zf[s] = ch->rf[s] = 0.0f;
   return 0;
 }
 
 void griddem_channels_free(griddem_channels *ch)
 {
   free(ch->x), free(ch->y), free(ch->z), free(ch->r), free(ch->tag), free(ch->image), free(ch->ncontact);
+  free(ch->xf), free(ch->yf), free(ch->zf), free(ch->rf);
   free(ch->slab), free(ch->slots), free(ch->first);
   memset(ch, 0, sizeof(*ch));
 }
@@ -253,7 +286,7 @@ typedef struct sweep_context {
   double *vatom;
   int want_virial;
   griddem_sweep_result *result;
-  griddem_spheres spheres;        /* the channels' centres and radii */
+  griddem_spheres spheres;        /* the channels' centres and radii, and their float copies */
   griddem_touching_fn touching;   /* the candidate test */
   int cluster;                    /* its width */
   void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
@@ -1199,12 +1232,16 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   int history_update, griddem_history *hist, int *row_of, double *f,
                   double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
 {
+  double rmax = 0.0;
+  for (int kc = 0; kc < ncls; kc++) rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax;
+  const float slack = (float) griddem_search_slack(ch->extent + 2.0 * rmax + model->reach_extra);
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
                                       excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
-                            {ch->x, ch->y, ch->z, ch->r}, griddem_touching(), griddem_touching_width(),
+                            {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf, slack},
+                            griddem_touching(), griddem_touching_width(),
                             batch_gather()};
   memset(result, 0, sizeof(*result));
   const int nthreads = griddem_max_threads();

@@ -3,6 +3,7 @@
 
 #include "griddem_search.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 static int is_query(int i, int nquery, const int *query)
@@ -17,23 +18,32 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
   if (n == 0) return 0;
   griddem_touching_fn touching = griddem_touching();
   const int width = griddem_touching_width();
-  /* the kernels read the spheres in slot order */
+  /* the kernels read the spheres in slot order, and their float copies (each padded) */
+  const size_t nf = (size_t) n + GRIDDEM_SEARCH_PAD;
   double *slots = (double *) malloc(sizeof(double) * 4 * (size_t) n);
+  float *rounded = (float *) calloc(4 * nf, sizeof(float));
   int *lo = (int *) malloc(sizeof(int) * 2 * (size_t) GRIDDEM_STENCIL_MAX_ROWS);
-  if (!slots || !lo) {
+  if (!slots || !rounded || !lo) {
     free(slots);
+    free(rounded);
     free(lo);
     return -1;
   }
   int *hi = lo + GRIDDEM_STENCIL_MAX_ROWS;
-  const griddem_spheres sp = {slots, slots + n, slots + 2 * (size_t) n, slots + 3 * (size_t) n};
+  double extent = 0.0, rmax = 0.0;
   for (int t = 0; t < n; t++) {
     const int j = b->order[t];
-    slots[t] = x[3 * (long) j];
-    slots[n + t] = x[3 * (long) j + 1];
-    slots[2 * (size_t) n + t] = x[3 * (long) j + 2];
-    slots[3 * (size_t) n + t] = radius[j];
+    for (int d = 0; d < 3; d++) {
+      const double c = x[3 * (long) j + d];
+      slots[d * (size_t) n + t] = c, rounded[d * nf + t] = (float) c;
+      extent = fabs(c) > extent ? fabs(c) : extent;
+    }
+    slots[3 * (size_t) n + t] = radius[j], rounded[3 * nf + t] = (float) radius[j];
+    rmax = radius[j] > rmax ? radius[j] : rmax;
   }
+  const griddem_spheres sp = {slots, slots + n, slots + 2 * (size_t) n, slots + 3 * (size_t) n,
+                              rounded, rounded + nf, rounded + 2 * nf, rounded + 3 * nf,
+                              (float) griddem_search_slack(extent + 2.0 * rmax)};
   int *found = NULL, *slot[GRIDDEM_CLUSTER_MAX], nfound[GRIDDEM_CLUSTER_MAX];
   long found_room = 0;
   int status = 0;
@@ -72,5 +82,6 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
   free(found);
   free(lo);
   free(slots);
+  free(rounded);
   return status;
 }

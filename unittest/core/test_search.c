@@ -10,6 +10,7 @@
 #include "griddem_search.h"
 #include "griddem_touching_pairs.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +21,20 @@
 
 static const char *const KERNELS[] = {"scalar", "avx2", "avx512"};
 static double X[NSPHERE], Y[NSPHERE], Z[NSPHERE], R[NSPHERE];
+static float XF[NSPHERE + GRIDDEM_SEARCH_PAD], YF[NSPHERE + GRIDDEM_SEARCH_PAD], ZF[NSPHERE + GRIDDEM_SEARCH_PAD],
+    RF[NSPHERE + GRIDDEM_SEARCH_PAD];
+
+/* The spheres as the kernels read them: the float copies and the slack of their extent for reach */
+static griddem_spheres spheres(double reach)
+{
+  double extent = 0.0, rmax = 0.0;
+  for (int t = 0; t < NSPHERE; t++) {
+    XF[t] = (float) X[t], YF[t] = (float) Y[t], ZF[t] = (float) Z[t], RF[t] = (float) R[t];
+    extent = fmax(extent, fmax(fabs(X[t]), fmax(fabs(Y[t]), fabs(Z[t])))), rmax = fmax(rmax, R[t]);
+  }
+  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent + 2.0 * rmax + reach)};
+  return sp;
+}
 
 /* The documented test, written out pair by pair (this file is built without contraction) */
 static void reference(double reach, int i0, int ni, int own, const int *lo, const int *hi, int nruns,
@@ -46,7 +61,7 @@ static long compare(const char *name, griddem_touching_fn fn, double reach, int 
   static int got[GRIDDEM_CLUSTER_MAX][NSPHERE], want[GRIDDEM_CLUSTER_MAX][NSPHERE];
   int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX], m[GRIDDEM_CLUSTER_MAX];
   for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = k < ni ? 0 : CANARY, got[k][0] = CANARY;
-  const griddem_spheres sp = {X, Y, Z, R};
+  const griddem_spheres sp = spheres(reach);
   fn(&sp, reach, i0, ni, own, lo, hi, nruns, list, n);
   reference(reach, i0, ni, own, lo, hi, nruns, want, m);
   long found = 0;
@@ -123,21 +138,26 @@ static void ties(const char *name, griddem_touching_fn fn, int width)
 }
 
 /* Candidates in random directions within a few rounding errors of the contact distance, where
- * the order of the sum decides */
+ * the order of the sum decides; around a centre near the origin, and far from it with small
+ * spheres, where rounding the coordinates to float moves them by far more than their distances'
+ * last bits (a float test without its slack misses some of the touching ones) */
 static void near_ties(const char *name, griddem_touching_fn fn, int width)
 {
-  const double c[3] = {0.3, -0.7, 1.1};
-  for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = 0.5;
-  for (int t = width; t < NSPHERE; t++) {
-    const double u = 2.0 * check_uniform() - 1.0, phi = 6.283185307179586 * check_uniform();
-    const double d = 1.0 + (double) (t % 9 - 4) * 2.220446049250313e-16;
-    X[t] = c[0] + d * sqrt(1.0 - u * u) * cos(phi), Y[t] = c[1] + d * sqrt(1.0 - u * u) * sin(phi), Z[t] = c[2] + d * u;
-    R[t] = 0.5;
+  const double centres[2][3] = {{0.3, -0.7, 1.1}, {4321.7, -8765.3, 1234.9}}, radii[2] = {0.5, 0.01};
+  for (int scene = 0; scene < 2; scene++) {
+    const double *c = centres[scene], r = radii[scene];
+    for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = r;
+    for (int t = width; t < NSPHERE; t++) {
+      const double u = 2.0 * check_uniform() - 1.0, phi = 6.283185307179586 * check_uniform();
+      const double d = 2.0 * r * (1.0 + (double) (t % 9 - 4) * 2.220446049250313e-16);
+      X[t] = c[0] + d * sqrt(1.0 - u * u) * cos(phi), Y[t] = c[1] + d * sqrt(1.0 - u * u) * sin(phi), Z[t] = c[2] + d * u;
+      R[t] = r;
+    }
+    const int lo = width, hi = NSPHERE;
+    const long n = compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1);
+    CHECK(n > width * (NSPHERE / 10) && n < width * (NSPHERE - NSPHERE / 10),
+          "kernel %s: %ld near ties touch around (%g, %g, %g) (both outcomes expected)", name, n, c[0], c[1], c[2]);
   }
-  const int lo = width, hi = NSPHERE;
-  const long n = compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1);
-  CHECK(n > width * (NSPHERE / 10) && n < width * (NSPHERE - NSPHERE / 10),
-        "kernel %s: %ld near ties touch (both outcomes expected)", name, n);
 }
 
 /* Every sphere at the origin, where a lane loaded as zero would touch too: each sphere of a
@@ -161,7 +181,7 @@ static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int w
   static int got[GRIDDEM_CLUSTER_MAX][NSPHERE];
   int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX];
   for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = 0;
-  const griddem_spheres sp = {X, Y, Z, R};
+  const griddem_spheres sp = spheres(0.0);
   const int lo0 = width, hi0 = NSPHERE;
   fn(&sp, 0.0, 0, width, 0, &lo0, &hi0, 1, list, n);
   for (int k = 0; k < width; k++) {
