@@ -44,7 +44,7 @@ Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
-kept resolved near the blade); adds the blade-force accuracies (examples/rom-blade/blade_force.py)."""
+kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy)."""
 import argparse
 import contextlib
 import datetime
@@ -64,11 +64,8 @@ EXAMPLE = os.path.join(ROOT, "examples", "rom-pile")
 HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 BLADE = os.path.join(ROOT, "examples", "rom-blade")
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-# the blade example's own measures: its force, its frame's binning
-sys.path.insert(0, BLADE)
-from blade_force import force_accuracy  # noqa: E402
-from train_blade import load_run  # noqa: E402
 from griddemtools import lammps, log  # noqa: E402
+from griddemtools.blade import force_accuracy, load_run  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
 from griddemtools.rom import kinematic_fraction, near_fraction, predict, read_model  # noqa: E402
 

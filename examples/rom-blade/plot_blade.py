@@ -19,9 +19,8 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
+from griddemtools.blade import read_force, read_snapshots, read_table  # noqa: E402
 from griddemtools.rom import accuracy_panel, kinematic_series, run_tags  # noqa: E402
-from blade_force import read_force  # noqa: E402
-from train_blade import read_snapshots, read_table  # noqa: E402
 
 STEP = 7500
 

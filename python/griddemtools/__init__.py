@@ -14,6 +14,8 @@ and rom (numpy), which only the scripts that draw or fit import.
   squeeze   the 1:4 bidisperse squeeze's packing and input (a test's and the benchmarks' scene)
   rom       fix griddem/rom's model files, the ridge fits of a model, and what a reduced run is
             measured by (fill heights, kinematic shares): examples/rom-*, bench/rom.py (numpy)
+  blade     examples/rom-blade's measures: snapshots binned in the blade's frame, the force on
+            the blade and its accuracy (numpy)
 
 A script finds the package by one line that puts this repository's python/ folder first on its
 path, relative to the script's own file (examples/NAME/x.py: "..", "..", "python"; bench/x.py:

@@ -33,7 +33,7 @@
   model without origin, origin without a moving model, a 'frame' line in version 1, a force block
   of the wrong size, an origin that moves along a periodic axis and an origin variable that is
   missing or not equal-style are refused naming them; the
-  density the fix deposits on a moving frame (dump grid) equals examples/rom-blade/train_blade.py's
+  density the fix deposits on a moving frame (dump grid) equals python/griddemtools/blade.py's
   numpy binning of the dumped atoms in the frame (its training data);
 - drive box (the paper's blade): from the set-up on, every atom of the group in the model's box is
   kinematic whatever its velocity and whatever hits it (against drive match, where the same atoms
@@ -1249,7 +1249,7 @@ run 0
 def frame_binning():
     """30 spheres at random in a box periodic along y; a moving frame 4 x 1 x 3 voxels over
     x -1..3 (relative), y 0..6, z 0..3, origin x = 1.7: the fix's density field at its first
-    classification (dump grid) against train_blade.py's bin_frame of the dumped positions."""
+    classification (dump grid) against griddemtools.blade's bin_frame of the dumped positions."""
     n, frame = (4, 1, 3), (-1.0, 3.0, 0.0, 6.0, 0.0, 3.0)
     model = os.path.join(WD, "binning.model")
     t.write_rom_model(model, n, frame, version=2, frame="moving")
@@ -1268,32 +1268,31 @@ dump_modify g format float %.17g
 run 5
 """.format(m=model)
     t.run_ok(text, WD, name="in.binning")
-    # train_blade.py needs numpy: the system interpreter's, as train_rom.py in training()
+    # griddemtools.blade needs numpy: the system interpreter's, as train_rom.py in training()
     import subprocess
     top = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    # the plain readers of griddemtools read both files; train_blade.bin_frame is what is checked
+    # the plain readers of griddemtools read both files; griddemtools.blade.bin_frame is what is checked
     script = """
 import sys
 sys.path.insert(0, %r)
-sys.path.insert(0, %r)
-from train_blade import bin_frame, read_snapshots
+from griddemtools.blade import bin_frame, read_snapshots
 from griddemtools.grid import read_grid_dump
 atoms = dict(read_snapshots(%r))[5]
 fix = read_grid_dump(%r)[-1].columns["density"]
 rho = bin_frame(atoms["x"] - 1.7, atoms["z"], atoms["vx"], atoms["vz"], atoms["mass"], %r, %r)[0]
 inside = ((atoms["x"] - 1.7 >= -1) & (atoms["x"] - 1.7 < 3) & (atoms["z"] < 3)).sum()
 print(len(fix), max(abs(fix - rho)), inside)
-""" % (os.path.join(top, "examples", "rom-blade"), os.path.join(top, "python"), os.path.join(WD, "binning.atoms"),
+""" % (os.path.join(top, "python"), os.path.join(WD, "binning.atoms"),
        os.path.join(WD, "binning.grid"), n, frame)
     proc = subprocess.run(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True)
-    t.check(proc.returncode == 0, "train_blade.py's binning runs: " + proc.stdout[-300:])
+    t.check(proc.returncode == 0, "griddemtools.blade's binning runs: " + proc.stdout[-300:])
     if proc.returncode != 0:
         return
     nfix, worst, inside = proc.stdout.split()[-3:]
     nfix, worst, inside = int(nfix), float(worst), int(inside)
     t.check(nfix == 12 and worst <= 1e-12 and 5 <= inside < 30,
-            "moving frame: the fix's density equals train_blade.py's binning (%d of 30 atoms inside; worst "
+            "moving frame: the fix's density equals griddemtools.blade's binning (%d of 30 atoms inside; worst "
             "difference %.3g)" % (inside, worst))
 
 

@@ -97,7 +97,7 @@ def open_loop():
     speed is 1, V_c is 1 and the error 0.5: accuracy 0.5. The model file survives a round trip."""
     from rom import open_loop_accuracy
     from griddemtools.rom import read_model, write_model
-    from train_blade import FRAME_BOX, FRAME_N, load_run
+    from griddemtools.blade import FRAME_BOX, FRAME_N, load_run
     wd = os.path.join(WD, "openloop")
     os.makedirs(wd, exist_ok=True)
     here = os.getcwd()

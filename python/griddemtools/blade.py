@@ -1,0 +1,113 @@
+"""The blade of examples/rom-blade, measured: each snapshot binned in the blade's frame (the features
+and targets its model is trained on: train_blade.py), and the force on the blade.
+
+Run TAG's files (in.blade's outputs): atoms.TAG.txt (snapshots: id x z vx vz mass ...),
+controls.TAG.txt (step, the blade's front face bx and bottom bz, its velocity vbx vbz) and
+force.TAG.txt (every 100 steps, the means over those steps of the force the run measures on the
+blade (Fx, Fz: minus the blade's contact forces on the spheres), and of the force the reduced
+run's model predicts (Fx, Fz of fix griddem/rom's f_rom[14], f_rom[16]; 0 in a resolved run)).
+
+A snapshot is binned in the blade's frame, x relative to bx: FRAME_N voxels over FRAME_BOX, by
+the cloud-in-cell weights and boundary rule of fix griddem/rom (griddem_rom_weights: weights beyond
+a non-periodic boundary go to the boundary voxel; atoms outside the box are left out), density =
+mass / voxel volume, velocity = momentum / mass (0 in an empty voxel): written out here, apart
+from the fix's C code, which unittest/lammps/test_rom.py checks against it.
+Force accuracy = 1 - time-mean |F - F_resolved| / time-mean |F_resolved| (|.|: the norm of (Fx, Fz),
+means over all rows of the run)."""
+import os
+
+import numpy as np
+
+from . import dump
+
+# the frame: x from 6 behind the blade's front face to 18 ahead of it (the whole bed for every
+# blade position of the study), the slice's depth (y periodic, one voxel), z from the floor to 4
+FRAME_N = (48, 1, 8)
+FRAME_BOX = (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)
+
+
+def read_snapshots(path):
+    """[(step, {column: array over the atoms})] of a LAMMPS text dump."""
+    frames = []
+    for s in dump.read_dump(path):
+        data = np.array(s.rows, dtype=float).reshape(s.natoms, len(s.columns))
+        frames.append((s.step, {c: data[:, k] for k, c in enumerate(s.columns)}))
+    return frames
+
+
+def read_table(path):
+    """{step: row of numbers} of a file of rows 'step value ...' ('#' comments)."""
+    rows = {}
+    with open(path) as f:
+        for line in f:
+            w = line.split()
+            if w and not w[0].startswith("#"):
+                rows[int(w[0])] = [float(v) for v in w[1:]]
+    return rows
+
+
+def cic_axis(x, lo, hi, n, periodic):
+    """Indices (2 per point) and weights of cloud-in-cell along one axis (griddem_cg_cic)."""
+    h = (hi - lo) / n
+    u = (x - lo) / h - 0.5
+    below = np.floor(u)
+    f = u - below
+    idx = np.stack([below, below + 1], axis=1).astype(int)
+    idx = idx % n if periodic else np.clip(idx, 0, n - 1)
+    return idx, np.stack([1.0 - f, f], axis=1)
+
+
+def bin_frame(x, z, vx, vz, mass, n=FRAME_N, box=FRAME_BOX):
+    """Density, vx, vy (0), vz on the frame's voxels (x relative to the blade's front face; one
+    voxel along the periodic y)."""
+    nx, ny, nz = n
+    assert ny == 1
+    xlo, xhi, _, _, zlo, zhi = box
+    inside = (x >= xlo) & (x < xhi) & (z >= zlo) & (z < zhi)
+    x, z, vx, vz, mass = x[inside], z[inside], vx[inside], vz[inside], mass[inside]
+    ix, wx = cic_axis(x, xlo, xhi, nx, False)
+    iz, wz = cic_axis(z, zlo, zhi, nz, False)
+    vol = np.prod([(box[2 * d + 1] - box[2 * d]) / n[d] for d in range(3)])
+    m, px, pz = (np.zeros(nx * ny * nz) for _ in range(3))
+    for a in range(2):
+        for c in range(2):
+            voxel = ix[:, a] + nx * iz[:, c]
+            w = wx[:, a] * wz[:, c] * mass
+            np.add.at(m, voxel, w)
+            np.add.at(px, voxel, w * vx)
+            np.add.at(pz, voxel, w * vz)
+    safe = np.where(m > 0, m, 1.0)
+    return m / vol, np.where(m > 0, px / safe, 0.0), np.zeros_like(m), np.where(m > 0, pz / safe, 0.0)
+
+
+def load_run(tag, folder="."):
+    """Features, velocity targets and force targets of one resolved run's snapshots (run TAG's
+    files in folder)."""
+    controls = read_table(os.path.join(folder, "controls.%s.txt" % tag))
+    force = read_table(os.path.join(folder, "force.%s.txt" % tag))
+    X, Y, F = [], [], []
+    for step, a in read_snapshots(os.path.join(folder, "atoms.%s.txt" % tag)):
+        if step not in controls or step not in force:
+            continue
+        bx, _, vbx, vbz = controls[step]
+        rho, ux, uy, uz = bin_frame(a["x"] - bx, a["z"], a["vx"], a["vz"], a["mass"])
+        X.append(np.concatenate([rho, [vbx, vbz]]))
+        Y.append(np.stack([ux, uy, uz], axis=1).ravel())
+        F.append([force[step][0], 0.0, force[step][1]])
+    return np.array(X), np.array(Y), np.array(F)
+
+
+def read_force(tag, folder="."):
+    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz."""
+    return np.loadtxt(os.path.join(folder, "force.%s.txt" % tag), comments="#")
+
+
+def force_accuracy(res_tag, tag, which, folder="."):
+    """{'force_accuracy_WHICH': value}: which = 'measured' (the force tag's run measures) or
+    'predicted' (its model's prediction), against the force resolved run res_tag measures."""
+    res, other = read_force(res_tag, folder), read_force(tag, folder)
+    n = min(len(res), len(other))
+    cols = [1, 2] if which == "measured" else [3, 4]
+    err = np.linalg.norm(other[:n][:, cols] - res[:n][:, [1, 2]], axis=1)
+    ref = np.linalg.norm(res[:n][:, [1, 2]], axis=1)
+    return {"force_accuracy_" + which: float(1.0 - err.mean() / ref.mean())}
