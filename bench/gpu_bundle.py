@@ -113,8 +113,8 @@ def make(lmp, out, xz, list_submodels, lammps_bench):
 
 
 def main():
-    sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
-    from griddem_testlib import list_submodels_program
+    sys.path.insert(0, os.path.join(TOP, "python"))
+    from griddemtools.lammps import list_submodels_program
     ap = argparse.ArgumentParser()
     ap.add_argument("--lmp", required=True, help="a Kokkos lmp (CUDA for a GPU session)")
     ap.add_argument("--out", required=True, help="the bundle's folder (replaced if it is a bundle)")

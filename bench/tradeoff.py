@@ -30,11 +30,9 @@ import matplotlib.pyplot as plt
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
-# the test suite's random packings and its comparison of two dumps' forces
-sys.path.insert(0, os.path.join(TOP, "unittest", "lammps"))
-import griddem_testlib as t  # noqa: E402
 import benchlib  # noqa: E402
 from griddemtools import dump, lammps, log, squeeze  # noqa: E402
+from griddemtools.spheres import write_random_spheres  # noqa: E402
 import poured_bed  # noqa: E402
 
 # (label, pair style, tangential arguments replacing "xmu dampflag", fix griddem cell)
@@ -242,7 +240,7 @@ def main():
     scale = 0.1 if args.quick else 1.0
     wd0 = tempfile.mkdtemp(prefix="griddem-tradeoff-")
     dense_data = os.path.join(wd0, "data.dense")
-    t.write_random_spheres(dense_data, 4000, (6.3, 6.3, 6.3), 0.1, 0.2, seed=41, vscale=1.0, wscale=3.0)
+    write_random_spheres(dense_data, 4000, (6.3, 6.3, 6.3), 0.1, 0.2, seed=41, vscale=1.0, wscale=3.0)
     squeeze_data = os.path.join(wd0, "data.squeeze")
     squeeze.write_packing(squeeze_data)
     scenes = [dense_scene(int(2000 * scale), dense_data), pour_scene(int(25000 * scale)),
@@ -264,14 +262,14 @@ def main():
                 # forces on the scene's initial state, the same for every mode
                 run(dict(scene, steps=0), mode, wd, args.lmp, data_chute, 1)
                 snapshot = dump.read_dump(os.path.join(wd, "dump.forces"))[0]
-                forces = (snapshot.columns[1:], snapshot.by_id())    # (fx fy fz, {id: values}) as t.max_rel_diff takes
+                forces = (snapshot.columns[1:], snapshot.by_id())    # (fx fy fz, {id: values}) as dump.max_rel_diff takes
             out, loop, atoms = run(scene, mode, wd, args.lmp, data_chute, None)
             results[mode[0]] = dict(forces=forces, ke=log.thermo(out, "c_ke"),
                                     numbers=log.thermo(out, scene["number"]), loop=loop, atoms=atoms)
         ref = results[REFERENCE]
         kescale = max(abs(v) for v in ref["ke"]) or 1.0
         for label, r in results.items():
-            ferr = t.max_rel_diff(r["forces"], ref["forces"], ["fx", "fy", "fz"]) if r["forces"] else None
+            ferr = dump.max_rel_diff(r["forces"], ref["forces"], ["fx", "fy", "fz"]) if r["forces"] else None
             keerr = max(abs(a - b) for a, b in zip(r["ke"], ref["ke"])) / kescale
             # the scene's number at the end, and its largest deviation along the run
             number, ref_number = r["numbers"][-1], ref["numbers"][-1]

@@ -55,3 +55,17 @@ def last_snapshot(path):
     if not snapshots:
         raise ValueError("%s: no snapshot" % path)
     return snapshots[-1]
+
+
+def max_rel_diff(a, b, columns):
+    """Largest |a - b| over the atoms of b and the given columns, relative to the largest |b| per
+    column; a and b are (columns, {id: values}) (Snapshot.columns without id, Snapshot.by_id())."""
+    worst = 0.0
+    names_a, da = a
+    names_b, db = b
+    for col in columns:
+        ia, ib = names_a.index(col), names_b.index(col)
+        scale = max(abs(v[ib]) for v in db.values()) or 1.0
+        for tag, vb in db.items():
+            worst = max(worst, abs(da[tag][ia] - vb[ib]) / scale)
+    return worst

@@ -37,3 +37,10 @@ def run(lmp, args, cwd, ranks=1, threads=1, mpirun_args=(), env=None, output=Tru
     return subprocess.run(command(lmp, args, ranks, mpirun_args), cwd=cwd, env=environment(threads, env),
                           stdout=stdout, stderr=subprocess.STDOUT if output else None,
                           universal_newlines=True, check=check, timeout=timeout)
+
+
+def list_submodels_program(lmp):
+    """unittest/core/list_submodels (the sub-model table's printer): GRIDDEM_LIST_SUBMODELS (set by
+    ctest), else the one in the build folder of lmp."""
+    return os.environ.get("GRIDDEM_LIST_SUBMODELS") or os.path.join(
+        os.path.dirname(os.path.abspath(lmp)), "unittest", "core", "list_submodels")

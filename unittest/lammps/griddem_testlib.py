@@ -4,14 +4,14 @@ python.griddemtools checks), make random polydisperse sphere configurations, com
 Standard library only."""
 import atexit
 import os
-import random
 import shutil
 import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from griddemtools import dump, log  # noqa: E402
+from griddemtools import dump, lammps, log  # noqa: E402
+from griddemtools.spheres import write_random_spheres  # noqa: E402,F401 (the tests' scenes)
 
 LMP = os.path.abspath(os.environ.get("GRIDDEM_LMP", "lmp")) if os.sep in os.environ.get("GRIDDEM_LMP", "lmp") else os.environ.get("GRIDDEM_LMP", "lmp")
 # with GRIDDEM_PLUGIN set (a griddemplugin.so), every input starts by loading it: the tests then
@@ -61,10 +61,7 @@ pair_style {pair}
 
 
 def list_submodels_program(lmp=LMP):
-    """unittest/core/list_submodels: GRIDDEM_LIST_SUBMODELS (set by ctest), else the one in the
-    build folder of lmp."""
-    return os.environ.get("GRIDDEM_LIST_SUBMODELS") or os.path.join(
-        os.path.dirname(os.path.abspath(lmp)), "unittest", "core", "list_submodels")
+    return lammps.list_submodels_program(lmp)
 
 
 def submodel_table():
@@ -164,54 +161,14 @@ def read_dump(path):
 
 
 def max_rel_diff(a, b, columns):
-    """Largest |a-b| over atoms and the given columns, relative to the largest |b| per column."""
-    worst = 0.0
-    names_a, da = a
-    names_b, db = b
-    check(sorted(da) == sorted(db), "same atom IDs in both dumps")
-    for col in columns:
-        ia, ib = names_a.index(col), names_b.index(col)
-        scale = max(abs(v[ib]) for v in db.values()) or 1.0
-        for tag, vb in db.items():
-            worst = max(worst, abs(da[tag][ia] - vb[ib]) / scale)
-    return worst
+    """dump.max_rel_diff, the two dumps checked to hold the same atom IDs first."""
+    check(sorted(a[1]) == sorted(b[1]), "same atom IDs in both dumps")
+    return dump.max_rel_diff(a, b, columns)
 
 
 def thermo_values(out, column):
     """All values of a thermo column printed to the screen."""
     return log.thermo(out, column)
-
-
-def write_random_spheres(path, n, box, rmin, rmax, seed, density=1.0, vscale=1.0, wscale=1.0,
-                         triclinic=None, lattice=None, ntypes=1, flat=False):
-    """Random polydisperse spheres with random linear and angular velocities, dense enough that
-    many overlap. box = (lx, ly, lz) from 0; triclinic = (xy, xz, yz) or None; lattice = spacing
-    of a simple cubic lattice to put the centres on (no overlaps if > 2 rmax) instead; atom i
-    gets type 1 + i % ntypes. flat: for a 2d run, centres at z = 0 in a box from -lz/2 to lz/2,
-    velocities in the plane, spins about z."""
-    rng = random.Random(seed)
-    lines = ["GRIDDEM test configuration (seed %d)" % seed, "", "%d atoms" % n, "%d atom types" % ntypes, ""]
-    zlo = -0.5 * box[2] if flat else 0.0
-    lines += ["0 %.17g xlo xhi" % box[0], "0 %.17g ylo yhi" % box[1], "%.17g %.17g zlo zhi" % (zlo, zlo + box[2])]
-    if triclinic:
-        lines.append("%.17g %.17g %.17g xy xz yz" % triclinic)
-    lines += ["", "Atoms # sphere", ""]
-    vel = ["", "Velocities", ""]
-    for i in range(1, n + 1):
-        r = rng.uniform(rmin, rmax)
-        if lattice:
-            m = int(round(box[0] / lattice))
-            x, y, z = ((i - 1) % m * lattice, (i - 1) // m % m * lattice, (i - 1) // (m * m) * lattice)
-        else:
-            x, y, z = (rng.uniform(0, box[d]) for d in range(3))
-        v = [rng.uniform(-vscale, vscale) for _ in range(3)]
-        w = [rng.uniform(-wscale, wscale) for _ in range(3)]
-        if flat:
-            z, v[2], w[0], w[1] = 0.0, 0.0, 0.0, 0.0
-        lines.append("%d %d %.17g %.17g %.17g %.17g %.17g" % (i, 1 + i % ntypes, 2 * r, density, x, y, z))
-        vel.append("%d %s" % (i, " ".join("%.17g" % c for c in v + w)))
-    with open(path, "w") as f:
-        f.write("\n".join(lines + vel) + "\n")
 
 
 def write_rom_model(path, n, box, controls=0, bias=(0.0, 0.0, 0.0), version=1, nrow=None, ncol=None,

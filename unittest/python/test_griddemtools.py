@@ -7,6 +7,7 @@ import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from griddemtools import chunks, dump, grid, lammps, log  # noqa: E402
+from griddemtools.spheres import write_random_spheres  # noqa: E402
 
 failures, passed = [], 0
 
@@ -158,6 +159,12 @@ def dumps():
     check(dump.last_snapshot(path).step == 100, "dump: the last snapshot")
     cut = written(DUMP[:DUMP.rindex("2 1.25")], "dump.cut")
     check(raises(dump.read_dump, cut), "dump: a snapshot with fewer rows than atoms is an error")
+    # b's largest |fx| is 4 and |fz| 2: a's fx off by 1 at atom 2 (1/4), fz by 0.5 at atom 1 (0.5/2)
+    a = (["fx", "fz"], {1: [3.0, 1.5], 2: [-3.0, 1.0]})
+    b = (["fz", "fx"], {1: [2.0, 3.0], 2: [1.0, -4.0]})
+    check(dump.max_rel_diff(a, b, ["fx"]) == 0.25 and dump.max_rel_diff(a, b, ["fx", "fz"]) == 0.25 and
+          dump.max_rel_diff(a, b, ["fz"]) == 0.25 and dump.max_rel_diff(b, b, ["fx", "fz"]) == 0.0,
+          "dump: the largest difference relative to each column's largest value")
 
 
 def grids():
@@ -203,6 +210,18 @@ def logs():
     check(log.timing_sections("no table\n") == {}, "log: no timing breakdown")
 
 
+def spheres_file():
+    path = os.path.join(tempfile.mkdtemp(prefix="griddemtools-"), "data.spheres")
+    write_random_spheres(path, 27, (3.0, 3.0, 3.0), 0.1, 0.4, seed=5, lattice=1.0, ntypes=2)
+    text = open(path).read().split("\n")
+    atoms = text[text.index("Atoms # sphere") + 2:text.index("Velocities") - 1]
+    rows = [[float(v) for v in line.split()] for line in atoms]
+    check(len(rows) == 27 and "27 atoms" in text and "2 atom types" in text, "spheres: 27 atoms of 2 types")
+    check(sorted((r[4], r[5], r[6]) for r in rows) == sorted((x, y, z) for x in range(3) for y in range(3)
+                                                          for z in range(3)), "spheres: the centres on the lattice")
+    check(all(0.2 <= r[2] <= 0.8 and r[1] == 1 + int(r[0]) % 2 for r in rows), "spheres: diameters and types")
+
+
 def runner():
     check(lammps.command("lmp", ["-in", "in.x"]) == ["lmp", "-in", "in.x"], "lammps: one rank, no mpirun")
     check(lammps.command("lmp", ["-in", "in.x"], 4, ["--bind-to", "core"]) ==
@@ -221,6 +240,7 @@ dumps()
 grids()
 ave_chunks()
 logs()
+spheres_file()
 runner()
 print("%d passed, %d failed" % (passed, len(failures)))
 sys.exit(1 if failures or not passed else 0)
