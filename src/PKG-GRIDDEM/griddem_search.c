@@ -80,27 +80,32 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int o
   }
 }
 
-/* One run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and t + 1
- * at once: each candidate pair's floats loaded as one 64-bit value and broadcast. own_run is a
- * constant of each inlined copy. */
-__attribute__((target("avx2"), always_inline)) static inline void run_avx2(const griddem_spheres *sp, double reach,
-                                                                          int i0, const int own_run, int lo, int hi,
-                                                                          __m256 xi, __m256 yi, __m256 zi, __m256 si,
-                                                                          int *const *slot, int *n)
-{
-  for (int t = lo; t < hi; t += 2) {
-    double px, py, pz, pr;
-    memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8), memcpy(&pr, sp->rf + t, 8);
-    const __m256 dx = _mm256_sub_ps(xi, _mm256_castpd_ps(_mm256_set1_pd(px))),
-                 dy = _mm256_sub_ps(yi, _mm256_castpd_ps(_mm256_set1_pd(py))),
-                 dz = _mm256_sub_ps(zi, _mm256_castpd_ps(_mm256_set1_pd(pz))),
-                 s = _mm256_add_ps(si, _mm256_castpd_ps(_mm256_set1_pd(pr)));
-    const __m256 d2 =
-        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
-    const unsigned bits = (unsigned) _mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(s, s), _CMP_LT_OQ));
-    if (bits) passed(sp, reach, i0, own_run, t, hi, 0xffu, bits, slot, n);
+/* run_ISA: one run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and
+ * t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
+ * float vector, B: the double broadcast that carries the pair, TEST: the lanes where d2 < s s as
+ * bits). own_run is a constant of each inlined copy. */
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, TEST, LANES)                                    \
+  __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
+      const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi, V xi, V yi, V zi,  \
+      V si, int *const *slot, int *n)                                                                         \
+  {                                                                                                           \
+    for (int t = lo; t < hi; t += 2) {                                                                        \
+      double px, py, pz, pr;                                                                                  \
+      memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                    \
+      memcpy(&pr, sp->rf + t, 8);                                                                             \
+      const V dx = SUB(xi, B(px)), dy = SUB(yi, B(py)), dz = SUB(zi, B(pz)), s = ADD(si, B(pr));              \
+      const unsigned bits = (unsigned) TEST(ADD(ADD(MUL(dx, dx), MUL(dy, dy)), MUL(dz, dz)), MUL(s, s));     \
+      if (bits) passed(sp, reach, i0, own_run, t, hi, LANES, bits, slot, n);                                  \
+    }                                                                                                         \
   }
-}
+
+#define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
+#define AVX2_LESS(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LT_OQ))
+GRIDDEM_RUN_KERNEL(avx2, "avx2", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, AVX2_LESS, 0xffu)
+#define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
+#define AVX512_LESS(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
+GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps, AVX512_LESS,
+                   0xffffu)
 
 __attribute__((target("avx2"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,
@@ -113,26 +118,6 @@ __attribute__((target("avx2"))) static void touching_avx2(const griddem_spheres 
   for (int q = 0; q < nruns; q++)
     if (own && q == 0) run_avx2(sp, reach, i0, 1, lo[q], hi[q], xi, yi, zi, si, slot, n);
     else run_avx2(sp, reach, i0, 0, lo[q], hi[q], xi, yi, zi, si, slot, n);
-}
-
-__attribute__((target("avx512f"), always_inline)) static inline void run_avx512(const griddem_spheres *sp,
-                                                                               double reach, int i0,
-                                                                               const int own_run, int lo, int hi,
-                                                                               __m512 xi, __m512 yi, __m512 zi,
-                                                                               __m512 si, int *const *slot, int *n)
-{
-  for (int t = lo; t < hi; t += 2) {
-    double px, py, pz, pr;
-    memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8), memcpy(&pr, sp->rf + t, 8);
-    const __m512 dx = _mm512_sub_ps(xi, _mm512_castpd_ps(_mm512_set1_pd(px))),
-                 dy = _mm512_sub_ps(yi, _mm512_castpd_ps(_mm512_set1_pd(py))),
-                 dz = _mm512_sub_ps(zi, _mm512_castpd_ps(_mm512_set1_pd(pz))),
-                 s = _mm512_add_ps(si, _mm512_castpd_ps(_mm512_set1_pd(pr)));
-    const __m512 d2 =
-        _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
-    const unsigned bits = (unsigned) _mm512_cmp_ps_mask(d2, _mm512_mul_ps(s, s), _CMP_LT_OQ);
-    if (bits) passed(sp, reach, i0, own_run, t, hi, 0xffffu, bits, slot, n);
-  }
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
