@@ -1,8 +1,8 @@
 /* Candidate search kernels; see griddem_search.h. Every kernel decides with
  * ((dx dx + dy dy) + dz dz) < s s in double with separate multiplies and adds: this file is
  * compiled without contraction (-ffp-contract=off), so the vector kernels' last test rounds as the
- * plain-C kernel does. Touching pairs are rare among the candidates, so a vector of candidates
- * costs its float test and one predictable branch; only a lane that passes is tested again. */
+ * plain-C kernel does. A vector pass costs its float test and one branch; only a lane that passes
+ * is tested again, in double. */
 #include "griddem_search.h"
 
 #include <math.h>
@@ -63,9 +63,9 @@ __attribute__((target("avx2"), always_inline)) static inline cluster_lanes clust
 
 /* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j; lanes:
  * every lane) checked in lane order, so each sphere's slots stay in run order. Candidates past
- * the run (t + 1 at its end), and in the own run those at or before the sphere (within the
- * cluster's width of its start), are masked first; each lane left is checked again (the mask's
- * only in the case of an own run that starts before the cluster ends). */
+ * the run (t + 1 at its end), and in the own run those at or before the sphere (near its start),
+ * are masked off first; the per-lane check after the masks decides only where an own run starts
+ * at or before the cluster's first sphere. */
 static inline void passed(const griddem_spheres *sp, double reach, int i0, int own_run, int t, int hi, unsigned lanes,
                           unsigned bits, int *const *slot, int *n)
 {
