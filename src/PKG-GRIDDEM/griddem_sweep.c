@@ -892,32 +892,28 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
     const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
     /* slot ranges of the stencil rows from the first sphere's cell to the last's; the own row
        starts after the first sphere (the kernel starts each sphere's after itself). Only
-       clusters at the ends of the row clamp their stencil to the grid */
+       clusters at the ends of the row clamp their stencil to the grid; a cluster of ghosts (cells
+       outside the owned ones) clips it to the owned cells instead, rows outside them dropped, and
+       tests its owned candidates only (the own run then starts past the cluster or is empty) */
+    const int ghosts = ghost_row || xb < olo[0] || xa > ohi[0];
     int total = 0;
-    if (xa >= xsafe_lo && xb <= xsafe_hi)
+    if (!ghosts && xa >= xsafe_lo && xb <= xsafe_hi)
       for (int q = 0; q < nvalid; q++) {
         lo[q] = into_base + row_lo[q][xa], hi[q] = into_base + row_hi[q][xb];
         total += hi[q] - lo[q];
       }
-    else
-      for (int q = 0; q < nvalid; q++) {
-        const int x0 = xa + dxlo[q] < 0 ? 0 : xa + dxlo[q];
-        const int x1 = xb + dxhi[q] >= nx ? nx - 1 : xb + dxhi[q];
-        lo[q] = into_base + row_lo[q][x0 - dxlo[q]], hi[q] = into_base + row_hi[q][x1 - dxhi[q]];
-        total += hi[q] - lo[q];
-      }
-    if (ghost_row || xb < olo[0] || xa > ohi[0]) {
-      /* ghosts (cells outside the owned ones): their owned candidates only, each run clipped to
-         the owned cells; the own run then starts past the cluster or is empty */
-      total = 0;
+    else {
+      const int xmin = ghosts ? olo[0] : 0, xmax = ghosts ? ohi[0] : nx - 1;
       for (int q = 0; q < nvalid; q++) {
         const griddem_stencil_row *r = &sc->row[stencil_row ? stencil_row[q] : q];
         const int yy = y + r->dy, zz = z + r->dz;
-        const int x0 = xa + dxlo[q] < olo[0] ? olo[0] : xa + dxlo[q], x1 = xb + dxhi[q] > ohi[0] ? ohi[0] : xb + dxhi[q];
-        if (yy < olo[1] || yy > ohi[1] || zz < olo[2] || zz > ohi[2] || x1 < x0) lo[q] = hi[q] = 0;
+        const int x0 = xa + dxlo[q] < xmin ? xmin : xa + dxlo[q], x1 = xb + dxhi[q] > xmax ? xmax : xb + dxhi[q];
+        if (x1 < x0 || (ghosts && (yy < olo[1] || yy > ohi[1] || zz < olo[2] || zz > ohi[2]))) lo[q] = hi[q] = 0;
         else lo[q] = into_base + row_lo[q][x0 - dxlo[q]], hi[q] = into_base + row_hi[q][x1 - dxhi[q]];
         total += hi[q] - lo[q];
       }
+    }
+    if (ghosts) {
       if (total == 0) continue;
     } else if (own)
       lo[0] = base + s0 + 1;
