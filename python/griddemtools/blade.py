@@ -14,8 +14,6 @@ mass / voxel volume, velocity = momentum / mass (0 in an empty voxel): written o
 from the fix's C code, which unittest/lammps/test_rom.py checks against it.
 Force accuracy = 1 - time-mean |F - F_resolved| / time-mean |F_resolved| (|.|: the norm of (Fx, Fz),
 means over all rows of the run)."""
-import os
-
 import numpy as np
 
 from . import dump
@@ -80,13 +78,12 @@ def bin_frame(x, z, vx, vz, mass, n=FRAME_N, box=FRAME_BOX):
     return m / vol, np.where(m > 0, px / safe, 0.0), np.zeros_like(m), np.where(m > 0, pz / safe, 0.0)
 
 
-def load_run(tag, folder="."):
+def load_run(tag):
     """Features, velocity targets and force targets of one resolved run's snapshots (run TAG's
-    files in folder)."""
-    controls = read_table(os.path.join(folder, "controls.%s.txt" % tag))
-    force = read_table(os.path.join(folder, "force.%s.txt" % tag))
+    files in the working folder)."""
+    controls, force = read_table("controls.%s.txt" % tag), read_table("force.%s.txt" % tag)
     X, Y, F = [], [], []
-    for step, a in read_snapshots(os.path.join(folder, "atoms.%s.txt" % tag)):
+    for step, a in read_snapshots("atoms.%s.txt" % tag):
         if step not in controls or step not in force:
             continue
         bx, _, vbx, vbz = controls[step]
@@ -97,15 +94,15 @@ def load_run(tag, folder="."):
     return np.array(X), np.array(Y), np.array(F)
 
 
-def read_force(tag, folder="."):
-    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz."""
-    return np.loadtxt(os.path.join(folder, "force.%s.txt" % tag), comments="#")
+def read_force(tag):
+    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz (force.TAG.txt in the working folder)."""
+    return np.loadtxt("force.%s.txt" % tag, comments="#")
 
 
-def force_accuracy(res_tag, tag, which, folder="."):
+def force_accuracy(res_tag, tag, which):
     """{'force_accuracy_WHICH': value}: which = 'measured' (the force tag's run measures) or
     'predicted' (its model's prediction), against the force resolved run res_tag measures."""
-    res, other = read_force(res_tag, folder), read_force(tag, folder)
+    res, other = read_force(res_tag), read_force(tag)
     n = min(len(res), len(other))
     cols = [1, 2] if which == "measured" else [3, 4]
     err = np.linalg.norm(other[:n][:, cols] - res[:n][:, [1, 2]], axis=1)

@@ -60,15 +60,11 @@ pair_style {pair}
 """
 
 
-def list_submodels_program(lmp=LMP):
-    return lammps.list_submodels_program(lmp)
-
-
 def submodel_table():
     """The sub-model table (griddem_submodels.c) as unittest/core/list_submodels prints it:
     ([(label, type 1 arguments, type 2 arguments)] of the rows' examples, [(keyword, name)] of
     pair granular's models that the table does not evaluate)."""
-    lines = subprocess.run([list_submodels_program()], stdout=subprocess.PIPE, universal_newlines=True,
+    lines = subprocess.run([lammps.list_submodels_program(LMP)], stdout=subprocess.PIPE, universal_newlines=True,
                            check=True).stdout.splitlines()
     rows = [line.split("\t") for line in lines]
     return ([tuple(r[1:]) for r in rows if r[0] == "example"],

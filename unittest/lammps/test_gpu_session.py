@@ -28,6 +28,7 @@ import griddem_testlib as t
 TOP = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(TOP, "bench"))
 from gpu import lmp_info  # noqa: E402
+from griddemtools.lammps import list_submodels_program  # noqa: E402 (the test library put python/ first)
 
 STEPS = ["start", "kktests", "chute", "bound", "poly", "census", "largest"]
 BUNDLED = ["lmp.xz", "unittest/core/list_submodels", "lammps-bench/data.chute", "lammps-bench/in.chute.scaled",
@@ -80,7 +81,7 @@ def main():
     wd = t.workdir()
     made = os.path.join(wd, "made")
     subprocess.run([sys.executable, os.path.join(TOP, "bench", "gpu_bundle.py"), "--lmp", t.LMP, "--xz",
-                    "--list-submodels", t.list_submodels_program(), "--out", made], check=True)
+                    "--list-submodels", list_submodels_program(t.LMP), "--out", made], check=True)
     bundle = os.path.join(wd, "bare", "bundle")
     shutil.copytree(made, bundle, symlinks=True)
     shutil.rmtree(made)
