@@ -82,9 +82,10 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int o
 
 /* run_ISA: one run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and
  * t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
- * float vector, B: the double broadcast that carries the pair, TEST: the lanes where d2 < s s as
- * bits). own_run is a constant of each inlined copy. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, TEST, LANES)                                    \
+ * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c in one
+ * rounding, which the slack covers as it covers two; TEST: the lanes where d2 < s s as bits, false
+ * for the NaN lanes past the cluster). own_run is a constant of each inlined copy. */
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, TEST, LANES)                               \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi, V xi, V yi, V zi,  \
       V si, int *const *slot, int *n)                                                                         \
@@ -94,20 +95,21 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int o
       memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                    \
       memcpy(&pr, sp->rf + t, 8);                                                                             \
       const V dx = SUB(xi, B(px)), dy = SUB(yi, B(py)), dz = SUB(zi, B(pz)), s = ADD(si, B(pr));              \
-      const unsigned bits = (unsigned) TEST(ADD(ADD(MUL(dx, dx), MUL(dy, dy)), MUL(dz, dz)), MUL(s, s));     \
+      const unsigned bits = (unsigned) TEST(FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), MUL(s, s));                \
       if (bits) passed(sp, reach, i0, own_run, t, hi, LANES, bits, slot, n);                                  \
     }                                                                                                         \
   }
 
 #define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
 #define AVX2_LESS(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LT_OQ))
-GRIDDEM_RUN_KERNEL(avx2, "avx2", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, AVX2_LESS, 0xffu)
+GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, _mm256_fmadd_ps,
+                   AVX2_LESS, 0xffu)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
 #define AVX512_LESS(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
-GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps, AVX512_LESS,
-                   0xffffu)
+GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
+                   _mm512_fmadd_ps, AVX512_LESS, 0xffffu)
 
-__attribute__((target("avx2"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
+__attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,
                                                           int *const *slot, int *n)
 {
@@ -147,7 +149,8 @@ griddem_touching_fn griddem_touching_kernel(const char *name)
   if (strcmp(name, "scalar") == 0) return touching_scalar;
 #ifdef GRIDDEM_SEARCH_X86
   __builtin_cpu_init();
-  if (strcmp(name, "avx2") == 0) return __builtin_cpu_supports("avx2") ? touching_avx2 : NULL;
+  if (strcmp(name, "avx2") == 0)
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? touching_avx2 : NULL;
   if (strcmp(name, "avx512") == 0) return __builtin_cpu_supports("avx512f") ? touching_avx512 : NULL;
 #endif
   return NULL;
