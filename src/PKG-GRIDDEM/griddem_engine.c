@@ -144,46 +144,54 @@ static int grow_work(griddem_engine *e, int n)
   return e->work_cap ? 0 : -1;
 }
 
-/* Whether particle i can touch an owned particle: owned, or a ghost within reach (its radius,
- * the largest radius and the pull-off distance) of the box around the owned centres lo..hi */
-static int within_reach(const griddem_particles *p, int i, const double *lo, const double *hi, double reach)
-{
-  if (i < p->nlocal) return 1;
-  const double *x = p->x + 3 * (size_t) i;
-  double d2 = 0.0;
-  for (int d = 0; d < 3; d++) {
-    const double out = x[d] < lo[d] ? lo[d] - x[d] : (x[d] > hi[d] ? x[d] - hi[d] : 0.0);
-    d2 += out * out;
-  }
-  const double r = (p->radius[i] + reach) * (1.0 + 1e-10);
-  return d2 < r * r;
-}
-
 /* What sorts particles into grids for bin_gathered */
 typedef struct gather_plan {
   const griddem_particles *p;
   const double *lo, *hi;    /* the box around the owned centres */
   double reach;             /* ghosts farther from it are left out */
-  const double *upper;      /* the classes' radius bounds */
+  const double *upper;      /* the classes' radius bounds, zero past the last class */
   int ncls, stride, apart_bit, kinematic_bit;
 } gather_plan;
+
+/* The grid of each particle i0 .. i1 - 1 into grid[] (-1: left out). A ghost is kept within reach
+ * (its radius, the largest radius and the pull-off distance) of the box around the owned centres;
+ * a particle with the apart bit is left out. Without branches, so that the loop runs in vector
+ * lanes: the distance to the box is the sum of the parts below and above it (one is zero), and the
+ * class counts the bounds at or above the radius (they decrease, so this is griddem_class_of). */
+GRIDDEM_VECTOR_COPIES static void grids_of(const gather_plan *restrict g, int i0, int i1, int *restrict grid)
+{
+  const griddem_particles *p = g->p;
+  const double *restrict x = p->x, *restrict radius = p->radius;
+  const int *restrict mask = p->mask;
+  const double lo0 = g->lo[0], lo1 = g->lo[1], lo2 = g->lo[2], hi0 = g->hi[0], hi1 = g->hi[1], hi2 = g->hi[2];
+  const int nlocal = p->nlocal, ncls = g->ncls, twin = g->stride == 2, apart = g->apart_bit, kin = g->kinematic_bit;
+  for (int i = i0; i < i1; i++) {
+    const double x0 = x[3 * (size_t) i], x1 = x[3 * (size_t) i + 1], x2 = x[3 * (size_t) i + 2];
+    double b0 = lo0 - x0, a0 = x0 - hi0, b1 = lo1 - x1, a1 = x1 - hi1, b2 = lo2 - x2, a2 = x2 - hi2;
+    b0 = b0 > 0.0 ? b0 : 0.0, a0 = a0 > 0.0 ? a0 : 0.0, b1 = b1 > 0.0 ? b1 : 0.0;
+    a1 = a1 > 0.0 ? a1 : 0.0, b2 = b2 > 0.0 ? b2 : 0.0, a2 = a2 > 0.0 ? a2 : 0.0;
+    const double o0 = b0 + a0, o1 = b1 + a1, o2 = b2 + a2;
+    const double d2 = o0 * o0 + o1 * o1 + o2 * o2, r = (radius[i] + g->reach) * (1.0 + 1e-10);
+    const int kept = ((i < nlocal) | (d2 < r * r)) & ((mask[i] & apart) == 0);
+    int c = 0;
+    for (int k = 1; k < GRIDDEM_MAX_CLASSES; k++) c += (k < ncls) & (radius[i] <= g->upper[k]);
+    grid[i] = kept ? c * g->stride + (twin & ((mask[i] & kin) != 0)) : -1;
+  }
+}
 
 /* The grid of each particle i0 .. i1 - 1 into e->order (-1: left out), counted per grid into
  * count[]; returns how many of them are kinematic */
 static int classify_range(griddem_engine *e, const gather_plan *g, int i0, int i1, int *count)
 {
-  const griddem_particles *p = g->p;
+  const int *mask = g->p->mask;
   int kinematic = 0;
   for (int c = 0; c < e->ngrid; c++) count[c] = 0;
+  grids_of(g, i0, i1, e->order);
   for (int i = i0; i < i1; i++) {
-    int c = -1;
-    if (!(p->mask[i] & g->apart_bit) && within_reach(p, i, g->lo, g->hi, g->reach)) {
-      const int kinematic_i = (p->mask[i] & g->kinematic_bit) != 0;
-      c = griddem_class_of(p->radius[i], g->upper, g->ncls) * g->stride + (kinematic_i && g->stride == 2);
-      kinematic += kinematic_i;
-      count[c]++;
-    }
-    e->order[i] = c;
+    const int c = e->order[i];
+    if (c < 0) continue;
+    count[c]++;
+    kinematic += (mask[i] & g->kinematic_bit) != 0;
   }
   return kinematic;
 }
@@ -236,7 +244,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_
   const int n = p->nall, ncls = e->nclass;
   e->ngrid = kinematic_bit && e->kinematic_grids ? 2 * ncls : ncls;
   if (grow_work(e, n) != 0) return -1;
-  double upper[GRIDDEM_MAX_CLASSES + 1];
+  double upper[GRIDDEM_MAX_CLASSES + 1] = {0.0};
   griddem_class_bounds(s->rmax, ncls, upper);
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
      against the box around the owned centres, which bounds the distance from below) */
