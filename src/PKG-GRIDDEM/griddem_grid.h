@@ -187,6 +187,16 @@ GRIDDEM_INLINE int griddem_axis_cell(double x, double anchor, double hinv, long 
   return (int) c;
 }
 
+/* The cells along one axis of a grid (as griddem_axis_cell) that hold coordinates within d of x:
+ * *lo..*hi, clamped to the grid. How every search bounds the cells within reach of a point or of
+ * a box (lo of its lower corner, hi of its upper one). */
+GRIDDEM_INLINE void griddem_axis_cells_within(double xlo, double xhi, double d, double anchor, double hinv, long k0,
+                                              int n, int *lo, int *hi)
+{
+  *lo = griddem_axis_cell(xlo - d, anchor, hinv, k0, n);
+  *hi = griddem_axis_cell(xhi + d, anchor, hinv, k0, n);
+}
+
 /* The face k of a grid along one axis (faces at anchor + k h): the lower corner of the CPU grid
  * (k = k0) and of a Kokkos cell (k = k0 + its index) alike. */
 GRIDDEM_INLINE double griddem_cell_face(double anchor, double h, long k)

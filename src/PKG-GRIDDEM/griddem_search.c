@@ -17,9 +17,8 @@ double griddem_search_slack(double extent)
 /* The documented test of sphere i against candidate t */
 static inline int touches(const griddem_spheres *sp, double reach, int i, int t)
 {
-  const double dx = sp->x[i] - sp->x[t], dy = sp->y[i] - sp->y[t], dz = sp->z[i] - sp->z[t];
-  const double s = (sp->r[i] + reach) + sp->r[t];
-  return dx * dx + dy * dy + dz * dz < s * s;
+  const double dx[3] = {sp->x[i] - sp->x[t], sp->y[i] - sp->y[t], sp->z[i] - sp->z[t]};
+  return griddem_search_touches(dx, sp->r[i], reach, sp->r[t]);
 }
 
 static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int ni, int own, const int *lo,

@@ -15,9 +15,21 @@
 #ifndef GRIDDEM_SEARCH_H
 #define GRIDDEM_SEARCH_H
 
+#include "griddem_portable.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The search's test of a sphere of radius ri against a candidate of radius rj whose centres lie dx
+ * apart: closer than (ri + reach) + rj, the squares summed left to right. Every search calls it
+ * on its exact separations (the CPU kernels' double test, the Kokkos search on the device), so
+ * that they find the same pairs from the same separations. */
+GRIDDEM_INLINE int griddem_search_touches(const double *dx, double ri, double reach, double rj)
+{
+  const double s = (ri + reach) + rj;
+  return dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2] < s * s;
+}
 
 /* The spheres in slot order: centre and radius of each slot; the same rounded to float (each
  * array readable GRIDDEM_SEARCH_PAD slots past the last), and the slack of the float test, at

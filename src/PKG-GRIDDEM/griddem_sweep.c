@@ -817,8 +817,7 @@ void griddem_owned_cells(const griddem_grid *g, const double lo[3], const double
 {
   for (int d = 0; d < 3; d++)
     if (nowned > 0) {
-      owned_lo[d] = griddem_axis_cell(lo[d], g->anchor[d], g->hinv, g->k0[d], g->n[d]);
-      owned_hi[d] = griddem_axis_cell(hi[d], g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      griddem_axis_cells_within(lo[d], hi[d], 0.0, g->anchor[d], g->hinv, g->k0[d], g->n[d], &owned_lo[d], &owned_hi[d]);
     } else
       owned_lo[d] = INT_MAX, owned_hi[d] = INT_MIN;
 }
@@ -981,8 +980,7 @@ static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid
     int b[6], empty = 0;
     const int ghosts = !any_owned(cx, s, ni);
     for (int d = 0; d < 3; d++) {
-      b[d] = griddem_axis_cell(box[d] - cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
-      b[3 + d] = griddem_axis_cell(box[3 + d] + cut, g->anchor[d], g->hinv, g->k0[d], g->n[d]);
+      griddem_axis_cells_within(box[d], box[3 + d], cut, g->anchor[d], g->hinv, g->k0[d], g->n[d], &b[d], &b[3 + d]);
       if (ghosts) { /* only their owned candidates: the block clipped to the owned cells */
         b[d] = b[d] < l->owned_lo[d] ? l->owned_lo[d] : b[d];
         b[3 + d] = b[3 + d] > l->owned_hi[d] ? l->owned_hi[d] : b[3 + d];
@@ -1209,8 +1207,8 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
         int blo[3], bhi[3];
         for (int d = 0; d < 3; d++) {
           const double lo = g->lo[d] + k[d] * g->h;
-          blo[d] = griddem_axis_cell(lo - passes[q].cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
-          bhi[d] = griddem_axis_cell(lo + g->h + passes[q].cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d]);
+          griddem_axis_cells_within(lo, lo + g->h, passes[q].cut, gl->anchor[d], gl->hinv, gl->k0[d], gl->n[d], &blo[d],
+                                    &bhi[d]);
         }
         long block = 0;
         for (int zz = blo[2]; zz <= bhi[2]; zz++)

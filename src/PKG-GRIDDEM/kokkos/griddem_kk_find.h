@@ -10,6 +10,7 @@
 #include "griddem_contact.h"
 #include "griddem_exclusions.h"
 #include "griddem_kk_sorted.h"
+#include "griddem_search.h"
 
 namespace LAMMPS_NS {
 
@@ -81,8 +82,7 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
       const GriddemKKGrid &g = this->grids.g[cj];
       const double d = radi + this->grids.upper[cj] + this->reach_extra + slack;
       int lo[3], hi[3];
-      for (int k = 0; k < 3; k++)
-        lo[k] = g.axis_cell(k, xi[k] - d), hi[k] = g.axis_cell(k, xi[k] + d);
+      for (int k = 0; k < 3; k++) g.cells_within(k, xi[k], xi[k], d, lo[k], hi[k]);
       // x_i - x_j from the positions in their cells and the cells' corners; each shift is set
       // in the loop over its own axis, and a cell's first slot is its predecessor's end (the
       // cells of a row along x are consecutive)
@@ -107,14 +107,12 @@ struct GriddemKKFind : public GriddemKKSorted<DeviceType, Real> {
               const double dx = (pi[0] - (double) pu[0]) + sx;
               const double dy = (pi[1] - (double) pu[1]) + sy;
               const double dz = (pi[2] - (double) pu[2]) + sz;
+              double sep[3] = {dx, dy, dz}, radj = (double) pu[3];
+              if (!griddem_search_touches(sep, radi, this->reach_extra + near_margin, radj)) continue;
               double rsq = dx * dx + dy * dy + dz * dz;
-              const double reach = radi + this->reach_extra + (double) pu[3] + near_margin;
-              if (!(rsq < reach * reach)) continue;
               if constexpr (GriddemKKSorted<DeviceType, Real>::atom_positions) {
-                double sep[3], radj;
                 rsq = this->separation(s, u, corner, sep, radj);
-                const double rs = radi + this->reach_extra + radj;
-                if (!(rsq < rs * rs)) continue;
+                if (!griddem_search_touches(sep, radi, this->reach_extra, radj)) continue;
               }
               if (rsq == 0.0) {
                 Kokkos::atomic_min(&this->report().coincident,

@@ -21,6 +21,11 @@ struct GriddemKKGrid {
   {
     return griddem_axis_cell(x, anchor[d], hinv, k0[d], n[d]);
   }
+  // the cells along d within dist of xlo..xhi
+  KOKKOS_INLINE_FUNCTION void cells_within(int d, double xlo, double xhi, double dist, int &lo, int &hi) const
+  {
+    griddem_axis_cells_within(xlo, xhi, dist, anchor[d], hinv, k0[d], n[d], &lo, &hi);
+  }
   KOKKOS_INLINE_FUNCTION int cell_of(double x, double y, double z) const
   {
     return axis_cell(0, x) + n[0] * (axis_cell(1, y) + n[1] * axis_cell(2, z));
