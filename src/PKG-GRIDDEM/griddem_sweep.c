@@ -844,8 +844,18 @@ typedef struct stencil_cells {
  * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
  * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
  * slot order, each in the order its candidates were found (hits: the thread's lists, empty). */
-static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hits *hits, const griddem_class_grid *k,
-                           const griddem_class_grid *into, const stencil_cells *sc, int own, int y, int z)
+/* A thread's room for one cell row's runs, a place per stencil row in each array: the stencil rows
+ * kept inside the grid (their cell offsets, x reaches and indices), each run's first cell start,
+ * and the runs' slot ranges. Laid out once per slab, not once per cell row. */
+typedef struct row_room {
+  long *kept_lo, *kept_hi;
+  int *kept_dxlo, *kept_dxhi, *kept_row, *lo, *hi;
+  const int **row_lo, **row_hi;
+} row_room;
+
+static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hits *hits, const row_room *room,
+                           const griddem_class_grid *k, const griddem_class_grid *into, const stencil_cells *sc, int own,
+                           int y, int z)
 {
   const griddem_grid *g = k->g;
   const griddem_bins *b = k->b;
@@ -865,8 +875,8 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
   const long *off_lo = sc->lo, *off_hi = sc->hi;
   const int *dxlo = sc->dxlo, *dxhi = sc->dxhi;
   int nvalid = nrows, xsafe_lo = sc->xsafe_lo, xsafe_hi = nx - 1 - sc->xsafe_hi;
-  long kept_lo[nrows], kept_hi[nrows];
-  int kept_dxlo[nrows], kept_dxhi[nrows], kept_row[nrows];
+  long *kept_lo = room->kept_lo, *kept_hi = room->kept_hi;
+  int *kept_dxlo = room->kept_dxlo, *kept_dxhi = room->kept_dxhi, *kept_row = room->kept_row;
   const int *stencil_row = NULL;    /* of each run (NULL: run q is stencil row q) */
   if (y + sc->dymin < 0 || y + sc->dymax >= g->n[1] || z + sc->dzmin < 0 || z + sc->dzmax >= g->n[2]) {
     nvalid = 0, xsafe_lo = 0, xsafe_hi = nx - 1;
@@ -883,9 +893,9 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
   }
 
   /* each stencil row's cell starts from this cell row's x = 0, the into grid's base added */
-  const int *row_lo[nrows], *row_hi[nrows];
+  const int **row_lo = room->row_lo, **row_hi = room->row_hi;
   for (int q = 0; q < nvalid; q++) row_lo[q] = row0 + off_lo[q], row_hi[q] = row0 + off_hi[q];
-  int lo[nrows], hi[nrows];
+  int *lo = room->lo, *hi = room->hi;
   for (int s0 = first; s0 < last; s0 += cx->cluster) {
     const int ni = last - s0 < cx->cluster ? last - s0 : cx->cluster;
     const int xa = (int) (b->cell[b->order[s0]] - rowcell), xb = (int) (b->cell[b->order[s0 + ni - 1]] - rowcell);
@@ -1116,9 +1126,14 @@ static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *
   sweep_sums sums = thread_sums(cx, &batch);
   cluster_hits hits;
   cluster_hits_init(&hits);
+  const int nrows = sc->nrows;
+  long kept_lo[nrows], kept_hi[nrows];
+  int kept_dxlo[nrows], kept_dxhi[nrows], kept_row[nrows], lo[nrows], hi[nrows];
+  const int *row_lo[nrows], *row_hi[nrows];
+  const row_room room = {kept_lo, kept_hi, kept_dxlo, kept_dxhi, kept_row, lo, hi, row_lo, row_hi};
   for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
     const long row = b->cell[b->order[s]] / g->n[0];
-    sweep_cell_row(cx, &sums, &hits, k, into, sc, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
+    sweep_cell_row(cx, &sums, &hits, &room, k, into, sc, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
     s = b->cell_start[(row + 1) * g->n[0]];
   }
   return finished_sums(cx, sums);
