@@ -29,8 +29,7 @@ int griddem_class_count(double rmin, double rmax)
 
 void griddem_class_bounds(double rmax, int ncls, double *upper)
 {
-  for (int c = 0; c < ncls; c++) upper[c] = ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c);
-  upper[ncls] = 0.0;
+  for (int c = 0; c <= GRIDDEM_MAX_CLASSES; c++) upper[c] = c < ncls ? ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c) : 0.0;
 }
 
 /* Whether a double is not finite, as a bit: its exponent's bits are all set exactly where adding
@@ -156,8 +155,7 @@ typedef struct gather_plan {
 /* The grid of each particle i0 .. i1 - 1 into grid[] (-1: left out). A ghost is kept within reach
  * (its radius, the largest radius and the pull-off distance) of the box around the owned centres;
  * a particle with the apart bit is left out. Without branches, so that the loop runs in vector
- * lanes: the distance to the box is the sum of the parts below and above it (one is zero), and the
- * class counts the bounds at or above the radius (they decrease, so this is griddem_class_of). */
+ * lanes: the distance to the box is the sum of the parts below and above it (one is zero). */
 GRIDDEM_VECTOR_COPIES static void grids_of(const gather_plan *restrict g, int i0, int i1, int *restrict grid)
 {
   const griddem_particles *p = g->p;
@@ -173,8 +171,7 @@ GRIDDEM_VECTOR_COPIES static void grids_of(const gather_plan *restrict g, int i0
     const double o0 = b0 + a0, o1 = b1 + a1, o2 = b2 + a2;
     const double d2 = o0 * o0 + o1 * o1 + o2 * o2, r = (radius[i] + g->reach) * (1.0 + 1e-10);
     const int kept = ((i < nlocal) | (d2 < r * r)) & ((mask[i] & apart) == 0);
-    int c = 0;
-    for (int k = 1; k < GRIDDEM_MAX_CLASSES; k++) c += (k < ncls) & (radius[i] <= g->upper[k]);
+    const int c = griddem_class_of(radius[i], g->upper, ncls);
     grid[i] = kept ? c * g->stride + (twin & ((mask[i] & kin) != 0)) : -1;
   }
 }
@@ -244,7 +241,7 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_
   const int n = p->nall, ncls = e->nclass;
   e->ngrid = kinematic_bit && e->kinematic_grids ? 2 * ncls : ncls;
   if (grow_work(e, n) != 0) return -1;
-  double upper[GRIDDEM_MAX_CLASSES + 1] = {0.0};
+  double upper[GRIDDEM_MAX_CLASSES + 1];
   griddem_class_bounds(s->rmax, ncls, upper);
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
      against the box around the owned centres, which bounds the distance from below) */

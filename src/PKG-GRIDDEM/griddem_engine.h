@@ -46,16 +46,19 @@ typedef struct griddem_engine_stats {
 /* Number of size classes for radii in [rmin, rmax]: one per factor 2^GRIDDEM_CLASS_SHIFT. */
 int griddem_class_count(double rmin, double rmax);
 
-/* The classes' bounds for a largest radius rmax: upper[c] = rmax / 4^c for c < ncls, and
- * upper[ncls] = 0 (upper holds ncls + 1 values). */
+/* The classes' bounds for a largest radius rmax: upper[c] = rmax / 4^c for c < ncls, and 0 from
+ * upper[ncls] to upper[GRIDDEM_MAX_CLASSES] (upper holds GRIDDEM_MAX_CLASSES + 1 values). */
 void griddem_class_bounds(double rmax, int ncls, double *upper);
 
 /* Size class of radius r: class c holds radii in (upper[c+1], upper[c]], the last class all
- * smaller ones. How both the CPU engine and the Kokkos styles sort a sphere into its grid. */
+ * smaller ones; as the bounds decrease, that is how many of upper[1..ncls-1] are at or above r.
+ * Counted over every class a grid may have, without branches, so that a loop over particles runs
+ * in vector lanes (upper as griddem_class_bounds fills it). How both the CPU engine and the
+ * Kokkos styles sort a sphere into its grid. */
 GRIDDEM_INLINE int griddem_class_of(double r, const double *upper, int ncls)
 {
   int c = 0;
-  while (c < ncls - 1 && r <= upper[c + 1]) c++;
+  for (int k = 1; k < GRIDDEM_MAX_CLASSES; k++) c += (k < ncls) & (r <= upper[k]);
   return c;
 }
 

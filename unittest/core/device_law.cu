@@ -1,8 +1,10 @@
 /* The core headers compiled as CUDA device code: every sub-model is reachable from a kernel
  * through griddem_contact_eval, and the engine pieces the Kokkos kernels call (cell of a point,
- * class of a radius, exclusions, the order of a cell's slots) are too, so the headers the CPU engine uses are the ones a GPU
+ * cells within reach, class of a radius, exclusions, the order of a cell's slots, the search's
+ * pair test) are too, so the headers the CPU engine uses are the ones a GPU
  * kernel can use (a host-only construct in any of them fails this compile). */
 #include "griddem_engine.h"
+#include "griddem_search.h"
 
 __global__ void griddem_device_law(const griddem_pair_params *p, griddem_contact *c, double *h,
                                    double *f, double *ti, double *tj, int *touch)
@@ -18,4 +20,6 @@ __global__ void griddem_device_engine(const griddem_exclusions *e, const double 
   out[0] = griddem_axis_cell(x[0], 0.0, 2.0, -3, 10);
   out[1] = griddem_class_of(x[1], upper, ncls);
   out[2] = griddem_excluded(e, 1, 3, 2, 5);
+  griddem_axis_cells_within(x[0], x[1], x[2], 0.0, 2.0, -3, 10, &out[4], &out[5]);
+  out[6] = griddem_search_touches(x, x[0], x[1], x[2]);
 }

@@ -242,9 +242,39 @@ static void scan_lanes(void)
   CHECK(s.first_nonfinite == -1 && s.nonfinite_velocity, "a speed whose square overflows is not finite");
 }
 
+/* griddem_class_of against its definition, class c holding radii in (upper[c+1], upper[c]] and the
+ * last class every smaller one, for each number of classes: radii at each bound, a hair above
+ * and below it, and far below the last (zero, the smallest double); bounds as
+ * griddem_class_bounds lays them out (zero past the last class). */
+static void size_classes_by_definition(void)
+{
+  long checked = 0, wrong = 0;
+  for (int ncls = 1; ncls <= GRIDDEM_MAX_CLASSES; ncls++) {
+    double upper[GRIDDEM_MAX_CLASSES + 1];
+    griddem_class_bounds(1.7, ncls, upper);
+    for (int k = 0; k < ncls; k++) {
+      const double radii[5] = {upper[k], nextafter(upper[k], 0.0), nextafter(upper[k], 1e9), upper[k] * 0.5,
+                               k == ncls - 1 ? 4.9e-324 : upper[k + 1] * 1.5};
+      for (int q = 0; q < 5; q++) {
+        const double r = radii[q];
+        int want = ncls - 1;    /* the last class unless a bound below r ends a class */
+        for (int c = 0; c < ncls - 1; c++)
+          if (r > upper[c + 1]) {
+            want = c;
+            break;
+          }
+        checked++;
+        wrong += griddem_class_of(r, upper, ncls) != want;
+      }
+    }
+  }
+  CHECK(wrong == 0, "size classes: %ld of %ld radii in another class than their bounds say", wrong, checked);
+}
+
 int main(void)
 {
   scan_lanes();
+  size_classes_by_definition();
 #ifdef _OPENMP
   scan_threaded();
 #endif
