@@ -837,13 +837,6 @@ typedef struct stencil_cells {
   int dymin, dymax, dzmin, dzmax, xsafe_lo, xsafe_hi;
 } stencil_cells;
 
-/* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
- * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
- * laid over the same cells (own 0: the full stencil; same_cells below). Slots of the channels
- * are a class's slots + its base. The row's slots are taken in clusters of consecutive slots
- * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
- * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
- * slot order, each in the order its candidates were found (hits: the thread's lists, empty). */
 /* A thread's room for one cell row's runs, a place per stencil row in each array: the stencil rows
  * kept inside the grid (their cell offsets, x reaches and indices), each run's first cell start,
  * and the runs' slot ranges. Laid out once per slab, not once per cell row. */
@@ -853,6 +846,13 @@ typedef struct row_room {
   const int **row_lo, **row_hi;
 } row_room;
 
+/* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
+ * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
+ * laid over the same cells (own 0: the full stencil; same_cells below). Slots of the channels
+ * are a class's slots + its base. The row's slots are taken in clusters of consecutive slots
+ * (the kernel's width), whose stencil rows' slot ranges cover the cells of all its spheres: a
+ * candidate is loaded once for the cluster. A cluster's spheres then evaluate their contacts in
+ * slot order, each in the order its candidates were found (hits: the thread's lists, empty). */
 static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hits *hits, const row_room *room,
                            const griddem_class_grid *k, const griddem_class_grid *into, const stencil_cells *sc, int own,
                            int y, int z)
