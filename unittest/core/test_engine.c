@@ -244,7 +244,7 @@ static void scan_lanes(void)
 
 /* griddem_class_of against its definition, class c holding radii in (upper[c+1], upper[c]] and the
  * last class every smaller one, for each number of classes: radii at each bound, a hair above
- * and below it, and far below the last (zero, the smallest double); bounds as
+ * and below it, and far below the last (the smallest double); bounds as
  * griddem_class_bounds lays them out (zero past the last class). */
 static void size_classes_by_definition(void)
 {
