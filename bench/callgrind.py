@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Instructions per step (valgrind callgrind, one OpenMP thread) of the run loop, the pair style's
 compute and LAMMPS's neighbor-list builds, for stock gran/hooke/history and griddem/hooke/history
-on LAMMPS's chute (bench/in.chute, 32,000 atoms) or the 1:4 bidisperse squeeze of
-bench/squeeze.py; or stock granular and griddem/granular on the chute with a composed law of
+on LAMMPS's chute (bench/in.chute, 32,000 atoms), the 1:4 bidisperse squeeze of
+bench/squeeze.py or the 1:10 poured bed of bench/poured_bed.py (give it its 20,000 steps: the
+pour is the scene); or stock granular and griddem/granular on the chute with a composed law of
 pair granular (--scene chute-granular, --law: the law of examples/rom-blade and rom-hopper,
 "rolling", or of examples/hopper, packing and sliding, "nohistory"). Instruction counts do not
 depend on what else runs on the machine, so two builds compare where wall times drift. Only the
@@ -12,7 +13,7 @@ over the pairs in contact a step (mean over the counted steps), counted in a sec
 LAMMPS's compute contact/atom, the same counter for both styles. Appends one JSON line per run to
 bench/results/callgrind.jsonl; --keep DIR keeps each callgrind output there for callgrind_annotate.
 
-usage: bench/callgrind.py [--scene chute|squeeze|chute-granular] [--law rolling|nohistory] [--steps N]
+usage: bench/callgrind.py [--scene chute|squeeze|poured-bed|chute-granular] [--law rolling|nohistory] [--steps N]
                           [--lmp build/lmp] [--build NAME] [--only stock,griddem] [--lammps-bench DIR]
                           [--keep DIR] [--cell MODE]"""
 import argparse
@@ -26,6 +27,7 @@ import sys
 import tempfile
 
 import benchlib
+import poured_bed
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(HERE)
@@ -45,6 +47,10 @@ def chute_input(args, style, wd):
     with open(os.path.join(args.lammps_bench, "in.chute")) as f:
         text = f.read()
     return re.sub(r"run\s+100", "run %d" % args.steps, text.replace("gran/hooke/history", style))
+
+
+def poured_bed_input(args, style, wd):
+    return poured_bed.SCENE.format(style=style, fix="", steps=args.steps)
 
 
 def chute_granular_input(args, style, wd):
@@ -73,7 +79,8 @@ def touching_pairs(args, text, wd):
 
 
 def count(args, label, wd):
-    scene = {"chute": chute_input, "squeeze": squeeze_input, "chute-granular": chute_granular_input}[args.scene]
+    scene = {"chute": chute_input, "squeeze": squeeze_input, "poured-bed": poured_bed_input,
+             "chute-granular": chute_granular_input}[args.scene]
     text = scene(args, STYLES[label], wd)
     if args.cell and label == "griddem":
         head, _, tail = text.rpartition("\nrun")
@@ -99,7 +106,7 @@ def count(args, label, wd):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--scene", choices=["chute", "squeeze", "chute-granular"], default="chute")
+    ap.add_argument("--scene", choices=["chute", "squeeze", "poured-bed", "chute-granular"], default="chute")
     ap.add_argument("--law", choices=sorted(benchlib.GRANULAR_LAWS), default="rolling", help="chute-granular's law")
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
