@@ -9,9 +9,9 @@
 #include <stddef.h>
 #include <string.h>
 
-double griddem_search_slack(double extent)
+double griddem_search_slack(double coordinate_max, double rmax, double reach)
 {
-  return ldexp(extent, -20);
+  return ldexp(coordinate_max + 2.0 * rmax + reach, -20);
 }
 
 /* The documented test of sphere i against candidate t */

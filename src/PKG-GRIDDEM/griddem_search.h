@@ -33,7 +33,7 @@ GRIDDEM_INLINE int griddem_search_touches(const double *dx, double ri, double re
 
 /* The spheres in slot order: centre and radius of each slot; the same rounded to float (each
  * array readable GRIDDEM_SEARCH_PAD slots past the last), and the slack of the float test, at
- * least griddem_search_slack of the spheres' extent. */
+ * least griddem_search_slack's for these spheres. */
 typedef struct griddem_spheres {
   const double *x, *y, *z, *r;
   const float *xf, *yf, *zf, *rf;
@@ -43,11 +43,13 @@ typedef struct griddem_spheres {
 /* Slots past the last that the vector kernels read (and never use) */
 #define GRIDDEM_SEARCH_PAD 8
 
-/* The slack that makes the float test pass every pair whose double test does: extent bounds
- * every |coordinate| plus the largest contact distance (radius + reach + radius). Rounding a
- * coordinate to float moves it by at most 2^-24 of its size, and the float test's own roundings
- * add a few units of 2^-24 of the contact distance: 2^-20 of the extent covers both twice over. */
-double griddem_search_slack(double extent);
+/* The slack that makes the float test pass every pair whose double test does, for spheres whose
+ * |coordinates| are at most coordinate_max and radii at most rmax, tested within reach: their
+ * extent, coordinate_max plus the largest contact distance (rmax + reach + rmax), bounds every
+ * coordinate and distance the test rounds. Rounding a coordinate to float moves it by at most
+ * 2^-24 of its size, and the float test's own roundings add a few units of 2^-24 of the contact
+ * distance: 2^-20 of the extent covers both twice over. */
+double griddem_search_slack(double coordinate_max, double rmax, double reach);
 
 /* The most spheres in a cluster (the widest kernel's). */
 #define GRIDDEM_CLUSTER_MAX 8

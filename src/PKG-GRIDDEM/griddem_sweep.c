@@ -1243,7 +1243,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 {
   double rmax = 0.0;
   for (int kc = 0; kc < ncls; kc++) rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax;
-  const float slack = (float) griddem_search_slack(ch->extent + 2.0 * rmax + model->reach_extra);
+  const float slack = (float) griddem_search_slack(ch->extent, rmax, model->reach_extra);
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
                                       excl->group_both_bits))

@@ -24,7 +24,7 @@ static double X[NSPHERE], Y[NSPHERE], Z[NSPHERE], R[NSPHERE];
 static float XF[NSPHERE + GRIDDEM_SEARCH_PAD], YF[NSPHERE + GRIDDEM_SEARCH_PAD], ZF[NSPHERE + GRIDDEM_SEARCH_PAD],
     RF[NSPHERE + GRIDDEM_SEARCH_PAD];
 
-/* The spheres as the kernels read them: the float copies and the slack of their extent for reach */
+/* The spheres as the kernels read them: the float copies and the slack for their coordinates, radii and reach */
 static griddem_spheres spheres(double reach)
 {
   double extent = 0.0, rmax = 0.0;
@@ -32,7 +32,7 @@ static griddem_spheres spheres(double reach)
     XF[t] = (float) X[t], YF[t] = (float) Y[t], ZF[t] = (float) Z[t], RF[t] = (float) R[t];
     extent = fmax(extent, fmax(fabs(X[t]), fmax(fabs(Y[t]), fabs(Z[t])))), rmax = fmax(rmax, R[t]);
   }
-  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent + 2.0 * rmax + reach)};
+  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent, rmax, reach)};
   return sp;
 }
 
