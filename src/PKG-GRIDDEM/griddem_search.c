@@ -36,9 +36,10 @@ static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int
 #define GRIDDEM_SEARCH_X86 1
 #include <immintrin.h>
 
-/* A cluster's spheres (up to 8) as float lanes, NaN past the cluster, where no float test passes:
- * centres, and radius + reach + slack summed in double first. Reads the float copies up to slot
- * i0 + 7 (within their padding), the doubles only within the cluster. */
+/* A cluster's spheres (up to 8) as float lanes: centres, and radius + reach + slack summed in
+ * double first; past the cluster, centres at +infinity and a zero contact distance, where every
+ * test gives +infinity and fails (never NaN: a candidate is finite). Reads the float copies up to
+ * slot i0 + 7 (within their padding), the doubles only within the cluster. */
 typedef struct cluster_lanes {
   __m256 x, y, z, s;
 } cluster_lanes;
@@ -48,65 +49,80 @@ __attribute__((target("avx2"), always_inline)) static inline cluster_lanes clust
                                                                                              int ni)
 {
   const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(ni), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-  const __m256 none = _mm256_set1_ps(NAN), on = _mm256_castsi256_ps(live);
+  const __m256 far = _mm256_set1_ps(INFINITY), on = _mm256_castsi256_ps(live);
   const __m256d add = _mm256_set1_pd(reach), slack = _mm256_set1_pd((double) sp->slack);
   const __m256d r0 = _mm256_maskload_pd(sp->r + i0, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live))),
                 r1 = _mm256_maskload_pd(sp->r + i0 + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1)));
   const __m256 s = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r1, add), slack)),
                                    _mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r0, add), slack)));
-  const cluster_lanes c = {_mm256_blendv_ps(none, _mm256_loadu_ps(sp->xf + i0), on),
-                           _mm256_blendv_ps(none, _mm256_loadu_ps(sp->yf + i0), on),
-                           _mm256_blendv_ps(none, _mm256_loadu_ps(sp->zf + i0), on), _mm256_blendv_ps(none, s, on)};
+  const cluster_lanes c = {_mm256_blendv_ps(far, _mm256_loadu_ps(sp->xf + i0), on),
+                           _mm256_blendv_ps(far, _mm256_loadu_ps(sp->yf + i0), on),
+                           _mm256_blendv_ps(far, _mm256_loadu_ps(sp->zf + i0), on), _mm256_and_ps(s, on)};
   return c;
 }
 
-/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j; lanes:
- * every lane) checked in lane order, so each sphere's slots stay in run order. Candidates past
- * the run (t + 1 at its end), and in the own run those at or before the sphere (near its start),
- * are masked off first; the per-lane check after the masks decides only where an own run starts
- * at or before the cluster's first sphere. */
-static inline void passed(const griddem_spheres *sp, double reach, int i0, int own_run, int t, int hi, unsigned lanes,
-                          unsigned bits, int *const *slot, int *n)
+/* The lanes of the own run's candidates t, t + 1 (lane 2 k + j: sphere k, candidate t + j) that
+ * are candidates of their sphere, t + j > i0 + k, by o = t - i0 < 8: k < o + j (none for o < 0) */
+static const unsigned OWN_LANES[8] = {0x2u, 0xbu, 0x2fu, 0xbfu, 0x2ffu, 0xbffu, 0x2fffu, 0xbfffu};
+static inline unsigned own_lanes(int o)
 {
-  const unsigned first = 0x55555555u, second = 0xaaaaaaaau;    /* candidates t, t + 1 */
-  if (t + 1 >= hi) bits &= first;
-  const int o = t - i0;    /* the own run: sphere k takes t + j > i0 + k, so k < o + j */
-  if (own_run && o > 0 && 2 * o < 32) bits &= (first & ((1u << 2 * o) - 1u)) | (second & ((2u << (2 * o + 1)) - 1u));
-  for (bits &= lanes; bits; bits &= bits - 1) {
+  return o < 0 ? 0u : OWN_LANES[o];
+}
+
+/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j), each
+ * tested again in double in lane order, so that each sphere's slots stay in run order; candidate
+ * t + 1 past the run's end is masked off first. */
+static inline void passed(const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned bits,
+                          int *const *slot, int *n)
+{
+  if (t + 1 >= hi) bits &= 0x55555555u;
+  for (; bits; bits &= bits - 1) {
     const int l = __builtin_ctz(bits), k = l / 2, u = t + l % 2;
-    if (u >= hi || (own_run && u <= i0 + k)) continue;
     if (touches(sp, reach, i0 + k, u)) slot[k][n[k]++] = u;
   }
 }
 
 /* run_ISA: one run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and
  * t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
- * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c in one
- * rounding, which the slack covers as it covers two; TEST: the lanes where d2 < s s as bits, false
- * for the NaN lanes past the cluster). own_run is a constant of each inlined copy. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, TEST, LANES)                               \
+ * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c and
+ * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
+ * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
+ * d2 < s s, and never -0. In the own run (own_run, a constant of each inlined copy), the
+ * candidates within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after
+ * their sphere before any is tested again. */
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, SIGNS, NS)                           \
+  __attribute__((target(TARGET), always_inline)) static inline unsigned pass_##ISA(                         \
+      const griddem_spheres *sp, int t, V xi, V yi, V zi, V si)                                               \
+  {                                                                                                           \
+    double px, py, pz, pr;                                                                                    \
+    memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
+    memcpy(&pr, sp->rf + t, 8);                                                                               \
+    const V dx = SUB(xi, B(px)), dy = SUB(yi, B(py)), dz = SUB(zi, B(pz)), s = ADD(si, B(pr));                \
+    return (unsigned) SIGNS(FNMA(s, s, FMA(dz, dz, FMA(dy, dy, MUL(dx, dx)))));                               \
+  }                                                                                                           \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi, V xi, V yi, V zi,  \
       V si, int *const *slot, int *n)                                                                         \
   {                                                                                                           \
-    for (int t = lo; t < hi; t += 2) {                                                                        \
-      double px, py, pz, pr;                                                                                  \
-      memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                    \
-      memcpy(&pr, sp->rf + t, 8);                                                                             \
-      const V dx = SUB(xi, B(px)), dy = SUB(yi, B(py)), dz = SUB(zi, B(pz)), s = ADD(si, B(pr));              \
-      const unsigned bits = (unsigned) TEST(FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), MUL(s, s));                \
-      if (bits) passed(sp, reach, i0, own_run, t, hi, LANES, bits, slot, n);                                  \
+    int t = lo;                                                                                               \
+    if (own_run)                                                                                              \
+      for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2) {                                  \
+        const unsigned bits = pass_##ISA(sp, t, xi, yi, zi, si) & own_lanes(t - i0);                          \
+        if (bits) passed(sp, reach, i0, t, hi, bits, slot, n);                                                \
+      }                                                                                                       \
+    for (; t < hi; t += 2) {                                                                                  \
+      const unsigned bits = pass_##ISA(sp, t, xi, yi, zi, si);                                                \
+      if (bits) passed(sp, reach, i0, t, hi, bits, slot, n);                                                  \
     }                                                                                                         \
   }
 
 #define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
-#define AVX2_LESS(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LT_OQ))
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, _mm256_fmadd_ps,
-                   AVX2_LESS, 0xffu)
+                   _mm256_fnmadd_ps, _mm256_movemask_ps, 4)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
-#define AVX512_LESS(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
+#define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
 GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
-                   _mm512_fmadd_ps, AVX512_LESS, 0xffffu)
+                   _mm512_fmadd_ps, _mm512_fnmadd_ps, AVX512_NEGATIVE, 8)
 
 __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,

@@ -77,16 +77,18 @@ static long compare(const char *name, griddem_touching_fn fn, double reach, int 
 }
 
 /* A random cluster (its width at most the kernel's) with random runs (0..MAX_RUN long, at random
- * offsets) after it; with own, run 0 starts right after the cluster's first sphere */
+ * offsets) after it; with own, run 0 starts right after the cluster's first sphere (the sweep's
+ * case) or, one time in four, anywhere from 8 slots before the cluster to 3 into it */
 static int random_cluster(int width, int *i0, int *ni, int *own, int *lo, int *hi)
 {
   *ni = 1 + (int) (check_uniform() * width);
-  *i0 = (int) (check_uniform() * (NSPHERE - MAX_RUN - *ni));
+  *i0 = 8 + (int) (check_uniform() * (NSPHERE - MAX_RUN - *ni - 16));
   *own = check_uniform() < 0.5;
+  const int own_lo = *i0 + 1 + (check_uniform() < 0.25 ? (int) (check_uniform() * 12) - 9 : 0);
   const int nruns = (int) (check_uniform() * (MAX_RUNS + 1));
   for (int q = 0; q < nruns; q++) {
     const int len = (int) (check_uniform() * (MAX_RUN + 1));
-    lo[q] = *own && q == 0 ? *i0 + 1 : (int) (check_uniform() * (NSPHERE - len));
+    lo[q] = *own && q == 0 ? own_lo : (int) (check_uniform() * (NSPHERE - len));
     hi[q] = lo[q] + len;
   }
   return nruns;
@@ -171,7 +173,10 @@ static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int w
     const int nruns = random_cluster(width, &i0, &ni, &own, lo, hi);
     long total = 0;
     for (int k = 0; k < ni; k++)
-      for (int q = 0; q < nruns; q++) total += own && q == 0 ? (hi[q] > i0 + k + 1 ? hi[q] - (i0 + k + 1) : 0) : hi[q] - lo[q];
+      for (int q = 0; q < nruns; q++) {
+        const int from = own && q == 0 && lo[q] < i0 + k + 1 ? i0 + k + 1 : lo[q];
+        total += hi[q] > from ? hi[q] - from : 0;
+      }
     CHECK(compare(name, fn, 0.0, i0, ni, own, lo, hi, nruns) == total, "kernel %s: not every slot of the runs counted", name);
   }
   for (int t = width; t < NSPHERE; t++) {
