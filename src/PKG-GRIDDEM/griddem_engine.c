@@ -318,11 +318,16 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
     /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
     *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
                              : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
-    if (griddem_bin_points(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag, p->tag_bytes) != 0)
+    const int again = s->same_particles && e->one_grid_binned;
+    e->one_grid_binned = 0;
+    if ((again ? griddem_bin_points_again : griddem_bin_points)(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag,
+                                                                p->tag_bytes) != 0)
       return GRIDDEM_FAULT_MEMORY;
+    e->one_grid_binned = 1;
     cls[0].g = &e->grid[0], cls[0].b = &e->bins[0], cls[0].base = 0, cls[0].rmax = s->rmax, cls[0].kinematic = 0;
     all->order = e->bins[0].order;
   } else {
+    e->one_grid_binned = 0;
     all->n = bin_gathered(e, s, scan, apart_bit, kinematic_bit, cls, coarsened);
     all->order = e->order;
     if (all->n < 0) return GRIDDEM_FAULT_MEMORY;

@@ -70,6 +70,8 @@ typedef struct griddem_engine {
   griddem_grid grid[GRIDDEM_MAX_GRIDS]; /* one per size class, largest spheres first, each
                                            followed by its kinematic twin where there are twins */
   griddem_bins bins[GRIDDEM_MAX_GRIDS];
+  int one_grid_binned;                  /* 1: the last step binned the particles as they are on
+                                           one grid (bins[0] indexes them) */
   griddem_channels channels;
   griddem_engine_stats stats;
   /* size classes' scratch: particles grouped by class, their positions and tags, the channels'
@@ -108,6 +110,10 @@ typedef struct griddem_step {
   const griddem_model *model;
   const griddem_exclusions *excl; /* may be NULL */
   const griddem_scan *scan; /* this step's griddem_engine_scan of the particles; NULL: the step scans */
+  int same_particles;      /* 1: the particles of the engine's last step, each at the same index
+                              (positions moved: the host did not re-sort, exchange or re-ghost
+                              them), so that one grid is binned again by moving the slots of
+                              those that changed cells (griddem_bin_points_again) */
   double dt;
   int history_update;      /* 1: advance history values */
   griddem_history *hist;   /* the contact history (NULL where the model tracks no contacts) */

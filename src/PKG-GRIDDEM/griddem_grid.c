@@ -139,6 +139,14 @@ long griddem_box_cell(const double lo[3], const double prd[3], const int n[3], c
   return index;
 }
 
+/* Whether two of the n sorted slots of a cell hold one key (periodic images of one particle) */
+static int equal_keys(const int *slot, int n, const void *key, int key_bytes)
+{
+  for (int k = 1; k < n; k++)
+    if (griddem_key_at(key, key_bytes, slot[k - 1]) == griddem_key_at(key, key_bytes, slot[k])) return 1;
+  return 0;
+}
+
 /* The counting sort on threads: each thread counts the cells of its range of points; per cell,
  * the threads' counts become each one's place in the cell (the ranges in order, so the slots come
  * out as on one thread); one scan over the cells; each thread scatters its range. */
@@ -188,6 +196,7 @@ static int bin_threaded(griddem_bins *b, const griddem_grid *g, int n, const dou
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes)
 {
+  b->movable = 0;
   /* one int beyond cell_start's ncell + 1: the counts are kept two places up (below) */
   if (g->ncell + 2 > b->ncell_cap) {
     free(b->cell_start);
@@ -198,6 +207,8 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   if (n > b->n_cap) {
     free(b->order);
     free(b->cell);
+    free(b->next_cell);
+    b->next_cell = NULL;
     b->n_cap = n + n / 4 + 16;
     b->order = (int *) malloc(sizeof(int) * (size_t) b->n_cap);
     b->cell = (long *) malloc(sizeof(long) * (size_t) b->n_cap);
@@ -208,14 +219,18 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   /* on the threads where there are many points (OpenMP only then: a region allocates its team
      even for one thread), and the threads' counts of the cells (memory and work) are at most two
      per point: not on a grid mostly empty */
+  int twins = 0; /* a cell holds two slots with one key */
   if (griddem_threaded(n) && (long) griddem_max_threads() * g->ncell <= 2L * n) {
     if (bin_threaded(b, g, n, x) != 0) return -1;
     /* each crowded cell's centres in key order, the cells on the threads */
     const int *start = b->cell_start;
     if (key) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) reduction(| : twins)
       for (long c = 0; c < g->ncell; c++)
-        if (start[c + 1] - start[c] > 1) griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+        if (start[c + 1] - start[c] > 1) {
+          griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+          twins |= equal_keys(b->order + start[c], start[c + 1] - start[c], key, key_bytes);
+        }
     }
   } else {
     int *start = b->cell_start;
@@ -247,8 +262,83 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     for (long k = 0; k < crowded; k++) {
       const long c = b->crowded[k];
       griddem_sort_cell(b->order + start[c], start[c + 1] - start[c], key, key_bytes, x);
+      twins |= equal_keys(b->order + start[c], start[c + 1] - start[c], key, key_bytes);
     }
   }
+  b->grid = *g;
+  b->movable = key && !twins;
+  return 0;
+}
+
+/* Point i's slot moved from cell `from` (its slot among them) to its place in cell `to`, the
+ * slots between shifted by one and the starts of the cells between with them; the number of slots
+ * and cells shifted is added to *shifted. Returns 1 where `to` holds i's key already. */
+static int move_point(griddem_bins *b, int i, long from, long to, const double *x, const void *key, int key_bytes,
+                      long *shifted)
+{
+  int *order = b->order, *start = b->cell_start;
+  int p = start[from];
+  while (order[p] != i) p++;
+  const int64_t k = griddem_key_at(key, key_bytes, i);
+  int q = start[to], twin = 0;
+  for (; q < start[to + 1]; q++) {
+    twin |= griddem_key_at(key, key_bytes, order[q]) == k;
+    if (griddem_slot_before(i, order[q], key, key_bytes, x)) break;
+  }
+  for (int r = q; !twin && r < start[to + 1]; r++) twin = griddem_key_at(key, key_bytes, order[r]) == k;
+  if (to > from) {
+    memmove(order + p, order + p + 1, sizeof(int) * (size_t) (q - p - 1));
+    order[q - 1] = i;
+    for (long c = from + 1; c <= to; c++) start[c]--;
+  } else {
+    memmove(order + q + 1, order + q, sizeof(int) * (size_t) (p - q));
+    order[q] = i;
+    for (long c = to + 1; c <= from; c++) start[c]++;
+  }
+  *shifted += (p > q ? p - q : q - p) + (to > from ? to - from : from - to);
+  return twin;
+}
+
+static int same_grid(const griddem_grid *a, const griddem_grid *b)
+{
+  int same = a->h == b->h && a->ncell == b->ncell;
+  for (int d = 0; d < 3; d++) same &= a->anchor[d] == b->anchor[d] && a->k0[d] == b->k0[d] && a->n[d] == b->n[d];
+  return same;
+}
+
+int griddem_bin_points_again(griddem_bins *b, const griddem_grid *g, int n, const double *x,
+                             const void *key, int key_bytes)
+{
+  if (!b->movable || !key || n != b->n || n == 0 || !same_grid(g, &b->grid))
+    return griddem_bin_points(b, g, n, x, key, key_bytes);
+  if (!b->next_cell) {
+    b->next_cell = (long *) malloc(sizeof(long) * (size_t) b->n_cap);
+    if (!b->next_cell) return -1;
+  }
+  long *now = b->next_cell;
+  if (griddem_threaded(n)) {
+#pragma omp parallel
+    {
+      const int t = griddem_thread_num(), nt = griddem_team_size();
+      cells_of(g, (int) ((long) n * t / nt), (int) ((long) n * (t + 1) / nt), x, now);
+    }
+  } else
+    cells_of(g, 0, n, x, now);
+  /* the slots moved one by one while that shifts fewer slots and cell starts than a counting sort
+     passes over (a point crossing a plane of cells shifts a plane's); past that, binned afresh */
+  enum { BLOCK = 64 }; /* points compared in vector lanes before any is looked at */
+  long shifted = 0, *was = b->cell;
+  int twins = 0;
+  const long budget = 2L * n + g->ncell / 8;
+  for (int i0 = 0; i0 < n && shifted <= budget; i0 += BLOCK) {
+    const int i1 = n - i0 < BLOCK ? n : i0 + BLOCK;
+    int moved = 0;
+    for (int i = i0; i < i1; i++) moved |= now[i] != was[i];
+    for (int i = i0; moved && i < i1; i++)
+      if (now[i] != was[i]) twins |= move_point(b, i, was[i], now[i], x, key, key_bytes, &shifted), was[i] = now[i];
+  }
+  if (shifted > budget) return griddem_bin_points(b, g, n, x, key, key_bytes);
+  b->movable = !twins;
   return 0;
 }
 
@@ -271,6 +361,7 @@ void griddem_bins_free(griddem_bins *b)
   free(b->cell);
   free(b->thread_count);
   free(b->crowded);
+  free(b->next_cell);
   memset(b, 0, sizeof(*b));
 }
 

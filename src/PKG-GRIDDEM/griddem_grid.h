@@ -220,6 +220,10 @@ typedef struct griddem_bins {
   long thread_count_cap;
   long *crowded;    /* binned on one thread with keys: the cells holding more than one centre */
   int crowded_cap;
+  griddem_grid grid;/* the grid binned into */
+  int movable;      /* 1: binned by key with no two equal keys in a cell, so that griddem_bin_points_again
+                       can move the slots of the points that changed cells into place */
+  long *next_cell;  /* [n] griddem_bin_points_again: the cell of each point now */
 } griddem_bins;
 
 /* Counting sort of n interleaved points into g's cells; within a cell, slots are ordered by key
@@ -227,6 +231,15 @@ typedef struct griddem_bins {
  * Returns 0, or -1 when memory cannot be had. */
 int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const double *x,
                        const void *key, int key_bytes);
+
+/* The points of b's last binning binned again after they moved: the same n points, each at the
+ * same index with the same key (a LAMMPS step without reneighboring), at their new positions x.
+ * Where g is b's last grid, that binning was movable and few points changed cells, each of those
+ * leaves its slot for its place in its new cell, and the cells' starts follow: the slots come out
+ * as griddem_bin_points orders them, without a pass over every cell and point. Otherwise
+ * griddem_bin_points. Returns 0, or -1 when memory cannot be had. */
+int griddem_bin_points_again(griddem_bins *b, const griddem_grid *g, int n, const double *x,
+                             const void *key, int key_bytes);
 void griddem_bins_free(griddem_bins *b);
 
 /* The cells of b holding at least one centre, and the most centres in one cell ("slots used"):

@@ -684,6 +684,8 @@ void PairGriddem::engine_step()
 
   const GriddemFixOptions &options = fix->options;
   step.scan = &scan;
+  // LAMMPS re-sorts, exchanges and re-ghosts atoms only on steps it reneighbors (ago 0)
+  step.same_particles = neighbor->ago > 0;
   for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
   step.cell_edge = griddem_cell_edge(options.cell_mode, rmin, rmax, options.cell_edge);
   step.size_classes = grid_per_class();

@@ -106,6 +106,66 @@ static void check_threaded(void)
 }
 #endif
 
+/* b's slots, cell starts and cells equal ref's */
+static int same_bins(const griddem_bins *b, const griddem_bins *ref, const griddem_grid *g, int n)
+{
+  int same = b->n == ref->n && b->ncell == ref->ncell;
+  for (int s = 0; same && s < n; s++) same &= b->order[s] == ref->order[s] && b->cell[s] == ref->cell[s];
+  for (long c = 0; same && c <= g->ncell; c++) same &= b->cell_start[c] == ref->cell_start[c];
+  return same;
+}
+
+/* griddem_bin_points_again after points moved: the slots, cell starts and cells of a binning
+ * afresh, round after round, with few points changing cells (along each axis, so across rows and
+ * planes of cells), with most of them changing (past the budget of moves), with a point moved
+ * into a cell that holds its key already (periodic images: the binning is then not movable, and
+ * the next one starts afresh), with 64-bit keys, on another grid, and on threads */
+static void check_moved(int n, int key_bytes)
+{
+  double *x = (double *) malloc(sizeof(double) * 3 * (size_t) n);
+  int64_t *key = (int64_t *) malloc(sizeof(int64_t) * (size_t) n);
+  int *key32 = (int *) malloc(sizeof(int) * (size_t) n);
+  for (int i = 0; i < n; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 8.0 * check_uniform();
+    key[i] = key32[i] = (int) ((i * 7919L) % n) + 1; /* distinct, not in storage order */
+  }
+  /* points 0 and 1 share a key (periodic images of one particle), in cells far apart */
+  key[0] = key32[0] = key32[1], key[1] = key32[1];
+  x[0] = x[1] = x[2] = 0.1, x[3] = x[4] = x[5] = 7.9;
+  const void *k = key_bytes == 8 ? (const void *) key : (const void *) key32;
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  griddem_grid g, other;
+  griddem_grid_cover(&g, anchor, n, x, 0.7, 1L << 30);
+  griddem_grid_cover(&other, anchor, n, x, 0.9, 1L << 30);
+  griddem_bins b = {0}, ref = {0};
+  CHECK(griddem_bin_points(&b, &g, n, x, k, key_bytes) == 0 && b.movable, "%d points binned, movable", n);
+  int rounds = 0, moved_total = 0;
+  for (int round = 0; round < 60; round++) {
+    const double share = round % 10 == 9 ? 0.9 : 0.01; /* every tenth round moves most points */
+    int moved = 0;
+    for (int i = 0; i < n; i++) {
+      if (check_uniform() >= share) continue;
+      const long before = griddem_cell_of(&g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+      const int d = (int) (3.0 * check_uniform());
+      x[3 * i + d] += 0.5 * (check_uniform() - 0.5);
+      x[3 * i + d] = x[3 * i + d] < 0.0 ? 0.0 : (x[3 * i + d] > 8.0 ? 8.0 : x[3 * i + d]);
+      moved += griddem_cell_of(&g, x[3 * i], x[3 * i + 1], x[3 * i + 2]) != before;
+    }
+    if (round == 30 || round == 31) /* point 0 into point 1's cell, then out of it again */
+      for (int d = 0; d < 3; d++) x[d] = round == 30 ? x[3 + d] + 1e-3 : 0.1;
+    const griddem_grid *on = round == 45 ? &other : &g;
+    CHECK(griddem_bin_points_again(&b, on, n, x, k, key_bytes) == 0 && griddem_bin_points(&ref, on, n, x, k, key_bytes) == 0,
+          "round %d binned", round);
+    CHECK(same_bins(&b, &ref, on, n), "round %d (%d points changed cells): slots as binned afresh", round, moved);
+    if (round == 30) CHECK(!b.movable && !ref.movable, "a cell holding two points of one key is not movable");
+    if (round == 31 || round == 45 || round == 46) CHECK(b.movable && ref.movable, "round %d on grid %g: movable", round, on->h);
+    rounds++, moved_total += moved;
+  }
+  CHECK(moved_total > 60 * 10, "%d rounds moved %d points across cells", rounds, moved_total);
+  griddem_bins_free(&b), griddem_bins_free(&ref);
+  free(x), free(key), free(key32);
+}
+
 /* Points on the cells' faces go to the cell above the face, points just below a face to the cell
  * below it, points past the grid to its end cells: the cells binning puts them in (lanes of
  * points at once where the processor has them) against their faces' numbers. Every coordinate
@@ -153,8 +213,13 @@ int main(void)
 {
   check_cell_sort();
   check_faces();
+  check_moved(3000, 4);
+  check_moved(3000, 8);
 #ifdef _OPENMP
   check_threaded();
+  omp_set_num_threads(2);
+  check_moved(2 * GRIDDEM_THREADED_MIN, 4);
+  omp_set_num_threads(1);
 #endif
 
   enum { N = 2000 };
