@@ -299,6 +299,15 @@ static int move_point(griddem_bins *b, int i, long from, long to, const double *
   return twin;
 }
 
+/* i0 where the cells of some of points i0 .. i1 - 1 differ in a and b, else i1 (compared in
+ * vector lanes, without a branch per point) */
+static int differing(const long *restrict a, const long *restrict b, int i0, int i1)
+{
+  long differ = 0;
+  for (int i = i0; i < i1; i++) differ |= a[i] ^ b[i];
+  return differ ? i0 : i1;
+}
+
 static int same_grid(const griddem_grid *a, const griddem_grid *b)
 {
   int same = a->h == b->h && a->ncell == b->ncell;
@@ -326,15 +335,13 @@ int griddem_bin_points_again(griddem_bins *b, const griddem_grid *g, int n, cons
     cells_of(g, 0, n, x, now);
   /* the slots moved one by one while that shifts fewer slots and cell starts than a counting sort
      passes over (a point crossing a plane of cells shifts a plane's); past that, binned afresh */
-  enum { BLOCK = 64 }; /* points compared in vector lanes before any is looked at */
+  enum { BLOCK = 64 }; /* points compared at once before any is looked at */
   long shifted = 0, *was = b->cell;
   int twins = 0;
   const long budget = 2L * n + g->ncell / 8;
   for (int i0 = 0; i0 < n && shifted <= budget; i0 += BLOCK) {
     const int i1 = n - i0 < BLOCK ? n : i0 + BLOCK;
-    int moved = 0;
-    for (int i = i0; i < i1; i++) moved |= now[i] != was[i];
-    for (int i = i0; moved && i < i1; i++)
+    for (int i = differing(now, was, i0, i1); i < i1; i++)
       if (now[i] != was[i]) twins |= move_point(b, i, was[i], now[i], x, key, key_bytes, &shifted), was[i] = now[i];
   }
   if (shifted > budget) return griddem_bin_points(b, g, n, x, key, key_bytes);
