@@ -36,12 +36,13 @@ static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int
 #define GRIDDEM_SEARCH_X86 1
 #include <immintrin.h>
 
-/* A cluster's spheres (up to 8) as float lanes: centres, and radius + reach + slack summed in
- * double first; past the cluster, centres at +infinity and a zero contact distance, where every
- * test gives +infinity and fails (never NaN: a candidate is finite). Reads the float copies up to
- * slot i0 + 7 (within their padding), the doubles only within the cluster. */
+/* A cluster's spheres (up to 8) as float lanes: centres, radius + reach + slack (s) and radius +
+ * reach - slack (sure), each summed in double first; past the cluster, centres at +infinity and
+ * zero distances, where every test gives +infinity and fails (never NaN: a candidate is finite).
+ * Reads the float copies up to slot i0 + 7 (within their padding), the doubles only within the
+ * cluster. */
 typedef struct cluster_lanes {
-  __m256 x, y, z, s;
+  __m256 x, y, z, s, sure;
 } cluster_lanes;
 
 __attribute__((target("avx2"), always_inline)) static inline cluster_lanes cluster_lanes_of(const griddem_spheres *sp,
@@ -55,9 +56,12 @@ __attribute__((target("avx2"), always_inline)) static inline cluster_lanes clust
                 r1 = _mm256_maskload_pd(sp->r + i0 + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1)));
   const __m256 s = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r1, add), slack)),
                                    _mm256_cvtpd_ps(_mm256_add_pd(_mm256_add_pd(r0, add), slack)));
+  const __m256 sure = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_add_pd(r1, add), slack)),
+                                      _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_add_pd(r0, add), slack)));
   const cluster_lanes c = {_mm256_blendv_ps(far, _mm256_loadu_ps(sp->xf + i0), on),
                            _mm256_blendv_ps(far, _mm256_loadu_ps(sp->yf + i0), on),
-                           _mm256_blendv_ps(far, _mm256_loadu_ps(sp->zf + i0), on), _mm256_and_ps(s, on)};
+                           _mm256_blendv_ps(far, _mm256_loadu_ps(sp->zf + i0), on), _mm256_and_ps(s, on),
+                           _mm256_and_ps(sure, on)};
   return c;
 }
 
@@ -69,16 +73,18 @@ static inline unsigned own_lanes(int o)
   return o < 0 ? 0u : OWN_LANES[o];
 }
 
-/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j), each
- * tested again in double in lane order, so that each sphere's slots stay in run order; candidate
+/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j) in lane
+ * order, so that each sphere's slots stay in run order: those that passed it with the contact
+ * distance narrowed by twice the slack (sure) touch in double too (the float test's roundings
+ * move a distance by at most half the slack), the others are tested again in double; candidate
  * t + 1 past the run's end is masked off first. */
 static inline void passed(const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned bits,
-                          int *const *slot, int *n)
+                          unsigned sure, int *const *slot, int *n)
 {
   if (t + 1 >= hi) bits &= 0x55555555u;
   for (; bits; bits &= bits - 1) {
     const int l = __builtin_ctz(bits), k = l / 2, u = t + l % 2;
-    if (touches(sp, reach, i0 + k, u)) slot[k][n[k]++] = u;
+    if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, u)) slot[k][n[k]++] = u;
   }
 }
 
@@ -89,32 +95,40 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
  * d2 < s s, and never -0. In the own run (own_run, a constant of each inlined copy), the
  * candidates within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after
- * their sphere before any is tested again. */
+ * their sphere (mask) before any is looked at again. */
 #define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, SIGNS, NS)                           \
-  __attribute__((target(TARGET), always_inline)) static inline unsigned pass_##ISA(                         \
-      const griddem_spheres *sp, int t, V xi, V yi, V zi, V si)                                               \
+  __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
+      const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
+      int *const *slot, int *n)                                                                               \
   {                                                                                                           \
     double px, py, pz, pr;                                                                                    \
     memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
     memcpy(&pr, sp->rf + t, 8);                                                                               \
-    const V dx = SUB(xi, B(px)), dy = SUB(yi, B(py)), dz = SUB(zi, B(pz)), s = ADD(si, B(pr));                \
-    return (unsigned) SIGNS(FNMA(s, s, FMA(dz, dz, FMA(dy, dy, MUL(dx, dx)))));                               \
+    const V rt = B(pr), dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                  \
+    const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, rt);                                    \
+    const unsigned bits = (unsigned) SIGNS(FNMA(s, s, d2)) & mask;                                            \
+    if (!bits) return;                                                                                        \
+    const V sure = ADD(c->sure, rt);                                                                          \
+    passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(FNMA(sure, sure, d2)), slot, n);                      \
   }                                                                                                           \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
-      const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi, V xi, V yi, V zi,  \
-      V si, int *const *slot, int *n)                                                                         \
+      const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi,                     \
+      const cluster_##ISA *c, int *const *slot, int *n)                                                       \
   {                                                                                                           \
     int t = lo;                                                                                               \
     if (own_run)                                                                                              \
-      for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2) {                                  \
-        const unsigned bits = pass_##ISA(sp, t, xi, yi, zi, si) & own_lanes(t - i0);                          \
-        if (bits) passed(sp, reach, i0, t, hi, bits, slot, n);                                                \
-      }                                                                                                       \
-    for (; t < hi; t += 2) {                                                                                  \
-      const unsigned bits = pass_##ISA(sp, t, xi, yi, zi, si);                                                \
-      if (bits) passed(sp, reach, i0, t, hi, bits, slot, n);                                                  \
-    }                                                                                                         \
+      for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2)                                    \
+        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, slot, n);                                      \
+    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, slot, n);                                 \
   }
+
+/* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
+typedef struct cluster_avx2 {
+  __m256 x, y, z, s, sure;
+} cluster_avx2;
+typedef struct cluster_avx512 {
+  __m512 x, y, z, s, sure;
+} cluster_avx512;
 
 #define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, _mm256_fmadd_ps,
@@ -128,28 +142,30 @@ __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_sphe
                                                           int own, const int *lo, const int *hi, int nruns,
                                                           int *const *slot, int *n)
 {
-  const cluster_lanes c = cluster_lanes_of(sp, reach, i0, ni);
-  const __m256i pairs = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3);    /* lane 2 k + j: sphere k */
-  const __m256 xi = _mm256_permutevar8x32_ps(c.x, pairs), yi = _mm256_permutevar8x32_ps(c.y, pairs),
-               zi = _mm256_permutevar8x32_ps(c.z, pairs), si = _mm256_permutevar8x32_ps(c.s, pairs);
+  const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
+  const __m256i pairs = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3);
+  const cluster_avx2 c = {_mm256_permutevar8x32_ps(l.x, pairs), _mm256_permutevar8x32_ps(l.y, pairs),
+                          _mm256_permutevar8x32_ps(l.z, pairs), _mm256_permutevar8x32_ps(l.s, pairs),
+                          _mm256_permutevar8x32_ps(l.sure, pairs)};
   for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx2(sp, reach, i0, 1, lo[q], hi[q], xi, yi, zi, si, slot, n);
-    else run_avx2(sp, reach, i0, 0, lo[q], hi[q], xi, yi, zi, si, slot, n);
+    if (own && q == 0) run_avx2(sp, reach, i0, 1, lo[q], hi[q], &c, slot, n);
+    else run_avx2(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
                                                                int ni, int own, const int *lo, const int *hi,
                                                                int nruns, int *const *slot, int *n)
 {
-  const cluster_lanes c = cluster_lanes_of(sp, reach, i0, ni);
+  const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
   const __m512i pairs = _mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
-  const __m512 xi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.x)),
-               yi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.y)),
-               zi = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.z)),
-               si = _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(c.s));
+  const cluster_avx512 c = {_mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.x)),
+                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.y)),
+                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
+                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
+                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure))};
   for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx512(sp, reach, i0, 1, lo[q], hi[q], xi, yi, zi, si, slot, n);
-    else run_avx512(sp, reach, i0, 0, lo[q], hi[q], xi, yi, zi, si, slot, n);
+    if (own && q == 0) run_avx512(sp, reach, i0, 1, lo[q], hi[q], &c, slot, n);
+    else run_avx512(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
 }
 #endif
 
