@@ -117,7 +117,7 @@ static void random_scenes(const char *name, griddem_touching_fn fn, int width)
 
 /* The cluster's spheres on one centre; the candidates at the contact distance exactly (not
  * touching: the test is strict) or one ulp inside it (touching), along each axis, in runs of
- * every length and alignment */
+ * every length and alignment, for clusters of every size */
 static void ties(const char *name, griddem_touching_fn fn, int width)
 {
   const double c[3] = {1.0, 2.0, 3.0};
@@ -134,15 +134,17 @@ static void ties(const char *name, griddem_touching_fn fn, int width)
         expect += inside;
       }
       const int lo = offset, hi = offset + len;
-      CHECK(compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1) == (long) width * expect,
-            "kernel %s: not %d ties inside found per sphere (run %d at %d)", name, expect, len, offset);
+      for (int ni = 1; ni <= width; ni++) /* every cluster size: each lays its lanes out its own way */
+        CHECK(compare(name, fn, 0.0, 0, ni, 0, &lo, &hi, 1) == (long) ni * expect,
+              "kernel %s: not %d ties inside found per sphere of %d (run %d at %d)", name, expect, ni, len, offset);
     }
 }
 
 /* Candidates in random directions within a few rounding errors of the contact distance, where
  * the order of the sum decides; around a centre near the origin, and far from it with small
  * spheres, where rounding the coordinates to float moves them by far more than their distances'
- * last bits (a float test without its slack misses some of the touching ones) */
+ * last bits (a float test without its slack misses some of the touching ones); clusters of every
+ * size */
 static void near_ties(const char *name, griddem_touching_fn fn, int width)
 {
   const double centres[2][3] = {{0.3, -0.7, 1.1}, {4321.7, -8765.3, 1234.9}}, radii[2] = {0.5, 0.01};
@@ -156,9 +158,12 @@ static void near_ties(const char *name, griddem_touching_fn fn, int width)
       R[t] = r;
     }
     const int lo = width, hi = NSPHERE;
-    const long n = compare(name, fn, 0.0, 0, width, 0, &lo, &hi, 1);
-    CHECK(n > width * (NSPHERE / 10) && n < width * (NSPHERE - NSPHERE / 10),
-          "kernel %s: %ld near ties touch around (%g, %g, %g) (both outcomes expected)", name, n, c[0], c[1], c[2]);
+    for (int ni = 1; ni <= width; ni++) {
+      const long n = compare(name, fn, 0.0, 0, ni, 0, &lo, &hi, 1);
+      CHECK(n > ni * (NSPHERE / 10) && n < ni * (NSPHERE - NSPHERE / 10),
+            "kernel %s: %ld near ties touch %d spheres at (%g, %g, %g) (both outcomes expected)", name, n, ni, c[0], c[1],
+            c[2]);
+    }
   }
 }
 
