@@ -219,25 +219,38 @@ static inline void copy_entries(const griddem_history_pool *from, long a, gridde
   }
 }
 
+/* Whether some of rows r0 .. r1 - 1 hold entries the sweep did not write (compared in vector
+ * lanes, without a branch per row) */
+static int some_unwritten(const int *restrict count, const int *restrict written, int r0, int r1)
+{
+  int differ = 0;
+  for (int r = r0; r < r1; r++) differ |= count[r] ^ written[r];
+  return differ != 0;
+}
+
 /* Rows r0 .. r1 - 1 keep the entries the sweep wrote (those holding mark), in their order: only
- * rows with entries it did not write are read */
+ * rows with entries it did not write are read, found a block of rows at a time */
 static void keep_written(griddem_history_pool *p, int values, int64_t mark, int r0, int r1)
 {
+  enum { BLOCK = 64 };
   const int64_t *partner = p->partner;
   const long *start = p->start;
   int *count = p->count, *written = p->written;
-  for (int r = r0; r < r1; r++) {
-    const int n = count[r], lasting = written[r];
-    written[r] = 0;
-    if (lasting == n) continue;
-    const long first = start[r];
-    int kept = 0;
-    for (int k = 0; k < n; k++) {
-      if ((partner[first + k] & GRIDDEM_HISTORY_MARK) != mark) continue;
-      if (kept != k) copy_entries(p, first + k, p, first + kept, 1, values);
-      kept++;
+  for (int b0 = r0; b0 < r1; b0 += BLOCK) {
+    const int b1 = r1 - b0 < BLOCK ? r1 : b0 + BLOCK;
+    for (int r = some_unwritten(count, written, b0, b1) ? b0 : b1; r < b1; r++) {
+      const int n = count[r];
+      if (written[r] == n) continue;
+      const long first = start[r];
+      int kept = 0;
+      for (int k = 0; k < n; k++) {
+        if ((partner[first + k] & GRIDDEM_HISTORY_MARK) != mark) continue;
+        if (kept != k) copy_entries(p, first + k, p, first + kept, 1, values);
+        kept++;
+      }
+      count[r] = kept;
     }
-    count[r] = kept;
+    memset(written + b0, 0, sizeof(int) * (size_t) (b1 - b0));
   }
 }
 
