@@ -270,7 +270,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
   return 0;
 }
 
-/* Point i's slot moved from cell `from` (its slot among them) to its place in cell `to`, the
+/* Point i's slot moved out of cell `from` to its place in cell `to` (griddem_slot_before's), the
  * slots between shifted by one and the starts of the cells between with them; the number of slots
  * and cells shifted is added to *shifted. Returns 1 where `to` holds i's key already. */
 static int move_point(griddem_bins *b, int i, long from, long to, const double *x, const void *key, int key_bytes,

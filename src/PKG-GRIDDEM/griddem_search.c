@@ -74,10 +74,10 @@ static inline unsigned own_lanes(int o)
 }
 
 /* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j) in lane
- * order, so that each sphere's slots stay in run order: those that passed it with the contact
- * distance narrowed by twice the slack (sure) touch in double too (the float test's roundings
- * move a distance by at most half the slack), the others are tested again in double; candidate
- * t + 1 past the run's end is masked off first. */
+ * order, so that each sphere's slots stay in run order: those that passed it against the contact
+ * distance narrowed by the slack (sure; the test widens it by the slack) touch in double too (the
+ * float test's roundings move a distance by at most half the slack), the others are tested again
+ * in double; candidate t + 1 past the run's end is masked off first. */
 static inline void passed(const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned bits,
                           unsigned sure, int *const *slot, int *n)
 {
