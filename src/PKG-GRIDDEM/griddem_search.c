@@ -93,10 +93,11 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c and
  * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
  * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
- * d2 < s s, and never -0. In the own run (own_run, a constant of each inlined copy), the
+ * d2 < s s, and never -0. The narrowed distance is negative where the slack exceeds the contact
+ * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run (own_run, a constant of each inlined copy), the
  * candidates within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after
  * their sphere (mask) before any is looked at again. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, SIGNS, NS)                           \
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS)              \
   __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
       int *const *slot, int *n)                                                                               \
@@ -108,7 +109,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, rt);                                    \
     const unsigned bits = (unsigned) SIGNS(FNMA(s, s, d2)) & mask;                                            \
     if (!bits) return;                                                                                        \
-    const V sure = ADD(c->sure, rt);                                                                          \
+    const V sure = MAX(ADD(c->sure, rt), ZERO);                                                               \
     passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(FNMA(sure, sure, d2)), slot, n);                      \
   }                                                                                                           \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
@@ -132,11 +133,11 @@ typedef struct cluster_avx512 {
 
 #define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, _mm256_fmadd_ps,
-                   _mm256_fnmadd_ps, _mm256_movemask_ps, 4)
+                   _mm256_fnmadd_ps, _mm256_max_ps, _mm256_setzero_ps(), _mm256_movemask_ps, 4)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
 #define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
 GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
-                   _mm512_fmadd_ps, _mm512_fnmadd_ps, AVX512_NEGATIVE, 8)
+                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE, 8)
 
 __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,

@@ -143,12 +143,14 @@ static void ties(const char *name, griddem_touching_fn fn, int width)
 /* Candidates in random directions within a few rounding errors of the contact distance, where
  * the order of the sum decides; around a centre near the origin, and far from it with small
  * spheres, where rounding the coordinates to float moves them by far more than their distances'
- * last bits (a float test without its slack misses some of the touching ones); clusters of every
- * size */
+ * last bits (a float test without its slack misses some of the touching ones), and so far that
+ * the slack exceeds the contact distance (no pair is then sure without its double test); clusters
+ * of every size */
 static void near_ties(const char *name, griddem_touching_fn fn, int width)
 {
-  const double centres[2][3] = {{0.3, -0.7, 1.1}, {4321.7, -8765.3, 1234.9}}, radii[2] = {0.5, 0.01};
-  for (int scene = 0; scene < 2; scene++) {
+  const double centres[3][3] = {{0.3, -0.7, 1.1}, {4321.7, -8765.3, 1234.9}, {1.0e6, -2.0e6, 3.0e6}};
+  const double radii[3] = {0.5, 0.01, 0.01};
+  for (int scene = 0; scene < 3; scene++) {
     const double *c = centres[scene], r = radii[scene];
     for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = r;
     for (int t = width; t < NSPHERE; t++) {
