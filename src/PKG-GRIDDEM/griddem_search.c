@@ -94,9 +94,10 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
  * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
  * d2 < s s, and never -0. The narrowed distance is negative where the slack exceeds the contact
- * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run (own_run, a constant of each inlined copy), the
- * candidates within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after
- * their sphere (mask) before any is looked at again. */
+ * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run
+ * (own_run, a constant of each inlined copy), the candidates within the cluster (t < i0 + NS, NS
+ * spheres a vector) are masked to those after their sphere (mask) before any is looked at
+ * again. */
 #define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS)              \
   __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
