@@ -272,20 +272,15 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
 
 /* Point i's slot moved out of cell `from` to its place in cell `to` (griddem_slot_before's), the
  * slots between shifted by one and the starts of the cells between with them; the number of slots
- * and cells shifted is added to *shifted. Returns 1 where `to` holds i's key already. */
+ * and cells shifted is added to *shifted. Returns 1 where `to` now holds two slots of one key. */
 static int move_point(griddem_bins *b, int i, long from, long to, const double *x, const void *key, int key_bytes,
                       long *shifted)
 {
   int *order = b->order, *start = b->cell_start;
   int p = start[from];
   while (order[p] != i) p++;
-  const int64_t k = griddem_key_at(key, key_bytes, i);
-  int q = start[to], twin = 0;
-  for (; q < start[to + 1]; q++) {
-    twin |= griddem_key_at(key, key_bytes, order[q]) == k;
-    if (griddem_slot_before(i, order[q], key, key_bytes, x)) break;
-  }
-  for (int r = q; !twin && r < start[to + 1]; r++) twin = griddem_key_at(key, key_bytes, order[r]) == k;
+  int q = start[to];
+  while (q < start[to + 1] && !griddem_slot_before(i, order[q], key, key_bytes, x)) q++;
   if (to > from) {
     memmove(order + p, order + p + 1, sizeof(int) * (size_t) (q - p - 1));
     order[q - 1] = i;
@@ -296,7 +291,7 @@ static int move_point(griddem_bins *b, int i, long from, long to, const double *
     for (long c = to + 1; c <= from; c++) start[c]++;
   }
   *shifted += (p > q ? p - q : q - p) + (to > from ? to - from : from - to);
-  return twin;
+  return equal_keys(order + start[to], start[to + 1] - start[to], key, key_bytes);
 }
 
 /* i0 where the cells of some of points i0 .. i1 - 1 differ in a and b, else i1 (compared in
