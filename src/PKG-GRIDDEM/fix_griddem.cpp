@@ -34,6 +34,7 @@ FixGriddemCPU::~FixGriddemCPU()
 
 void FixGriddemCPU::init()
 {
+  FixGriddem::init();
   const int contacts = options.contacts;
   if (reserved || contacts == 0) return;
   const int n = atom->nlocal;

@@ -26,7 +26,11 @@ class FixGriddemCPU : public FixGriddem {
   void setup_pre_exchange() override { complete(); }
   void pre_exchange() override { complete(); }
   void min_pre_exchange() override { complete(); }
-  void post_run() override { complete(); }
+  void post_run() override
+  {
+    complete();
+    FixGriddem::post_run();
+  }
 
   void grow_arrays(int) override;
   void copy_arrays(int, int, int) override;

@@ -36,20 +36,16 @@ static int choice(const char *word, std::initializer_list<std::pair<const char *
 }
 
 FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), options(parse_options(narg, arg)), made_by_pair(0), image_axes(0)
+    Fix(lmp, narg, arg), options(parse_options(narg, arg)), made_by_pair(0), tracking(0), image_axes(0)
 {
   vector_flag = 1;
   size_vector = 7;
   global_freq = 1;
   extvector = 0;
   restart_peratom = 1;
-  create_attribute = 1;        // atoms made later (create_atoms, fix pour) start with no contacts
+  create_attribute = 0;        // from track_atoms() on, atoms made (create_atoms, fix pour) start with no contacts
   maxexchange_dynamic = 1;     // an atom's row is as long as its contacts: sized after each step
   comm_forward = 1;            // periodic_images()
-
-  // the store's own constructor sizes its per-atom arrays before any callback comes
-  atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
 
   // Modify replaces a fix of the same ID in place: it deletes the old one and leaves its slot
   // empty while it makes the new one
@@ -105,6 +101,7 @@ GriddemFixOptions FixGriddem::parse_options(int narg, char **arg)
 
 FixGriddem::~FixGriddem()
 {
+  if (!tracking) return;
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
 }
@@ -112,6 +109,37 @@ FixGriddem::~FixGriddem()
 int FixGriddem::setmask()
 {
   return 0;
+}
+
+void FixGriddem::track_atoms()
+{
+  if (tracking) return;
+  tracking = create_attribute = 1;
+  grow_arrays(atom->nmax);
+  for (int i = 0; i < atom->nmax; i++) set_arrays(i);
+  // Atom::add_callback registers the fix in the first empty slot of Modify's list (the one a fix
+  // replaced in place fills while it is constructed), else the next one: this fix's own slot is
+  // emptied for the two calls
+  const int slot = modify->find_fix(id);
+  modify->fix[slot] = nullptr;
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  modify->fix[slot] = this;
+}
+
+void FixGriddem::init()
+{
+  track_atoms();
+}
+
+/* whether any process holds a contact: reset_atoms id, which would leave the IDs its rows key
+   partners by stale, is then refused (stores_ids), naming this fix */
+
+void FixGriddem::post_run()
+{
+  int mine = 0;
+  for (int i = 0; i < atom->nlocal && !mine; i++) mine = message_length(i) > 1;
+  MPI_Allreduce(&mine, &stores_ids, 1, MPI_INT, MPI_MAX, world);
 }
 
 void FixGriddem::leave()
@@ -122,6 +150,7 @@ void FixGriddem::leave()
 
 void FixGriddem::put_history(int i, const double *record)
 {
+  track_atoms();
   set_values(griddem_restart_values(record));
   put_message(i, griddem_restart_message(record));
 }
@@ -129,6 +158,7 @@ void FixGriddem::put_history(int i, const double *record)
 void FixGriddem::drop_history()
 {
   for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
+  stores_ids = 0;
 }
 
 /* An owned atom's image is minus its image flags (griddem_history.h); its keys hold partner IDs
@@ -202,6 +232,7 @@ int FixGriddem::pack_restart(int i, double *buf)
 
 void FixGriddem::unpack_restart(int nlocal, int nth)
 {
+  track_atoms();
   const double *record = griddem_restart_record(atom->extra[nlocal], nth);
   // take the file's layout (the pair style, made later, converts it if its sub-models differ)
   const int record_values = griddem_restart_values(record);

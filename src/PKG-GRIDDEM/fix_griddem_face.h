@@ -41,6 +41,8 @@ class FixGriddem : public Fix {
   FixGriddem(class LAMMPS *, int, char **);
   ~FixGriddem() override;
   int setmask() override;
+  void init() override;
+  void post_run() override;
 
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
@@ -94,7 +96,14 @@ class FixGriddem : public Fix {
   // destructor of the most derived class
   void leave();
 
+  // joins Atom's per-atom callbacks, every atom's row empty: at the first init, or as rows come
+  // before it (a restart file's, those of the fix this one replaces). Until then the fix holds
+  // no row, and LAMMPS's commands that refuse fixes with per-atom data (replicate) run after
+  // pair_style as they do after stock's, which makes its history fix at the first run.
+  void track_atoms();
+
  private:
+  int tracking;    // 1: in Atom's per-atom callbacks (track_atoms)
   GriddemFixOptions parse_options(int narg, char **arg);
   std::vector<int> image_codes;    // periodic_images()
   int image_axes;                  // of the last periodic_images()

@@ -11,7 +11,13 @@ fix griddem redefined after a run, on a dense random polydisperse gas with frict
   in between lose their rows with a warning that counts them; two fixes of the script's before a
   run are refused, naming both.
 - thermo_style names f_GRIDDEM after read_restart, and the history comes back from the file: the
-  elastic energy of the restart's state (`run 0`) is the one before writing it."""
+  elastic energy of the restart's state (`run 0`) is the one before writing it.
+- `replicate` after pair_style and before the first run runs as stock's does (the fix joins
+  LAMMPS's per-atom data only at the first run): KE and pressure 30 steps on equal stock's to
+  1e-10, with and without history.
+- `reset_atoms id` before any run, or after a run of a style without history, runs and equals
+  stock; after a run that stored contacts (their partners keyed by atom ID) it is refused naming
+  fix griddem, where stock runs on with stale history."""
 import os
 import sys
 
@@ -149,6 +155,38 @@ run 0
             % (got, written, t.errors(out)))
 
 
+def replicated(wd, data):
+    for griddem, stock in (("griddem/hooke/history", "gran/hooke/history"), ("griddem/hooke", "gran/hooke")):
+        values = {}
+        for style in (griddem, stock):
+            text = START.format(data=data, pair=style + " " + HOOKE, coeffs="pair_coeff * *") + \
+                "replicate 2 1 1\n" + thermo("press atoms") + "run 30\n"
+            out = t.run_ok(text, wd, name="in.replicate_" + style.replace("/", "_"))
+            values[style] = (last(out, "KinEng"), last(out, "Press"), last(out, "Atoms"))
+        (ke, press, atoms), (ke0, press0, atoms0) = values[griddem], values[stock]
+        err = max(rel(ke, ke0), rel(press, press0))
+        t.check(atoms == atoms0 == 1200 and err <= 1e-10,
+                "replicate after pair_style %s: %g atoms (stock %g), KE and pressure relative error %.3g"
+                % (griddem, atoms, atoms0, err))
+
+
+def reset_ids(wd, data):
+    def run(style, before, after):
+        text = START.format(data=data, pair=style + " " + HOOKE, coeffs="pair_coeff * *") + \
+            thermo("press") + before + "reset_atoms id\n" + after + "run 30\n"
+        return t.run_lmp(text, wd, name="in.reset_" + style.replace("/", "_") + ("_after" if before else ""))
+    for griddem, stock, before in (("griddem/hooke/history", "gran/hooke/history", ""),
+                                   ("griddem/hooke", "gran/hooke", "run 30\n")):
+        (rc, out), (rc0, out0) = run(griddem, before, ""), run(stock, before, "")
+        err = max(rel(last(out, "KinEng"), last(out0, "KinEng")), rel(last(out, "Press"), last(out0, "Press")))
+        t.check(rc == 0 and rc0 == 0 and err <= 1e-10, "reset_atoms id %s with %s: runs as stock, KE and pressure "
+                "relative error %.3g (%s)" % ("after a run" if before else "before any run", griddem, err, t.errors(out)))
+    rc, out = run("griddem/hooke/history", "run 30\n", "")
+    said = "\n".join(t.errors(out))
+    t.check(rc != 0 and "reset_atoms id with a fix griddem storing atom IDs" in said,
+            "reset_atoms id after a run with contacts: refused naming fix griddem, got %r" % said)
+
+
 def main():
     wd = t.workdir()
     data = os.path.join(wd, "data.gas")
@@ -158,6 +196,8 @@ def main():
     deleted_in_between(wd, data)
     two_fixes(wd, data)
     restart(wd, data)
+    replicated(wd, data)
+    reset_ids(wd, data)
     t.finish()
 
 
