@@ -180,19 +180,20 @@ void PairGriddem::count_occupancy(griddem_engine_stats &stats)
 void PairGriddem::init_style()
 {
   const char *style = force->pair_style;
-  // the sweep finds every pair on the grid: as a sub-style of pair hybrid, only as the one style
-  // of every type pair (the same as the style alone)
+  // the sweep finds every pair on the grid: as a sub-style of pair hybrid (or hybrid/overlay, or
+  // hybrid/scaled, which scales what it adds), only as the one style of every type pair
   if (force->pair != this) {
     char *keyword = force->pair_match_ptr(this);
     auto hybrid = dynamic_cast<PairHybrid *>(force->pair);
-    bool alone = keyword && hybrid && utils::strip_style_suffix(force->pair_style, lmp) == "hybrid" &&
+    const std::string kind = utils::strip_style_suffix(force->pair_style, lmp);
+    bool alone = keyword && hybrid && (kind == "hybrid" || kind == "hybrid/overlay" || kind == "hybrid/scaled") &&
         force->pair_match(keyword, 1) == this;
     for (int i = 1; alone && i <= atom->ntypes; i++)
       for (int j = i; alone && j <= atom->ntypes; j++) alone = hybrid->check_ijtype(i, j, keyword);
     if (!alone)
       error->all(FLERR, "The griddem pair styles find all contacts on their own grid: as a sub-style of pair {} "
-                 "a griddem style must be its only style, on every type pair (pair_style hybrid {} ... with "
-                 "pair_coeff * * {})", force->pair_style, keyword ? keyword : "griddem/...",
+                 "a griddem style must be its only style, on every type pair (pair_style {} {} ... with "
+                 "pair_coeff * * {})", force->pair_style, force->pair_style, keyword ? keyword : "griddem/...",
                  keyword ? keyword : "griddem/...");
     style = keyword;
   }
@@ -387,8 +388,14 @@ void PairGriddem::set_radius_range(double local_min, double local_max)
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, world);
   rmin = global[0];
   rmax = -global[1];
-  if (rmax > 0.0 && !(rmin > 0.0))
-    error->all(FLERR, "Pair style {} requires positive radii: smallest radius is {}", force->pair_style, rmin);
+  if (rmax > 0.0 && !(rmin > 0.0)) {    // the lowest ID of an atom whose radius is not positive
+    tagint mine = MAXTAGINT, first;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (!(atom->radius[i] > 0.0)) mine = MIN(mine, atom->tag[i]);
+    MPI_Allreduce(&mine, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+    error->all(FLERR, "Pair style {} requires positive radii: atom {} has a radius that is not positive (smallest radius {})",
+               force->pair_style, first, rmin);
+  }
   find_image_axes();
 }
 

@@ -61,6 +61,8 @@ case("nan_speed", "atom 2 has a non-finite velocity", nan_expected=True,
      pre='variable bad atom "(id==2)*(1e308*1e308-1e308*1e308)"\nset atom 2 vx v_bad')
 case("dt_above_limit", "exceeds the stability limit pi/5*sqrt(m/Kn)", warning=True, dt=0.02)
 case("atom_style", "requires atom attributes radius, rmass, omega", atom_style="atomic")
+case("zero_radius", "requires positive radii: atom 2 has a radius that is not positive (smallest radius 0)",
+     pre="set atom 2 diameter 0")
 # pair hybrid: a griddem style only as its one style on every type pair
 TWO_ATOMS = """
 units lj
