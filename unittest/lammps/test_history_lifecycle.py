@@ -16,8 +16,8 @@ fix griddem redefined after a run, on a dense random polydisperse gas with frict
   LAMMPS's per-atom data only at the first run): KE and pressure 30 steps on equal stock's to
   1e-10, with and without history.
 - `reset_atoms id` before any run, or after a run of a style without history, runs and equals
-  stock; after a run that stored contacts (their partners keyed by atom ID) it is refused naming
-  fix griddem, where stock runs on with stale history."""
+  stock; after a run that stored contacts (their partners keyed by atom ID), or after read_restart
+  of a style with history, it is refused naming fix griddem, where stock runs on with stale history."""
 import os
 import sys
 
@@ -185,6 +185,11 @@ def reset_ids(wd, data):
     said = "\n".join(t.errors(out))
     t.check(rc != 0 and "reset_atoms id with a fix griddem storing atom IDs" in said,
             "reset_atoms id after a run with contacts: refused naming fix griddem, got %r" % said)
+    # read from a restart file (restart() wrote it after a run with contacts), before any run
+    rc, out = t.run_lmp("read_restart restart.lifecycle\nreset_atoms id\n", wd, name="in.reset_restart")
+    said = "\n".join(t.errors(out))
+    t.check(rc != 0 and "reset_atoms id with a fix griddem storing atom IDs" in said,
+            "reset_atoms id after read_restart: refused naming fix griddem, got %r" % said)
 
 
 def main():
