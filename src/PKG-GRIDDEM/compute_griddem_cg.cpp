@@ -113,6 +113,7 @@ ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
   error->all(FLERR, "Compute griddem/cg requires double-precision FFTs (LAMMPS built with FFT_SINGLE)");
 #endif
   if (narg < 8) utils::missing_cmd_args(FLERR, "compute griddem/cg", error);
+  if (!domain->box_exist) error->all(FLERR, "Compute griddem/cg command before simulation box is defined");
   if (domain->dimension != 3) error->all(FLERR, "Compute griddem/cg requires a 3d simulation");
   if (domain->triclinic) error->all(FLERR, "Compute griddem/cg does not support triclinic boxes");
   for (int d = 0; d < 3; d++) {
@@ -166,6 +167,7 @@ ComputeGriddemCg::~ComputeGriddemCg()
 
 void ComputeGriddemCg::init()
 {
+  if (domain->triclinic) error->all(FLERR, "Compute griddem/cg does not support triclinic boxes (the box became one)");
   // the pair style's cutoff is what makes the ghost atoms hold every touching partner
   if (slot[CONTACTS] >= 0 && !force->pair)
     error->all(FLERR, "Compute griddem/cg: coordination requires a pair style");
@@ -372,6 +374,9 @@ void ComputeGriddemCg::unpack_reverse_comm(int n, int *list_, double *buf)
 /* Touching neighbours (overlap > 0) of each owned atom among the owned and ghost atoms. */
 void ComputeGriddemCg::count_contacts()
 {
+  // the ghosts where their atoms are now: a fix that moves atoms at the end of a step (fix
+  // deform's remap) leaves them where the step's communication put them
+  comm->forward_comm();
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   contacts.assign(nlocal, 0.0);
   if (nall && griddem_cg_contacts(nlocal, nall, atom->x[0], atom->radius, contacts.data(), &contact_grid,

@@ -30,6 +30,7 @@ ComputeGriddemGrid::ComputeGriddemGrid(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), grid3d(nullptr), array3d(nullptr)
 {
   if (narg < 7) utils::missing_cmd_args(FLERR, "compute griddem/grid", error);
+  if (!domain->box_exist) error->all(FLERR, "Compute griddem/grid command before simulation box is defined");
   if (domain->dimension != 3) error->all(FLERR, "Compute griddem/grid requires a 3d simulation");
   if (domain->triclinic) error->all(FLERR, "Compute griddem/grid does not support triclinic boxes");
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -59,6 +60,12 @@ ComputeGriddemGrid::ComputeGriddemGrid(LAMMPS *lmp, int narg, char **arg) :
 ComputeGriddemGrid::~ComputeGriddemGrid()
 {
   deallocate_grid();
+}
+
+void ComputeGriddemGrid::init()
+{
+  if (domain->triclinic)
+    error->all(FLERR, "Compute griddem/grid does not support triclinic boxes (the box became one)");
 }
 
 void ComputeGriddemGrid::allocate_grid()

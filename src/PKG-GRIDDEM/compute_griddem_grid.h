@@ -22,7 +22,7 @@ class ComputeGriddemGrid : public Compute {
  public:
   ComputeGriddemGrid(class LAMMPS *, int, char **);
   ~ComputeGriddemGrid() override;
-  void init() override {}
+  void init() override;
   void compute_pergrid() override;
   void reset_grid() override;
   int get_grid_by_name(const std::string &, int &) override;

@@ -70,8 +70,8 @@ GriddemFixOptions FixGriddem::parse_options(int narg, char **arg)
                                            {"multi", GRIDDEM_CELL_MULTI}, {"classes", GRIDDEM_CELL_CLASSES}});
       if (o.cell_mode < 0) {
         o.cell_mode = GRIDDEM_CELL_FIXED;
-        o.cell_edge = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-        if (o.cell_edge <= 0.0)
+        o.cell_edge = utils::is_double(arg[iarg + 1]) ? utils::numeric(FLERR, arg[iarg + 1], false, lmp) : -1.0;
+        if (!(o.cell_edge > 0.0))
           error->all(FLERR, "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not {}",
                      arg[iarg + 1]);
       }

@@ -18,7 +18,9 @@
 #include "update.h"
 #include "variable.h"
 
+#include <cmath>
 #include <cstring>
+#include <string>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -94,6 +96,12 @@ void FixGriddemKinematic::post_force(int /*vflag*/)
   for (int d = 0; d < 3; d++)
     v[d] = velocity[d].variable.empty() ? velocity[d].value : input->variable->compute_equal(velocity[d].index);
   if (variables) modify->addstep_compute(update->ntimestep + 1);
+  // an atom held in the xy plane of a 2d run stays there
+  for (int d = 0; d < 3; d++)
+    if (!std::isfinite(v[d]) || (d == 2 && domain->dimension == 2 && v[d] != 0.0))
+      error->all(FLERR, "Fix griddem/kinematic {}: velocity along {} is {}{}{}", id, "xyz"[d], v[d],
+                 velocity[d].variable.empty() ? std::string() : fmt::format(" (variable {})", velocity[d].variable),
+                 std::isfinite(v[d]) ? ", and a 2d run needs 0" : "");
 
   region->prematch();
   double **x = atom->x, **vel = atom->v, **f = atom->f;

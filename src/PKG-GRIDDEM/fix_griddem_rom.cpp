@@ -112,6 +112,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, "Fix griddem/rom requires atom_style sphere");
   period = model_step = every;
+  restart_global = 1;    // the model steps' schedule, so that a run read back continues it
 
   read_model(model_file.c_str());
   if (moving && !origin_given)
@@ -224,21 +225,14 @@ void FixGriddemRom::init()
                "pairs through the pair's exclusions); pair style is {}",
                force->pair ? force->pair_style : "none");
   if (domain->dimension != 3) error->all(FLERR, "Fix griddem/rom requires a 3d simulation (its voxels are 3d)");
-  // a model box in the simulation box equals it; a moving frame may be any box, but along a
-  // periodic axis it is the box's period, and it does not move there
+  if (domain->triclinic) error->all(FLERR, "Fix griddem/rom does not support triclinic boxes (its voxels are orthogonal)");
   for (int d = 0; d < 3; d++) {
     frame_grid.periodic[d] = grid.periodic[d] = domain->periodicity[d];
-    const double len = domain->boxhi[d] - domain->boxlo[d];
-    if (moving && !domain->periodicity[d]) continue;
-    if (moving && (!origin_names[d].empty() || origin[d] != 0.0))
+    if (moving && domain->periodicity[d] && (!origin_names[d].empty() || origin[d] != 0.0))
       error->all(FLERR, "Fix griddem/rom: keyword origin moves the frame along the periodic axis {}; "
                  "give 0 there", "xyz"[d]);
-    if (fabs(frame_grid.lo[d] - domain->boxlo[d]) > 1e-9 * len ||
-        fabs(frame_grid.hi[d] - domain->boxhi[d]) > 1e-9 * len)
-      error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}{}",
-                 frame_grid.lo[d], frame_grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d],
-                 moving ? " (a moving frame spans the box along a periodic axis)" : "");
   }
+  check_box();
   for (int d = 0; d < 3; d++) {
     origin_vars[d] = -1;
     if (origin_names[d].empty()) continue;
@@ -309,6 +303,24 @@ void FixGriddemRom::init()
   // no atom lags until the reach test of this run's setup: the pair's setup step sees every
   // kinematic atom, wherever the script has moved atoms since the last run
   for (int i = 0; i < atom->nlocal; i++) atom->mask[i] &= ~lagging_bit;
+}
+
+/* a model box in the simulation box equals it; a moving frame may be any box, but along a
+   periodic axis it is the box's period, and it does not move there. Checked at every model step
+   too, since fix deform may change the box during a run. */
+
+void FixGriddemRom::check_box()
+{
+  for (int d = 0; d < 3; d++) {
+    const double len = domain->boxhi[d] - domain->boxlo[d];
+    if (moving && !domain->periodicity[d]) continue;
+    if (fabs(frame_grid.lo[d] - domain->boxlo[d]) > 1e-9 * len ||
+        fabs(frame_grid.hi[d] - domain->boxhi[d]) > 1e-9 * len)
+      error->all(FLERR, "Fix griddem/rom: model box {} {} along axis {} differs from the simulation box {} {}{}{}",
+                 frame_grid.lo[d], frame_grid.hi[d], "xyz"[d], domain->boxlo[d], domain->boxhi[d],
+                 moving ? " (a moving frame spans the box along a periodic axis)" : "",
+                 update->ntimestep > update->firststep ? fmt::format(" at step {}", update->ntimestep) : "");
+  }
 }
 
 void FixGriddemRom::setup(int)
@@ -497,6 +509,7 @@ void FixGriddemRom::mark_near()
   double mine[2] = {nnear, nkin}, all[2];
   MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
   counts[NEAR] = all[0];
+  counts[KINEMATIC] = all[1];
   nfar = all[1] - all[0];
   fill_nearlist();
 }
@@ -509,6 +522,7 @@ void FixGriddemRom::end_of_step()
 {
   const double t0 = MPI_Wtime();
   if (update->ntimestep == next_model) {
+    check_box();
     catch_up();
     comm->forward_comm();
     release_by_force();
@@ -941,6 +955,27 @@ double FixGriddemRom::compute_vector(int n)
   if (n == first + 3) return nstored_all;
   if (n == first + 4) return (double) atom->natoms + nstored_all;
   return counts[first + n - after];
+}
+
+/* the next model step and the step length the CFL rule chose (from `every`, which a script
+   defining the fix again may change: then the schedule starts afresh) */
+
+void FixGriddemRom::write_restart(FILE *fp)
+{
+  const double list[3] = {(double) next_model, (double) model_step, (double) period};
+  const int size = sizeof(list);
+  if (comm->me == 0) {
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 3, fp);
+  }
+}
+
+void FixGriddemRom::restart(char *buf)
+{
+  const auto *list = (const double *) buf;
+  if ((int) list[2] != period) return;
+  next_model = (bigint) list[0];
+  model_step = (int) list[1];
 }
 
 void *FixGriddemRom::extract(const char *name, int &dim)

@@ -45,6 +45,8 @@ class FixGriddemRom : public Fix {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
   int get_grid_by_name(const std::string &, int &) override;
   void *get_grid_by_index(int) override;
   int get_griddata_by_name(int, const std::string &, int &) override;
@@ -58,6 +60,7 @@ class FixGriddemRom : public Fix {
   int lagging_bit;      // group bit of the kinematic atoms no dynamic atom can reach (ID_lagging)
 
  private:
+  void check_box();    // the model box against the simulation box (init, model steps)
   griddem_rom_grid grid;          // the voxels in the simulation box (frame_grid placed at the origin)
   griddem_rom_grid frame_grid;    // the model file's box (relative to the origin where moving)
   bool moving;                    // model line 'frame moving': its box is relative to keyword origin

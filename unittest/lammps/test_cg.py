@@ -4,7 +4,7 @@ sums to 1), the packing fraction and coordination of a simple cubic lattice, the
 linear shear profile (cloud-in-cell and a symmetric kernel keep linear fields exactly), the
 pressure tensor of compute pressure (the stress field is built from the same per-atom virial and
 velocities), a direct real-space convolution written here from the documented scheme, and the
-same fields on 1, 2 and 4 ranks."""
+same fields on 1, 2 and 4 ranks (and under fix deform on 1 and 2)."""
 import math
 import os
 import re
@@ -466,7 +466,35 @@ def check_doc_example(wd):
             "doc example: density x vx integrates to the total x momentum (%.17g against %.17g)" % (dumped[1], momentum))
 
 
+def check_deform_ranks(wd):
+    """Under fix deform's remap the coordination at a dump step (after the remap, before the next
+    step's communication) is the same on 1 and 2 ranks: the compute brings the ghosts to their
+    atoms' remapped places before it counts contacts."""
+    data = os.path.join(wd, "data.deform")
+    t.write_random_spheres(data, 300, (4.0, 4.0, 4.0), 0.1, 0.3, seed=12)
+    text = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1",
+                         coeffs="") + """compute cg all griddem/cg 5 4 6 0.8 coordination
+dump g all grid/vtk 10 coordination.*.vti c_cg:grid:coordination
+dump_modify g format float %.17g
+timestep 1e-3
+fix d all deform 1 x final 0 4.6 z final -0.3 4.3 remap x
+run 10
+"""
+    fields = []
+    for ranks in (1, 2):
+        sub = os.path.join(wd, "deform.np%d" % ranks)
+        os.mkdir(sub)
+        t.run_ok(text, sub, nprocs=ranks, name="in.deform")
+        fields.append(read_vti(os.path.join(sub, "coordination.10.vti")))
+    worst = max_diff(fields[0], fields[1]) / max(max(fields[0]), 1e-300)
+    t.check(max(fields[0]) > 0.0 and worst <= 1e-12, "fix deform: coordination on 2 ranks as on 1 (rel. %.3g, largest %.3g)"
+            % (worst, max(fields[0])))
+
+
 def check_errors(wd):
+    rc, out = t.run_lmp("units lj\natom_style sphere\ncompute c all griddem/cg 2 2 2 0.5 density\n", wd, name="in.nobox")
+    t.check(rc != 0 and "Compute griddem/cg command before simulation box is defined" in out,
+            "compute griddem/cg before the box: an error, not a crash (%s)" % t.errors(out)[:1])
     base = "units lj\natom_style sphere\n%s\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\ncompute c all griddem/cg %s\n"
     for dim, args, expect in [("", "2 2 2 0.5 density stress", "unknown value stress"),
                               ("", "2 2 2 0 density", "kernel width W must be > 0, not 0"),
@@ -492,6 +520,7 @@ def main():
     check_time_average(wd)
     check_long_average(wd)
     check_doc_example(wd)
+    check_deform_ranks(wd)
     check_errors(wd)
     t.finish()
 

@@ -1,7 +1,9 @@
 """Bad input and extreme states stop with an error (or warn) that names the cause. fix griddem's
 contacts N is only the initial history size per atom: an atom touching more atoms than N runs and
 equals stock, and a restart written with contacts 8 and read with contacts 1 continues bit for
-bit like the uninterrupted run."""
+bit like the uninterrupted run. The package's computes and fixes: compute griddem/grid before the
+box or in a box made triclinic later, fix griddem cell with a word, fix griddem/kinematic moving
+atoms out of a 2d plane or at an infinite speed: each an error naming it."""
 import os
 import sys
 
@@ -294,4 +296,38 @@ if rc == 0:
     t.check(len(a) == len(b) == 2, "restart read with contacts 1: two snapshots each")
     t.check(a[0][1] == b[0][1], "restart read with contacts 1: forces on reading identical bit for bit")
     t.check(a[-1][1] == b[-1][1], "restart read with contacts 1: 20 steps later identical bit for bit")
+
+# the package's other commands: an error naming the cause, not a crash or a silent run
+LATTICE = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+lattice sc 1.0
+region fill block 0.5 5.5 0.5 5.5 0.5 5.5
+create_atoms 1 region fill
+set type 1 diameter 1.0
+pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
+pair_coeff * *
+timestep 0.001
+fix integrate all nve/sphere
+"""
+for name, text, expect in [
+        ("grid_before_box", "units lj\natom_style sphere\ncompute g all griddem/grid 6 6 6 count\n",
+         "Compute griddem/grid command before simulation box is defined"),
+        ("grid_triclinic_later", LATTICE + "compute g all griddem/grid 6 6 6 count\nrun 1\nchange_box all triclinic\n"
+         "dump g all grid 1 g.*.txt c_g:grid:count\nrun 1\n", "Compute griddem/grid does not support triclinic boxes"),
+        ("fix_cell_word", LATTICE + "fix grid all griddem cell bogus\nrun 1\n",
+         "Fix griddem cell must be auto, exact, multi, classes or a positive edge, not bogus"),
+        ("kinematic_2d_vz", LATTICE.replace("units lj", "units lj\ndimension 2").replace("0 6 0 6 0 6", "0 6 0 6 -0.5 0.5")
+         .replace("lattice sc", "lattice sq").replace("0.5 5.5 0.5 5.5 0.5 5.5", "0.5 5.5 0.5 5.5 -0.5 0.5") +
+         "fix e all enforce2d\nregion r block 0 3 INF INF INF INF\nfix k all griddem/kinematic region r velocity 0 0 1\nrun 5\n",
+         "Fix griddem/kinematic k: velocity along z is 1, and a 2d run needs 0"),
+        ("kinematic_inf", LATTICE + "variable big equal 1e308*10\nregion r block 0 3 INF INF INF INF\n"
+         "fix k all griddem/kinematic region r velocity v_big 0 0\nrun 5\n",
+         "Fix griddem/kinematic k: velocity along x is inf (variable big)")]:
+    rc, out = t.run_lmp(text, WD, name="in." + name)
+    t.check(rc != 0 and expect in out, "%s: error '%s', got %s" % (name, expect, t.errors(out)[:1]))
 t.finish()

@@ -962,6 +962,49 @@ run 25
     t.check(abs(s25[2][5] - (-g * 25 * dt)) <= 1e-12, "frozen: dynamic atom falls freely: vz %.15g" % s25[2][5])
 
 
+def restart_schedule():
+    """A restart file written between model steps (step 22 of every 5) continues the schedule: the
+    run read back from it has its model steps at 25, 30, ..., as the run that did not stop, and ends
+    where it ends (kinetic energy to 1e-12 after 38 more steps, on 1 and 2 processes); a triclinic
+    box is refused, and so is a box fix deform takes away from the model's during a run."""
+    model = os.path.join(WD, "schedule.model")
+    t.write_rom_model(model, (1, 1, 1), BOX, bias=(0.3, 0.0, 0.0))
+    scene = """units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+lattice sc 1.0
+region fill block 0.5 5.5 0.5 5.5 0.5 5.5
+create_atoms 1 region fill
+set type 1 diameter 0.95
+set type 1 density 1.0
+velocity all create 0.15 12345 loop geom
+"""
+    rest = PAIR + """fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step ke
+thermo_modify format float %.17g
+""".format(m=model)
+    for nprocs in (1, 2):
+        through = t.run_ok(scene + rest + "run 22\nrun 38\n", WD, nprocs=nprocs, name="in.schedule_through")
+        t.run_ok(scene + rest + "run 22\nwrite_restart schedule.restart\n", WD, nprocs=nprocs, name="in.schedule_write")
+        read = t.run_ok("units lj\nread_restart schedule.restart\ncomm_modify vel yes\n" + rest + "run 38\n", WD,
+                        nprocs=nprocs, name="in.schedule_read")
+        ke, ke0 = t.thermo_values(read, "KinEng")[-1], t.thermo_values(through, "KinEng")[-1]
+        t.check(abs(ke - ke0) <= 1e-12 * abs(ke0), "%d process(es): run read back at step 22 ends at KE %.17g, the "
+                "uninterrupted run at %.17g" % (nprocs, ke, ke0))
+    rc, out = t.run_lmp(scene.replace("region box block 0 6 0 6 0 6", "region box prism 0 6 0 6 0 6 0.5 0 0") + rest +
+                        "run 5\n", WD, name="in.schedule_triclinic")
+    t.check(rc != 0 and "Fix griddem/rom does not support triclinic boxes" in out, "a triclinic box refused: %s"
+            % t.errors(out)[:1])
+    rc, out = t.run_lmp(scene + rest + "fix d all deform 1 x final 0 7 remap x\nrun 10\n", WD, name="in.schedule_deform")
+    t.check(rc != 0 and "model box 0 6 along axis x differs from the simulation box 0 6.4 at step 5" in out,
+            "fix deform taking the box from the model's: refused at the first model step: %s" % t.errors(out)[:1])
+
+
 def keyword_checks():
     model = os.path.join(WD, "rest_kw.model")
     t.write_rom_model(model, (3, 3, 3), BOX)
@@ -1329,6 +1372,7 @@ moving_frame(2)
 frame_binning()
 rejoin()
 keyword_checks()
+restart_schedule()
 drive_box()
 drive_dense()
 box_guard()
