@@ -59,6 +59,24 @@ pair_style {pair}
 {coeffs}
 """
 
+# an empty periodic box of edge 6 for spheres of one type, with an atom map
+PERIODIC_BOX6 = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+region box block 0 6 0 6 0 6
+create_box 1 box
+"""
+# 125 spheres of density 1 on a simple cubic lattice of spacing 1 in it, for format(diameter=)
+LATTICE_SPHERES = PERIODIC_BOX6 + """lattice sc 1.0
+region fill block 0.5 5.5 0.5 5.5 0.5 5.5
+create_atoms 1 region fill
+set type 1 diameter {diameter}
+set type 1 density 1.0
+"""
+
 
 def submodel_table():
     """The sub-model table (griddem_submodels.c) as unittest/core/list_submodels prints it:

@@ -298,18 +298,7 @@ if rc == 0:
     t.check(a[-1][1] == b[-1][1], "restart read with contacts 1: 20 steps later identical bit for bit")
 
 # the package's other commands: an error naming the cause, not a crash or a silent run
-LATTICE = """
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-region box block 0 6 0 6 0 6
-create_box 1 box
-lattice sc 1.0
-region fill block 0.5 5.5 0.5 5.5 0.5 5.5
-create_atoms 1 region fill
-set type 1 diameter 1.0
-pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
+LATTICE = t.LATTICE_SPHERES.format(diameter=1.0) + """pair_style griddem/hooke/history 2000 NULL 50 NULL 0.5 1
 pair_coeff * *
 timestep 0.001
 fix integrate all nve/sphere

@@ -368,15 +368,7 @@ def check_rom(wd, _data):
     t.check(len(end) == 125 and worst <= 1e-10, "rom store kk: 125 atoms, each at x0 + U t (worst %.2g)" % worst)
 
 
-ROM_STORE = """
-units lj
-atom_style sphere
-atom_modify map array
-boundary p p p
-comm_modify vel yes
-region box block 0 6 0 6 0 6
-create_box 1 box
-lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
+ROM_STORE = t.PERIODIC_BOX6 + """lattice sc 0.5787037037037037 origin 0.25 0.25 0.25
 create_atoms 1 box
 set type 1 diameter 1.0
 set type 1 density 1.0

@@ -969,20 +969,7 @@ def restart_schedule():
     box is refused, and so is a box fix deform takes away from the model's during a run."""
     model = os.path.join(WD, "schedule.model")
     t.write_rom_model(model, (1, 1, 1), BOX, bias=(0.3, 0.0, 0.0))
-    scene = """units lj
-atom_style sphere
-atom_modify map array
-boundary p p p
-comm_modify vel yes
-region box block 0 6 0 6 0 6
-create_box 1 box
-lattice sc 1.0
-region fill block 0.5 5.5 0.5 5.5 0.5 5.5
-create_atoms 1 region fill
-set type 1 diameter 0.95
-set type 1 density 1.0
-velocity all create 0.15 12345 loop geom
-"""
+    scene = t.LATTICE_SPHERES.format(diameter=0.95) + "velocity all create 0.15 12345 loop geom\n"
     rest = PAIR + """fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5
 fix integrate rom_dynamic nve/sphere
 thermo_style custom step ke
