@@ -2,7 +2,7 @@
 griddem/hertz/history equal those of stock gran/hooke/history, gran/hooke and gran/hertz/history to
 1e-10 relative, on a dense random
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
-as the one sub-style of pair hybrid, hybrid/overlay and hybrid/scaled, with limit_damping, dampflag 0, no friction, units metal (hertz: Kn, Kt in pressure units), fix
+as the one sub-style of pair hybrid, hybrid/overlay and hybrid/scaled (and overlaid with gran/hooke), with limit_damping, dampflag 0, no friction, units metal (hertz: Kn, Kt in pressure units), fix
 freeze, a triclinic box, rigid clumps (fix rigid/small, neigh_modify
 exclude molecule/intra), radii that grow during the run (fix adapt), and in 2d."""
 import math
@@ -180,7 +180,8 @@ def main():
     compare("hooke/history as pair hybrid's one style",
             run(wd, "stock_hy", data, "hybrid gran/hooke/history " + hist, coeffs="pair_coeff * * gran/hooke/history"),
             run(wd, "grid_hy", data, "hybrid griddem/hooke/history " + hist, coeffs="pair_coeff * * griddem/hooke/history"))
-    # and of hybrid/overlay, and of hybrid/scaled, which scales the forces and torques it adds
+    # and of hybrid/overlay, and of hybrid/scaled, which scales the forces and torques it adds;
+    # overlaid with another sub-style on every pair, whose forces add to its own
     for kind, scale in (("hybrid/overlay", ""), ("hybrid/scaled", "0.5 ")):
         label = kind.replace("/", "_")
         compare("hooke/history as pair %s's one style" % kind,
@@ -188,6 +189,12 @@ def main():
                     coeffs="pair_coeff * * gran/hooke/history"),
                 run(wd, "grid_" + label, data, "%s %sgriddem/hooke/history %s" % (kind, scale, hist),
                     coeffs="pair_coeff * * griddem/hooke/history"))
+    overlay = "hybrid/overlay %s %s gran/hooke 1e4 NULL 50 NULL 0.5 0"
+    compare("hooke/history overlaid with gran/hooke",
+            run(wd, "stock_overlaid", data, overlay % ("gran/hooke/history", hist),
+                coeffs="pair_coeff * * gran/hooke/history\npair_coeff * * gran/hooke"),
+            run(wd, "grid_overlaid", data, overlay % ("griddem/hooke/history", hist),
+                coeffs="pair_coeff * * griddem/hooke/history\npair_coeff * * gran/hooke"))
 
     # gran/hertz/history: the normal force and the friction scaled by sqrt(delta R_eff)
     hertz = "2e5 NULL 50 NULL 0.5 1"
