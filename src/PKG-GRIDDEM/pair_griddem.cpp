@@ -187,7 +187,7 @@ void PairGriddem::init_style()
 {
   const char *style = force->pair_style;
   // the sweep finds every pair on the grid: as a sub-style of pair hybrid (or hybrid/overlay, or
-  // hybrid/scaled, which scales what it adds), only as the one style of every type pair
+  // hybrid/scaled, which scales what it adds), only once and on every type pair
   if (force->pair != this) {
     char *keyword = force->pair_match_ptr(this);
     auto hybrid = dynamic_cast<PairHybrid *>(force->pair);
@@ -198,7 +198,7 @@ void PairGriddem::init_style()
       for (int j = i; alone && j <= atom->ntypes; j++) alone = hybrid->check_ijtype(i, j, keyword);
     if (!alone)
       error->all(FLERR, "The griddem pair styles find all contacts on their own grid: as a sub-style of pair {} "
-                 "a griddem style must be its only style, on every type pair (pair_style {} {} ... with "
+                 "a griddem style must be set on every type pair, and once (pair_style {} {} ... with "
                  "pair_coeff * * {})", force->pair_style, force->pair_style, keyword ? keyword : "griddem/...",
                  keyword ? keyword : "griddem/...");
     style = keyword;

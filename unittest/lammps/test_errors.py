@@ -81,7 +81,7 @@ pair_coeff 1 1 griddem/hooke/history
 pair_coeff * 2 lj/cut 1.0 1.0
 run 0
 """, WD, name="in.hybrid")
-t.check(rc != 0 and "as a sub-style of pair hybrid a griddem style must be its only style, on every type pair" in out,
+t.check(rc != 0 and "as a sub-style of pair hybrid a griddem style must be set on every type pair, and once" in out,
         "hybrid: griddem beside another sub-style refused: %s" % t.errors(out)[:1])
 # two instances of one griddem style, each on some type pairs: both would find every contact
 rc, out = t.run_lmp(TWO_ATOMS + """pair_style hybrid griddem/hooke/history 1e3 NULL 10 NULL 0.5 1 griddem/hooke/history 2e3 NULL 10 NULL 0.5 1
@@ -89,7 +89,7 @@ pair_coeff * * griddem/hooke/history 1
 pair_coeff 2 2 griddem/hooke/history 2
 run 0
 """, WD, name="in.hybrid_twice")
-t.check(rc != 0 and "must be its only style" in out, "hybrid_twice: two griddem sub-styles refused: %s" % t.errors(out)[:1])
+t.check(rc != 0 and "must be set on every type pair, and once" in out, "hybrid_twice: two griddem sub-styles refused: %s" % t.errors(out)[:1])
 
 # radius ratio 1:100 in NN4DEM cells: the contact distance spans more cells than the stencil holds
 rc, out = t.run_lmp("""
