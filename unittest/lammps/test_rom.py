@@ -896,8 +896,9 @@ run 200
     t.check("fix balance moves sub-domains while lagging atoms" in out and max(held) == 0 and
             all(a == 125 for a in t.thermo_values(out, "Atoms")),
             "with fix balance the atoms stay in LAMMPS, with a warning")
+    # (a fix deform that keeps the box: one that changes it stops the run at the next model step)
     deform = lattice + """
-fix df all deform 1 x final 0.0 6.0 remap x
+fix df all deform 1 x final 0.0 6.0 remap x units box
 thermo_style custom step atoms f_rom[17]
 thermo 10
 run 250
