@@ -175,11 +175,6 @@ void ComputeGriddemCg::init()
     error->all(FLERR, "Compute griddem/cg: stress values require a pair style");
   averages.clear();
   if (slot[VIRIAL] >= 0) averages = modify->get_fix_by_style("^ave/grid");
-  holders.clear();
-  for (Fix *rom : modify->get_fix_by_style("^griddem/rom$")) {
-    int dim = 0;
-    holders.emplace_back(rom, (const double *) rom->extract("stored_atoms", dim));
-  }
 }
 
 void ComputeGriddemCg::allocate_grid()
@@ -389,7 +384,10 @@ void ComputeGriddemCg::compute_pergrid()
   invoked_pergrid = update->ntimestep;
   // fix griddem/rom brings the atoms it holds back for the steps this compute can be invoked on
   // (announced ones, fix ave/grid's): on any other step the fields would miss them
-  for (const auto &[rom, held] : holders) {
+  // looked up here, not at init: a fix unfixed since is gone
+  for (Fix *rom : modify->get_fix_by_style("^griddem/rom$")) {
+    int dim = 0;
+    const auto *held = (const double *) rom->extract("stored_atoms", dim);
     if (held && *held > 0.0)
       error->all(FLERR, "Compute griddem/cg: invoked at step {}, which was not announced to it, while fix {} holds {} "
                  "atoms out of LAMMPS (its keyword store); use store no",

@@ -57,7 +57,6 @@ class ComputeGriddemCg : public Compute {
 
   int nmax;
   std::vector<class Fix *> averages;    // the fixes ave/grid, whose samples need the per-atom virial
-  std::vector<std::pair<class Fix *, const double *>> holders;    // fixes griddem/rom, their atoms held out
   double **virial;               // per-atom virial (pair + fixes), ghosts summed back when newton
   std::vector<double> contacts;  // touching neighbours per owned atom
   griddem_grid contact_grid;     // the grid they are found on, kept between steps

@@ -170,6 +170,8 @@ int ComputeGriddemGrid::get_griddata_by_name(int igrid, const std::string &name,
 
 void *ComputeGriddemGrid::get_griddata_by_index(int index)
 {
+  // fix ave/grid reads grid data without clearing the invoked flags (compute_griddem_cg.cpp)
+  if (grid3d && invoked_pergrid != update->ntimestep) compute_pergrid();
   if (index == 0) return fields.size() == 1 ? (void *) columns[0] : (void *) array3d;
   return index >= 1 && index <= (int) columns.size() ? (void *) columns[index - 1] : nullptr;
 }

@@ -214,7 +214,12 @@ void FixGriddemRom::place_grid()
 {
   if (!moving) return;
   for (int d = 0; d < 3; d++)
-    if (origin_vars[d] >= 0) origin[d] = input->variable->compute_equal(origin_vars[d]);
+    if (origin_vars[d] >= 0) {
+      origin[d] = input->variable->compute_equal(origin_vars[d]);
+      if (!std::isfinite(origin[d]))
+        error->all(FLERR, "Fix griddem/rom: origin variable {} is {} at step {}", origin_names[d], origin[d],
+                   update->ntimestep);
+    }
   griddem_rom_place(&frame_grid, origin, &grid);    // frame_grid has the box's periodicity (init)
 }
 
@@ -293,6 +298,7 @@ void FixGriddemRom::init()
                      "that took them out; they stay in LAMMPS's arrays (keyword store ignored)", unstorable);
   }
   cg_computes = modify->get_compute_by_style("^griddem/cg$");
+  for (auto *grid_compute : modify->get_compute_by_style("^griddem/grid$")) cg_computes.push_back(grid_compute);
   grid_averages = modify->get_fix_by_style("^ave/grid");
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
@@ -583,13 +589,12 @@ bigint FixGriddemRom::next_other_exchange(bigint from) const
   return next;
 }
 
-/* The first step from `from` on that a compute griddem/cg may be invoked on, or MAXBIGINT, so
-   that its fields see every atom: a step announced to it (dumps, thermo: LAMMPS's list of the
-   steps a compute is invoked on), or a step of a fix ave/grid, which invokes per-grid computes
-   unannounced, on multiples of its Nevery. */
+/* The first step from `from` on that a compute griddem/cg or griddem/grid may be invoked on, or
+   MAXBIGINT, so that its fields see every atom: a step announced to it (dumps, thermo: LAMMPS's
+   list of the steps a compute is invoked on), or a step of a fix ave/grid, which invokes per-grid
+   computes unannounced (or bins atoms itself), on multiples of its Nevery. */
 bigint FixGriddemRom::next_cg_step(bigint from) const
 {
-  if (cg_computes.empty()) return MAXBIGINT;
   bigint next = MAXBIGINT;
   for (const auto &cg : cg_computes)
     for (int k = cg->ntime - 1; k >= 0; k--)    // the list is in decreasing order

@@ -4,7 +4,8 @@ mass-averaged velocity is the velocity all atoms share. Each output read back by
 readers (those ParaView uses, by the file's extension): dump grid/vtk's .vtr (a rectilinear grid,
 one array Scalar or Vector), and tools/dump2vtk's conversions of dump grid (.vtr, one cell array
 per value, named) and dump custom (.vtp, points with named arrays), each with its time (the step,
-or the time with dump_modify time yes) as VTK reports it."""
+or the time with dump_modify time yes) as VTK reports it. Fix ave/grid averaging the compute gets
+the counts of the steps it samples."""
 import math
 import os
 import subprocess
@@ -169,6 +170,23 @@ def main():
         t.check(worst <= 1e-12, "%d ranks: cell velocities equal the common velocity (%.3g)" % (ranks, worst))
         t.check(all(c[2] == 0.0 for c in cells if c[0] == 0), "%d ranks: empty cells have zero velocity" % ranks)
         check_vtk(sub, ranks, cells, n, volume, cellvol)
+
+    # fix ave/grid reads the compute's data without asking for this step's: it gets this step's
+    averaged = TEXT.format(data=data).split("compute contacts")[0].replace("velocity all set 0.3 -0.2 0.1",
+                                                                            "velocity all set 3.0 -2.0 1.0") + """
+fix ave all ave/grid 10 1 10 5 4 3 c_channels:grid:count
+dump both all grid 10 both.*.txt c_channels:grid:count f_ave:grid:data
+dump_modify both sort id
+run 100
+"""
+    sub = os.path.join(wd, "ave")
+    os.mkdir(sub)
+    t.run_ok(averaged, sub, name="in.ave")
+    differ = [s for s in range(10, 101, 10) if any(c[0] != c[1] for c in read_grid_dump(os.path.join(sub, "both.%d.txt" % s)))]
+    moved = sum(abs(a[0] - b[0]) for a, b in zip(read_grid_dump(os.path.join(sub, "both.0.txt")),
+                                                 read_grid_dump(os.path.join(sub, "both.100.txt"))))
+    t.check(moved > 0 and not differ, "fix ave/grid every 10 steps of one sample: the compute's counts of that step "
+            "(atoms changed cells: %g; steps where they differ: %s)" % (moved, differ))
 
     rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
                         "compute c all griddem/grid 2 2 2 count pressure\n", wd, name="in.bad")

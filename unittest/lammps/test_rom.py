@@ -993,6 +993,44 @@ thermo_modify format float %.17g
             "fix deform taking the box from the model's: refused at the first model step: %s" % t.errors(out)[:1])
 
 
+def averaged_store():
+    """With the store on, fix ave/grid over compute griddem/grid and LAMMPS's own binning of atoms
+    (density/number) average every atom, as with it off: 50 atoms are stored between model steps
+    every 200, and the averages every 70 steps over 630 are the same to the bit; an origin variable
+    that is not finite stops the run naming it."""
+    model = os.path.join(WD, "flow_averaged.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
+    text = flow_lattice(model) + """
+compute g all griddem/grid 3 3 3 count vx
+fix ag all ave/grid 70 1 70 3 3 3 c_g:grid:count c_g:grid:vx ave running
+fix aa all ave/grid 70 1 70 3 3 3 density/number ave running
+thermo_style custom step atoms f_rom[17]
+thermo 10
+run 630
+write_dump all grid averaged_{store}.txt f_ag:grid:data[1] f_ag:grid:data[2] f_aa:grid:data modify sort id
+"""
+    outs, cells = {}, {}
+    for store in ("yes", "no"):
+        outs[store] = t.run_ok(text.format(store=store), WD, name="in.averaged_" + store)
+        with open(os.path.join(WD, "averaged_%s.txt" % store)) as f:
+            cells[store] = f.read().split("ITEM: GRID CELLS")[1]
+    held = t.thermo_values(outs["yes"], "f_rom[17]")
+    t.check(max(held) == 50 and cells["yes"] == cells["no"],
+            "fix ave/grid with %d atoms stored at times: the averages of store no (%s)"
+            % (max(held), "the same" if cells["yes"] == cells["no"] else "they differ"))
+    frame = (0.0, 3.0, 0.0, 6.0, 0.0, 6.0)
+    moving = os.path.join(WD, "nan_origin.model")
+    t.write_rom_model(moving, (3, 1, 1), frame, version=2, frame="moving")
+    rc, out = t.run_lmp(resting_spheres((2.0, 3.0, 3.0)) + PAIR + """
+variable ox equal ternary(step>=10,exp(1000)-exp(1000),1)
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5 origin v_ox 0 0
+fix integrate rom_dynamic nve/sphere
+run 20
+""".format(m=moving), WD, name="in.nan_origin")
+    t.check(rc != 0 and "Fix griddem/rom: origin variable ox is" in out and "at step 10" in out,
+            "an origin variable turning NaN stops the run naming it: %s" % t.errors(out)[:1])
+
+
 def keyword_checks():
     model = os.path.join(WD, "rest_kw.model")
     t.write_rom_model(model, (3, 3, 3), BOX)
@@ -1361,6 +1399,7 @@ frame_binning()
 rejoin()
 keyword_checks()
 restart_schedule()
+averaged_store()
 drive_box()
 drive_dense()
 box_guard()
