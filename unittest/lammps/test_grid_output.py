@@ -5,7 +5,8 @@ readers (those ParaView uses, by the file's extension): dump grid/vtk's .vtr (a 
 one array Scalar or Vector), and tools/dump2vtk's conversions of dump grid (.vtr, one cell array
 per value, named) and dump custom (.vtp, points with named arrays), each with its time (the step,
 or the time with dump_modify time yes) as VTK reports it. Fix ave/grid averaging the compute gets
-the counts of the steps it samples."""
+the counts of the steps it samples. dump2vtk keeps two values of one name apart and names a
+missing, an empty or a repeated step's file."""
 import math
 import os
 import subprocess
@@ -177,6 +178,9 @@ def main():
 fix ave all ave/grid 10 1 10 5 4 3 c_channels:grid:count
 dump both all grid 10 both.*.txt c_channels:grid:count f_ave:grid:data
 dump_modify both sort id
+compute other all griddem/grid 5 4 3 count
+dump twice all grid 100 twice.*.txt c_channels:grid:count c_other:grid:count
+dump_modify twice sort id
 run 100
 """
     sub = os.path.join(wd, "ave")
@@ -187,6 +191,17 @@ run 100
                                                  read_grid_dump(os.path.join(sub, "both.100.txt"))))
     t.check(moved > 0 and not differ, "fix ave/grid every 10 steps of one sample: the compute's counts of that step "
             "(atoms changed cells: %g; steps where they differ: %s)" % (moved, differ))
+    # dump2vtk: two values of one name keep their whole names; bad files named
+    twice, _ = read_vtk(os.path.join(sub, convert(sub, "twice", "twice.100.txt")[0]))
+    t.check(array_names(twice.GetCellData()) == ["c_channels:grid:count", "c_other:grid:count"],
+            "dump2vtk: two values named count are two arrays (%s)" % array_names(twice.GetCellData()))
+    open(os.path.join(sub, "empty.txt"), "w").close()
+    for files, expect in ((["missing.txt"], "missing.txt: No such file"), (["empty.txt"], "empty.txt: no snapshot"),
+                          (["both.10.txt", "twice.100.txt", "both.100.txt"], "both hold step 100")):
+        proc = subprocess.run([sys.executable, DUMP2VTK, "-o", "bad"] + files, cwd=sub, stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT, universal_newlines=True)
+        t.check(proc.returncode != 0 and expect in proc.stdout and "Traceback" not in proc.stdout,
+                "dump2vtk %s: '%s' (%s)" % (" ".join(files), expect, proc.stdout.strip()[-200:]))
 
     rc, out = t.run_lmp("units lj\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
                         "compute c all griddem/grid 2 2 2 count pressure\n", wd, name="in.bad")
