@@ -146,6 +146,7 @@ ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     pressatomflag = 1;
     comm_reverse = 6;
   }
+  if (slot[CONTACTS] >= 0) comm_forward = 3;    // the ghosts' positions (count_contacts)
   // the steps it is invoked on, as LAMMPS's dumps and thermo announce them: the per-atom virial is
   // tallied there, and fix griddem/rom brings the atoms it holds back for them
   timeflag = 1;
@@ -351,6 +352,25 @@ void ComputeGriddemCg::gather_virial()
   if (force->newton) comm->reverse_comm(this);
 }
 
+/* an owned atom's position as its ghost's, shifted by the periodic images crossed (the box is
+   orthogonal) */
+int ComputeGriddemCg::pack_forward_comm(int n, int *list_, double *buf, int pbc_flag, int *pbc)
+{
+  const double shift[3] = {pbc_flag ? pbc[0] * domain->xprd : 0.0, pbc_flag ? pbc[1] * domain->yprd : 0.0,
+                           pbc_flag ? pbc[2] * domain->zprd : 0.0};
+  int m = 0;
+  for (int i = 0; i < n; i++)
+    for (int d = 0; d < 3; d++) buf[m++] = atom->x[list_[i]][d] + shift[d];
+  return m;
+}
+
+void ComputeGriddemCg::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int d = 0; d < 3; d++) atom->x[i][d] = buf[m++];
+}
+
 int ComputeGriddemCg::pack_reverse_comm(int n, int first, double *buf)
 {
   int m = 0;
@@ -370,8 +390,9 @@ void ComputeGriddemCg::unpack_reverse_comm(int n, int *list_, double *buf)
 void ComputeGriddemCg::count_contacts()
 {
   // the ghosts where their atoms are now: a fix that moves atoms at the end of a step (fix
-  // deform's remap) leaves them where the step's communication put them
-  comm->forward_comm();
+  // deform's remap) leaves them where the step's communication put them (this compute's own
+  // communication: it reads and writes the host's positions whatever the atom style's back end)
+  comm->forward_comm(this);
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   contacts.assign(nlocal, 0.0);
   if (nall && griddem_cg_contacts(nlocal, nall, atom->x[0], atom->radius, contacts.data(), &contact_grid,
