@@ -96,13 +96,12 @@ class FixGriddem : public Fix {
   // destructor of the most derived class
   void leave();
 
+ private:
   // joins Atom's per-atom callbacks, every atom's row empty: at the first init, or as rows come
   // before it (a restart file's, those of the fix this one replaces). Until then the fix holds
   // no row, and LAMMPS's commands that refuse fixes with per-atom data (replicate) run after
   // pair_style as they do after stock's, which makes its history fix at the first run.
   void track_atoms();
-
- private:
   int tracking;    // 1: in Atom's per-atom callbacks (track_atoms)
   GriddemFixOptions parse_options(int narg, char **arg);
   std::vector<int> image_codes;    // periodic_images()

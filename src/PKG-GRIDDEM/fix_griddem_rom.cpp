@@ -297,8 +297,8 @@ void FixGriddemRom::init()
       error->warning(FLERR, "Fix griddem/rom: {} while lagging atoms would be held out of LAMMPS on the process "
                      "that took them out; they stay in LAMMPS's arrays (keyword store ignored)", unstorable);
   }
-  cg_computes = modify->get_compute_by_style("^griddem/cg$");
-  for (auto *grid_compute : modify->get_compute_by_style("^griddem/grid$")) cg_computes.push_back(grid_compute);
+  grid_computes = modify->get_compute_by_style("^griddem/cg$");
+  for (auto *compute : modify->get_compute_by_style("^griddem/grid$")) grid_computes.push_back(compute);
   grid_averages = modify->get_fix_by_style("^ave/grid");
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
@@ -593,13 +593,13 @@ bigint FixGriddemRom::next_other_exchange(bigint from) const
    MAXBIGINT, so that its fields see every atom: a step announced to it (dumps, thermo: LAMMPS's
    list of the steps a compute is invoked on), or a step of a fix ave/grid, which invokes per-grid
    computes unannounced (or bins atoms itself), on multiples of its Nevery. */
-bigint FixGriddemRom::next_cg_step(bigint from) const
+bigint FixGriddemRom::next_grid_step(bigint from) const
 {
   bigint next = MAXBIGINT;
-  for (const auto &cg : cg_computes)
-    for (int k = cg->ntime - 1; k >= 0; k--)    // the list is in decreasing order
-      if (cg->tlist[k] >= from) {
-        next = MIN(next, cg->tlist[k]);
+  for (const auto &compute : grid_computes)
+    for (int k = compute->ntime - 1; k >= 0; k--)    // the list is in decreasing order
+      if (compute->tlist[k] >= from) {
+        next = MIN(next, compute->tlist[k]);
         break;
       }
   for (const auto &ave : grid_averages)
@@ -628,7 +628,7 @@ void FixGriddemRom::plan_return()
   due = MIN(due, output->next_restart);
   const bigint other = next_other_exchange(update->ntimestep + 1);
   if (other < MAXBIGINT) due = MIN(due, other - 1);
-  due = MIN(due, next_cg_step(update->ntimestep + 1));
+  due = MIN(due, next_grid_step(update->ntimestep + 1));
   due = MAX(due, update->ntimestep + 1);    // this step's exchange is past
   if (return_at < 0 || due < return_at) return_at = next_reneighbor = due;
 }

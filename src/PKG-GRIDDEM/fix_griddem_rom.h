@@ -85,7 +85,7 @@ class FixGriddemRom : public Fix {
   double dense_min;         // drive dense: the density from which the model drives an atom
   bool store_wanted;        // keyword store: lagging atoms leave LAMMPS's arrays between reach tests
   bool store_active;        // this run stores them (init, setup)
-  std::vector<class Compute *> cg_computes;    // computes griddem/cg and griddem/grid, whose steps need every atom
+  std::vector<class Compute *> grid_computes;    // computes griddem/cg and griddem/grid, whose steps need every atom
   std::vector<class Fix *> grid_averages;      // fixes ave/grid, which invoke them unannounced
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
@@ -149,7 +149,7 @@ class FixGriddemRom : public Fix {
   void fill_nearlist();
   void fill_state();
   bigint next_other_exchange(bigint from) const;
-  bigint next_cg_step(bigint from) const;
+  bigint next_grid_step(bigint from) const;
   void plan_store();
   void plan_return();
   void store_lagging();
