@@ -13,6 +13,7 @@
 #include "modify.h"
 #include "pair.h"
 
+#include <algorithm>
 #include <cstring>
 #include <initializer_list>
 #include <utility>
@@ -130,16 +131,76 @@ void FixGriddem::track_atoms()
 void FixGriddem::init()
 {
   track_atoms();
+  follow_renumbering();
 }
 
-/* whether any process holds a contact: reset_atoms id, which would leave the IDs its rows key
-   partners by stale, is then refused (stores_ids), naming this fix */
+/* where any process holds a contact, each row carries its atom's ID, for follow_renumbering: the
+   row messages travel with the atoms through whatever happens between runs (deletions,
+   migration, restart files) */
 
 void FixGriddem::post_run()
 {
-  int mine = 0;
+  int mine = 0, any = 0;
   for (int i = 0; i < atom->nlocal && !mine; i++) mine = message_length(i) > 1;
-  MPI_Allreduce(&mine, &stores_ids, 1, MPI_INT, MPI_MAX, world);
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+  if (!any || history_values() < 1) return;
+  std::vector<double> message;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int length = message_length(i);
+    if (length <= 1) continue;
+    message.resize(length + GRIDDEM_HISTORY_ENTRY(history_values()));
+    get_message(i, message.data());
+    griddem_message_with_own_tag(message.data(), history_values(), atom->tag[i]);
+    put_message(i, message.data());
+  }
+}
+
+/* delete_atoms (compress yes, its default) and reset_atoms id give the atoms new IDs, and the
+   rows key partners by the old ones: each key takes its partner's new ID, by the pairs (old ID,
+   new ID) of every atom whose row holds its old one (a partner's does: the rows of a run's end
+   hold each contact from both sides), gathered from all processes; a key whose partner is gone
+   is dropped, so that no atom given its number inherits the contact. Each row then holds its
+   atom's new ID: reset_atoms id runs an init of its own before it renumbers. */
+
+void FixGriddem::follow_renumbering()
+{
+  const int nlocal = atom->nlocal, values = history_values();
+  std::vector<int64_t> mine;
+  std::vector<double> message;
+  int renumbered = 0, any = 0;
+  for (int i = 0; i < nlocal && values >= 1; i++) {
+    const int length = message_length(i);
+    if (length <= 1) continue;
+    message.resize(length);
+    get_message(i, message.data());
+    const int64_t before = griddem_message_own_tag(message.data(), values);
+    if (before < 0) continue;
+    mine.push_back(before), mine.push_back((int64_t) atom->tag[i]);
+    renumbered |= before != (int64_t) atom->tag[i];
+  }
+  MPI_Allreduce(&renumbered, &any, 1, MPI_INT, MPI_MAX, world);
+  if (!any) return;
+  int nmine = (int) mine.size(), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<int64_t> all((size_t) displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), nmine, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, world);
+  const size_t npairs = all.size() / 2;
+  std::vector<size_t> by_old(npairs);
+  for (size_t k = 0; k < npairs; k++) by_old[k] = k;
+  std::sort(by_old.begin(), by_old.end(), [&](size_t a, size_t b) { return all[2 * a] < all[2 * b]; });
+  std::vector<int64_t> old_tag(npairs), new_tag(npairs);
+  for (size_t k = 0; k < npairs; k++) old_tag[k] = all[2 * by_old[k]], new_tag[k] = all[2 * by_old[k] + 1];
+  for (int i = 0; i < nlocal; i++) {
+    const int length = message_length(i);
+    if (length <= 1) continue;
+    message.resize(length + GRIDDEM_HISTORY_ENTRY(values));
+    get_message(i, message.data());
+    griddem_message_renumber(message.data(), values, old_tag.data(), new_tag.data(), (long) npairs);
+    griddem_message_with_own_tag(message.data(), values, atom->tag[i]);
+    put_message(i, message.data());
+  }
 }
 
 void FixGriddem::leave()
@@ -158,7 +219,6 @@ void FixGriddem::put_history(int i, const double *record)
 void FixGriddem::drop_history()
 {
   for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
-  stores_ids = 0;
 }
 
 /* An owned atom's image is minus its image flags (griddem_history.h); its keys hold partner IDs
@@ -227,7 +287,17 @@ int FixGriddem::unpack_exchange(int nlocal, double *buf)
 int FixGriddem::pack_restart(int i, double *buf)
 {
   // the values per contact go with the row, so a run with other sub-models can read it
-  return griddem_restart_frame(buf, history_values(), get_message(i, buf + GRIDDEM_RESTART_HEADER));
+  return griddem_restart_frame(buf, history_values(), restart_message(i, buf + GRIDDEM_RESTART_HEADER));
+}
+
+/* An atom's row message with its own ID (griddem_message_with_own_tag), so that the rows of a
+   file read and renumbered before a run (delete_atoms) follow the new IDs: its length */
+
+int FixGriddem::restart_message(int i, double *message)
+{
+  const int length = get_message(i, message);
+  if (length <= 1 || history_values() < 1) return length;
+  return griddem_message_with_own_tag(message, history_values(), atom->tag[i]);
 }
 
 void FixGriddem::unpack_restart(int nlocal, int nth)
@@ -242,14 +312,15 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
 
 int FixGriddem::size_restart(int nlocal)
 {
-  return GRIDDEM_RESTART_HEADER + message_length(nlocal);
+  std::vector<double> message(message_length(nlocal) + GRIDDEM_HISTORY_ENTRY(history_values()));
+  return GRIDDEM_RESTART_HEADER + restart_message(nlocal, message.data());
 }
 
 // the longest record of any atom on any process (the file header states one size for all)
 
 int FixGriddem::maxsize_restart()
 {
-  int mine = GRIDDEM_RESTART_HEADER + longest_message(), most;
+  int mine = GRIDDEM_RESTART_HEADER + longest_message() + GRIDDEM_HISTORY_ENTRY(history_values()), most;
   MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, world);
   return most;
 }

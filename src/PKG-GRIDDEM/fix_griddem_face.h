@@ -103,6 +103,10 @@ class FixGriddem : public Fix {
   // pair_style as they do after stock's, which makes its history fix at the first run.
   void track_atoms();
   int tracking;    // 1: in Atom's per-atom callbacks (track_atoms)
+  // atoms given new IDs between runs (delete_atoms compress yes, reset_atoms id): each row's own
+  // ID, written into it at a run's end, tells the keys to renumber at the next init
+  void follow_renumbering();
+  int restart_message(int i, double *message);    // pack_restart's message, of size_restart
   GriddemFixOptions parse_options(int narg, char **arg);
   std::vector<int> image_codes;    // periodic_images()
   int image_axes;                  // of the last periodic_images()

@@ -130,6 +130,63 @@ int griddem_history_put_message(griddem_history *h, const double *message, int v
   return griddem_history_add_row(h, (int) message[0], message + 1, values);
 }
 
+/* The own entry of a message, or NULL */
+static double *own_entry(const double *message, int values)
+{
+  const int count = (int) message[0], width = GRIDDEM_HISTORY_ENTRY(values);
+  for (int e = 0; e < count; e++)
+    if (message[1 + (size_t) width * e] == (double) GRIDDEM_OWN_KEY) return (double *) message + 1 + (size_t) width * e;
+  return NULL;
+}
+
+int64_t griddem_message_own_tag(const double *message, int values)
+{
+  const double *own = own_entry(message, values);
+  return own ? (int64_t) own[1] : -1;
+}
+
+int griddem_message_with_own_tag(double *message, int values, int64_t tag)
+{
+  double *own = own_entry(message, values);
+  if (!own) {
+    own = message + 1 + (size_t) GRIDDEM_HISTORY_ENTRY(values) * (size_t) message[0];
+    message[0] += 1;
+    own[0] = (double) GRIDDEM_OWN_KEY;
+    for (int v = 1; v < values; v++) own[1 + v] = 0.0;
+  }
+  own[1] = (double) tag;
+  return GRIDDEM_ROW_MESSAGE_LENGTH((int) message[0], values);
+}
+
+/* The index of tag among the n sorted tags, or -1 */
+static long sorted_index(const int64_t *tags, long n, int64_t tag)
+{
+  long lo = 0, hi = n;
+  while (lo < hi) {
+    const long mid = lo + (hi - lo) / 2;
+    if (tags[mid] < tag) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < n && tags[lo] == tag ? lo : -1;
+}
+
+int griddem_message_renumber(double *message, int values, const int64_t *old_tag, const int64_t *new_tag, long n)
+{
+  const int count = (int) message[0], width = GRIDDEM_HISTORY_ENTRY(values);
+  int kept = 0;
+  for (int e = 0; e < count; e++) {
+    const double *from = message + 1 + (size_t) width * e;
+    const int64_t key = (int64_t) from[0];
+    const long k = key == GRIDDEM_OWN_KEY ? -1 : sorted_index(old_tag, n, griddem_key_tag(key));
+    if (k < 0 && key != GRIDDEM_OWN_KEY) continue;
+    double *to = message + 1 + (size_t) width * kept++;
+    memmove(to + 1, from + 1, sizeof(double) * (size_t) values);
+    to[0] = key == GRIDDEM_OWN_KEY ? (double) key : (double) griddem_key_retagged(key, new_tag[k]);
+  }
+  message[0] = kept;
+  return GRIDDEM_ROW_MESSAGE_LENGTH(kept, values);
+}
+
 int griddem_history_reserve(griddem_history *h, int rows, long entries)
 {
   const long room = entries + (long) GRIDDEM_HISTORY_MARGIN * rows;

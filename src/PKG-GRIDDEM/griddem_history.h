@@ -111,6 +111,17 @@ GRIDDEM_INLINE int64_t griddem_image_key(int64_t tag, int self, int partner)
   return tag | (int64_t) relative << GRIDDEM_KEY_TAG_BITS;
 }
 
+/* A key's partner tag, and the key with its partner tag replaced (the relative image above it kept) */
+GRIDDEM_INLINE int64_t griddem_key_tag(int64_t key)
+{
+  return key & (((int64_t) 1 << GRIDDEM_KEY_TAG_BITS) - 1);
+}
+
+GRIDDEM_INLINE int64_t griddem_key_retagged(int64_t key, int64_t tag)
+{
+  return key - griddem_key_tag(key) + tag;
+}
+
 /* A bit above a key that the CPU store turns over at each sweep and sets as it writes an entry
  * (griddem_history.mark), so that the end of a sweep tells the entries it wrote from those it did
  * not; keys are found, and travel in messages, without it. */
@@ -224,6 +235,26 @@ int griddem_history_message_length(const griddem_history *h, int row);
 int griddem_history_longest_message(const griddem_history *h);
 int griddem_history_get_message(const griddem_history *h, int row, double *message);
 int griddem_history_put_message(griddem_history *h, const double *message, int values);
+/* A row's own atom's ID, carried in its message as an entry of key GRIDDEM_OWN_KEY (no atom has
+ * ID 0) whose first value is the ID, so that the IDs its other keys name partners by can be told
+ * from its atoms' IDs after they are given new ones (delete_atoms compress yes, reset_atoms id).
+ * fix griddem writes it at a run's end and into restart files; a sweep, which finds no partner
+ * of that key, drops it as it rewrites the row. Needs a history of at least one value. */
+#define GRIDDEM_OWN_KEY 0
+
+/* The ID a message (values per contact) holds for its own atom, or -1 where it holds none. */
+int64_t griddem_message_own_tag(const double *message, int values);
+
+/* The message with its own atom's ID set to tag: its own entry rewritten, or one appended (the
+ * message then needs room for GRIDDEM_HISTORY_ENTRY(values) doubles more). Returns its length. */
+int griddem_message_with_own_tag(double *message, int values, int64_t tag);
+
+/* A row message (values per contact) after its atoms were given new IDs: the n pairs
+ * old_tag[k] -> new_tag[k], sorted by old tag, hold every partner that remains under the ID the
+ * message's keys name it by; each key takes its partner's new tag (the relative image kept), an
+ * entry whose partner the pairs lack (deleted since) is dropped, and the own entry is kept as it
+ * is; all in order. Returns the message's length. */
+int griddem_message_renumber(double *message, int values, const int64_t *old_tag, const int64_t *new_tag, long n);
 
 /* The sum of n counts (entries of rows, contacts of slots) and the most of one, in vector lanes,
  * on threads where there are many */

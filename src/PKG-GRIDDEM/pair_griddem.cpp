@@ -142,12 +142,6 @@ double PairGriddem::init_one(int i, int j)
   return type_radius[i] + type_radius[j] + pulloff;
 }
 
-void PairGriddem::refuse_id_reset()
-{
-  if (!model.track_contacts) return;
-  for (auto f : modify->get_fix_by_style("^griddem$")) f->stores_ids = 1;
-}
-
 void PairGriddem::create_default_fix()
 {
   keeper.make_default(history_fix_style(), history_fix_style() != "griddem", model.track_contacts);

@@ -92,9 +92,6 @@ class PairGriddem : public Pair, public GriddemPairLink {
   // settings, pair_coeff or restart on
   void allocate();
   void create_default_fix();
-  // read from a restart file, whose contact rows key partners by the IDs it was written with:
-  // until a run finds whether any came, reset_atoms id is refused, as after a run with contacts
-  void refuse_id_reset();
   // the fix style made to hold this style's contact history where the script defines none:
   // "griddem" (the CPU store), or a Kokkos variant (fix griddem/kk, whose pools live on the
   // device of a kk style)

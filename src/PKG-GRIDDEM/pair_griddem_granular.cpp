@@ -205,7 +205,6 @@ void PairGriddemGranular::read_restart(FILE *fp)
       specs[i * n + j] = specs[j * n + i] = read_spec(fp);
       adopt_layout(specs[i * n + j]);
     }
-  refuse_id_reset();
 }
 
 void PairGriddemGranular::write_restart_settings(FILE *fp)

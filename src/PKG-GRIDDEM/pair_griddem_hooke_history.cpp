@@ -127,7 +127,6 @@ void PairGriddemHookeHistory::read_restart(FILE *fp)
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
     }
   adopt_style_spec();
-  refuse_id_reset();
 }
 
 void PairGriddemHookeHistory::write_restart_settings(FILE *fp)

@@ -125,9 +125,42 @@ static void check_image_keys(void)
         "the tag is kept below the image");
 }
 
+/* A row message after renumbering: keys take their partners' new tags with their relative
+ * images, an entry of a deleted partner goes, the rest keep their order and values. */
+static void check_renumbered_message(void)
+{
+  const int z = 4;
+  const int up[3] = {0, 0, 1};
+  const int64_t above = griddem_image_key(40, 0, griddem_image_code(up, z));
+  /* partners 40 (same image), 40 one image up, 17 (deleted) and 25, 2 values each */
+  double m[1 + 4 * 3] = {4, 40, 1.5, -1.5, (double) above, 2.5, -2.5, 17, 3.5, -3.5, 25, 4.5, -4.5};
+  const int64_t old_tag[] = {3, 25, 40, 41}, new_tag[] = {3, 24, 37, 38}; /* sorted by old tag */
+  const int n = griddem_message_renumber(m, 2, old_tag, new_tag, 4);
+  CHECK(n == 1 + 3 * 3 && m[0] == 3, "three entries kept: length %d, count %g", n, m[0]);
+  CHECK(m[1] == 37 && m[2] == 1.5 && m[3] == -1.5, "partner 40 is now 37");
+  CHECK((int64_t) m[4] == griddem_image_key(37, 0, griddem_image_code(up, z)) && m[5] == 2.5 && m[6] == -2.5,
+        "its image above keeps its relative image: %.17g", m[4]);
+  CHECK(griddem_key_tag((int64_t) m[4]) == 37 && griddem_key_tag(above) == 40, "a key's tag");
+  CHECK(m[7] == 24 && m[8] == 4.5 && m[9] == -4.5, "partner 25 is now 24, the deleted 17 gone");
+  /* the own entry: appended, found, rewritten, kept by a renumbering as it is */
+  double own[1 + 3 * 3] = {1, 24, 4.5, -4.5};
+  CHECK(griddem_message_own_tag(own, 2) == -1, "no own entry yet");
+  CHECK(griddem_message_with_own_tag(own, 2, 30) == 1 + 2 * 3 && own[0] == 2 && griddem_message_own_tag(own, 2) == 30,
+        "own entry appended");
+  CHECK(griddem_message_with_own_tag(own, 2, 31) == 1 + 2 * 3 && griddem_message_own_tag(own, 2) == 31 && own[4] == 0,
+        "own entry rewritten in place");
+  const int64_t back_old[] = {24}, back_new[] = {20};
+  CHECK(griddem_message_renumber(own, 2, back_old, back_new, 1) == 1 + 2 * 3 && own[1] == 20 &&
+            griddem_message_own_tag(own, 2) == 31,
+        "a renumbering keeps the own entry, the partner renumbered");
+  double empty[1] = {0};
+  CHECK(griddem_message_renumber(empty, 2, old_tag, new_tag, 4) == 1 && empty[0] == 0, "an empty row stays empty");
+}
+
 int main(void)
 {
   check_image_keys();
+  check_renumbered_message();
 #ifdef _OPENMP
   check_threaded_end();
 #endif

@@ -17,7 +17,10 @@ fix griddem redefined after a run, on a dense random polydisperse gas with frict
   1e-10, with and without history.
 - `reset_atoms id` before any run, or after a run of a style without history, runs and equals
   stock; after a run that stored contacts (their partners keyed by atom ID), or after read_restart
-  of a style with history, it is refused naming fix griddem, where stock runs on with stale history."""
+  of a style with history, the contacts keep their history under the new IDs: the run equals the
+  one without the reset (stock runs on with stale history).
+- delete_atoms with compress yes (its default) after a run, or after read_restart: the contacts
+  keep their history under the new IDs, as with compress no (renumbered)."""
 import os
 import sys
 
@@ -171,25 +174,72 @@ def replicated(wd, data):
 
 
 def reset_ids(wd, data):
-    def run(style, before, after):
+    def run(style, before, after, reset="reset_atoms id\n"):
         text = START.format(data=data, pair=style + " " + HOOKE, coeffs="pair_coeff * *") + \
-            thermo("press") + before + "reset_atoms id\n" + after + "run 30\n"
-        return t.run_lmp(text, wd, name="in.reset_" + style.replace("/", "_") + ("_after" if before else ""))
+            thermo("press") + before + reset + after + "run 30\n"
+        return t.run_lmp(text, wd, name="in.reset_" + style.replace("/", "_") + ("_after" if before else "") +
+                         ("" if reset else "_none"))
     for griddem, stock, before in (("griddem/hooke/history", "gran/hooke/history", ""),
                                    ("griddem/hooke", "gran/hooke", "run 30\n")):
         (rc, out), (rc0, out0) = run(griddem, before, ""), run(stock, before, "")
         err = max(rel(last(out, "KinEng"), last(out0, "KinEng")), rel(last(out, "Press"), last(out0, "Press")))
         t.check(rc == 0 and rc0 == 0 and err <= 1e-10, "reset_atoms id %s with %s: runs as stock, KE and pressure "
                 "relative error %.3g (%s)" % ("after a run" if before else "before any run", griddem, err, t.errors(out)))
-    rc, out = run("griddem/hooke/history", "run 30\n", "")
-    said = "\n".join(t.errors(out))
-    t.check(rc != 0 and "reset_atoms id with a fix griddem storing atom IDs" in said,
-            "reset_atoms id after a run with contacts: refused naming fix griddem, got %r" % said)
+    # after a run that stored contacts (keyed by the partners' IDs) the rows follow the new IDs:
+    # the run equals the one without the reset (sort yes renumbers the most)
+    (rc, out), (rc0, out0) = run("griddem/hooke/history", "run 30\n", "", "reset_atoms id sort yes\n"), \
+        run("griddem/hooke/history", "run 30\n", "", "")
+    err = max(rel(last(out, "KinEng"), last(out0, "KinEng")), rel(last(out, "Press"), last(out0, "Press")))
+    t.check(rc == 0 and rc0 == 0 and err <= 1e-10, "reset_atoms id sort yes after a run with contacts: as without "
+            "it, KE and pressure relative error %.3g (%s)" % (err, t.errors(out)))
     # read from a restart file (restart() wrote it after a run with contacts), before any run
-    rc, out = t.run_lmp("read_restart restart.lifecycle\nreset_atoms id\n", wd, name="in.reset_restart")
-    said = "\n".join(t.errors(out))
-    t.check(rc != 0 and "reset_atoms id with a fix griddem storing atom IDs" in said,
-            "reset_atoms id after read_restart: refused naming fix griddem, got %r" % said)
+    def from_file(reset):
+        text = "read_restart restart.lifecycle\ncomm_modify vel yes\nfix integrate all nve/sphere\n" + reset + \
+            thermo("press") + "run 30\n"
+        return t.run_lmp(text, wd, name="in.reset_restart" + ("" if reset else "_none"))
+    (rc, out), (rc0, out0) = from_file("reset_atoms id sort yes\n"), from_file("")
+    err = max(rel(last(out, "KinEng"), last(out0, "KinEng")), rel(last(out, "Press"), last(out0, "Press")))
+    t.check(rc == 0 and rc0 == 0 and err <= 1e-10, "reset_atoms id sort yes after read_restart: as without it, KE "
+            "and pressure relative error %.3g (%s)" % (err, t.errors(out)))
+
+
+def renumbered(wd, data):
+    """delete_atoms with compress yes (its default) gives the remaining atoms new IDs between runs:
+    the contacts keep their history, so the state equals that of compress no (IDs kept): the
+    elastic energy at run 0 to 1e-12, KE and pressure 30 steps on to 1e-10, on 1 and 2 ranks.
+    Stock gran/hooke/history loses or mixes its history there (printed, not checked)."""
+    def run(style, compress, nprocs):
+        text = START.format(data=data, pair=style + " " + HOOKE, coeffs="pair_coeff * *") + \
+            "run 30\ngroup few id <= 40\ndelete_atoms group few compress %s\n" % compress + \
+            thermo("press" + (" f_GRIDDEM[7]" if "griddem" in style else "")) + "run 0\nrun 30\n"
+        return t.run_ok(text, wd, nprocs=nprocs, name="in.renumber_%s_%s_%d" % (style.split("/")[0], compress, nprocs))
+    for nprocs in (1, 2):
+        kept, renumbered_run = run("griddem/hooke/history", "no", nprocs), run("griddem/hooke/history", "yes", nprocs)
+        e_kept, e_new = t.thermo_values(kept, "f_GRIDDEM[7]"), t.thermo_values(renumbered_run, "f_GRIDDEM[7]")
+        t.check(e_kept and e_new and e_kept[0] > 0.0 and rel(e_new[0], e_kept[0]) <= 1e-12,
+                "%d rank(s): elastic energy at run 0 after delete_atoms compress yes %.17g, compress no %.17g"
+                % (nprocs, e_new[0] if e_new else 0, e_kept[0] if e_kept else 0))
+        err = max(rel(last(renumbered_run, "KinEng"), last(kept, "KinEng")),
+                  rel(last(renumbered_run, "Press"), last(kept, "Press")))
+        t.check(err <= 1e-10, "%d rank(s): 30 steps after delete_atoms compress yes as with compress no, KE and "
+                "pressure relative error %.3g" % (nprocs, err))
+    # rows read from a restart file (restart() wrote it after a run with contacts) and renumbered
+    # before any run: the file's IDs go with each row
+    def from_file(compress):
+        text = "read_restart restart.lifecycle\ncomm_modify vel yes\nfix integrate all nve/sphere\n" + \
+            "group few id <= 40\ndelete_atoms group few compress %s\n" % compress + thermo("press f_GRIDDEM[7]") + \
+            "run 0\nrun 30\n"
+        return t.run_ok(text, wd, name="in.renumber_restart_" + compress)
+    kept, renumbered_run = from_file("no"), from_file("yes")
+    e_kept, e_new = t.thermo_values(kept, "f_GRIDDEM[7]"), t.thermo_values(renumbered_run, "f_GRIDDEM[7]")
+    err = max(rel(last(renumbered_run, "KinEng"), last(kept, "KinEng")),
+              rel(last(renumbered_run, "Press"), last(kept, "Press")))
+    t.check(e_kept and e_new and e_kept[0] > 0.0 and rel(e_new[0], e_kept[0]) <= 1e-12 and err <= 1e-10,
+            "read_restart, then delete_atoms compress yes: elastic energy at run 0 %.17g (compress no %.17g), "
+            "30 steps on KE and pressure relative error %.3g" % (e_new[0] if e_new else 0, e_kept[0] if e_kept else 0, err))
+    stock_kept, stock_new = run("gran/hooke/history", "no", 1), run("gran/hooke/history", "yes", 1)
+    print("stock gran/hooke/history, 30 steps after delete_atoms compress yes against compress no: pressure "
+          "relative error %.3g" % rel(last(stock_new, "Press"), last(stock_kept, "Press")))
 
 
 def main():
@@ -203,6 +253,7 @@ def main():
     restart(wd, data)
     replicated(wd, data)
     reset_ids(wd, data)
+    renumbered(wd, data)
     t.finish()
 
 

@@ -240,10 +240,11 @@ timestep 1e-5
 fix integrate all nve/sphere
 run 10
 region hole sphere 2.25 2.25 2.25 0.8
-delete_atoms region hole compress no
+delete_atoms region hole compress {compress}
 region box2 block 0 4.5 0 4.5 0 4.5
+group old id > 0
 create_atoms 1 random 40 4321 box2
-group new id > 1500
+group new subtract all old
 set group new diameter 0.05 density 1.0
 velocity new create 0.5 99 loop geom
 dump snap all custom 10 dump.{name} id x y z vx vy vz fx fy fz tqx tqy tqz
@@ -253,17 +254,21 @@ run 10
 
 
 def check_add_delete(wd, data):
-    """Atoms deleted between runs (their rows move with the atoms that take their places) and new
-    atoms (empty rows, fix griddem's set_arrays) under griddem/hooke/history/kk: the state after
-    the second run equals the CPU style's."""
-    runs = run_cpu_and_kk(wd, "adddel", lambda name: ADD_DELETE.format(data=data, pair=HISTORY[1],
-                                                                     coeffs=HISTORY[3], name=name))
-    got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
-    ids = sorted(got[0][1])
-    err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
-    print("%s/kk after deleting and adding atoms vs CPU: %.2g (%d atoms)" % (HISTORY[1].split()[0], err, len(ids)))
-    t.check(1500 < ids[-1] and len(ids) < 1540 and err <= 1e-10,
-            "atoms deleted and added under kk as on the CPU (%.3g, %d atoms)" % (err, len(ids)))
+    """Atoms deleted between runs (their rows move with the atoms that take their places), with
+    their IDs kept or the rest renumbered (compress yes: the rows follow the new IDs), and new atoms
+    (empty rows, fix griddem's set_arrays) under griddem/hooke/history/kk: the state after the
+    second run equals the CPU style's."""
+    for compress in ("no", "yes"):
+        runs = run_cpu_and_kk(wd, "adddel" + compress, lambda name: ADD_DELETE.format(
+            data=data, pair=HISTORY[1], coeffs=HISTORY[3], name=name, compress=compress))
+        got = [t.read_dumps(os.path.join(wd, "dump." + name))[-1] for name, _ in runs]
+        ids = sorted(got[0][1])
+        err = t.max_rel_diff(got[1], got[0], STATE + FORCES)
+        print("%s/kk after deleting (compress %s) and adding atoms vs CPU: %.2g (%d atoms)"
+              % (HISTORY[1].split()[0], compress, err, len(ids)))
+        renumbered = ids == list(range(1, len(ids) + 1))
+        t.check(len(ids) < 1540 and renumbered == (compress == "yes") and err <= 1e-10,
+                "atoms deleted (compress %s) and added under kk as on the CPU (%.3g, %d atoms)" % (compress, err, len(ids)))
 
 
 FIXES = """

@@ -863,8 +863,10 @@ run 300
             "with model steps every 10 steps the 50 lagging atoms are not stored (it would not pay)")
 
     # restart files written while atoms are held hold every atom; a run stopped early by fix halt
-    # (no last step to plan for) brings them back at its end
+    # (no last step to plan for) brings them back at its end (the plane z = 0.3 of spheres 1.3
+    # wide, dynamic, touching along it)
     outputs = lattice + """
+set group low diameter 1.3
 restart 150 held.*.restart
 variable early equal step>=360
 fix stop all halt 1 v_early > 0.5 error continue
@@ -872,12 +874,21 @@ thermo_style custom step atoms f_rom[17]
 thermo 10
 run 400
 write_dump all custom halted.dump id x y z modify sort id
+unfix stop
+thermo_style custom step atoms f_rom[17] f_GRIDDEM[5]
+run 20
 """
     out = t.run_ok(outputs.format(store="yes"), WD, name="in.store_outputs")
     held = t.thermo_values(out, "f_rom[17]")
     halted = sorted(t.read_dump(os.path.join(WD, "halted.dump"))[1])
     t.check(max(held) == 50 and halted == list(range(1, 126)),
             "a run stopped by fix halt while 50 atoms are held ends with the 125 atoms in LAMMPS")
+    # the IDs fix griddem keeps between runs (for delete_atoms compress yes) are taken once those
+    # atoms are back: they came back as they left, and the next run's atoms and contacts are sound
+    after = t.thermo_values(out, "Atoms")[-3:]
+    contacts = t.thermo_values(out, "f_GRIDDEM[5]")
+    t.check(after == [125, 125, 125] and contacts and contacts[0] > 0,
+            "the run after the halted one: atoms %s, contacts %s" % (after, contacts[:1]))
     reread = t.run_ok("""
 read_restart held.300.restart
 print "RESTORED $(atoms)"
