@@ -7,7 +7,9 @@ there, so its distinct atoms are plain contacts): unwrapped positions, velocitie
 torques of the original atoms after 300 steps of gran/hooke/history's laws (griddem/hooke/history
 and griddem/granular with linear_history tangential and sds rolling: 3 and 6 history values)
 agree to 1e-10 relative, on 1 and 2 ranks (split along z, so that images come from the other rank), with atoms wrapping across the thin boundary during the
-run, and a run restarted at step 150 (write_restart, read_restart) ends in the same state. The
+run, and a run restarted at step 150 (write_restart, read_restart) ends in the same state, as
+does one whose atoms get new IDs at step 150 (reset_atoms id sort yes: the keys follow them with
+their images; 1 and 2 ranks, KE to 1e-10 and the same contacts). The
 old key (partner ID alone) fails this by far. A box under 1/8 of
 the contact distance along a periodic axis (the images the key tells apart) is refused by name, and
 a style without history runs in any box."""
@@ -192,6 +194,29 @@ def check_twin(wd, files):
                     label, what, diffs))
 
 
+def check_renumbered(wd, files):
+    """Atoms given new IDs between the two halves (reset_atoms id sort yes) in the thin z slab,
+    whose keys hold periodic images: the contacts follow the new IDs with their images, so the run
+    ends as the one without the reset (KE, and the contacts at every thermo step), on 1 and 2
+    ranks."""
+    thin = files["z"][0]
+    pair, coeffs = LAWS["hooke/history"]
+    half = STEPS // 2
+    for nprocs in (1, 2):
+        ends = {}
+        for label, between in (("kept", ""), ("reset", "reset_atoms id sort yes\n")):
+            text = SCRIPT.format(start="read_data %s" % thin, pair=pair, coeffs=coeffs,
+                                 run="thermo_modify format float %%.17g\nrun %d\n%srun %d\n" % (half, between, STEPS - half))
+            rc, out = t.run_lmp(text, wd, nprocs, name="in.renumbered_%s_%d" % (label, nprocs))
+            t.check(rc == 0, "z slab, %s, %d rank(s): runs (%s)" % (label, nprocs, t.errors(out)[:1]))
+            ends[label] = (t.thermo_values(out, "KinEng"), t.thermo_values(out, "f_GRIDDEM[5]"))
+        (ke, contacts), (ke_reset, contacts_reset) = ends["kept"], ends["reset"]
+        err = abs(ke_reset[-1] - ke[-1]) / abs(ke[-1]) if ke and ke_reset else float("inf")
+        t.check(contacts and min(contacts) > 0 and contacts_reset == contacts and err <= 1e-10,
+                "z slab, %d rank(s): reset_atoms id sort yes at step %d, then as without it: KE relative error "
+                "%.3g, contacts %s" % (nprocs, half, err, contacts_reset[-3:]))
+
+
 def check_limits(wd):
     slab = os.path.join(wd, "data.refused")
     # 0.12 thick, contact distance up to 1.15: 1/8 of it is 0.14375
@@ -242,7 +267,9 @@ def check_transition(wd):
 
 def main():
     wd = t.workdir()
-    check_twin(wd, slab_files(wd))
+    files = slab_files(wd)
+    check_twin(wd, files)
+    check_renumbered(wd, files)
     check_limits(wd)
     check_transition(wd)
     t.finish()
