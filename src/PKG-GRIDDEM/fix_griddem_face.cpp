@@ -134,23 +134,17 @@ void FixGriddem::init()
   follow_renumbering();
 }
 
-/* where any process holds a contact, each row carries its atom's ID, for follow_renumbering: the
-   row messages travel with the atoms through whatever happens between runs (deletions,
-   migration, restart files) */
+/* each row with contacts carries its atom's ID, for follow_renumbering: the row messages travel
+   with the atoms through whatever happens between runs (deletions, migration, restart files) */
 
 void FixGriddem::post_run()
 {
-  int mine = 0, any = 0;
-  for (int i = 0; i < atom->nlocal && !mine; i++) mine = message_length(i) > 1;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
-  if (!any || history_values() < 1) return;
+  if (history_values() < 1) return;
   std::vector<double> message;
   for (int i = 0; i < atom->nlocal; i++) {
-    const int length = message_length(i);
-    if (length <= 1) continue;
-    message.resize(length + GRIDDEM_HISTORY_ENTRY(history_values()));
-    get_message(i, message.data());
-    griddem_message_with_own_tag(message.data(), history_values(), atom->tag[i]);
+    if (message_length(i) <= 1) continue;
+    message.resize(message_length(i) + GRIDDEM_HISTORY_ENTRY(history_values()));
+    own_message(i, message.data());
     put_message(i, message.data());
   }
 }
@@ -166,17 +160,13 @@ void FixGriddem::follow_renumbering()
 {
   const int nlocal = atom->nlocal, values = history_values();
   std::vector<int64_t> mine;
-  std::vector<double> message;
   int renumbered = 0, any = 0;
   for (int i = 0; i < nlocal && values >= 1; i++) {
-    const int length = message_length(i);
-    if (length <= 1) continue;
-    message.resize(length);
-    get_message(i, message.data());
-    const int64_t before = griddem_message_own_tag(message.data(), values);
-    if (before < 0) continue;
-    mine.push_back(before), mine.push_back((int64_t) atom->tag[i]);
-    renumbered |= before != (int64_t) atom->tag[i];
+    const double *own = find_history(i, GRIDDEM_OWN_KEY);
+    if (!own) continue;
+    const auto before = (int64_t) own[0], now = (int64_t) atom->tag[i];
+    mine.push_back(before), mine.push_back(now);
+    renumbered |= before != now;
   }
   MPI_Allreduce(&renumbered, &any, 1, MPI_INT, MPI_MAX, world);
   if (!any) return;
@@ -186,19 +176,17 @@ void FixGriddem::follow_renumbering()
   for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
   std::vector<int64_t> all((size_t) displs[nprocs - 1] + counts[nprocs - 1]);
   MPI_Allgatherv(mine.data(), nmine, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, world);
-  const size_t npairs = all.size() / 2;
-  std::vector<size_t> by_old(npairs);
-  for (size_t k = 0; k < npairs; k++) by_old[k] = k;
-  std::sort(by_old.begin(), by_old.end(), [&](size_t a, size_t b) { return all[2 * a] < all[2 * b]; });
-  std::vector<int64_t> old_tag(npairs), new_tag(npairs);
-  for (size_t k = 0; k < npairs; k++) old_tag[k] = all[2 * by_old[k]], new_tag[k] = all[2 * by_old[k] + 1];
+  std::vector<std::pair<int64_t, int64_t>> pairs(all.size() / 2);
+  for (size_t k = 0; k < pairs.size(); k++) pairs[k] = {all[2 * k], all[2 * k + 1]};
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<int64_t> old_tag(pairs.size()), new_tag(pairs.size());
+  for (size_t k = 0; k < pairs.size(); k++) old_tag[k] = pairs[k].first, new_tag[k] = pairs[k].second;
+  std::vector<double> message;
   for (int i = 0; i < nlocal; i++) {
-    const int length = message_length(i);
-    if (length <= 1) continue;
-    message.resize(length + GRIDDEM_HISTORY_ENTRY(values));
-    get_message(i, message.data());
-    griddem_message_renumber(message.data(), values, old_tag.data(), new_tag.data(), (long) npairs);
-    griddem_message_with_own_tag(message.data(), values, atom->tag[i]);
+    if (message_length(i) <= 1) continue;
+    message.resize(message_length(i) + GRIDDEM_HISTORY_ENTRY(values));
+    own_message(i, message.data());
+    griddem_message_renumber(message.data(), values, old_tag.data(), new_tag.data(), (long) pairs.size());
     put_message(i, message.data());
   }
 }
@@ -287,13 +275,15 @@ int FixGriddem::unpack_exchange(int nlocal, double *buf)
 int FixGriddem::pack_restart(int i, double *buf)
 {
   // the values per contact go with the row, so a run with other sub-models can read it
-  return griddem_restart_frame(buf, history_values(), restart_message(i, buf + GRIDDEM_RESTART_HEADER));
+  // with the atom's own ID, so that the rows of a file read and renumbered before a run
+  // (delete_atoms) follow the new IDs
+  return griddem_restart_frame(buf, history_values(), own_message(i, buf + GRIDDEM_RESTART_HEADER));
 }
 
-/* An atom's row message with its own ID (griddem_message_with_own_tag), so that the rows of a
-   file read and renumbered before a run (delete_atoms) follow the new IDs: its length */
+/* An atom's row message with its own ID where it has contacts (griddem_message_with_own_tag;
+   room for one more entry than its row): its length */
 
-int FixGriddem::restart_message(int i, double *message)
+int FixGriddem::own_message(int i, double *message)
 {
   const int length = get_message(i, message);
   if (length <= 1 || history_values() < 1) return length;
@@ -313,7 +303,7 @@ void FixGriddem::unpack_restart(int nlocal, int nth)
 int FixGriddem::size_restart(int nlocal)
 {
   std::vector<double> message(message_length(nlocal) + GRIDDEM_HISTORY_ENTRY(history_values()));
-  return GRIDDEM_RESTART_HEADER + restart_message(nlocal, message.data());
+  return GRIDDEM_RESTART_HEADER + own_message(nlocal, message.data());
 }
 
 // the longest record of any atom on any process (the file header states one size for all)

@@ -139,12 +139,6 @@ static double *own_entry(const double *message, int values)
   return NULL;
 }
 
-int64_t griddem_message_own_tag(const double *message, int values)
-{
-  const double *own = own_entry(message, values);
-  return own ? (int64_t) own[1] : -1;
-}
-
 int griddem_message_with_own_tag(double *message, int values, int64_t tag)
 {
   double *own = own_entry(message, values);
@@ -176,12 +170,15 @@ int griddem_message_renumber(double *message, int values, const int64_t *old_tag
   int kept = 0;
   for (int e = 0; e < count; e++) {
     const double *from = message + 1 + (size_t) width * e;
-    const int64_t key = (int64_t) from[0];
-    const long k = key == GRIDDEM_OWN_KEY ? -1 : sorted_index(old_tag, n, griddem_key_tag(key));
-    if (k < 0 && key != GRIDDEM_OWN_KEY) continue;
+    int64_t key = (int64_t) from[0];
+    if (key != GRIDDEM_OWN_KEY) {
+      const long k = sorted_index(old_tag, n, griddem_key_tag(key));
+      if (k < 0) continue;
+      key = griddem_key_retagged(key, new_tag[k]);
+    }
     double *to = message + 1 + (size_t) width * kept++;
     memmove(to + 1, from + 1, sizeof(double) * (size_t) values);
-    to[0] = key == GRIDDEM_OWN_KEY ? (double) key : (double) griddem_key_retagged(key, new_tag[k]);
+    to[0] = (double) key;
   }
   message[0] = kept;
   return GRIDDEM_ROW_MESSAGE_LENGTH(kept, values);

@@ -238,12 +238,10 @@ int griddem_history_put_message(griddem_history *h, const double *message, int v
 /* A row's own atom's ID, carried in its message as an entry of key GRIDDEM_OWN_KEY (no atom has
  * ID 0) whose first value is the ID, so that the IDs its other keys name partners by can be told
  * from its atoms' IDs after they are given new ones (delete_atoms compress yes, reset_atoms id).
- * fix griddem writes it at a run's end and into restart files; a sweep, which finds no partner
- * of that key, drops it as it rewrites the row. Needs a history of at least one value. */
+ * fix griddem writes it at a run's end and into restart files, and finds it as the entry of that
+ * key; a sweep, which finds no partner of that key, drops it as it rewrites the row. Needs a
+ * history of at least one value. */
 #define GRIDDEM_OWN_KEY 0
-
-/* The ID a message (values per contact) holds for its own atom, or -1 where it holds none. */
-int64_t griddem_message_own_tag(const double *message, int values);
 
 /* The message with its own atom's ID set to tag: its own entry rewritten, or one appended (the
  * message then needs room for GRIDDEM_HISTORY_ENTRY(values) doubles more). Returns its length. */
