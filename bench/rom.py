@@ -8,7 +8,7 @@
                                   [--test-outlet J,J,..] [--form occupancy|linear] [--components xz]
                                   [--eps 0.3] [--v0 0.36] [--every 50] [--drive match|dense|box]
                                   [--dense 0.5] [--overlap 0.1]
-    /usr/bin/python3 bench/rom.py --scene blade [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
+    /usr/bin/python3 bench/rom.py --scene blade|plates [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
                                   [--overlap 1.0]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
@@ -44,7 +44,11 @@ Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
-kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy)."""
+kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy).
+Scene plates (examples/rom-blade's 3D blade of the method's paper, 4,300 spheres): the same study
+with in.blade's blade plates (two plates 1.6 wide, the lower leaning back 35 degrees) in a bed 10
+long, 3.2 wide (y periodic) and about 1.0 high, cuts of one to two diameters (trajectories
+0.6-0.8:P), the model's grid 10 x 8 x 5 voxels around the blade (griddemtools.blade.FRAMES)."""
 import argparse
 import contextlib
 import datetime
@@ -106,7 +110,7 @@ def open_loop_accuracy(model, tag):
     field on the model's grid: open_loop_velocity_accuracy and _worst10, as the forward runs'
     (density-weighted, relative to the run's characteristic speed). Run where the files are."""
     m = read_model(model)
-    X, Y, _ = load_run(tag)
+    X, Y, _ = load_run(tag, (m["n"], m["box"]))
     nvox = m["n"][0] * m["n"][1] * m["n"][2]
     rho = X[:, :nvox]
     v_res = Y.reshape(len(Y), nvox, 3)
@@ -254,19 +258,24 @@ class Blade:
     pair = "griddem/granular"
     example = BLADE
     skins = "0.03,0.06,0.12"
+    folder, label, figure = "blade", "rom-blade", "errors.png"
+    bed = {}          # in.build's variables
+    geometry = {}     # in.blade's scene variables, every run's
+    blade = "block"
 
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
-        self.wd = os.path.join(a.work, "blade")
-        self.name = "rom-blade train %s test %s steps %d" % (a.train_traj, a.test_traj, a.steps)
+        self.wd = os.path.join(a.work, self.folder)
+        self.name = "%s train %s test %s steps %d" % (self.label, a.train_traj, a.test_traj, a.steps)
         self.name += settings_named(self.rom(), BLADE_DEFAULTS)
 
     def run(self, tag, variables, inp="in.blade"):
-        lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, variables, os.path.join(BLADE, "in.blade-scene"))
+        lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, dict(self.geometry, **variables),
+                os.path.join(BLADE, "in.blade-scene"))
 
     def train(self):
         if not os.path.exists(os.path.join(self.wd, "bed.restart")):
-            self.run("build", {}, "in.build")
+            self.run("build", dict(self.bed), "in.build")
         tags = []
         for traj in self.a.train_traj.split(","):
             zlow, push = traj.split(":")
@@ -275,7 +284,7 @@ class Blade:
                 self.run(tag, dict(zlow=zlow, push=push, adump=100))
             tags.append(tag)
         model = "rom.%s.model" % self.a.train_traj.replace(":", "_").replace(",", "-")
-        return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags)
+        return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags, ("--blade", self.blade))
 
     def test(self, scan=False):
         zlow, push = self.a.test_traj.split(":")
@@ -286,7 +295,16 @@ class Blade:
                     guard=self.a.guard, overlap=self.a.overlap)
 
 
-SCENES = dict(pile=Pile, hopper=Hopper, blade=Blade)
+class PaperBlade(Blade):
+    """examples/rom-blade's 3D blade of the method's paper: two plates 1.6 wide (in.blade's blade
+    plates) in a bed 10 long and 3.2 wide (y periodic), cutting up to two diameters deep."""
+    folder, label, figure = "blade-plates", "rom-blade plates", "errors-plates.png"
+    bed = dict(n=4300, L=10, W=3.2, fill=1.15)
+    geometry = dict(blade="plates", L=10, W=3.2, top=1.8, cgx=20, cgy=8, cgz=10)
+    blade = "plates"
+
+
+SCENES = dict(pile=Pile, hopper=Hopper, blade=Blade, plates=PaperBlade)
 
 
 def series_of(wd, ref, tag):
@@ -403,10 +421,11 @@ def main():
                     help="hopper: the velocity components the model predicts (train_rom.py --components; default xz: "
                     "the slice's mean vy is noise that would drive atoms into its front and rear walls)")
     ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
-    ap.add_argument("--train-traj", default="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2",
-                    help="blade: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom and "
-                    "push speed)")
-    ap.add_argument("--test-traj", default="1.2:0.9", help="blade: the test's trajectory")
+    ap.add_argument("--train-traj",
+                    help="blade, plates: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom "
+                    "and push speed; default blade 1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2, plates "
+                    "0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2: cuts of one to two diameters below the bed's surface near 1.0)")
+    ap.add_argument("--test-traj", help="blade, plates: the test's trajectory (default 1.2:0.9, 0.7:0.9)")
     ap.add_argument("--drive", choices=("match", "box", "dense"),
                     help="hopper, blade: fix griddem/rom keyword drive (default hopper match: those the field "
                     "matches; blade box: every atom in the model's grid is driven, as the paper's blade; dense: the "
@@ -439,7 +458,10 @@ def main():
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
                     hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
-                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0))[a.scene]
+                    blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
+                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
+                    plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)
@@ -449,7 +471,7 @@ def main():
     print(json.dumps(line))
     with open(a.out, "a") as f:
         f.write(json.dumps(line) + "\n")
-    figure = a.figure or os.path.join(scene.example, "reference", "errors.png")
+    figure = a.figure or os.path.join(scene.example, "reference", getattr(scene, "figure", "errors.png"))
     romfigure.draw(scene.wd, figure, "%s: speed-up %.2f over %s" % (scene.name, line["speedup"],
                                                                    line["baseline"]["pair_style"]))
     print("errors over time:", figure)

@@ -1,27 +1,31 @@
 """The blade of examples/rom-blade, measured: each snapshot binned in the blade's frame (the features
 and targets its model is trained on: train_blade.py), and the force on the blade.
 
-Run TAG's files (in.blade's outputs): atoms.TAG.txt (snapshots: id x z vx vz mass ...),
+Run TAG's files (in.blade's outputs): atoms.TAG.txt (snapshots: id x y z vx vy vz mass ...),
 controls.TAG.txt (step, the blade's front face bx and bottom bz, its velocity vbx vbz) and
 force.TAG.txt (every 100 steps, the means over those steps of the force the run measures on the
 blade (Fx, Fz: minus the blade's contact forces on the spheres), and of the force the reduced
 run's model predicts (Fx, Fz of fix griddem/rom's f_rom[14], f_rom[16]; 0 in a resolved run)).
 
-A snapshot is binned in the blade's frame, x relative to bx: FRAME_N voxels over FRAME_BOX, by
-the cloud-in-cell weights and boundary rule of fix griddem/rom (griddem_rom_weights: weights beyond
-a non-periodic boundary go to the boundary voxel; atoms outside the box are left out), density =
-mass / voxel volume, velocity = momentum / mass (0 in an empty voxel): written out here, apart
-from the fix's C code, which unittest/lammps/test_rom.py checks against it.
+A snapshot is binned in the blade's frame (FRAMES, by in.blade's blade), x relative to bx, y
+periodic over the frame's (the box's) width, by the cloud-in-cell weights and boundary rule of fix
+griddem/rom (griddem_rom_weights: weights beyond a non-periodic boundary go to the boundary voxel,
+along the periodic y they wrap; atoms outside the box are left out), density = mass / voxel
+volume, velocity = momentum / mass (0 in an empty voxel; vy 0 in a slice one voxel deep): written
+out here, apart from the fix's C code, which unittest/lammps/test_rom.py checks against it.
 Force accuracy = 1 - time-mean |F - F_resolved| / time-mean |F_resolved| (|.|: the norm of (Fx, Fz),
 means over all rows of the run)."""
 import numpy as np
 
 from . import dump
 
-# the frame: x from 6 behind the blade's front face to 18 ahead of it (the whole bed for every
-# blade position of the study), the slice's depth (y periodic, one voxel), z from the floor to 4
-FRAME_N = (48, 1, 8)
-FRAME_BOX = (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)
+# the frames (voxels, box), x relative to the blade's cutting edge, by in.blade's blade. block (the
+# slice): x from 6 behind to 18 ahead (the whole bed for every blade position of the study), the
+# slice's depth (y periodic, one voxel), z from the floor to 4. plates (the method's paper's 3D
+# blade): the grid around the blade that the paper's model drives, x from 1.5 behind to 3.5 ahead
+# (the heap it pushes), the bed's whole width (periodic, 8 voxels of 0.4), z from the floor to 2.5
+FRAMES = {"block": ((48, 1, 8), (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)),
+          "plates": ((10, 8, 5), (-1.5, 3.5, 0.0, 3.2, 0.0, 2.5))}
 
 
 def read_snapshots(path):
@@ -55,39 +59,42 @@ def cic_axis(x, lo, hi, n, periodic):
     return idx, np.stack([1.0 - f, f], axis=1)
 
 
-def bin_frame(x, z, vx, vz, mass, n=FRAME_N, box=FRAME_BOX):
-    """Density, vx, vy (0), vz on the frame's voxels (x relative to the blade's front face; one
-    voxel along the periodic y)."""
+def bin_frame(x, y, z, vx, vy, vz, mass, n, box):
+    """Density, vx, vy, vz on the frame's voxels n over box (x relative to the blade's cutting edge,
+    y periodic over the box's width; vy 0 where the frame is one voxel deep)."""
     nx, ny, nz = n
-    assert ny == 1
-    xlo, xhi, _, _, zlo, zhi = box
+    xlo, xhi, ylo, yhi, zlo, zhi = box
     inside = (x >= xlo) & (x < xhi) & (z >= zlo) & (z < zhi)
-    x, z, vx, vz, mass = x[inside], z[inside], vx[inside], vz[inside], mass[inside]
+    x, y, z, vx, vy, vz, mass = (a[inside] for a in (x, y, z, vx, vy, vz, mass))
     ix, wx = cic_axis(x, xlo, xhi, nx, False)
+    iy, wy = cic_axis(y, ylo, yhi, ny, True)
     iz, wz = cic_axis(z, zlo, zhi, nz, False)
     vol = np.prod([(box[2 * d + 1] - box[2 * d]) / n[d] for d in range(3)])
-    m, px, pz = (np.zeros(nx * ny * nz) for _ in range(3))
+    m, px, py, pz = (np.zeros(nx * ny * nz) for _ in range(4))
     for a in range(2):
-        for c in range(2):
-            voxel = ix[:, a] + nx * iz[:, c]
-            w = wx[:, a] * wz[:, c] * mass
-            np.add.at(m, voxel, w)
-            np.add.at(px, voxel, w * vx)
-            np.add.at(pz, voxel, w * vz)
+        for b in range(2):
+            for c in range(2):
+                voxel = ix[:, a] + nx * (iy[:, b] + ny * iz[:, c])
+                w = wx[:, a] * wy[:, b] * wz[:, c] * mass
+                np.add.at(m, voxel, w)
+                np.add.at(px, voxel, w * vx)
+                np.add.at(py, voxel, w * vy)
+                np.add.at(pz, voxel, w * vz)
     safe = np.where(m > 0, m, 1.0)
-    return m / vol, np.where(m > 0, px / safe, 0.0), np.zeros_like(m), np.where(m > 0, pz / safe, 0.0)
+    uy = np.where(m > 0, py / safe, 0.0) if ny > 1 else np.zeros_like(m)
+    return m / vol, np.where(m > 0, px / safe, 0.0), uy, np.where(m > 0, pz / safe, 0.0)
 
 
-def load_run(tag):
+def load_run(tag, frame):
     """Features, velocity targets and force targets of one resolved run's snapshots (run TAG's
-    files in the working folder)."""
+    files in the working folder), binned in frame (voxels, box)."""
     controls, force = read_table("controls.%s.txt" % tag), read_table("force.%s.txt" % tag)
     X, Y, F = [], [], []
     for step, a in read_snapshots("atoms.%s.txt" % tag):
         if step not in controls or step not in force:
             continue
         bx, _, vbx, vbz = controls[step]
-        rho, ux, uy, uz = bin_frame(a["x"] - bx, a["z"], a["vx"], a["vz"], a["mass"])
+        rho, ux, uy, uz = bin_frame(a["x"] - bx, a["y"], a["z"], a["vx"], a["vy"], a["vz"], a["mass"], *frame)
         X.append(np.concatenate([rho, [vbx, vbz]]))
         Y.append(np.stack([ux, uy, uz], axis=1).ravel())
         F.append([force[step][0], 0.0, force[step][1]])

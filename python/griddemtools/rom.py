@@ -164,15 +164,15 @@ RHO_BULK = 0.6
 
 
 def heights(frame):
-    """Per voxel column (x) of a dump grid frame: the mass-equivalent fill height, the mass above
-    z = 0 per unit area over RHO_BULK."""
+    """Per voxel column (x, y; x fastest) of a dump grid frame: the mass-equivalent fill height, the
+    mass above z = 0 per unit area over RHO_BULK."""
     nx, ny, nz = frame.n
     box = frame.box
     hz = (box[5] - box[4]) / nz
     zc = box[4] + (np.arange(nz) + 0.5) * hz
     rho = np.asarray(frame.columns["density"]).reshape(nz, ny, nx)
     inside = zc > 0
-    return (rho[inside].sum(axis=(0, 1)) * hz / ny) / RHO_BULK
+    return (rho[inside].sum(axis=0) * hz).ravel() / RHO_BULK
 
 
 def height_accuracy_series(res, rom):

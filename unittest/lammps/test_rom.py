@@ -1327,11 +1327,17 @@ run 0
 
 
 def frame_binning():
-    """30 spheres at random in a box periodic along y; a moving frame 4 x 1 x 3 voxels over
-    x -1..3 (relative), y 0..6, z 0..3, origin x = 1.7: the fix's density field at its first
-    classification (dump grid) against griddemtools.blade's bin_frame of the dumped positions."""
-    n, frame = (4, 1, 3), (-1.0, 3.0, 0.0, 6.0, 0.0, 3.0)
-    model = os.path.join(WD, "binning.model")
+    """30 spheres at random in a box periodic along y; a moving frame of 4 x 1 x 3 voxels (the
+    slice's layout) and of 4 x 3 x 3 (periodic along y, the 3D blade's) over x -1..3 (relative),
+    y 0..6, z 0..3, origin x = 1.7: the fix's density field at its first classification (dump grid)
+    against griddemtools.blade's bin_frame of the dumped positions."""
+    for n in ((4, 1, 3), (4, 3, 3)):
+        binned_alike(n, (-1.0, 3.0, 0.0, 6.0, 0.0, 3.0))
+
+
+def binned_alike(n, frame):
+    name = "binning.%d" % n[1]
+    model = os.path.join(WD, name + ".model")
     t.write_rom_model(model, n, frame, version=2, frame="moving")
     text = HEAD.format(bnd="f p f") + """
 create_atoms 1 random 30 7741 NULL overlap 0.3
@@ -1341,13 +1347,13 @@ velocity all set 0 0 0
 """ + PAIR + """
 fix rom all griddem/rom model {m} eps 1 v0 1 every 5 origin 1.7 0 0
 fix integrate rom_dynamic nve/sphere
-dump a all custom 5 binning.atoms id x z vx vz mass
+dump a all custom 5 {name}.atoms id x y z vx vy vz mass
 dump_modify a format float %.17g
-dump g all grid 5 binning.grid f_rom:field:density
+dump g all grid 5 {name}.grid f_rom:field:density
 dump_modify g format float %.17g
 run 5
-""".format(m=model)
-    t.run_ok(text, WD, name="in.binning")
+""".format(m=model, name=name)
+    t.run_ok(text, WD, name="in." + name)
     # griddemtools.blade needs numpy: the system interpreter's, as train_rom.py in training()
     import subprocess
     top = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -1357,13 +1363,13 @@ import sys
 sys.path.insert(0, %r)
 from griddemtools.blade import bin_frame, read_snapshots
 from griddemtools.grid import read_grid_dump
-atoms = dict(read_snapshots(%r))[5]
+a = dict(read_snapshots(%r))[5]
 fix = read_grid_dump(%r)[-1].columns["density"]
-rho = bin_frame(atoms["x"] - 1.7, atoms["z"], atoms["vx"], atoms["vz"], atoms["mass"], %r, %r)[0]
-inside = ((atoms["x"] - 1.7 >= -1) & (atoms["x"] - 1.7 < 3) & (atoms["z"] < 3)).sum()
+rho = bin_frame(a["x"] - 1.7, a["y"], a["z"], a["vx"], a["vy"], a["vz"], a["mass"], %r, %r)[0]
+inside = ((a["x"] - 1.7 >= -1) & (a["x"] - 1.7 < 3) & (a["z"] < 3)).sum()
 print(len(fix), max(abs(fix - rho)), inside)
-""" % (os.path.join(top, "python"), os.path.join(WD, "binning.atoms"),
-       os.path.join(WD, "binning.grid"), n, frame)
+""" % (os.path.join(top, "python"), os.path.join(WD, name + ".atoms"),
+       os.path.join(WD, name + ".grid"), n, frame)
     proc = subprocess.run(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True)
     t.check(proc.returncode == 0, "griddemtools.blade's binning runs: " + proc.stdout[-300:])
@@ -1371,9 +1377,9 @@ print(len(fix), max(abs(fix - rho)), inside)
         return
     nfix, worst, inside = proc.stdout.split()[-3:]
     nfix, worst, inside = int(nfix), float(worst), int(inside)
-    t.check(nfix == 12 and worst <= 1e-12 and 5 <= inside < 30,
-            "moving frame: the fix's density equals griddemtools.blade's binning (%d of 30 atoms inside; worst "
-            "difference %.3g)" % (inside, worst))
+    t.check(nfix == n[0] * n[1] * n[2] and worst <= 1e-12 and 5 <= inside < 30,
+            "moving frame of %d x %d x %d voxels: the fix's density equals griddemtools.blade's binning (%d of 30 "
+            "atoms inside; worst difference %.3g)" % (n + (inside, worst)))
 
 
 def rejoin():
