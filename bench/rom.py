@@ -44,7 +44,10 @@ Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
 speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
-kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy).
+kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy),
+the open-loop accuracy, and without_fields: the stock runs (three seeds) and the reduced runs
+again without the field and atom dumps the errors are measured on (in.blade -var fields no), and
+the speed-up of their medians.
 Scene plates (examples/rom-blade's 3D blade of the method's paper, 4,300 spheres): the same study
 with in.blade's blade plates (two plates 1.6 wide, the lower leaning back 35 degrees) in a bed 10
 long, 3.2 wide (y periodic) and about 1.0 high, cuts of one to two diameters (trajectories
@@ -388,6 +391,17 @@ def study(scene, a):
             record["noise_force_accuracy"] = force_accuracy(stock_tags[0], stock_tags[1], "measured")[
                 "force_accuracy_measured"]
             record.update(open_loop_accuracy(model, openloop))
+        # the stock and reduced runs again without the fields and atoms the errors are measured on
+        # (the force on the blade still sampled): the method's speed-up apart from that output
+        quiet = ["%s.stock.nofields.seed%d" % (base, s) for s in seeds]
+        for tag, seed in zip(quiet, seeds):
+            scene.run(tag, dict(scene.test(), pair=stock, skin=skin, seed=seed, fields="no"))
+        quiet_rom = ["%s.rom.nofields.r%d" % (base, k) for k in range(a.repeats)]
+        for tag in quiet_rom:
+            scene.run(tag, dict(rom, fields="no"))
+        stock_s, reduced_s = [loop_seconds(scene.wd, t) for t in quiet], [loop_seconds(scene.wd, t) for t in quiet_rom]
+        record["without_fields"] = dict(loop_s={stock: stock_s, "reduced": reduced_s},
+                                        speedup=statistics.median(stock_s) / statistics.median(reduced_s))
     record["left_out"] = left_out
     text = log.text_of(log_path(scene.wd, ref))
     runs = log.loop_times(text)
