@@ -5,6 +5,7 @@
   relative to: velocity |dv| / V_c, temperature dT / T_c, surface height sum |dh| / sum h; V_c of a
   uniform field is its speed; the worst tenth of a series is the mean of its largest tenth;
 - the same through error_series on hand-made grid frames (two voxel columns above the floor);
+  surface heights per (x, y) column of a frame two voxels deep;
 - the blade's open-loop accuracy of a model field off by a known offset, and the model file's
   round trip;
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
@@ -89,6 +90,21 @@ def series():
     acc = romerror.accuracies(e)
     t.check(abs(acc["velocity_accuracy"] - (1 - 0.5 / 2.4 ** 0.5)) < 1e-14 and
             acc["height_accuracy_worst10"] == acc["height_accuracy"], "accuracies one minus the errors: %s" % acc)
+
+
+def columns_3d():
+    """A 2 x 2 x 2 frame (x 0..2, y 0..1, z -1..1): heights per (x, y) column, x fastest; a surface
+    that moves material from one y column to the other at equal means along y is an error (the
+    paper's blade leaves berms beside its path)."""
+    from griddemtools.rom import heights
+
+    def frame3(density_above):
+        rho = [0.0] * 4 + list(density_above)    # the voxel layer below the floor, then above
+        return GridFrame(0, [0.0, 2.0, 0.0, 1.0, -1.0, 1.0], (2, 2, 2), [], dict(density=rho))
+    h = heights(frame3([0.6, 0.3, 0.0, 0.3]))
+    t.check(np.allclose(h, [1.0, 0.5, 0.0, 0.5], rtol=0, atol=1e-15), "heights per (x, y) column: %s" % h)
+    e = romerror.height_error(heights(frame3([0.6, 0.3, 0.0, 0.3])), heights(frame3([0.0, 0.3, 0.6, 0.3])))
+    t.check(abs(e - 1.0) < 1e-15, "height error of material moved across y at equal y means: %.17g (1)" % e)
 
 
 def open_loop():
@@ -178,6 +194,7 @@ def smoke():
 baseline()
 errors()
 series()
+columns_3d()
 open_loop()
 smoke()
 t.finish()
