@@ -437,9 +437,8 @@ def main():
     ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
     ap.add_argument("--train-traj",
                     help="blade, plates: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom "
-                    "and push speed; default blade 1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2, plates the eight of ZLOW 0.6, 0.7, 0.8 "
-                    "and PUSH 0.6, 0.9, 1.2 but the test's: cuts of one to two diameters below the bed's surface near "
-                    "1.0)")
+                    "and push speed; default blade 1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2, plates "
+                    "0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2: cuts of one to two diameters below the bed's surface near 1.0)")
     ap.add_argument("--test-traj", help="blade, plates: the test's trajectory (default 1.2:0.9, 0.7:0.9)")
     ap.add_argument("--drive", choices=("match", "box", "dense"),
                     help="hopper, blade: fix griddem/rom keyword drive (default hopper match: those the field "
@@ -476,8 +475,7 @@ def main():
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
                                train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
                     plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                                train_traj="0.6:0.6,0.6:0.9,0.6:1.2,0.7:0.6,0.7:1.2,0.8:0.6,0.8:0.9,0.8:1.2",
-                                test_traj="0.7:0.9"))[a.scene]
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)
