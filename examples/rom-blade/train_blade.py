@@ -6,10 +6,11 @@ the blade's velocity, from resolved runs.
     train_blade.py [--blade block|plates] OUT.model TAG [TAG ...]
 
 Reads, per run TAG, in.blade's outputs, each snapshot binned in the frame of in.blade's blade
-(default block, the slice's; python/griddemtools/blade.py: the files, the frames and their binning). Features: the densities and
-the controls (vbx, vbz); targets: the voxel velocities, and separately the force (x, 0, z), each
-fitted by griddemtools.rom's ridge (train_rom.py's) with its own lambda (leave-one-run-out). Writes a model of format
-version 2 with 'frame moving' (fix griddem/rom ... origin v_bx 0 0) and the 'force' block."""
+(default block, the slice's; python/griddemtools/blade.py: the files, the frames and their
+binning). Features: the densities and the controls (vbx, vbz); targets: the voxel velocities, and
+separately the force (x, 0, z), each fitted by griddemtools.rom's ridge (train_rom.py's) with its
+own lambda (leave-one-run-out). Writes a model of format version 2 with 'frame moving' (fix
+griddem/rom ... origin v_bx 0 0) and the 'force' block."""
 import os
 import sys
 
