@@ -434,34 +434,34 @@ def main():
     ap.add_argument("--components", default="xz",
                     help="hopper: the velocity components the model predicts (train_rom.py --components; default xz: "
                     "the slice's mean vy is noise that would drive atoms into its front and rear walls)")
-    ap.add_argument("--v0", type=float, help="hopper, blade: velocity scale of the threshold (default 0.36, 0.45)")
+    ap.add_argument("--v0", type=float, help="hopper, blade, plates: velocity scale of the threshold (default 0.36, 0.45)")
     ap.add_argument("--train-traj",
                     help="blade, plates: the training runs' trajectories, ZLOW:PUSH (the blade's lowest bottom "
                     "and push speed; default blade 1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2, plates "
                     "0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2: cuts of one to two diameters below the bed's surface near 1.0)")
     ap.add_argument("--test-traj", help="blade, plates: the test's trajectory (default 1.2:0.9, 0.7:0.9)")
     ap.add_argument("--drive", choices=("match", "box", "dense"),
-                    help="hopper, blade: fix griddem/rom keyword drive (default hopper match: those the field "
+                    help="hopper, blade, plates: fix griddem/rom keyword drive (default hopper match: those the field "
                     "matches; blade box: every atom in the model's grid is driven, as the paper's blade; dense: the "
                     "atoms where the material is dense are driven, DEM resolves the gas-like rest)")
     ap.add_argument("--dense", type=float, default=0.5,
                     help="with --drive dense: the density from which the model drives an atom (default 0.5)")
     ap.add_argument("--guard", choices=("yes", "no"), default="no",
-                    help="blade: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
+                    help="blade, plates: keep the atoms near the blade resolved (in.blade's region guard; default no, as "
                     "the paper's blade)")
     ap.add_argument("--overlap", type=float,
-                    help="hopper, blade: fix griddem/rom keyword overlap, the overlap with another atom that "
+                    help="hopper, blade, plates: fix griddem/rom keyword overlap, the overlap with another atom that "
                     "releases a kinematic one, over the smaller radius (default hopper 0.1, fix griddem/rom's own; blade "
                     "1.0: the field drives the heap ahead of the blade into itself)")
     ap.add_argument("--W", type=int, default=20, help="pile: container width (even)")
     ap.add_argument("--H", type=int, default=26, help="pile: box top above the plate (H+6 even)")
     ap.add_argument("--fill", type=float, default=9, help="pile: initial pile height")
     ap.add_argument("--inlet", type=float, help="pile: width of the feed region (default W - 2)")
-    ap.add_argument("--steps", type=int, help="pile, blade: every run's horizon (default 30000, 10000)")
+    ap.add_argument("--steps", type=int, help="pile, blade, plates: every run's horizon (default 30000, 10000)")
     ap.add_argument("--train", default="3,4,5,6", help="pile: outlet widths of the training runs")
     ap.add_argument("--test", type=float, default=4.5, help="pile: outlet width of the test")
-    ap.add_argument("--eps", type=float, help="default pile 0.1, hopper 0.3, blade 0.1")
-    ap.add_argument("--every", type=int, help="default pile 10, hopper 50, blade 500 (the CFL rule shortens it)")
+    ap.add_argument("--eps", type=float, help="default pile 0.1, hopper 0.3, blade and plates 0.1")
+    ap.add_argument("--every", type=int, help="default pile 10, hopper 50, blade and plates 500 (the CFL rule shortens it)")
     ap.add_argument("--block", type=float, default=0.0, help="pile: fix griddem/rom keyword block (0: atom by atom)")
     ap.add_argument("--walls", default="rom_dynamic", help="pile: group of the walls in the reduced run (all: the "
                     "force rule watches kinematic atoms at walls)")
