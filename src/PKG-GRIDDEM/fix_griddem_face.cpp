@@ -10,6 +10,7 @@
 #include "comm.h"
 #include "error.h"
 #include "force.h"
+#include "memory.h"
 #include "modify.h"
 #include "pair.h"
 
@@ -152,36 +153,92 @@ void FixGriddem::post_run()
 /* delete_atoms (compress yes, its default) and reset_atoms id give the atoms new IDs, and the
    rows key partners by the old ones: each key takes its partner's new ID, by the pairs (old ID,
    new ID) of every atom whose row holds its old one (a partner's does: the rows of a run's end
-   hold each contact from both sides), gathered from all processes; a key whose partner is gone
-   is dropped, so that no atom given its number inherits the contact. Each row then holds its
-   atom's new ID: reset_atoms id runs an init of its own before it renumbers. */
+   hold each contact from both sides); a key whose partner is gone is dropped, so that no atom
+   given its number inherits the contact. The pairs meet the keys that ask for them at the
+   process old ID % nprocs (LAMMPS's rendezvous, as reset_atoms id and the special lists find
+   atoms), so no process holds more than its own rows' partners. Each row then holds its atom's
+   new ID: reset_atoms id runs an init of its own before it renumbers. */
+
+namespace {
+// a datum of the rendezvous: an atom's old and new ID (new >= 1), or a process's question for
+// an old ID (new 0: asked; -1 in the answer: the atom is gone)
+struct RenumberDatum {
+  int64_t old_id, new_id;
+  int proc;
+};
+}    // namespace
+
+int FixGriddem::renumbering_answers(int n, char *in, int &flag, int *&procs, char *&out, void *ptr)
+{
+  auto *fix = (FixGriddem *) ptr;
+  auto *datum = (RenumberDatum *) in;
+  std::vector<std::pair<int64_t, int64_t>> known;
+  int nasked = 0;
+  for (int k = 0; k < n; k++) {
+    if (datum[k].new_id > 0) known.emplace_back(datum[k].old_id, datum[k].new_id);
+    else nasked++;
+  }
+  std::sort(known.begin(), known.end());
+  fix->memory->create(procs, nasked, "griddem:renumbering_procs");
+  auto *answer = (RenumberDatum *) fix->memory->smalloc((bigint) nasked * sizeof(RenumberDatum) + 1,
+                                                        "griddem:renumbering_answers");
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    if (datum[k].new_id > 0) continue;
+    auto at = std::lower_bound(known.begin(), known.end(), std::make_pair(datum[k].old_id, (int64_t) 0));
+    const bool found = at != known.end() && at->first == datum[k].old_id;
+    answer[m] = {datum[k].old_id, found ? at->second : -1, datum[k].proc};
+    procs[m++] = datum[k].proc;
+  }
+  flag = 2;
+  out = (char *) answer;
+  return nasked;
+}
 
 void FixGriddem::follow_renumbering()
 {
-  const int nlocal = atom->nlocal, values = history_values();
-  std::vector<int64_t> mine;
+  const int nlocal = atom->nlocal, values = history_values(), nprocs = comm->nprocs;
+  std::vector<RenumberDatum> send;
   int renumbered = 0, any = 0;
   for (int i = 0; i < nlocal && values >= 1; i++) {
     const double *own = find_history(i, GRIDDEM_OWN_KEY);
     if (!own) continue;
     const auto before = (int64_t) own[0], now = (int64_t) atom->tag[i];
-    mine.push_back(before), mine.push_back(now);
+    send.push_back({before, now, comm->me});
     renumbered |= before != now;
   }
   MPI_Allreduce(&renumbered, &any, 1, MPI_INT, MPI_MAX, world);
   if (!any) return;
-  int nmine = (int) mine.size(), nprocs = comm->nprocs;
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
-  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-  std::vector<int64_t> all((size_t) displs[nprocs - 1] + counts[nprocs - 1]);
-  MPI_Allgatherv(mine.data(), nmine, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, world);
-  std::vector<std::pair<int64_t, int64_t>> pairs(all.size() / 2);
-  for (size_t k = 0; k < pairs.size(); k++) pairs[k] = {all[2 * k], all[2 * k + 1]};
+
+  // the old IDs this process's rows name, once each
+  std::vector<int64_t> asked;
+  std::vector<double> message;
+  for (int i = 0; i < nlocal; i++) {
+    if (message_length(i) <= 1) continue;
+    message.resize(message_length(i));
+    get_message(i, message.data());
+    const size_t at = asked.size();
+    asked.resize(at + (size_t) message[0]);
+    asked.resize(at + griddem_message_partners(message.data(), values, asked.data() + at));
+  }
+  std::sort(asked.begin(), asked.end());
+  asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
+  for (const int64_t id : asked) send.push_back({id, 0, comm->me});
+
+  std::vector<int> procs(send.size());
+  for (size_t k = 0; k < send.size(); k++) procs[k] = (int) (send[k].old_id % nprocs);
+  char *buf = nullptr;
+  const int nanswer = comm->rendezvous(1, (int) send.size(), (char *) send.data(), sizeof(RenumberDatum), 0,
+                                       procs.data(), renumbering_answers, 0, buf, sizeof(RenumberDatum),
+                                       (void *) this);
+  const auto *answer = (const RenumberDatum *) buf;
+  std::vector<std::pair<int64_t, int64_t>> pairs;
+  for (int k = 0; k < nanswer; k++)
+    if (answer[k].new_id > 0) pairs.emplace_back(answer[k].old_id, answer[k].new_id);
+  memory->sfree(buf);
   std::sort(pairs.begin(), pairs.end());
   std::vector<int64_t> old_tag(pairs.size()), new_tag(pairs.size());
   for (size_t k = 0; k < pairs.size(); k++) old_tag[k] = pairs[k].first, new_tag[k] = pairs[k].second;
-  std::vector<double> message;
   for (int i = 0; i < nlocal; i++) {
     if (message_length(i) <= 1) continue;
     message.resize(message_length(i) + GRIDDEM_HISTORY_ENTRY(values));

@@ -106,6 +106,7 @@ class FixGriddem : public Fix {
   // atoms given new IDs between runs (delete_atoms compress yes, reset_atoms id): each row's own
   // ID, written into it at a run's end, tells the keys to renumber at the next init
   void follow_renumbering();
+  static int renumbering_answers(int n, char *in, int &flag, int *&procs, char *&out, void *ptr);
   int own_message(int i, double *message);    // atom i's row message with its own ID
   GriddemFixOptions parse_options(int narg, char **arg);
   std::vector<int> image_codes;    // periodic_images()

@@ -164,6 +164,17 @@ static long sorted_index(const int64_t *tags, long n, int64_t tag)
   return lo < n && tags[lo] == tag ? lo : -1;
 }
 
+int griddem_message_partners(const double *message, int values, int64_t *tags)
+{
+  const int count = (int) message[0], width = GRIDDEM_HISTORY_ENTRY(values);
+  int n = 0;
+  for (int e = 0; e < count; e++) {
+    const int64_t key = (int64_t) message[1 + (size_t) width * e];
+    if (key != GRIDDEM_OWN_KEY) tags[n++] = griddem_key_tag(key);
+  }
+  return n;
+}
+
 int griddem_message_renumber(double *message, int values, const int64_t *old_tag, const int64_t *new_tag, long n)
 {
   const int count = (int) message[0], width = GRIDDEM_HISTORY_ENTRY(values);

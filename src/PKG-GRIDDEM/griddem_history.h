@@ -247,6 +247,10 @@ int griddem_history_put_message(griddem_history *h, const double *message, int v
  * message then needs room for GRIDDEM_HISTORY_ENTRY(values) doubles more). Returns its length. */
 int griddem_message_with_own_tag(double *message, int values, int64_t tag);
 
+/* The partners' tags of a row message's entries (its own entry left out) into tags (room for
+ * the message's count), in order. Returns how many. */
+int griddem_message_partners(const double *message, int values, int64_t *tags);
+
 /* A row message (values per contact) after its atoms were given new IDs: the n pairs
  * old_tag[k] -> new_tag[k], sorted by old tag, hold every partner that remains under the ID the
  * message's keys name it by; each key takes its partner's new tag (the relative image kept), an

@@ -146,6 +146,11 @@ static void check_renumbered_message(void)
   const int64_t above = griddem_image_key(40, 0, griddem_image_code(up, z));
   /* partners 40 (same image), 40 one image up, 17 (deleted) and 25, 2 values each */
   double m[1 + 4 * 3] = {4, 40, 1.5, -1.5, (double) above, 2.5, -2.5, 17, 3.5, -3.5, 25, 4.5, -4.5};
+  int64_t partners[4] = {0};
+  CHECK(griddem_message_partners(m, 2, partners) == 4 && partners[0] == 40 && partners[1] == 40 &&
+            partners[2] == 17 && partners[3] == 25,
+        "the message's partners, an image's by its tag: %lld %lld %lld %lld", (long long) partners[0],
+        (long long) partners[1], (long long) partners[2], (long long) partners[3]);
   const int64_t old_tag[] = {3, 25, 40, 41}, new_tag[] = {3, 24, 37, 38}; /* sorted by old tag */
   const int n = griddem_message_renumber(m, 2, old_tag, new_tag, 4);
   CHECK(n == 1 + 3 * 3 && m[0] == 3, "three entries kept: length %d, count %g", n, m[0]);
@@ -161,6 +166,7 @@ static void check_renumbered_message(void)
         "own entry appended");
   CHECK(griddem_message_with_own_tag(own, 2, 31) == 1 + 2 * 3 && own_tag_found(own, 2) == 31 && own[4] == 0,
         "own entry rewritten in place");
+  CHECK(griddem_message_partners(own, 2, partners) == 1 && partners[0] == 24, "the own entry is no partner");
   const int64_t back_old[] = {24}, back_new[] = {20};
   CHECK(griddem_message_renumber(own, 2, back_old, back_new, 1) == 1 + 2 * 3 && own[1] == 20 &&
             own_tag_found(own, 2) == 31,
