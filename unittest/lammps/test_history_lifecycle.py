@@ -206,14 +206,15 @@ def reset_ids(wd, data):
 def renumbered(wd, data):
     """delete_atoms with compress yes (its default) gives the remaining atoms new IDs between runs:
     the contacts keep their history, so the state equals that of compress no (IDs kept): the
-    elastic energy at run 0 to 1e-12, KE and pressure 30 steps on to 1e-10, on 1 and 2 ranks.
+    elastic energy at run 0 to 1e-12, KE and pressure 30 steps on to 1e-10, on 1, 2 and 3 ranks
+    (3: the new IDs meet most keys on a process that owns neither atom, old ID % 3).
     Stock gran/hooke/history loses or mixes its history there (printed, not checked)."""
     def run(style, compress, nprocs):
         text = START.format(data=data, pair=style + " " + HOOKE, coeffs="pair_coeff * *") + \
             "run 30\ngroup few id <= 40\ndelete_atoms group few compress %s\n" % compress + \
             thermo("press" + (" f_GRIDDEM[7]" if "griddem" in style else "")) + "run 0\nrun 30\n"
         return t.run_ok(text, wd, nprocs=nprocs, name="in.renumber_%s_%s_%d" % (style.split("/")[0], compress, nprocs))
-    for nprocs in (1, 2):
+    for nprocs in (1, 2, 3):
         kept, renumbered_run = run("griddem/hooke/history", "no", nprocs), run("griddem/hooke/history", "yes", nprocs)
         e_kept, e_new = t.thermo_values(kept, "f_GRIDDEM[7]"), t.thermo_values(renumbered_run, "f_GRIDDEM[7]")
         t.check(e_kept and e_new and e_kept[0] > 0.0 and rel(e_new[0], e_kept[0]) <= 1e-12,
