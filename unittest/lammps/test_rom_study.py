@@ -7,7 +7,7 @@
 - the same through error_series on hand-made grid frames (two voxel columns above the floor);
   surface heights per (x, y) column of a frame two voxels deep;
 - the blade's open-loop accuracy of a model field off by a known offset, and the model file's
-  round trip;
+  round trip; in.blade refuses a blade shape it does not have, by name;
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
   with every field the issue names, a speed-up against the faster baseline of its own loop times,
   the scanned skin that ran fastest, and a griddem resolved run that equals stock's of the same
@@ -149,6 +149,15 @@ REQUIRED = ["build", "baseline", "speedup", "velocity_accuracy", "height_accurac
             "noise_velocity_accuracy", "noise_height_accuracy", "velocity_accuracy_worst10", "height_accuracy_worst10"]
 
 
+def blade_shape_refused():
+    """examples/rom-blade's in.blade with a blade it does not have stops before reading its bed,
+    naming the value."""
+    rc, out = t.run_lmp("include %s\n" % os.path.join(TOP, "examples", "rom-blade", "in.blade"), WD,
+                        name="in.blade_wedge", extra=("-var", "blade", "wedge"))
+    t.check(rc != 0 and "in.blade: -var blade wedge: neither block nor plates" in out,
+            "in.blade -var blade wedge refused by name (exit %d): %s" % (rc, out[-200:]))
+
+
 def smoke():
     out = os.path.join(WD, "rom.jsonl")
     proc = subprocess.run([sys.executable, os.path.join(TOP, "bench", "rom.py"), "--lmp", t.LMP, "--steps", "1000",
@@ -196,5 +205,6 @@ errors()
 series()
 columns_3d()
 open_loop()
+blade_shape_refused()
 smoke()
 t.finish()
