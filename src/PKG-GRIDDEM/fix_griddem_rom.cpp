@@ -673,16 +673,20 @@ void FixGriddemRom::store_lagging()
   size_t record = atom->avec->maxexchange + 1024;
   for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
   AtomVec *avec = atom->avec;
-  int taken = 0;
-  for (int i = atom->nlocal - 1; i >= 0; i--) {
-    if (!(mask[i] & lagging_bit)) continue;
-    if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
-    stored_used += avec->pack_exchange(i, &stored[stored_used]);
-    // the last atom fills the hole (the last one itself leaves none: most of a bed lags at once)
-    if (i != atom->nlocal - 1) avec->copy(atom->nlocal - 1, i, 1);
-    atom->nlocal--;
-    taken++;
+  int taken = 0, kept = 0;
+  // the atoms that stay close ranks in order: most of a bed lags at once, so moving the few that
+  // stay costs less than filling each hole with the last atom
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (mask[i] & lagging_bit) {
+      if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
+      stored_used += avec->pack_exchange(i, &stored[stored_used]);
+      taken++;
+    } else {
+      if (kept != i) avec->copy(i, kept, 1);
+      kept++;
+    }
   }
+  atom->nlocal = kept;
   nstored += taken;
   double counts_mine[2] = {(double) taken, (double) nstored}, counts_all[2];
   MPI_Allreduce(counts_mine, counts_all, 2, MPI_DOUBLE, MPI_SUM, world);
