@@ -3,9 +3,11 @@ and targets its model is trained on: train_blade.py), and the force on the blade
 
 Run TAG's files (in.blade's outputs): atoms.TAG.txt (snapshots: id x y z vx vy vz mass ...),
 controls.TAG.txt (step, the blade's front face bx and bottom bz, its velocity vbx vbz) and
-force.TAG.txt (every 100 steps, the means over those steps of the force the run measures on the
-blade (Fx, Fz: minus the blade's contact forces on the spheres), and of the force the reduced
-run's model predicts (Fx, Fz of fix griddem/rom's f_rom[14], f_rom[16]; 0 in a resolved run)).
+force.TAG.txt (fix ave/time's file: every 100 steps, the means over those steps of the contact
+forces of the blade's walls on the spheres, x and z of each wall (c_onspheres[1], [2], then the
+second plate's [3], [4]), and of the force the reduced run's model predicts (fix griddem/rom's
+f_rom[14], f_rom[16]; absent in a resolved run); read_force makes the blade's force of them: minus
+the walls' sum).
 
 A snapshot is binned in the blade's frame (FRAMES, by in.blade's blade), x relative to bx, y
 periodic over the frame's (the box's) width, by the cloud-in-cell weights and boundary rule of fix
@@ -88,7 +90,8 @@ def bin_frame(x, y, z, vx, vy, vz, mass, n, box):
 def load_run(tag, frame):
     """Features, velocity targets and force targets of one resolved run's snapshots (run TAG's
     files in the working folder), binned in frame (voxels, box)."""
-    controls, force = read_table("controls.%s.txt" % tag), read_table("force.%s.txt" % tag)
+    controls = read_table("controls.%s.txt" % tag)
+    force = {int(row[0]): row[1:] for row in read_force(tag)}
     X, Y, F = [], [], []
     for step, a in read_snapshots("atoms.%s.txt" % tag):
         if step not in controls or step not in force:
@@ -102,8 +105,29 @@ def load_run(tag, frame):
 
 
 def read_force(tag):
-    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz (force.TAG.txt in the working folder)."""
-    return np.loadtxt("force.%s.txt" % tag, comments="#")
+    """Array of rows: step, Fx, Fz, predicted Fx, predicted Fz (force.TAG.txt in the working folder,
+    its columns by the names of its header line '# TimeStep NAME ...')."""
+    path = "force.%s.txt" % tag
+    names = None
+    with open(path) as f:
+        for line in f:
+            if line.startswith("# TimeStep"):
+                names = line.split()[2:]
+                break
+    if names is None:
+        raise ValueError("%s: no '# TimeStep' header naming its columns" % path)
+    data = np.atleast_2d(np.loadtxt(path, comments="#"))
+    out = np.zeros((len(data), 5))
+    out[:, 0] = data[:, 0]
+    for k, name in enumerate(names):
+        column = data[:, 1 + k]
+        if name.startswith("c_onspheres["):    # wall force on the spheres: x at odd, z at even index
+            out[:, 1 if int(name[12:-1]) % 2 else 2] -= column
+        elif name in ("f_rom[14]", "f_rom[16]"):
+            out[:, 3 if name == "f_rom[14]" else 4] = column
+        else:
+            raise ValueError("%s: column %s is not a wall's force or the model's" % (path, name))
+    return out
 
 
 def force_accuracy(res_tag, tag, which):

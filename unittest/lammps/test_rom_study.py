@@ -7,7 +7,8 @@
 - the same through error_series on hand-made grid frames (two voxel columns above the floor);
   surface heights per (x, y) column of a frame two voxels deep;
 - the blade's open-loop accuracy of a model field off by a known offset, and the model file's
-  round trip; in.blade refuses a blade shape it does not have, by name;
+  round trip; in.blade refuses a blade shape it does not have, by name; the blade's force read from
+  fix ave/time's columns of its walls (minus their sum) and of the model's prediction;
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
   with every field the issue names, a speed-up against the faster baseline of its own loop times,
   the scanned skin that ran fastest, and a griddem resolved run that equals stock's of the same
@@ -128,7 +129,7 @@ def open_loop():
         with open("controls.t.txt", "w") as f:
             f.write("# step bx bz vbx vbz\n100 0 0 0.5 0\n")
         with open("force.t.txt", "w") as f:
-            f.write("# step Fx Fz\n100 1 2\n")
+            f.write("# Time-averaged data for fix force\n# TimeStep c_onspheres[1] c_onspheres[2]\n100 -1 -2\n")
         X, Y, _ = load_run("t", FRAMES["block"])
         nvox = FRAME_N[0] * FRAME_N[1] * FRAME_N[2]
         W = np.zeros((3 * nvox, 1 + nvox + 2))
@@ -147,6 +148,27 @@ def open_loop():
 REQUIRED = ["build", "baseline", "speedup", "velocity_accuracy", "height_accuracy", "temperature_accuracy",
             "do_nothing_velocity_accuracy", "do_nothing_height_accuracy", "left_out", "stock_skin", "skin_scan",
             "noise_velocity_accuracy", "noise_height_accuracy", "velocity_accuracy_worst10", "height_accuracy_worst10"]
+
+
+def blade_force_file():
+    """griddemtools.blade.read_force: the blade's force is minus the sum of its walls' forces on the
+    spheres (x at the odd columns of c_onspheres, z at the even), the prediction f_rom[14] and [16]
+    as they are, 0 where a resolved run has none."""
+    from griddemtools.blade import read_force
+    here = os.getcwd()
+    os.chdir(WD)
+    try:
+        with open("force.plates.txt", "w") as f:
+            f.write("# Time-averaged data for fix force\n# TimeStep c_onspheres[1] c_onspheres[2] c_onspheres[3] "
+                    "c_onspheres[4] f_rom[14] f_rom[16]\n100 1 2 3 4 5 6\n200 -1 0.5 0.25 0 7 8\n")
+        with open("force.block.txt", "w") as f:
+            f.write("# Time-averaged data for fix force\n# TimeStep c_onspheres[1] c_onspheres[2]\n100 -1 -2\n")
+        plates, block = read_force("plates"), read_force("block")
+    finally:
+        os.chdir(here)
+    t.check(np.array_equal(plates, [[100, -4, -6, 5, 6], [200, 0.75, -0.5, 7, 8]]),
+            "two walls and the prediction: %s" % plates.tolist())
+    t.check(np.array_equal(block, [[100, 1, 2, 0, 0]]), "one wall, no prediction: %s" % block.tolist())
 
 
 def blade_shape_refused():
@@ -205,6 +227,7 @@ errors()
 series()
 columns_3d()
 open_loop()
+blade_force_file()
 blade_shape_refused()
 smoke()
 t.finish()
