@@ -46,7 +46,8 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
-    counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), store_at(-1), return_at(-1), reach_due(false)
+    counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), store_at(-1), return_at(-1), reach_due(false),
+    records_readable(false), near_return_at(-1)
 {
   std::string model_file;
   int every = 0;
@@ -382,10 +383,9 @@ void FixGriddemRom::initial_integrate(int)
    of a lagging one, so the reach test runs before the pair sees it. */
 void FixGriddemRom::post_neighbor()
 {
-  if (reach_due) {    // the skin rule fired: the stored atoms are back and brought up to date
+  if (reach_due) {    // the skin rule fired (counted then): the stored atoms are back and up to date
     reach_due = false;
     mark_near();
-    counts[REACH_TESTS] += 1;
     plan_store();
     return;
   }
@@ -396,6 +396,7 @@ void FixGriddemRom::post_neighbor()
     // create atoms, so only a fix that creates them unannounced gets here): the reach test needs
     // them, at the next step
     reach_due = true;
+    counts[REACH_TESTS] += 1;
     return_at = next_reneighbor = update->ntimestep + 1;
     fill_nearlist();
   } else if (any) {
@@ -483,20 +484,73 @@ void FixGriddemRom::catch_up()
 
 /* Which kinematic atoms move at DEM's step (near: a dynamic atom within reach), and how far each
    dynamic atom may move before a lagging one could meet it (its budget); griddem_rom_mark_near.
-   Positions and masks of the ghosts must be current. */
+   Positions and masks of the ghosts must be current. Atoms held in the store (only where
+   reach_test_in_place) take part where they are: those found near are marked to come back. */
 void FixGriddemRom::mark_near()
 {
-  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int nlocal = atom->nlocal, nghost = atom->nghost;
   double **x = atom->x, **v = atom->v;
   int *mask = atom->mask;
-  std::vector<int> kinematic(nall), near(nlocal);
-  std::vector<double> budget(nlocal);
-  for (int j = 0; j < nall; j++) kinematic[j] = (mask[j] & kinematic_bit) ? 1 : 0;
+  // the stored atoms (reach_test_in_place) take part as owned atoms after LAMMPS's, their periodic
+  // images within the ghost cutoff after LAMMPS's ghosts
+  const int ns = nstored;
+  std::vector<double> images;    // x, y, z, record
+  if (ns > 0) {
+    const double cut = comm->get_comm_cutoff();
+    const double *lo = domain->boxlo, *hi = domain->boxhi, *prd = domain->prd;
+    for (int k = 0; k < ns; k++) {
+      const double *p = &stored[record_at[k] + 1];
+      // per axis the shifts by the box's length that keep the point within the ghost cutoff
+      int nshift[3], shift[3][3];
+      for (int d = 0; d < 3; d++) {
+        nshift[d] = 0;
+        shift[d][nshift[d]++] = 0;
+        if (domain->periodicity[d]) {
+          if (p[d] + prd[d] <= hi[d] + cut) shift[d][nshift[d]++] = 1;
+          if (p[d] - prd[d] >= lo[d] - cut) shift[d][nshift[d]++] = -1;
+        }
+      }
+      for (int a = 0; a < nshift[0]; a++)
+        for (int b = 0; b < nshift[1]; b++)
+          for (int c = (a == 0 && b == 0) ? 1 : 0; c < nshift[2]; c++) {
+            const double q[4] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1], p[2] + shift[2][c] * prd[2],
+                                 (double) k};
+            images.insert(images.end(), q, q + 4);
+          }
+    }
+  }
+  const int nimage = (int) images.size() / 4, nown = nlocal + ns, nall = nown + nghost + nimage;
+  std::vector<int> kinematic(nall), near(nown);
+  std::vector<double> budget(nown), points, radii;
+  const double *xs = nlocal + nghost ? x[0] : nullptr, *rs = atom->radius;
+  for (int j = 0; j < nlocal + nghost; j++) kinematic[j < nlocal ? j : j + ns] = (mask[j] & kinematic_bit) ? 1 : 0;
+  if (ns > 0) {    // owned, stored, ghosts, images
+    points.resize(3 * (size_t) nall);
+    radii.resize(nall);
+    if (nlocal + nghost) {
+      std::copy(xs, xs + 3 * (size_t) nlocal, points.begin());
+      std::copy(xs + 3 * (size_t) nlocal, xs + 3 * (size_t) (nlocal + nghost), points.begin() + 3 * (size_t) nown);
+      std::copy(rs, rs + nlocal, radii.begin());
+      std::copy(rs + nlocal, rs + nlocal + nghost, radii.begin() + nown);
+    }
+    for (int k = 0; k < ns; k++) {
+      for (int d = 0; d < 3; d++) points[3 * (size_t) (nlocal + k) + d] = stored[record_at[k] + 1 + d];
+      radii[nlocal + k] = stored_radius[k];
+      kinematic[nlocal + k] = 1;
+    }
+    for (int m = 0; m < nimage; m++) {
+      const int j = nown + nghost + m, k = (int) images[4 * (size_t) m + 3];
+      for (int d = 0; d < 3; d++) points[3 * (size_t) j + d] = images[4 * (size_t) m + d];
+      radii[j] = stored_radius[k];
+      kinematic[j] = 1;
+    }
+    xs = points.data(), rs = radii.data();
+  }
   if (cap <= 0.0) {
     std::fill(near.begin(), near.end(), 1);
     std::fill(budget.begin(), budget.end(), INFINITY);
-  } else if (nall && griddem_rom_mark_near(nlocal, nall, x[0], atom->radius, kinematic.data(), reach, cap, near.data(),
-                                    budget.data(), &near_grid, &near_bins) != 0)
+  } else if (nall && griddem_rom_mark_near(nown, nall, xs, rs, kinematic.data(), reach, cap, near.data(), budget.data(),
+                                           &near_grid, &near_bins) != 0)
     error->one(FLERR, "Fix griddem/rom: out of memory for the reach test of {} atoms", nall);
   double umax = 0.0, nnear = 0.0, nkin = 0.0;
   for (int i = 0; i < nlocal; i++) {
@@ -508,6 +562,16 @@ void FixGriddemRom::mark_near()
     const bool lagging = kinematic[i] && !near[i];
     mask[i] = lagging ? (mask[i] | lagging_bit) : (mask[i] & ~lagging_bit);
     if (lagging) umax = MAX(umax, sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]));
+  }
+  stored_near.assign(ns, 0);
+  stored_budget.assign(ns, 0.0);
+  for (int k = 0; k < ns; k++) {    // near: back at the next step; lagging: out, as they were
+    nkin += 1.0;
+    stored_near[k] = near[nlocal + k] ? 1 : 0;
+    stored_budget[k] = budget[nlocal + k];
+    nnear += stored_near[k];
+    const double *vk = &stored[record_at[k] + 4];
+    if (!stored_near[k]) umax = MAX(umax, sqrt(vk[0] * vk[0] + vk[1] * vk[1] + vk[2] * vk[2]));
   }
   comm->forward_comm(this);    // the ghosts' lagging bits: the pair leaves lagging atoms out
   fresh = false;
@@ -549,17 +613,21 @@ void FixGriddemRom::end_of_step()
       mine = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) + travel >= track[i][TRACK_BUDGET];
     }
     MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
-    if (any && nstored_all > 0.0) {    // the reach test needs the stored atoms back: next step
+    if (any) counts[REACH_TESTS] += 1;
+    if (any && nstored_all > 0.0 && !reach_test_in_place()) {    // the stored atoms come back first: next step
       reach_due = true;
       return_at = next_reneighbor = update->ntimestep + 1;
     } else if (any) {
+      catch_up_store();
       catch_up();
       comm->forward_comm();
       mark_near();
-      counts[REACH_TESTS] += 1;
       plan_store();
+      if (std::find(stored_near.begin(), stored_near.end(), 1) != stored_near.end())
+        near_return_at = update->ntimestep + 1;
     }
     if (nstored_all > 0.0) plan_return();
+    arm_reneighbor();
   }
   counts[SECONDS] += MPI_Wtime() - t0;
   fill_state();
@@ -569,7 +637,7 @@ void FixGriddemRom::post_run()
 {
   if (nstored_all > 0.0) return_stored(false);    // a run stopped early (fix halt, timer)
   catch_up();
-  store_at = return_at = next_reneighbor = -1;
+  store_at = return_at = near_return_at = next_reneighbor = -1;
   reach_due = false;
 }
 
@@ -645,11 +713,23 @@ void FixGriddemRom::pre_exchange()
     return_at = -1;
     if (reach_due) catch_up();    // the reach test follows at post_neighbor
     else if (now != next_model) plan_store();    // a dump, restart or the last step: out again after it
-  }
+  } else if (near_return_at >= 0 && now >= near_return_at)
+    return_near();
+  near_return_at = -1;
   if (store_at >= 0 && now >= store_at) {
     store_at = -1;
     store_lagging();
   }
+  arm_reneighbor();
+}
+
+/* The next step whose pre_exchange takes atoms out or brings them back, as the step LAMMPS is asked
+   to reneighbor at (-1: none). */
+void FixGriddemRom::arm_reneighbor()
+{
+  next_reneighbor = -1;
+  for (const bigint at : {store_at, return_at, near_return_at})
+    if (at >= 0 && (next_reneighbor < 0 || at < next_reneighbor)) next_reneighbor = at;
 }
 
 /* Take this process's lagging atoms out of LAMMPS's arrays, each packed by LAMMPS's exchange
@@ -665,7 +745,7 @@ void FixGriddemRom::store_lagging()
   // a store and its return cost about two reneighborings of every atom, and each held atom saves
   // its share of a step's per-atom loops while it is out: only so many atom-steps out pay for it
   if ((double) (return_at - update->ntimestep) * lagging_all < STORE_PAYBACK * (double) atom->natoms) {
-    return_at = next_reneighbor = -1;
+    if (nstored_all == 0.0) return_at = next_reneighbor = -1;
     return;
   }
   // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
@@ -679,7 +759,15 @@ void FixGriddemRom::store_lagging()
   for (int i = 0; i < atom->nlocal; i++) {
     if (mask[i] & lagging_bit) {
       if (stored.size() < stored_used + record) stored.resize(2 * (stored_used + record));
-      stored_used += avec->pack_exchange(i, &stored[stored_used]);
+      const size_t at = stored_used;
+      stored_used += avec->pack_exchange(i, &stored[at]);
+      record_at.push_back(at);
+      stored_radius.push_back(atom->radius[i]);
+      if (taken == 0) {
+        bool same = ubuf(stored[at + 9]).i == mask[i];
+        for (int d = 0; d < 3; d++) same = same && stored[at + 1 + d] == atom->x[i][d] && stored[at + 4 + d] == atom->v[i][d];
+        records_readable = same;
+      }
       taken++;
     } else {
       if (kept != i) avec->copy(i, kept, 1);
@@ -707,6 +795,65 @@ void FixGriddemRom::reset_local_map()
   }
 }
 
+/* Whether the skin rule's reach test can read the stored atoms where they are instead of bringing
+   them back: on one process (no other process holds ghosts of them), in an orthogonal box (their
+   periodic images are shifts by the box's lengths), with records that hold x, v and the mask where
+   AtomVec::pack_exchange puts them (checked on the first atom of each store). */
+bool FixGriddemRom::reach_test_in_place() const
+{
+  return comm->nprocs == 1 && !domain->triclinic && records_readable && !record_at.empty();
+}
+
+/* The stored atoms to the present in their records, as catch_up() moves LAMMPS's lagging atoms
+   (before it: it sets last_model). */
+void FixGriddemRom::catch_up_store()
+{
+  const double lag = (update->ntimestep - last_model) * update->dt;
+  if (lag > 0.0)
+    for (const size_t at : record_at)
+      for (int d = 0; d < 3; d++) stored[at + 1 + d] += lag * stored[at + 4 + d];
+}
+
+/* Bring back the records the in-place reach test found near (LAMMPS's exchange unpacking), as near
+   kinematic atoms moved to this step (x += v dt since that test, as initial_integrate moved the near
+   atoms LAMMPS held), and close the store over the holes they leave. */
+void FixGriddemRom::return_near()
+{
+  AtomVec *avec = atom->avec;
+  const double lag = (update->ntimestep - last_model) * update->dt;
+  std::vector<size_t> kept_at;
+  std::vector<double> kept_radius;
+  size_t write = 0;
+  int back = 0;
+  for (size_t k = 0; k < record_at.size(); k++) {
+    const size_t at = record_at[k], end = k + 1 < record_at.size() ? record_at[k + 1] : stored_used;
+    if (stored_near[k]) {
+      const int i = atom->nlocal;
+      avec->unpack_exchange(&stored[at]);
+      for (int d = 0; d < 3; d++) track[i][TRACK_X + d] = atom->x[i][d];
+      track[i][TRACK_BUDGET] = stored_budget[k];
+      track[i][TRACK_NEAR] = 1.0;
+      atom->mask[i] &= ~lagging_bit;
+      for (int d = 0; d < 3; d++) atom->x[i][d] += lag * atom->v[i][d];
+      back++;
+    } else {
+      if (write != at) std::memmove(&stored[write], &stored[at], (end - at) * sizeof(double));
+      kept_at.push_back(write);
+      kept_radius.push_back(stored_radius[k]);
+      write += end - at;
+    }
+  }
+  record_at.swap(kept_at);
+  stored_radius.swap(kept_radius);
+  stored_near.clear();
+  stored_budget.clear();
+  stored_used = write;
+  nstored -= back;
+  nstored_all -= back;    // one process
+  atom->natoms += back;
+  reset_local_map();
+}
+
 /* Bring every stored atom back into LAMMPS's arrays (LAMMPS's exchange unpacking), as they were
    taken out: lagging, where the last model step left them. Without an exchange to follow (the
    end of a run) the next run's set-up migrates them. */
@@ -718,6 +865,10 @@ void FixGriddemRom::return_stored(bool exchange_follows)
   nstored = 0;
   stored_used = 0;
   nstored_all = 0.0;
+  record_at.clear();
+  stored_radius.clear();
+  stored_budget.clear();
+  stored_near.clear();
   reset_local_map();
   if (!exchange_follows) fill_nearlist();
 }

@@ -139,6 +139,16 @@ class FixGriddemRom : public Fix {
   bigint return_at;              // the step whose pre_exchange brings them back
   bool reach_due;                // the skin rule fired while atoms were stored: the reach test runs
                                  // after they are back (post_neighbor)
+  // The reach test on the store in place (one process, an orthogonal box, records laid out as
+  // AtomVec::pack_exchange lays them: x, v at 1-6, mask at 9): the stored atoms are brought up to
+  // date in their records and take part where they are; those it finds near come back at the next
+  // step's exchange (near_return_at), the others stay out.
+  std::vector<size_t> record_at;       // where each record starts in stored
+  std::vector<double> stored_radius;   // each record's atom's radius
+  std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
+  std::vector<char> stored_near;       // records that reach test found near
+  bool records_readable;               // the last store's first record held its atom's x, v and mask
+  bigint near_return_at;               // the step whose pre_exchange brings back the records found near
 
   void read_model(const char *file);
   void place_grid();
@@ -155,6 +165,10 @@ class FixGriddemRom : public Fix {
   void store_lagging();
   void reset_local_map();
   void return_stored(bool exchange_follows);
+  bool reach_test_in_place() const;
+  void catch_up_store();
+  void return_near();
+  void arm_reneighbor();
   void allocate_grid();
   void deallocate_grid();
   void fill_grid();

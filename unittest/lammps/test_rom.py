@@ -728,8 +728,9 @@ def migration():
     and thermo's atoms plus f_rom[17]), with atoms held at most steps; no atom is lost or has its ID
     twice at the end, every atom ends at x0 + U t (wrapped), and the classification, the atoms within
     reach and the reach tests between model steps are the same on 1, 2 and 4 processes and with
-    store no, where thermo's atoms stay 125 (with atoms held, a reach test the skin rule calls for
-    runs at the next step, once they are back)."""
+    store no, where thermo's atoms stay 125 (with atoms held on several processes, a reach test the
+    skin rule calls for runs at the next step, once they are back; on one process it reads them where
+    they are held, at the step it is called for, so they are back only for the model steps)."""
     U = FLOW
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
@@ -762,6 +763,16 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
         if store == "yes":
             t.check(sum(h == 50 for h in held) > 2500, "%s: the 50 lagging atoms held at %d of 3001 steps" %
                     (label, sum(h == 50 for h in held)))
+            # one process: the reach tests between model steps read the held atoms in place, so they
+            # are back only around the 14 model steps after the first (the step itself and the next)
+            back = sum(h != 50 for h in held[202:])
+            reach_tests = t.thermo_values(out, "f_rom[11]")[-1]
+            if nprocs == 1:
+                t.check(back <= 2 * 14 + 2, "%s: held atoms back at %d steps after step 201 (model steps only; %d "
+                        "reach tests between them)" % (label, back, reach_tests))
+            else:
+                t.check(back >= 2 * reach_tests, "%s: held atoms back at %d steps after step 201, twice the %d reach "
+                        "tests at least (one process reads them in place)" % (label, back, reach_tests))
         else:
             t.check(max(held) == 0, "%s: none held" % label)
         t.check(len(ids) == 125 and sorted(ids) == list(range(1, 126)), "%s: IDs 1-125 once each at the end" % label)
@@ -773,6 +784,53 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
             "kinematic and within reach at every step, and the reach tests, equal on 1, 2 and 4 processes and "
             "with store no")
     t.check(results[0][2] == results[1][2] == results[2][2], "reach tests at the same steps on 1, 2 and 4 processes")
+
+
+def store_in_place():
+    """migration()'s lattice, every 500, with the atom at (0.3, 0.3, 1.5) removed and the dynamic
+    atom below it, at (0.3, 0.3, 0.3), shot up through the hole at 1.5 on top of the flow: it nears
+    the held atom above the hole, at z = 2.7, between model steps (steps 500 and 1000), so that on
+    one process the reach test, reading the held atoms where they are, brings that atom back alone
+    (the others stay held: the held count drops by one) to move at every step as a kinematic
+    obstacle, which the shot atom hits and bounces off. Every atom ends where it ends with store no
+    on as many processes (1 and 2: on 2 the held atoms all come back for each reach test)."""
+    model = os.path.join(WD, "flow.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
+    for nprocs, grid in ((1, "1 1 1"), (2, "2 1 1")):
+        ends, held = {}, {}
+        for store in ("no", "yes"):
+            text = flow_lattice(model, grid).format(store=store).replace("every 200", "every 500") + """
+region hole block 0 0.6 0 0.6 1.2 1.8 units box
+region gun block 0 0.6 0 0.6 0 0.6 units box
+group hole region hole
+group shot region gun
+delete_atoms group hole
+velocity shot set 0.7 0.4 1.5 units box
+variable vz equal vcm(shot,z)
+thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_vz
+thermo 1
+run 1200
+write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.17g
+"""
+            label = "%d process(es), store %s" % (nprocs, store)
+            out = t.run_ok(text, WD, nprocs=nprocs, name="in.inplace%d%s" % (nprocs, store))
+            ends[store] = t.read_dump(os.path.join(WD, "end.dump"))[1]
+            held[store] = t.thermo_values(out, "f_rom[17]")
+            vz = t.thermo_values(out, "v_vz")
+            t.check(min(vz) < -0.5, "%s: the shot atom bounces off the atom above the hole (vz down to %.3f)" %
+                    (label, min(vz)))
+        # a drop by one between model steps: that atom alone came back
+        partial = [k for k in range(1, len(held["yes"])) if 0 < held["yes"][k] == held["yes"][k - 1] - 1 and k % 500]
+        if nprocs == 1:
+            t.check(len(partial) == 1, "1 process: the held atom the shot one nears comes back alone, between model "
+                    "steps (step %s)" % partial)
+        else:
+            t.check(not partial and max(held["yes"]) > 0, "2 processes: the held atoms come back together")
+        # positions modulo the box: a held atom comes back at a run's end unwrapped
+        worst = max(min(abs(a - b) % 6.0, 6.0 - abs(a - b) % 6.0) if d < 3 else abs(a - b)
+                    for tag in ends["no"] for d, (a, b) in enumerate(zip(ends["yes"][tag], ends["no"][tag])))
+        t.check(len(ends["yes"]) == 124 and worst <= 1e-12, "%d process(es): the 124 atoms end as with store no "
+                "(largest difference %.2g)" % (nprocs, worst))
 
 
 def store_limits():
@@ -1425,6 +1483,7 @@ boundary(1)
 boundary(2)
 boundary(1, "reach 0")
 migration()
+store_in_place()
 store_limits()
 blocks()
 processes()
