@@ -708,14 +708,15 @@ void FixGriddemRom::pre_exchange()
 {
   const bigint now = update->ntimestep;
   if (now >= next_reneighbor) next_reneighbor = -1;
+  // the atoms the in-place reach test found near first, as near atoms, also where all come back
+  if (near_return_at >= 0 && now >= near_return_at) return_near();
+  near_return_at = -1;
   if (nstored_all > 0.0 && now >= return_at) {
     return_stored(true);
     return_at = -1;
     if (reach_due) catch_up();    // the reach test follows at post_neighbor
     else if (now != next_model) plan_store();    // a dump, restart or the last step: out again after it
-  } else if (near_return_at >= 0 && now >= near_return_at)
-    return_near();
-  near_return_at = -1;
+  }
   if (store_at >= 0 && now >= store_at) {
     store_at = -1;
     store_lagging();

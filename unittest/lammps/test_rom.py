@@ -793,13 +793,17 @@ def store_in_place():
     one process the reach test, reading the held atoms where they are, brings that atom back alone
     (the others stay held: the held count drops by one) to move at every step as a kinematic
     obstacle, which the shot atom hits and bounces off. Every atom ends where it ends with store no
-    on as many processes (1 and 2: on 2 the held atoms all come back for each reach test)."""
+    on as many processes (1 and 2: on 2 the held atoms all come back for each reach test), also
+    where a dump brings every held atom back at the step that one comes back."""
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
     for nprocs, grid in ((1, "1 1 1"), (2, "2 1 1")):
-        ends, held = {}, {}
-        for store in ("no", "yes"):
-            text = flow_lattice(model, grid).format(store=store).replace("every 200", "every 500") + """
+        ends, held, partial = {}, {}, []
+        # store yes and, on one process, again with a dump at the step that atom comes back, where every
+        # held atom comes back too (that atom still as a near one)
+        for run in ("no", "yes", "yes, dumped") if nprocs == 1 else ("no", "yes"):
+            dumped = "dump at all custom %d at.dump id x\n" % partial[0] if "dumped" in run else ""
+            text = flow_lattice(model, grid).format(store=run[:3].strip(",")).replace("every 200", "every 500") + """
 region hole block 0 0.6 0 0.6 1.2 1.8 units box
 region gun block 0 0.6 0 0.6 0 0.6 units box
 group hole region hole
@@ -809,28 +813,33 @@ velocity shot set 0.7 0.4 1.5 units box
 variable vz equal vcm(shot,z)
 thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_vz
 thermo 1
-run 1200
+""" + dumped + """run 1200
 write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.17g
 """
-            label = "%d process(es), store %s" % (nprocs, store)
-            out = t.run_ok(text, WD, nprocs=nprocs, name="in.inplace%d%s" % (nprocs, store))
-            ends[store] = t.read_dump(os.path.join(WD, "end.dump"))[1]
-            held[store] = t.thermo_values(out, "f_rom[17]")
+            label = "%d process(es), store %s" % (nprocs, run)
+            out = t.run_ok(text, WD, nprocs=nprocs, name="in.inplace%d%s" % (nprocs, run.replace(", ", "")))
+            ends[run] = t.read_dump(os.path.join(WD, "end.dump"))[1]
+            held[run] = t.thermo_values(out, "f_rom[17]")
             vz = t.thermo_values(out, "v_vz")
             t.check(min(vz) < -0.5, "%s: the shot atom bounces off the atom above the hole (vz down to %.3f)" %
                     (label, min(vz)))
-        # a drop by one between model steps: that atom alone came back
-        partial = [k for k in range(1, len(held["yes"])) if 0 < held["yes"][k] == held["yes"][k - 1] - 1 and k % 500]
+            if run == "yes":    # a drop by one between model steps: that atom alone came back
+                partial = [k for k in range(1, len(held[run])) if 0 < held[run][k] == held[run][k - 1] - 1 and k % 500]
         if nprocs == 1:
             t.check(len(partial) == 1, "1 process: the held atom the shot one nears comes back alone, between model "
                     "steps (step %s)" % partial)
+            later = [held[run][partial[0] + 5] for run in ("yes", "yes, dumped")]
+            t.check(held["yes, dumped"][partial[0]] == 0 and later[0] == later[1],
+                    "1 process: all held atoms back at the dump's step %d, and then all but that one out again "
+                    "(held 5 steps later: %s, as without the dump: %s)" % (partial[0], later[1], later[0]))
         else:
             t.check(not partial and max(held["yes"]) > 0, "2 processes: the held atoms come back together")
         # positions modulo the box: a held atom comes back at a run's end unwrapped
-        worst = max(min(abs(a - b) % 6.0, 6.0 - abs(a - b) % 6.0) if d < 3 else abs(a - b)
-                    for tag in ends["no"] for d, (a, b) in enumerate(zip(ends["yes"][tag], ends["no"][tag])))
-        t.check(len(ends["yes"]) == 124 and worst <= 1e-12, "%d process(es): the 124 atoms end as with store no "
-                "(largest difference %.2g)" % (nprocs, worst))
+        for run, end in ends.items():
+            worst = max(min(abs(a - b) % 6.0, 6.0 - abs(a - b) % 6.0) if d < 3 else abs(a - b)
+                        for tag in ends["no"] for d, (a, b) in enumerate(zip(end[tag], ends["no"][tag])))
+            t.check(len(end) == 124 and worst <= 1e-12, "%d process(es), store %s: the 124 atoms end as with store no "
+                    "(largest difference %.2g)" % (nprocs, run, worst))
 
 
 def store_limits():
