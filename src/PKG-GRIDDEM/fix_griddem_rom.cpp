@@ -856,7 +856,7 @@ void FixGriddemRom::return_near()
 }
 
 /* Bring every stored atom back into LAMMPS's arrays (LAMMPS's exchange unpacking), as they were
-   taken out: lagging, where the last model step left them. Without an exchange to follow (the
+   taken out: lagging, where the last model step or in-place reach test left them. Without an exchange to follow (the
    end of a run) the next run's set-up migrates them. */
 void FixGriddemRom::return_stored(bool exchange_follows)
 {
