@@ -122,12 +122,13 @@ def compare(label, ref, test):
     parity_compare(label, ref, test)
 
 
-def run_cpu_and_kk(wd, label, text_for, kk_ranks=1, package=()):
-    """The script text_for(name) run with the CPU styles on one rank as label_cpu, then with -sf kk
-    on THREADS[-1] threads and kk_ranks ranks (and the package kokkos keywords package) as
+def run_cpu_and_kk(wd, label, text_for, kk_ranks=1, package=(), cpu_ranks=1):
+    """The script text_for(name) run with the CPU styles on cpu_ranks ranks as label_cpu, then with
+    -sf kk on THREADS[-1] threads and kk_ranks ranks (and the package kokkos keywords package) as
     label_kk, each checked to finish: [(name, output)] in that order."""
     runs = []
-    for name, nprocs, extra in ((label + "_cpu", 1, ()), (label + "_kk", kk_ranks, kk_args(THREADS[-1]) + list(package))):
+    for name, nprocs, extra in ((label + "_cpu", cpu_ranks, ()),
+                                (label + "_kk", kk_ranks, kk_args(THREADS[-1]) + list(package))):
         rc, out = t.run_lmp(text_for(name), wd, nprocs=nprocs, name="in." + name, extra=extra,
                             threads=THREADS[-1] if extra else None)
         t.check(rc == 0, "%s runs (exit %d): %s" % (name, rc, t.errors(out)[:1]))
@@ -334,8 +335,9 @@ def check_rom(wd, _data):
     them); kinematic states, positions, velocities, forces after 400 steps. Then the store (keyword
     store), where the lagging atoms leave LAMMPS's arrays and the kk styles' views: a lattice of
     125 spheres carried across the periodic box by a uniform field (test_rom's migration), 50 of
-    them lagging and held out of LAMMPS; as many held at every step as with the CPU styles, 125 in
-    all, and every atom at x0 + U t at the end on 2 ranks."""
+    them lagging and held out of LAMMPS; as many held at every step as with the CPU styles on as
+    many ranks (one process reads held atoms in place where several bring them back), 125 in all,
+    and every atom at x0 + U t at the end on 2 ranks."""
     data = os.path.join(wd, "data.rom")
     t.write_random_spheres(data, 729, (4.05, 4.05, 4.05), 0.15, 0.25, seed=31, lattice=0.45)
     model = os.path.join(wd, "zero.model")
@@ -361,7 +363,7 @@ def check_rom(wd, _data):
     flow = os.path.join(wd, "flow.model")
     t.write_rom_model(flow, (3, 3, 3), (0.0, 6.0, 0.0, 6.0, 0.0, 6.0), bias=U)
     runs = run_cpu_and_kk(wd, "store", lambda name: ROM_STORE.format(model=flow, u0=U[0], u1=U[1], name=name),
-                          kk_ranks=RANKS[-1])
+                          kk_ranks=RANKS[-1], cpu_ranks=RANKS[-1])
     held, total = [[t.thermo_values(o, c) for _, o in runs] for c in ("f_rom[17]", "f_rom[18]")]
     t.check(held[0] == held[1] and sum(h == 50 for h in held[1]) > 1000 and total[1] == [125] * 1501,
             "rom store kk vs CPU: atoms held equal at every step (50 at %d of 1501), 125 in all" %
