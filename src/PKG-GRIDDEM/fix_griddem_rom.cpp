@@ -493,13 +493,30 @@ void FixGriddemRom::mark_near()
   int *mask = atom->mask;
   // the stored atoms (reach_test_in_place) take part as owned atoms after LAMMPS's, their periodic
   // images within the ghost cutoff after LAMMPS's ghosts
-  const int ns = nstored;
-  std::vector<double> images;    // x, y, z, record
+  const int ns = nstored, nown = nlocal + ns;
+  std::vector<int> kinematic(nown + nghost), near(nown);
+  std::vector<double> budget(nown), points, radii;
+  const double *xs = nlocal + nghost ? x[0] : nullptr, *rs = atom->radius;
+  for (int j = 0; j < nlocal + nghost; j++) kinematic[j < nlocal ? j : j + ns] = (mask[j] & kinematic_bit) ? 1 : 0;
   if (ns > 0) {
+    kinematic.reserve(nown + nghost + ns);    // room for an image a stored atom
+    points.reserve(3 * kinematic.capacity());
+    radii.reserve(kinematic.capacity());
+    points.resize(3 * (size_t) (nown + nghost));
+    radii.resize(nown + nghost);
+    if (nlocal + nghost) {
+      std::copy(xs, xs + 3 * (size_t) nlocal, points.begin());
+      std::copy(xs + 3 * (size_t) nlocal, xs + 3 * (size_t) (nlocal + nghost), points.begin() + 3 * (size_t) nown);
+      std::copy(rs, rs + nlocal, radii.begin());
+      std::copy(rs + nlocal, rs + nlocal + nghost, radii.begin() + nown);
+    }
     const double cut = comm->get_comm_cutoff();
     const double *lo = domain->boxlo, *hi = domain->boxhi, *prd = domain->prd;
     for (int k = 0; k < ns; k++) {
-      const double *p = &stored[record_at[k] + 1];
+      const double *p = &stored[record_at[k] + RECORD_X];
+      std::copy(p, p + 3, points.begin() + 3 * (size_t) (nlocal + k));
+      radii[nlocal + k] = stored_radius[k];
+      kinematic[nlocal + k] = 1;
       // per axis the shifts by the box's length that keep the point within the ghost cutoff
       int nshift[3], shift[3][3];
       for (int d = 0; d < 3; d++) {
@@ -513,39 +530,16 @@ void FixGriddemRom::mark_near()
       for (int a = 0; a < nshift[0]; a++)
         for (int b = 0; b < nshift[1]; b++)
           for (int c = (a == 0 && b == 0) ? 1 : 0; c < nshift[2]; c++) {
-            const double q[4] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1], p[2] + shift[2][c] * prd[2],
-                                 (double) k};
-            images.insert(images.end(), q, q + 4);
+            const double image[3] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
+                                     p[2] + shift[2][c] * prd[2]};
+            points.insert(points.end(), image, image + 3);
+            radii.push_back(stored_radius[k]);
+            kinematic.push_back(1);
           }
-    }
-  }
-  const int nimage = (int) images.size() / 4, nown = nlocal + ns, nall = nown + nghost + nimage;
-  std::vector<int> kinematic(nall), near(nown);
-  std::vector<double> budget(nown), points, radii;
-  const double *xs = nlocal + nghost ? x[0] : nullptr, *rs = atom->radius;
-  for (int j = 0; j < nlocal + nghost; j++) kinematic[j < nlocal ? j : j + ns] = (mask[j] & kinematic_bit) ? 1 : 0;
-  if (ns > 0) {    // owned, stored, ghosts, images
-    points.resize(3 * (size_t) nall);
-    radii.resize(nall);
-    if (nlocal + nghost) {
-      std::copy(xs, xs + 3 * (size_t) nlocal, points.begin());
-      std::copy(xs + 3 * (size_t) nlocal, xs + 3 * (size_t) (nlocal + nghost), points.begin() + 3 * (size_t) nown);
-      std::copy(rs, rs + nlocal, radii.begin());
-      std::copy(rs + nlocal, rs + nlocal + nghost, radii.begin() + nown);
-    }
-    for (int k = 0; k < ns; k++) {
-      for (int d = 0; d < 3; d++) points[3 * (size_t) (nlocal + k) + d] = stored[record_at[k] + 1 + d];
-      radii[nlocal + k] = stored_radius[k];
-      kinematic[nlocal + k] = 1;
-    }
-    for (int m = 0; m < nimage; m++) {
-      const int j = nown + nghost + m, k = (int) images[4 * (size_t) m + 3];
-      for (int d = 0; d < 3; d++) points[3 * (size_t) j + d] = images[4 * (size_t) m + d];
-      radii[j] = stored_radius[k];
-      kinematic[j] = 1;
     }
     xs = points.data(), rs = radii.data();
   }
+  const int nall = (int) kinematic.size();
   if (cap <= 0.0) {
     std::fill(near.begin(), near.end(), 1);
     std::fill(budget.begin(), budget.end(), INFINITY);
@@ -570,7 +564,7 @@ void FixGriddemRom::mark_near()
     stored_near[k] = near[nlocal + k] ? 1 : 0;
     stored_budget[k] = budget[nlocal + k];
     nnear += stored_near[k];
-    const double *vk = &stored[record_at[k] + 4];
+    const double *vk = &stored[record_at[k] + RECORD_V];
     if (!stored_near[k]) umax = MAX(umax, sqrt(vk[0] * vk[0] + vk[1] * vk[1] + vk[2] * vk[2]));
   }
   comm->forward_comm(this);    // the ghosts' lagging bits: the pair leaves lagging atoms out
@@ -765,8 +759,9 @@ void FixGriddemRom::store_lagging()
       record_at.push_back(at);
       stored_radius.push_back(atom->radius[i]);
       if (taken == 0) {
-        bool same = ubuf(stored[at + 9]).i == mask[i];
-        for (int d = 0; d < 3; d++) same = same && stored[at + 1 + d] == atom->x[i][d] && stored[at + 4 + d] == atom->v[i][d];
+        bool same = ubuf(stored[at + RECORD_MASK]).i == mask[i];
+        for (int d = 0; d < 3; d++)
+          same = same && stored[at + RECORD_X + d] == atom->x[i][d] && stored[at + RECORD_V + d] == atom->v[i][d];
         records_readable = same;
       }
       taken++;
@@ -812,7 +807,7 @@ void FixGriddemRom::catch_up_store()
   const double lag = (update->ntimestep - last_model) * update->dt;
   if (lag > 0.0)
     for (const size_t at : record_at)
-      for (int d = 0; d < 3; d++) stored[at + 1 + d] += lag * stored[at + 4 + d];
+      for (int d = 0; d < 3; d++) stored[at + RECORD_X + d] += lag * stored[at + RECORD_V + d];
 }
 
 /* Bring back the records the in-place reach test found near (LAMMPS's exchange unpacking), as near

@@ -143,6 +143,7 @@ class FixGriddemRom : public Fix {
   // AtomVec::pack_exchange lays them: x, v at 1-6, mask at 9): the stored atoms are brought up to
   // date in their records and take part where they are; those it finds near come back at the next
   // step's exchange (near_return_at), the others stay out.
+  enum RecordOffset { RECORD_X = 1, RECORD_V = 4, RECORD_MASK = 9 };    // AtomVec::pack_exchange's
   std::vector<size_t> record_at;       // where each record starts in stored
   std::vector<double> stored_radius;   // each record's atom's radius
   std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
