@@ -128,9 +128,10 @@ class FixGriddemRom : public Fix {
 
   // The store: this process's lagging atoms taken out of LAMMPS's arrays (each as LAMMPS's own
   // exchange record, so every fix's per-atom data goes with it) from the step after a reach test
-  // until they are needed again: the next model step, reach test (on several processes), dump, restart file, the run's
-  // last step or a step where another fix creates or deletes atoms (return_at). They wait where
-  // the last model step or in-place reach test left them, as lagging atoms do.
+  // until they are needed again: the next model step, reach test (on several processes), dump,
+  // restart file, the run's last step or a step where another fix creates or deletes atoms
+  // (return_at). They wait where the last model step or in-place reach test left them, as lagging
+  // atoms do.
   std::vector<double> stored;    // the records, one after the other
   size_t stored_used;            // doubles of stored in use
   int nstored;                   // records held here
