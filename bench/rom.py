@@ -72,7 +72,7 @@ HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 BLADE = os.path.join(ROOT, "examples", "rom-blade")
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
 from griddemtools import lammps, log  # noqa: E402
-from griddemtools.blade import force_accuracy, load_run  # noqa: E402
+from griddemtools.blade import ATOMS, FIELDS, force_accuracy, load_run  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
 from griddemtools.rom import kinematic_fraction, near_fraction, predict, read_model  # noqa: E402
 
@@ -150,6 +150,7 @@ class Pile:
     pair = "griddem/hooke/history"
     example = EXAMPLE
     skins = "0.1,0.2,0.4"
+    fields = "cg.%s.txt"
 
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
@@ -168,9 +169,9 @@ class Pile:
         specs = []
         for w in self.a.train.split(","):
             tag = "train.w%s.s%d" % (w, self.a.steps)
-            if not os.path.exists(os.path.join(self.wd, "cg.%s.txt" % tag)):
+            if not os.path.exists(os.path.join(self.wd, self.fields % tag)):
                 self.run(tag, dict(w=w))
-            specs.append("cg.%s.txt:%s" % (tag, w))
+            specs.append("%s:%s" % (self.fields % tag, w))
         model = "rom.%s.s%d.model" % (self.a.train.replace(",", "_"), self.a.steps)
         return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
 
@@ -188,6 +189,7 @@ class Hopper:
     pair = "griddem/granular"
     example = HOPPER
     skins = "0.03,0.06,0.12"
+    fields = "cg.%s.txt"
 
     def __init__(self, a, lmp):
         self.a, self.lmp = a, lmp
@@ -211,9 +213,9 @@ class Hopper:
             with open(os.path.join(self.wd, "ctl.%s.txt" % tag), "w") as f:
                 f.write("# until_step feed_rate outlet_speed\n")
                 f.writelines("%d %s %s\n" % ((k + 1) * self.a.seg, r, j) for k, (r, j) in enumerate(zip(rates, speeds)))
-            if not os.path.exists(os.path.join(self.wd, "cg.%s.txt" % tag)):
+            if not os.path.exists(os.path.join(self.wd, self.fields % tag)):
                 self.run(tag, dict(rate=rates, outlet_speed=speeds, seg=self.a.seg))
-            specs.append("cg.%s.txt:@ctl.%s.txt" % (tag, tag))
+            specs.append("%s:@ctl.%s.txt" % (self.fields % tag, tag))
         model = "rom.%s.%s.%s.j%s.s%d.model" % (
             self.a.form, self.a.components, self.a.train_feed.replace(",", "_").replace("/", "-"),
             self.a.train_outlet.replace(",", "_").replace("/", "-"), self.a.seg)
@@ -261,6 +263,7 @@ class Blade:
     pair = "griddem/granular"
     example = BLADE
     skins = "0.03,0.06,0.12"
+    fields = FIELDS
     folder, label, figure = "blade", "rom-blade", "errors.png"
     bed = {}          # in.build's variables
     geometry = {}     # in.blade's scene variables, every run's
@@ -283,7 +286,7 @@ class Blade:
         for traj in self.a.train_traj.split(","):
             zlow, push = traj.split(":")
             tag = "train.z%s.p%s" % (zlow, push)
-            if not os.path.exists(os.path.join(self.wd, "force.%s.txt" % tag)):
+            if not os.path.exists(os.path.join(self.wd, ATOMS % tag)):
                 self.run(tag, dict(zlow=zlow, push=push, adump=100))
             tags.append(tag)
         model = "rom.%s.model" % self.a.train_traj.replace(":", "_").replace(",", "-")
@@ -310,11 +313,11 @@ class PaperBlade(Blade):
 SCENES = dict(pile=Pile, hopper=Hopper, blade=Blade, plates=PaperBlade)
 
 
-def series_of(wd, ref, tag):
-    """Error series of run tag against run ref (their field dumps in wd), also written to
-    errors.TAG.vs.REF.txt."""
-    s = romerror.error_series(read_grid_dump(os.path.join(wd, "cg.%s.txt" % ref)),
-                              read_grid_dump(os.path.join(wd, "cg.%s.txt" % tag)))
+def series_of(wd, fields, ref, tag):
+    """Error series of run tag against run ref (their field dumps, named by fields, in wd), also
+    written to errors.TAG.vs.REF.txt."""
+    s = romerror.error_series(read_grid_dump(os.path.join(wd, fields % ref)),
+                              read_grid_dump(os.path.join(wd, fields % tag)))
     romerror.write_series(os.path.join(wd, "errors.%s.vs.%s.txt" % (tag, ref)), s)
     return s
 
@@ -366,17 +369,17 @@ def study(scene, a):
     record.update(kinematic_fraction=kinematic_fraction(log_path(scene.wd, rom_tags[0])),
                   near_fraction=near_fraction(log_path(scene.wd, rom_tags[0])),
                   do_nothing_kinematic_fraction=kinematic_fraction(log_path(scene.wd, nothing)))
-    s = series_of(scene.wd, ref, rom_tags[0])
+    s = series_of(scene.wd, scene.fields, ref, rom_tags[0])
     record.update(romerror.accuracies(s), characteristic_speed=s["characteristic_speed"], frames=len(s["steps"]))
     if "characteristic_temperature" in s:
         record["characteristic_temperature"] = s["characteristic_temperature"]
-    record.update(romerror.accuracies(series_of(scene.wd, ref, nothing), "do_nothing_"))
+    record.update(romerror.accuracies(series_of(scene.wd, scene.fields, ref, nothing), "do_nothing_"))
     # the noise floor: every pair of stock seeds, and the griddem run against stock of its seed
     pairs = [(stock_tags[i], stock_tags[j]) for i in range(len(seeds)) for j in range(i + 1, len(seeds))]
-    floors = [romerror.accuracies(series_of(scene.wd, p, q)) for p, q in pairs]
+    floors = [romerror.accuracies(series_of(scene.wd, scene.fields, p, q)) for p, q in pairs]
     for key in floors[0]:
         record["noise_" + key] = [f[key] for f in floors]
-    record.update(romerror.accuracies(series_of(scene.wd, stock_tags[0], ref), "griddem_vs_stock_"))
+    record.update(romerror.accuracies(series_of(scene.wd, scene.fields, stock_tags[0], ref), "griddem_vs_stock_"))
     if "temperature_accuracy" not in record:
         left_out["temperature_accuracy"] = "the field dumps hold no temperature column"
 

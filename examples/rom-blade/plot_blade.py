@@ -3,7 +3,7 @@
 
     plot_blade.py RESOLVED_TAG ROM_TAG [NOISE_TAG] OUT.png
 
-Top: snapshots at step 7,500 (mid-push; atoms.TAG.txt), resolved and reduced, the reduced one
+Top: snapshots at step 7,500 (mid-push; atoms.TAG.bin), resolved and reduced, the reduced one
 coloured kinematic (blue) / dynamic (red), the blade grey. Middle: surface-height accuracy of each
 frame against the resolved run (and of the resolved run with another seed: the noise floor); the
 kinematic share and the share within reach of a dynamic atom. Bottom: the force on the blade
@@ -19,7 +19,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))  # griddemtools
-from griddemtools.blade import read_force, read_snapshots, read_table  # noqa: E402
+from griddemtools.blade import ATOMS, FIELDS, read_force, read_snapshots, read_table  # noqa: E402
 from griddemtools.rom import accuracy_panel, kinematic_series, run_tags  # noqa: E402
 
 STEP = 7500
@@ -30,7 +30,7 @@ def main():
     fig = plt.figure(figsize=(12, 11))
     for row, (tag, title) in enumerate(((res_tag, "resolved"), (rom_tag, "reduced"))):
         ax = fig.add_subplot(4, 1, 1 + row)
-        a = dict(read_snapshots("atoms.%s.txt" % tag))[STEP]
+        a = dict(read_snapshots(ATOMS % tag))[STEP]
         d = (a["mass"] / (np.pi / 6.0)) ** (1.0 / 3.0)
         kin = a["v_kin"] > 0.5
         ax.scatter(a["x"], a["z"], s=(11 * 72 / 20.0 * d) ** 2, c=np.where(kin, "tab:blue", "tab:red"), linewidths=0)
@@ -41,7 +41,7 @@ def main():
         ax.set_aspect("equal")
         ax.set_title("%s, step %d: %d spheres%s" % (title, STEP, len(d),
                                                      ", %d kinematic (blue)" % kin.sum() if row else ""))
-    accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left")
+    accuracy_panel(fig.add_subplot(4, 2, 5), res_tag, rom_tag, noise_tag, 0.65, 0.6, "lower left", FIELDS)
     ax = fig.add_subplot(4, 2, 6)
     for column, label in (("v_nkin", "kinematic"), ("v_nnear", "kinematic within reach (move every step)")):
         steps, frac = kinematic_series("log.%s" % rom_tag, column)

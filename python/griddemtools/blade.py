@@ -1,7 +1,8 @@
 """The blade of examples/rom-blade, measured: each snapshot binned in the blade's frame (the features
 and targets its model is trained on: train_blade.py), and the force on the blade.
 
-Run TAG's files (in.blade's outputs): atoms.TAG.txt (snapshots: id x y z vx vy vz mass ...),
+Run TAG's files (in.blade's outputs, ATOMS and FIELDS named by TAG): atoms.TAG.bin (binary
+snapshots: id x y z vx vy vz mass ...), cg.TAG.bin (the voxel fields),
 controls.TAG.txt (step, the blade's front face bx and bottom bz, its velocity vbx vbz) and
 force.TAG.txt (fix ave/time's file: every 100 steps, the means over those steps of the contact
 forces of the blade's walls on the spheres, x and z of each wall (c_onspheres[1], [2], then the
@@ -29,9 +30,12 @@ from . import dump
 FRAMES = {"block": ((48, 1, 8), (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)),
           "plates": ((10, 8, 5), (-1.5, 3.5, 0.0, 3.2, 0.0, 2.5))}
 
+# in.blade's dumps of run TAG (binary; the readers take text too)
+ATOMS, FIELDS = "atoms.%s.bin", "cg.%s.bin"
+
 
 def read_snapshots(path):
-    """[(step, {column: array over the atoms})] of a LAMMPS text dump."""
+    """[(step, {column: array over the atoms})] of a LAMMPS dump (text or binary)."""
     frames = []
     for s in dump.read_dump(path):
         data = np.array(s.rows, dtype=float).reshape(s.natoms, len(s.columns))
@@ -93,7 +97,7 @@ def load_run(tag, frame):
     controls = read_table("controls.%s.txt" % tag)
     force = {int(row[0]): row[1:] for row in read_force(tag)}
     X, Y, F = [], [], []
-    for step, a in read_snapshots("atoms.%s.txt" % tag):
+    for step, a in read_snapshots(ATOMS % tag):
         if step not in controls or step not in force:
             continue
         bx, _, vbx, vbz = controls[step]

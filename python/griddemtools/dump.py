@@ -1,5 +1,7 @@
-"""LAMMPS text dumps of atoms (dump custom, dump atom): each snapshot's step, box and per-atom rows."""
+"""LAMMPS dumps of atoms (dump custom, dump atom as text; dump custom binary, *.bin): each
+snapshot's step, box and per-atom rows."""
 
+from . import binary
 from .items import read_items
 
 
@@ -28,8 +30,10 @@ class Snapshot:
 
 
 def read_dump(path):
-    """The snapshots of a dump file, in the file's order. Items other than TIMESTEP, NUMBER OF
-    ATOMS, BOX BOUNDS and ATOMS (dump_modify time, units) are passed over."""
+    """The snapshots of a dump file, text or binary, in the file's order. Items other than TIMESTEP,
+    NUMBER OF ATOMS, BOX BOUNDS and ATOMS (dump_modify time, units) are passed over."""
+    if binary.is_binary(path):
+        return [binary_snapshot(path, f) for f in binary.read_frames(path)]
     snapshots = []
     step = natoms = box = None
     for header, lines in read_items(path):
@@ -47,6 +51,20 @@ def read_dump(path):
                                  % (path, step, natoms, len(columns)))
             snapshots.append(Snapshot(step, natoms, box, columns, rows))
     return snapshots
+
+
+def binary_snapshot(path, frame):
+    """A Snapshot of a dump custom binary frame (the box as the text dump's rows: [lo, hi] or
+    [lo, hi, tilt])."""
+    if frame.kind != b"DUMPCUSTOM":
+        raise ValueError("%s: step %d is a %s frame, not atoms" % (path, frame.step, frame.kind.decode()))
+    width = len(frame.columns)
+    values = [v for chunk in frame.chunks for v in chunk]
+    if len(values) != frame.count * width:
+        raise ValueError("%s: the snapshot of step %d has not %d rows of %d values" % (path, frame.step, frame.count, width))
+    box = [frame.box[2 * d:2 * d + 2] + ([frame.tilt[d]] if frame.tilt else []) for d in range(3)]
+    rows = [values[k:k + width] for k in range(0, len(values), width)]
+    return Snapshot(frame.step, frame.count, box, frame.columns, rows)
 
 
 def last_snapshot(path):

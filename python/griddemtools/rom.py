@@ -216,15 +216,15 @@ def counters(log_path):
     return {}
 
 
-def accuracy_panel(ax, res_tag, rom_tag, noise_tag, bar, bottom, legend_at):
-    """Draw on matplotlib axes ax the surface-height accuracy of each frame (cg.TAG.txt, in the
-    working folder) of the reduced run against the resolved one, of a resolved run with another
-    seed (NOISE_TAG, the noise floor; None: not drawn), and the goal's bar."""
-    res = read_grid_dump("cg.%s.txt" % res_tag)
-    steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % rom_tag))
+def accuracy_panel(ax, res_tag, rom_tag, noise_tag, bar, bottom, legend_at, fields="cg.%s.txt"):
+    """Draw on matplotlib axes ax the surface-height accuracy of each frame (the field dump FIELDS
+    of a tag, in the working folder) of the reduced run against the resolved one, of a resolved run
+    with another seed (NOISE_TAG, the noise floor; None: not drawn), and the goal's bar."""
+    res = read_grid_dump(fields % res_tag)
+    steps, acc = height_accuracy_series(res, read_grid_dump(fields % rom_tag))
     ax.plot(steps, acc, label="reduced vs resolved")
     if noise_tag:
-        steps, acc = height_accuracy_series(res, read_grid_dump("cg.%s.txt" % noise_tag))
+        steps, acc = height_accuracy_series(res, read_grid_dump(fields % noise_tag))
         ax.plot(steps, acc, "--", label="resolved, other seed (noise floor)")
     ax.axhline(bar, color="grey", lw=0.5)
     ax.set_xlabel("step")

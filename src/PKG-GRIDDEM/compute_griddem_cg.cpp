@@ -55,7 +55,7 @@ std::vector<int> channels_of(int value)
     case SOLID: return {VOLUME};
     case DENSITY: return {MASS};
     case VX: case VY: case VZ: return {MASS, PX, PY, PZ};
-    case TEMPERATURE: return kinetic;
+    case TEMPERATURE: return {MASS, PX, PY, PZ, MVV, MVV + 1, MVV + 2};    // the trace only
     case COORDINATION: return {ONE, CONTACTS};
     default:    // a stress component: kinetic part and contact part
       for (int k = 0; k < 6; k++) kinetic.push_back(VIRIAL + k);
@@ -135,8 +135,8 @@ ComputeGriddemCg::ComputeGriddemCg(LAMMPS *lmp, int narg, char **arg) :
     values.push_back(v);
     for (int c : channels_of(v)) slot[c] = 1;
   }
-  for (int &s : slot)
-    if (s >= 0) s = nslot++;
+  for (int c = 0; c < NCHANNELS; c++)
+    if (slot[c] >= 0) slot[c] = nslot++, carried.push_back(c);
   if ((slot[VOLUME] >= 0 || slot[CONTACTS] >= 0) && !atom->radius_flag)
     error->all(FLERR, "Compute griddem/cg: solid and coordination require atom attribute radius");
   if (slot[VIRIAL] >= 0) {
@@ -249,6 +249,7 @@ void ComputeGriddemCg::make_fft(const int size[3])
   fft_real.assign(nfft, 0.0);
   work.assign(2 * nfft, 0.0);
   kernel_hat.assign(2 * nfft, 0.0);
+  kernel_h[0] = kernel_h[1] = kernel_h[2] = 0.0;    // transformed again for this grid
 #else
   (void) size;
 #endif
@@ -274,6 +275,7 @@ void ComputeGriddemCg::transform_kernel(const double h[3])
   griddem_cg_kernel_brick(fftsize, reach, fft_lo, fft_hi, h, width, fft_real.data());
   for (size_t n = 0; n < fft_real.size(); n++) kernel_hat[2 * n] = fft_real[n], kernel_hat[2 * n + 1] = 0.0;
   fft->compute(kernel_hat.data(), kernel_hat.data(), FFT3d::FORWARD);
+  for (int d = 0; d < 3; d++) kernel_h[d] = h[d];
 #else
   (void) h;
 #endif
@@ -429,7 +431,7 @@ void ComputeGriddemCg::compute_pergrid()
     size[d] = griddem_cg_fft_size(ngrid[d], periodic[d], width, h[d]);
   }
   if (size[0] != fftsize[0] || size[1] != fftsize[1] || size[2] != fftsize[2]) make_fft(size);
-  transform_kernel(h);
+  if (h[0] != kernel_h[0] || h[1] != kernel_h[1] || h[2] != kernel_h[2]) transform_kernel(h);
 
   // assign
   double *first = &channels[lo_out[2]][lo_out[1]][lo_out[0]][0];
@@ -437,21 +439,24 @@ void ComputeGriddemCg::compute_pergrid()
       (hi_out[2] - lo_out[2] + 1) * nslot;
   std::fill(first, first + nbrick, 0.0);
   double **x = atom->x, **v = atom->v;
-  std::vector<double> carried(NCHANNELS, 0.0);
   double local_totals[3] = {0.0, 0.0, 0.0};    // mass, atoms, solid volume of the group here
+  double value[NCHANNELS];                      // the atom's carried channels, in slot order
+  const int a[6] = {0, 1, 2, 0, 0, 1}, b[6] = {0, 1, 2, 1, 2, 2};
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    carried[MASS] = m;
-    if (atom->radius) carried[VOLUME] = 4.0 / 3.0 * MathConst::MY_PI * pow(atom->radius[i], 3);
-    for (int d = 0; d < 3; d++) carried[PX + d] = m * v[i][d];
-    const int a[6] = {0, 1, 2, 0, 0, 1}, b[6] = {0, 1, 2, 1, 2, 2};
-    for (int k = 0; k < 6; k++) carried[MVV + k] = m * v[i][a[k]] * v[i][b[k]];
-    if (slot[VIRIAL] >= 0)
-      for (int k = 0; k < 6; k++) carried[VIRIAL + k] = virial[i][k];
-    carried[ONE] = 1.0;
-    if (slot[CONTACTS] >= 0) carried[CONTACTS] = contacts[i];
-    local_totals[0] += m, local_totals[1] += 1.0, local_totals[2] += carried[VOLUME];
+    const double volume = slot[VOLUME] >= 0 ? 4.0 / 3.0 * MathConst::MY_PI * pow(atom->radius[i], 3) : 0.0;
+    local_totals[0] += m, local_totals[1] += 1.0, local_totals[2] += volume;
+    for (int s = 0; s < nslot; s++) {
+      const int c = carried[s];
+      value[s] = c == MASS       ? m
+          : c == VOLUME          ? volume
+          : c <= PZ              ? m * v[i][c - PX]
+          : c < VIRIAL           ? m * v[i][a[c - MVV]] * v[i][b[c - MVV]]
+          : c < ONE              ? virial[i][c - VIRIAL]
+          : c == ONE             ? 1.0
+                                 : contacts[i];
+    }
 
     int index[3][2];
     double weight[3][2];
@@ -462,8 +467,7 @@ void ComputeGriddemCg::compute_pergrid()
         for (int cx = 0; cx < 2; cx++) {
           double *point = channels[index[2][cz]][index[1][cy]][index[0][cx]];
           const double w = weight[0][cx] * weight[1][cy] * weight[2][cz];
-          for (int c = 0; c < NCHANNELS; c++)
-            if (slot[c] >= 0) point[slot[c]] += w * carried[c];
+          for (int s = 0; s < nslot; s++) point[s] += w * value[s];
         }
   }
   auto sum = static_cast<GhostSum *>(ghost_sum);

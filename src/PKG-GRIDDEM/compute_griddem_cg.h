@@ -43,6 +43,7 @@ class ComputeGriddemCg : public Compute {
   double width;
   std::vector<int> values;       // what each output is (enum in the .cpp)
   std::vector<int> slot;         // per channel: its place in the channel brick, or -1
+  std::vector<int> carried;      // per place in the brick: its channel
   int nslot;
 
   class Grid3d *grid3d;
@@ -56,6 +57,7 @@ class ComputeGriddemCg : public Compute {
   class FFT3d *fft;
   class Remap *to_fft, *from_fft;
   std::vector<double> kernel_hat, work, fft_real, owned, smoothed;
+  double kernel_h[3];            // the grid spacings kernel_hat was transformed for
 
   int nmax;
   std::vector<class Fix *> averages;    // the fixes ave/grid, whose samples need the per-atom virial

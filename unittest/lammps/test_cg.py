@@ -491,6 +491,35 @@ run 10
             % (worst, max(fields[0])))
 
 
+def check_deform_density(wd):
+    """The density after fix deform stretched the box (a new grid spacing, so a new kernel on the
+    grid) equals the direct convolution of the atoms where they are then, in the new box."""
+    data = os.path.join(wd, "data.stretch")
+    grid, width = (8, 6, 5), 0.45
+    t.write_random_spheres(data, 300, (4.0, 4.0, 4.0), 0.1, 0.3, seed=13)
+    text = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1",
+                         coeffs="") + """compute cg all griddem/cg %d %d %d %.17g density
+dump g all grid/vtk 10 density.*.vti c_cg:grid:density
+dump_modify g format float %%.17g
+dump a all custom 10 atoms.*.txt id mass x y z
+dump_modify a format float %%.17g
+timestep 1e-3
+fix d all deform 1 x final 0 5.0 remap x
+run 10
+""" % (grid + (width,))
+    sub = os.path.join(wd, "stretch")
+    os.mkdir(sub)
+    t.run_ok(text, sub, name="in.stretch")
+    snapshot = t.dump.last_snapshot(os.path.join(sub, "atoms.10.txt"))
+    lengths = [hi - lo for lo, hi in (row[:2] for row in snapshot.box)]
+    atoms = [(a["mass"], 0.0, a["x"], a["y"], a["z"]) for a in snapshot.atoms()]
+    direct = direct_density(atoms, grid, lengths, width, (True, True, True))
+    field = read_vti(os.path.join(sub, "density.10.vti"))
+    diff = max_diff(field, direct) / max(direct)
+    t.check(abs(lengths[0] - 5.0) <= 1e-12 and diff <= 1e-12,
+            "box stretched to %.6g along x: density = direct convolution in the new box (rel. %.3g)" % (lengths[0], diff))
+
+
 def check_errors(wd):
     rc, out = t.run_lmp("units lj\natom_style sphere\ncompute c all griddem/cg 2 2 2 0.5 density\n", wd, name="in.nobox")
     t.check(rc != 0 and "Compute griddem/cg command before simulation box is defined" in out,
@@ -521,6 +550,7 @@ def main():
     check_long_average(wd)
     check_doc_example(wd)
     check_deform_ranks(wd)
+    check_deform_density(wd)
     check_errors(wd)
     t.finish()
 

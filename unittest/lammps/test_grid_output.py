@@ -16,6 +16,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 DUMP2VTK = os.path.join(HERE, "..", "..", "tools", "dump2vtk")
 sys.path.insert(0, HERE)
 import griddem_testlib as t
+from griddemtools import grid  # noqa: E402 (griddem_testlib puts python/ on the path)
 
 t.require_modules(("vtkmodules.vtkIOXML",),
                   "test_grid_output: needs VTK's Python module (Debian python3-vtk9 or python3-paraview: "
@@ -143,6 +144,46 @@ def check_vtk(sub, ranks, cells, n, volume, cellvol):
     t.check(times == (10.0,), "%s: atoms.10.vtp: VTK's time %s = step 10" % (what, times))
 
 
+BINARY = """
+compute cg all griddem/cg 5 4 3 0.5 density vx temperature
+dump gtext all grid 5 cg.txt c_cg:grid:density c_cg:grid:vx c_cg:grid:temperature
+dump_modify gtext format float %.17g
+dump gbin all grid 5 cg.bin c_cg:grid:density c_cg:grid:vx c_cg:grid:temperature
+dump atext all custom 5 atoms.txt id x y z vx mass
+dump_modify atext format float %.17g
+dump abin all custom 5 atoms.bin id x y z vx mass
+run 10
+"""
+
+
+def check_binary(wd, data):
+    """griddemtools reads LAMMPS's binary dumps (custom and grid, *.bin) as the same run's text dumps
+    of every digit (%.17g); on 2 ranks the atoms of both processes' chunks, and a grid of two
+    bricks is refused (its cells are not in order)."""
+    for ranks in (1, 2):
+        sub = os.path.join(wd, "binary.np%d" % ranks)
+        os.mkdir(sub)
+        t.run_ok(TEXT.format(data=data).split("compute channels")[0] + BINARY, sub, nprocs=ranks, name="in.binary")
+        text, binary = (t.dump.read_dump(os.path.join(sub, "atoms." + e)) for e in ("txt", "bin"))
+        same = [a.step == b.step and a.natoms == b.natoms and a.box == b.box and a.columns == b.columns and
+                sorted(a.rows) == sorted(b.rows) for a, b in zip(text, binary)]
+        t.check(len(text) == 3 and len(binary) == 3 and all(same) and text[0].natoms == 300,
+                "%d ranks: dump custom binary read as its text twin (steps %s)" % (ranks, [s.step for s in binary]))
+        if ranks == 1:
+            text, binary = (grid.read_grid_dump(os.path.join(sub, "cg." + e)) for e in ("txt", "bin"))
+            same = [a.step == b.step and a.box == b.box and a.n == b.n and a.names == b.names and
+                    all(list(a.columns[k]) == list(b.columns[k]) for k in a.columns) for a, b in zip(text, binary)]
+            t.check(len(binary) == 3 and all(same) and max(binary[-1].columns["density"]) > 0.0,
+                    "dump grid binary read as its text twin (steps %s)" % [f.step for f in binary])
+        else:
+            try:
+                grid.read_grid_dump(os.path.join(sub, "cg.bin"))
+                refused = ""
+            except ValueError as e:
+                refused = str(e)
+            t.check("written by 2 processes" in refused, "a grid binary of two bricks refused (%s)" % refused)
+
+
 def main():
     wd = t.workdir()
     data = os.path.join(wd, "data.g")
@@ -171,6 +212,7 @@ def main():
         t.check(worst <= 1e-12, "%d ranks: cell velocities equal the common velocity (%.3g)" % (ranks, worst))
         t.check(all(c[2] == 0.0 for c in cells if c[0] == 0), "%d ranks: empty cells have zero velocity" % ranks)
         check_vtk(sub, ranks, cells, n, volume, cellvol)
+    check_binary(wd, data)
 
     # fix ave/grid reads the compute's data without asking for this step's: it gets this step's
     averaged = TEXT.format(data=data).split("compute contacts")[0].replace("velocity all set 0.3 -0.2 0.1",

@@ -114,7 +114,7 @@ def open_loop():
     speed is 1, V_c is 1 and the error 0.5: accuracy 0.5. The model file survives a round trip."""
     from rom import open_loop_accuracy
     from griddemtools.rom import read_model, write_model
-    from griddemtools.blade import FRAMES, load_run
+    from griddemtools.blade import ATOMS, FRAMES, load_run
     FRAME_N, FRAME_BOX = FRAMES["block"]
     wd = os.path.join(WD, "openloop")
     os.makedirs(wd, exist_ok=True)
@@ -122,7 +122,7 @@ def open_loop():
     os.chdir(wd)
     try:
         atoms = [(1, 0.5, 0.5), (2, 3.2, 1.7), (3, 3.4, 1.9), (4, -2.0, 3.1)]   # id, x, z; blade at bx 0
-        with open("atoms.t.txt", "w") as f:
+        with open(ATOMS % "t", "w") as f:    # a text dump: the reader takes either
             f.write("ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n%d\n" % len(atoms))
             f.write("ITEM: BOX BOUNDS pp pp ff\n-10 30\n0 1\n0 6\nITEM: ATOMS id x y z vx vy vz mass v_kin\n")
             f.writelines("%d %g 0.5 %g 1 0 0 %g 0\n" % (i, x, z, 0.5 + 0.1 * i) for i, x, z in atoms)
