@@ -3,7 +3,9 @@
    Each atom of the group carries channels (mass, solid volume, momentum, m v v, its share of the
    virial, 1, its contacts) to the Nx x Ny x Nz grid points at the cell centres with cloud-in-cell
    weights (griddem_cg.h); Grid3d sums ghost points into their owners; each channel is convolved
-   with the truncated Gaussian by LAMMPS's FFT3d on a grid zero-padded along non-periodic axes;
+   with the truncated Gaussian by LAMMPS's FFT3d on a grid zero-padded along non-periodic axes
+   (a kernel whose truncation radius is below every grid spacing reaches no other point: the
+   channels are then left as assigned, without transforms);
    the fields are ratios and differences of the smoothed channels per grid point.
 ------------------------------------------------------------------------- */
 
@@ -281,15 +283,26 @@ void ComputeGriddemCg::transform_kernel(const double h[3])
 #endif
 }
 
-/* Smooth channel slot s: owned points -> FFT grid (padding zero) -> product with the kernel's
-   transform -> back (FFT3d scales the backward transform by 1/points) -> smoothed. */
-void ComputeGriddemCg::convolve(int s)
+/* Smooth channel slot s: owned points -> (by_kernel: FFT grid (padding zero) -> product with the
+   kernel's transform -> back (FFT3d scales the backward transform by 1/points)) -> smoothed. */
+void ComputeGriddemCg::smooth(int s, bool by_kernel)
 {
 #ifdef GRIDDEM_CG_HAVE_FFT
   long n = 0;
   for (int iz = lo_in[2]; iz <= hi_in[2]; iz++)
     for (int iy = lo_in[1]; iy <= hi_in[1]; iy++)
       for (int ix = lo_in[0]; ix <= hi_in[0]; ix++) owned[n++] = channels[iz][iy][ix][s];
+  if (by_kernel) convolve();
+  for (size_t c = 0; c < owned.size(); c++) smoothed[c * nslot + s] = owned[c];
+#else
+  (void) s, (void) by_kernel;
+#endif
+}
+
+/* owned, convolved with the kernel in place */
+void ComputeGriddemCg::convolve()
+{
+#ifdef GRIDDEM_CG_HAVE_FFT
   std::fill(fft_real.begin(), fft_real.end(), 0.0);
   to_fft->perform(owned.data(), fft_real.data(), nullptr);
   const size_t nfft = fft_real.size();
@@ -304,9 +317,6 @@ void ComputeGriddemCg::convolve(int s)
   fft->compute(work.data(), work.data(), FFT3d::BACKWARD);
   for (size_t i = 0; i < nfft; i++) fft_real[i] = work[2 * i];
   from_fft->perform(fft_real.data(), owned.data(), nullptr);
-  for (size_t c = 0; c < owned.size(); c++) smoothed[c * nslot + s] = owned[c];
-#else
-  (void) s;
 #endif
 }
 
@@ -430,8 +440,9 @@ void ComputeGriddemCg::compute_pergrid()
     h[d] = prd[d] / ngrid[d];
     size[d] = griddem_cg_fft_size(ngrid[d], periodic[d], width, h[d]);
   }
-  if (size[0] != fftsize[0] || size[1] != fftsize[1] || size[2] != fftsize[2]) make_fft(size);
-  if (h[0] != kernel_h[0] || h[1] != kernel_h[1] || h[2] != kernel_h[2]) transform_kernel(h);
+  const bool by_kernel = griddem_cg_cutoff(width) >= std::min({h[0], h[1], h[2]});
+  if (by_kernel && (size[0] != fftsize[0] || size[1] != fftsize[1] || size[2] != fftsize[2])) make_fft(size);
+  if (by_kernel && (h[0] != kernel_h[0] || h[1] != kernel_h[1] || h[2] != kernel_h[2])) transform_kernel(h);
 
   // assign
   double *first = &channels[lo_out[2]][lo_out[1]][lo_out[0]][0];
@@ -474,7 +485,7 @@ void ComputeGriddemCg::compute_pergrid()
   sum->data = first;
   sum->nper = nslot;
   grid3d->reverse_comm(Grid3d::FIX, ghost_sum, 0, nslot, sizeof(double), gc_buf1, gc_buf2, MPI_DOUBLE);
-  for (int s = 0; s < nslot; s++) convolve(s);
+  for (int s = 0; s < nslot; s++) smooth(s, by_kernel);
 
   // fields. FFT rounding leaves about 1e-16 of the peak, of either sign, where the kernel never
   // reached: a smoothed mass, solid volume or atom count below 1e-9 of its mean per grid point is

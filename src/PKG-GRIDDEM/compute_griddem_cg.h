@@ -71,7 +71,8 @@ class ComputeGriddemCg : public Compute {
   void make_fft(const int size[3]);
   void destroy_fft();
   void transform_kernel(const double h[3]);
-  void convolve(int s);
+  void smooth(int s, bool by_kernel);
+  void convolve();
   void ask_for_virial();
   void gather_virial();
   void count_contacts();

@@ -520,6 +520,29 @@ run 10
             "box stretched to %.6g along x: density = direct convolution in the new box (rel. %.3g)" % (lengths[0], diff))
 
 
+def check_narrow_kernel(wd):
+    """A kernel whose truncation radius (8.85 W) is below every grid spacing reaches no other grid
+    point: the density is cloud-in-cell alone, the direct convolution's to rounding, and sums to
+    the mass."""
+    data = os.path.join(wd, "data.narrow")
+    box, grid, width = (4.0, 4.0, 4.0), (8, 6, 5), 0.05
+    t.write_random_spheres(data, 300, box, 0.1, 0.3, seed=14)
+    atoms = read_atoms(data)
+    text = RANDOM.format(boundary="p p p", data=data, pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1",
+                         coeffs="") + cg_lines(grid, width, ["density"])
+    sub = os.path.join(wd, "narrow")
+    os.mkdir(sub)
+    t.run_ok(text, sub, name="in.narrow")
+    field = read_fields(sub, ["density"])["density"]
+    direct = direct_density(atoms, grid, box, width, (True, True, True))
+    diff = max_diff(field, direct) / max(direct)
+    mass = sum(a[0] for a in atoms)
+    total = sum(field) * box[0] * box[1] * box[2] / (grid[0] * grid[1] * grid[2])
+    t.check(diff <= 1e-12 and abs(total - mass) <= 1e-12 * mass,
+            "W = %g (reach %.3g below the spacing 0.5): density = direct convolution (rel. %.3g), mass %.17g of %.17g"
+            % (width, 8.85 * width, diff, total, mass))
+
+
 def check_errors(wd):
     rc, out = t.run_lmp("units lj\natom_style sphere\ncompute c all griddem/cg 2 2 2 0.5 density\n", wd, name="in.nobox")
     t.check(rc != 0 and "Compute griddem/cg command before simulation box is defined" in out,
@@ -551,6 +574,7 @@ def main():
     check_doc_example(wd)
     check_deform_ranks(wd)
     check_deform_density(wd)
+    check_narrow_kernel(wd)
     check_errors(wd)
     t.finish()
 
