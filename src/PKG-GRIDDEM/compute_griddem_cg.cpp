@@ -16,6 +16,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_griddem_rom.h"
 #include "force.h"
 #include "grid3d.h"
 #include "griddem_cg.h"
@@ -415,16 +416,24 @@ void ComputeGriddemCg::count_contacts()
 void ComputeGriddemCg::compute_pergrid()
 {
   invoked_pergrid = update->ntimestep;
-  // fix griddem/rom brings the atoms it holds back for the steps this compute can be invoked on
-  // (announced ones, fix ave/grid's): on any other step the fields would miss them
-  // looked up here, not at init: a fix unfixed since is gone
-  for (Fix *rom : modify->get_fix_by_style("^griddem/rom$")) {
+  // fix griddem/rom's stored atoms are deposited where they are held where it can give them (one
+  // process) and the values need nothing but their own quantities; else it brings them back for
+  // the steps this compute can be invoked on (announced ones, fix ave/grid's): on any other step
+  // the fields would miss them. Looked up here, not at init: a fix unfixed since is gone
+  std::vector<double> held;    // FixGriddemRom::FIELD_VALUES per stored atom of the group
+  for (Fix *fix : modify->get_fix_by_style("^griddem/rom$")) {
+    auto rom = dynamic_cast<FixGriddemRom *>(fix);
+    if (!rom) continue;
     int dim = 0;
-    const auto *held = (const double *) rom->extract("stored_atoms", dim);
-    if (held && *held > 0.0)
+    const auto *nheld = (const double *) rom->extract("stored_atoms", dim);
+    if (!nheld || *nheld == 0.0) continue;
+    if (!reads_store() || !rom->fields_in_place())
       error->all(FLERR, "Compute griddem/cg: invoked at step {}, which was not announced to it, while fix {} holds {} "
                  "atoms out of LAMMPS (its keyword store); use store no",
-                 update->ntimestep, rom->id, (bigint) *held);
+                 update->ntimestep, rom->id, (bigint) *nheld);
+    std::vector<double> more;
+    rom->stored_for_fields(groupbit, more);
+    held.insert(held.end(), more.begin(), more.end());
   }
   if (slot[VIRIAL] >= 0) {
     ask_for_virial();
@@ -449,30 +458,26 @@ void ComputeGriddemCg::compute_pergrid()
   const long nbrick = (long) (hi_out[0] - lo_out[0] + 1) * (hi_out[1] - lo_out[1] + 1) *
       (hi_out[2] - lo_out[2] + 1) * nslot;
   std::fill(first, first + nbrick, 0.0);
-  double **x = atom->x, **v = atom->v;
   double local_totals[3] = {0.0, 0.0, 0.0};    // mass, atoms, solid volume of the group here
   double value[NCHANNELS];                      // the atom's carried channels, in slot order
   const int a[6] = {0, 1, 2, 0, 0, 1}, b[6] = {0, 1, 2, 1, 2, 2};
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    const double volume = slot[VOLUME] >= 0 ? 4.0 / 3.0 * MathConst::MY_PI * pow(atom->radius[i], 3) : 0.0;
+  // one atom (LAMMPS's i, or -1 for a stored one: no virial, no contacts) to the grid
+  auto assign = [&](int i, const double *x, const double *v, double m, double radius) {
+    const double volume = slot[VOLUME] >= 0 ? 4.0 / 3.0 * MathConst::MY_PI * pow(radius, 3) : 0.0;
     local_totals[0] += m, local_totals[1] += 1.0, local_totals[2] += volume;
     for (int s = 0; s < nslot; s++) {
       const int c = carried[s];
       value[s] = c == MASS       ? m
           : c == VOLUME          ? volume
-          : c <= PZ              ? m * v[i][c - PX]
-          : c < VIRIAL           ? m * v[i][a[c - MVV]] * v[i][b[c - MVV]]
+          : c <= PZ              ? m * v[c - PX]
+          : c < VIRIAL           ? m * v[a[c - MVV]] * v[b[c - MVV]]
           : c < ONE              ? virial[i][c - VIRIAL]
           : c == ONE             ? 1.0
                                  : contacts[i];
     }
-
     int index[3][2];
     double weight[3][2];
-    for (int d = 0; d < 3; d++)
-      griddem_cg_cic(x[i][d], boxlo[d], h[d], ngrid[d], periodic[d], index[d], weight[d]);
+    for (int d = 0; d < 3; d++) griddem_cg_cic(x[d], boxlo[d], h[d], ngrid[d], periodic[d], index[d], weight[d]);
     for (int cz = 0; cz < 2; cz++)
       for (int cy = 0; cy < 2; cy++)
         for (int cx = 0; cx < 2; cx++) {
@@ -480,7 +485,13 @@ void ComputeGriddemCg::compute_pergrid()
           const double w = weight[0][cx] * weight[1][cy] * weight[2][cz];
           for (int s = 0; s < nslot; s++) point[s] += w * value[s];
         }
-  }
+  };
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit)
+      assign(i, atom->x[i], atom->v[i], atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]],
+             atom->radius ? atom->radius[i] : 0.0);
+  for (size_t k = 0; k < held.size(); k += FixGriddemRom::FIELD_VALUES)
+    assign(-1, &held[k], &held[k + 3], held[k + 6], held[k + 7]);
   auto sum = static_cast<GhostSum *>(ghost_sum);
   sum->data = first;
   sum->nper = nslot;
@@ -525,6 +536,11 @@ void ComputeGriddemCg::compute_pergrid()
           fields[n][iz][iy][ix] = out;
         }
       }
+}
+
+bool ComputeGriddemCg::reads_store() const
+{
+  return slot[VIRIAL] < 0 && slot[CONTACTS] < 0;
 }
 
 int ComputeGriddemCg::get_grid_by_name(const std::string &name, int &dim)

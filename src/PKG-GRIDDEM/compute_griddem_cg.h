@@ -37,6 +37,9 @@ class ComputeGriddemCg : public Compute {
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
+  // whether its values come from the atoms' own quantities alone (no per-atom virial, no contact
+  // count), so that fix griddem/rom's stored atoms can be read where they are held
+  bool reads_store() const;
 
  private:
   int ngrid[3];

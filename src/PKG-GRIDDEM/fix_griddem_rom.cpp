@@ -10,7 +10,9 @@
 #include "atom_vec.h"
 #include "comm.h"
 #include "compute.h"
+#include "compute_griddem_cg.h"
 #include "domain.h"
+#include "dump.h"
 #include "error.h"
 #include "force.h"
 #include "grid3d.h"
@@ -301,6 +303,13 @@ void FixGriddemRom::init()
   grid_computes = modify->get_compute_by_style("^griddem/cg$");
   for (auto *compute : modify->get_compute_by_style("^griddem/grid$")) grid_computes.push_back(compute);
   grid_averages = modify->get_fix_by_style("^ave/grid");
+  grid_dumps_in_place = true;
+  for (const auto &compute : modify->get_compute_list()) {
+    auto cg = dynamic_cast<ComputeGriddemCg *>(compute);
+    if (compute->pergrid_flag && !(cg && cg->reads_store())) grid_dumps_in_place = false;
+  }
+  for (const auto &ifix : modify->get_fix_list())
+    if (ifix->pergrid_flag && ifix != this && !utils::strmatch(ifix->style, "^ave/grid")) grid_dumps_in_place = false;
   gravities.clear();
   for (auto &ifix : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
@@ -658,14 +667,29 @@ bigint FixGriddemRom::next_other_exchange(bigint from) const
 bigint FixGriddemRom::next_grid_step(bigint from) const
 {
   bigint next = MAXBIGINT;
-  for (const auto &compute : grid_computes)
+  for (const auto &compute : grid_computes) {
+    auto cg = dynamic_cast<ComputeGriddemCg *>(compute);
+    if (cg && cg->reads_store() && fields_in_place()) continue;    // it reads them where they are
     for (int k = compute->ntime - 1; k >= 0; k--)    // the list is in decreasing order
       if (compute->tlist[k] >= from) {
         next = MIN(next, compute->tlist[k]);
         break;
       }
+  }
   for (const auto &ave : grid_averages)
     if (ave->nevery > 0) next = MIN(next, (from + ave->nevery - 1) / ave->nevery * ave->nevery);
+  return next;
+}
+
+/* The next dump step that needs the stored atoms back (as output->next_dump_any, this step's
+   included): every dump's, but a grid dump's where grid_dumps_in_place and fields_in_place() (the
+   computes it can dump read them where they are held). */
+bigint FixGriddemRom::next_dump_of_atoms() const
+{
+  const bool grids_read_store = grid_dumps_in_place && fields_in_place();
+  bigint next = MAXBIGINT;
+  for (int k = 0; k < output->ndump; k++)
+    if (!(grids_read_store && utils::strmatch(output->dump[k]->style, "^grid"))) next = MIN(next, output->next_dump[k]);
   return next;
 }
 
@@ -686,7 +710,7 @@ void FixGriddemRom::plan_store()
 void FixGriddemRom::plan_return()
 {
   bigint due = MIN(next_model, update->laststep);
-  due = MIN(due, output->next_dump_any);
+  due = MIN(due, next_dump_of_atoms());
   due = MIN(due, output->next_restart);
   const bigint other = next_other_exchange(update->ntimestep + 1);
   if (other < MAXBIGINT) due = MIN(due, other - 1);
@@ -731,11 +755,27 @@ void FixGriddemRom::arm_reneighbor()
    packing (the atom and every fix's data of it), as fix evaporate deletes atoms. */
 void FixGriddemRom::store_lagging()
 {
-  if (nstored_all == 0.0) return_at = -1;
-  plan_return();
   const int *mask = atom->mask;
   double lagging = 0.0, lagging_all = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) lagging += (mask[i] & lagging_bit) ? 1.0 : 0.0;
+  int first = -1;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (mask[i] & lagging_bit) lagging += 1.0, first = first < 0 ? i : first;
+  // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
+  // and the fixes' maxexchange plus its BUFEXTRA of 1024)
+  size_t record = atom->avec->maxexchange + 1024;
+  for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
+  // the layout of the records this store makes, which the plan of their return depends on
+  if (first >= 0) {
+    std::vector<double> scratch(record);
+    atom->avec->pack_exchange(first, scratch.data());
+    const double *r = scratch.data();
+    bool same = ubuf(r[RECORD_MASK]).i == mask[first] && atom->rmass && r[RECORD_RADIUS] == atom->radius[first] &&
+        r[RECORD_RMASS] == atom->rmass[first];
+    for (int d = 0; d < 3; d++) same = same && r[RECORD_X + d] == atom->x[first][d] && r[RECORD_V + d] == atom->v[first][d];
+    records_readable = same;
+  }
+  if (nstored_all == 0.0) return_at = -1;
+  plan_return();
   MPI_Allreduce(&lagging, &lagging_all, 1, MPI_DOUBLE, MPI_SUM, world);
   // a store and its return cost about two reneighborings of every atom, and each held atom saves
   // its share of a step's per-atom loops while it is out: only so many atom-steps out pay for it
@@ -743,10 +783,6 @@ void FixGriddemRom::store_lagging()
     if (nstored_all == 0.0) return_at = next_reneighbor = -1;
     return;
   }
-  // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
-  // and the fixes' maxexchange plus its BUFEXTRA of 1024)
-  size_t record = atom->avec->maxexchange + 1024;
-  for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
   AtomVec *avec = atom->avec;
   int taken = 0, kept = 0;
   // the atoms that stay close ranks in order: most of a bed lags at once, so moving the few that
@@ -758,12 +794,6 @@ void FixGriddemRom::store_lagging()
       stored_used += avec->pack_exchange(i, &stored[at]);
       record_at.push_back(at);
       stored_radius.push_back(atom->radius[i]);
-      if (taken == 0) {
-        bool same = ubuf(stored[at + RECORD_MASK]).i == mask[i];
-        for (int d = 0; d < 3; d++)
-          same = same && stored[at + RECORD_X + d] == atom->x[i][d] && stored[at + RECORD_V + d] == atom->v[i][d];
-        records_readable = same;
-      }
       taken++;
     } else {
       if (kept != i) avec->copy(i, kept, 1);
@@ -798,6 +828,34 @@ void FixGriddemRom::reset_local_map()
 bool FixGriddemRom::reach_test_in_place() const
 {
   return comm->nprocs == 1 && !domain->triclinic && records_readable && !record_at.empty();
+}
+
+/* Whether compute griddem/cg can deposit the stored atoms where they are: on one process (whose
+   grid holds the ghost points of the whole periodic box), with readable records (as the reach test
+   in place). */
+bool FixGriddemRom::fields_in_place() const
+{
+  return comm->nprocs == 1 && records_readable;
+}
+
+/* The stored atoms of the group bits groupbit as compute griddem/cg deposits them: where they are
+   held, as the lagging atoms LAMMPS holds would be (where the last model step or reach test left
+   them), wrapped into the box along periodic axes (a held atom is not remapped by reneighboring). */
+void FixGriddemRom::stored_for_fields(int groupbit, std::vector<double> &out) const
+{
+  out.clear();
+  const double *lo = domain->boxlo, *prd = domain->prd;
+  for (const size_t at : record_at) {
+    if (!(ubuf(stored[at + RECORD_MASK]).i & groupbit)) continue;
+    for (int d = 0; d < 3; d++) {
+      double x = stored[at + RECORD_X + d];
+      if (domain->periodicity[d]) x = lo[d] + (x - lo[d] - prd[d] * floor((x - lo[d]) / prd[d]));
+      out.push_back(x);
+    }
+    for (int d = 0; d < 3; d++) out.push_back(stored[at + RECORD_V + d]);
+    out.push_back(stored[at + RECORD_RMASS]);
+    out.push_back(stored[at + RECORD_RADIUS]);
+  }
 }
 
 /* The stored atoms to the present in their records, as catch_up() moves LAMMPS's lagging atoms

@@ -55,6 +55,14 @@ class FixGriddemRom : public Fix {
   void *extract(const char *, int &) override;
   double memory_usage() override;
 
+  // compute griddem/cg's fields from the stored atoms where they are (no return for them): on one
+  // process, with records laid out as AtomVec::pack_exchange lays them
+  bool fields_in_place() const;
+  // the stored atoms of the group bits groupbit, FIELD_VALUES values each: x wrapped into the
+  // periodic box, v, mass, radius
+  enum { FIELD_VALUES = 8 };
+  void stored_for_fields(int groupbit, std::vector<double> &out) const;
+
   int kinematic_bit;    // group bit of the kinematic atoms (group ID_kinematic)
   int dynamic_bit;      // group bit of all other atoms (group ID_dynamic), for the integrator
   int lagging_bit;      // group bit of the kinematic atoms no dynamic atom can reach (ID_lagging)
@@ -87,6 +95,9 @@ class FixGriddemRom : public Fix {
   bool store_active;        // this run stores them (init, setup)
   std::vector<class Compute *> grid_computes;    // computes griddem/cg and griddem/grid, whose steps need every atom
   std::vector<class Fix *> grid_averages;      // fixes ave/grid, which invoke them unannounced
+  bool grid_dumps_in_place;    // every per-grid compute is a compute griddem/cg that reads_store(),
+                               // every per-grid fix this one or a fix ave/grid: a grid dump needs
+                               // no stored atom back where fields_in_place()
   std::string resolved_id;    // atoms in this region are never kinematic (keyword resolved)
   class Region *resolved;
   int period;    // keyword every: the longest model step, in DEM steps
@@ -141,15 +152,16 @@ class FixGriddemRom : public Fix {
   bool reach_due;                // the skin rule fired while atoms were stored: the reach test runs
                                  // after they are back (post_neighbor)
   // The reach test on the store in place (one process, an orthogonal box, records laid out as
-  // AtomVec::pack_exchange lays them: x, v at 1-6, mask at 9): the stored atoms are brought up to
-  // date in their records and take part where they are; those it finds near come back at the next
-  // step's exchange (near_return_at), the others stay out.
-  enum RecordOffset { RECORD_X = 1, RECORD_V = 4, RECORD_MASK = 9 };    // AtomVec::pack_exchange's
+  // AtomVec::pack_exchange lays them: x, v at 1-6, mask at 9, then atom style sphere's radius and
+  // rmass): the stored atoms are brought up to date in their records and take part where they are;
+  // those it finds near come back at the next step's exchange (near_return_at), the others stay out.
+  enum RecordOffset { RECORD_X = 1, RECORD_V = 4, RECORD_MASK = 9, RECORD_RADIUS = 11, RECORD_RMASS = 12 };
   std::vector<size_t> record_at;       // where each record starts in stored
   std::vector<double> stored_radius;   // each record's atom's radius
   std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
   std::vector<char> stored_near;       // records that reach test found near
-  bool records_readable;               // the last store's first record held its atom's x, v and mask
+  bool records_readable;               // the last store's first record held its atom's x, v, mask,
+                                       // radius and mass where RecordOffset says
   bigint near_return_at;               // the step whose pre_exchange brings back the records found near
 
   void read_model(const char *file);
@@ -162,6 +174,7 @@ class FixGriddemRom : public Fix {
   void fill_state();
   bigint next_other_exchange(bigint from) const;
   bigint next_grid_step(bigint from) const;
+  bigint next_dump_of_atoms() const;
   void plan_store();
   void plan_return();
   void store_lagging();

@@ -58,6 +58,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import griddem_testlib as t
+from griddemtools.grid import read_grid_dump  # noqa: E402 (griddem_testlib puts python/ on the path)
 
 WD = t.workdir()
 
@@ -1109,6 +1110,62 @@ run 20
             "an origin variable turning NaN stops the run naming it: %s" % t.errors(out)[:1])
 
 
+def fields_from_store():
+    """A dump grid of compute griddem/cg every 40 steps on migration()'s lattice (50 atoms held
+    between the model steps every 200): on one process, with values made of the atoms' own
+    quantities (density vx vz temperature), the compute reads the held atoms where they are held,
+    so they stay out at its steps (50 held there), and every frame equals store no's to round-off;
+    also with model steps every 1500 on a 12 x 12 x 12 grid, where the in-place reach tests carry
+    held atoms up to 0.6 across the periodic boundary (they are deposited wrapped into the box; the
+    lagging atoms of store no are deposited where they are, beyond it). Velocities are compared as
+    momentum densities. With coordination (contacts counted among LAMMPS's atoms) and on two
+    processes the held atoms are back at its steps (none held there), the frames equal store no's
+    as well."""
+    model = os.path.join(WD, "flow_fields.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
+    for nprocs, grid, values, every, n in ((1, "1 1 1", "density vx vz temperature", 200, 3),
+                                           (1, "1 1 1", "density vx vz", 1500, 12),
+                                           (1, "1 1 1", "density vx coordination", 200, 3),
+                                           (2, "2 1 1", "density vx vz temperature", 200, 3)):
+        frames, held = {}, {}
+        for store in ("no", "yes"):
+            text = flow_lattice(model, grid).format(store=store).replace("every 200", "every %d" % every) + """
+compute cg all griddem/cg {n} {n} {n} 0.1 {values}
+dump fields all grid 40 fields.{store}.txt {columns}
+dump_modify fields format float %.17g
+thermo_style custom step atoms f_rom[7] f_rom[17]
+thermo 1
+run {steps}
+""".format(n=n, values=values, store=store, columns=" ".join("c_cg:grid:" + v for v in values.split()),
+           steps=3 * every)
+            out = t.run_ok(text, WD, nprocs=nprocs, name="in.fields_%d_%s" % (nprocs, store))
+            held[store] = t.thermo_values(out, "f_rom[17]")
+            models = t.thermo_values(out, "f_rom[7]")
+            frames[store] = read_grid_dump(os.path.join(WD, "fields.%s.txt" % store))
+        label = "%d process(es), %s, every %d" % (nprocs, values, every)
+        # each value's differences relative to its largest magnitude in the frame, or to U^2 (the
+        # temperature of atoms moving as one is rounding alone); velocities as momentum densities (a
+        # ratio over a nearly empty grid point's mass carries the smoothing's rounding)
+        def weighted(frame, name):
+            return [rho * v for rho, v in zip(frame.columns["density"], frame.columns[name])] if name[0] == "v" \
+                else frame.columns[name]
+        worst = 0.0
+        for fy, fn in zip(frames["yes"], frames["no"]):
+            for name in values.split():
+                a, b = weighted(fy, name), weighted(fn, name)
+                scale = max(max(abs(c) for c in b), sum(u * u for u in FLOW))
+                worst = max(worst, max(abs(p - q) for p, q in zip(a, b)) / scale)
+        values_of, values_no = frames["yes"], frames["no"]
+        # the dump steps after the first store that are no model step (where every atom is back)
+        at_dumps = [held["yes"][step] for step in range(every + 40, 3 * every + 1, 40)
+                    if models[step] == models[step - 1] and step < 3 * every]
+        in_place = nprocs == 1 and "coordination" not in values
+        t.check(max(held["yes"]) == 50 and len(values_of) == len(values_no) == 3 * every // 40 + 1 and worst <= 1e-12 and
+                all(h == (50 if in_place else 0) for h in at_dumps),
+                "%s: atoms held at the dump steps %s (%s), every frame as with store no (largest relative "
+                "difference %.2g)" % (label, at_dumps, "read where they are" if in_place else "brought back", worst))
+
+
 def keyword_checks():
     model = os.path.join(WD, "rest_kw.model")
     t.write_rom_model(model, (3, 3, 3), BOX)
@@ -1494,6 +1551,7 @@ boundary(1, "reach 0")
 migration()
 store_in_place()
 store_limits()
+fields_from_store()
 blocks()
 processes()
 release()
