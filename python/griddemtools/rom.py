@@ -188,8 +188,10 @@ def height_accuracy_series(res, rom):
 def kinematic_series(log_path, column="v_nkin"):
     """(steps, share of the atoms) at the thermo rows of a reduced run's log with atoms: column
     v_nkin the kinematic atoms, v_nnear those of them moving at DEM's step; empty for a run without
-    them."""
-    rows = [r for r in log.thermo_table(log_path, "Step", "Atoms", column) if r[1] > 0]
+    them. The share is of the scene's atoms, column v_natoms (fix griddem/rom's f_rom[18]: LAMMPS's
+    atoms and those its store holds) where the log has it, else of LAMMPS's atoms (Atoms)."""
+    total = "v_natoms" if log.thermo_table(log_path, "Step", "v_natoms") else "Atoms"
+    rows = [r for r in log.thermo_table(log_path, "Step", total, column) if r[1] > 0]
     return np.array([int(r[0]) for r in rows]), np.array([r[2] / r[1] for r in rows])
 
 

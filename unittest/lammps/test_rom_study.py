@@ -171,6 +171,26 @@ def blade_force_file():
     t.check(np.array_equal(block, [[100, 1, 2, 0, 0]]), "one wall, no prediction: %s" % block.tolist())
 
 
+def kinematic_share():
+    """griddemtools.rom.kinematic_series: the kinematic share of the scene's atoms (v_natoms, fix
+    griddem/rom's f_rom[18], where the log has it: 4291 of 4300 while LAMMPS holds 44 and the store
+    the rest), else of LAMMPS's (Atoms)."""
+    from griddemtools.rom import kinematic_series
+    header = "   Step          Time         Atoms        %sKinEng         v_nkin        v_nnear    \n"
+    rows = ["      6000   3              4300   %s  0.001   4300   40\n", "      6500   3.25             44   %s  0.001   4291   35\n"]
+    logs = {}
+    for name, total in (("with", ("4300", "4300")), ("without", ("", ""))):
+        text = header % ("v_natoms      " if total[0] else "") + "".join(r % n for r, n in zip(rows, total))
+        logs[name] = os.path.join(WD, "log.share.%s" % name)
+        with open(logs[name], "w") as f:
+            f.write(text + "Loop time of 1 on 1 procs for 500 steps with 44 atoms\n")
+    steps, share = kinematic_series(logs["with"])
+    t.check(list(steps) == [6000, 6500] and np.allclose(share, [1.0, 4291 / 4300], rtol=0, atol=1e-15),
+            "kinematic share of the scene's atoms (v_natoms): %s" % list(share))
+    steps, share = kinematic_series(logs["without"])
+    t.check(np.allclose(share, [1.0, 4291 / 44], rtol=0, atol=1e-12), "without v_natoms, of LAMMPS's atoms: %s" % list(share))
+
+
 def blade_shape_refused():
     """examples/rom-blade's in.blade with a blade it does not have stops before reading its bed,
     naming the value."""
@@ -228,6 +248,7 @@ series()
 columns_3d()
 open_loop()
 blade_force_file()
+kinematic_share()
 blade_shape_refused()
 smoke()
 t.finish()
