@@ -1113,7 +1113,7 @@ run 20
 def fields_from_store():
     """A dump grid of compute griddem/cg every 40 steps on migration()'s lattice (50 atoms held
     between the model steps every 200): on one process, with values made of the atoms' own
-    quantities (density vx vz temperature), the compute reads the held atoms where they are held,
+    quantities (density vx vz temperature solid), the compute reads the held atoms where they are held,
     so they stay out at its steps (50 held there), and every frame equals store no's to round-off;
     also with model steps every 1500 on a 12 x 12 x 12 grid, where the in-place reach tests carry
     held atoms up to 0.6 across the periodic boundary (they are deposited wrapped into the box; the
@@ -1123,7 +1123,7 @@ def fields_from_store():
     as well."""
     model = os.path.join(WD, "flow_fields.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
-    for nprocs, grid, values, every, n in ((1, "1 1 1", "density vx vz temperature", 200, 3),
+    for nprocs, grid, values, every, n in ((1, "1 1 1", "density vx vz temperature solid", 200, 3),
                                            (1, "1 1 1", "density vx vz", 1500, 12),
                                            (1, "1 1 1", "density vx coordination", 200, 3),
                                            (2, "2 1 1", "density vx vz temperature", 200, 3)):
