@@ -522,9 +522,9 @@ void FixGriddemRom::mark_near()
     const double cut = comm->get_comm_cutoff();
     const double *lo = domain->boxlo, *hi = domain->boxhi, *prd = domain->prd;
     for (int k = 0; k < ns; k++) {
-      const double *p = &stored[record_at[k] + RECORD_X];
+      const double *p = &stored[record_at[k] + RECORD_X], radius = stored[record_at[k] + RECORD_RADIUS];
       std::copy(p, p + 3, points.begin() + 3 * (size_t) (nlocal + k));
-      radii[nlocal + k] = stored_radius[k];
+      radii[nlocal + k] = radius;
       kinematic[nlocal + k] = 1;
       // per axis the shifts by the box's length that keep the point within the ghost cutoff
       int nshift[3], shift[3][3];
@@ -542,7 +542,7 @@ void FixGriddemRom::mark_near()
             const double image[3] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
                                      p[2] + shift[2][c] * prd[2]};
             points.insert(points.end(), image, image + 3);
-            radii.push_back(stored_radius[k]);
+            radii.push_back(radius);
             kinematic.push_back(1);
           }
     }
@@ -793,7 +793,6 @@ void FixGriddemRom::store_lagging()
       const size_t at = stored_used;
       stored_used += avec->pack_exchange(i, &stored[at]);
       record_at.push_back(at);
-      stored_radius.push_back(atom->radius[i]);
       taken++;
     } else {
       if (kept != i) avec->copy(i, kept, 1);
@@ -844,14 +843,11 @@ bool FixGriddemRom::fields_in_place() const
 void FixGriddemRom::stored_for_fields(int groupbit, std::vector<double> &out) const
 {
   out.clear();
-  const double *lo = domain->boxlo, *prd = domain->prd;
   for (const size_t at : record_at) {
     if (!(ubuf(stored[at + RECORD_MASK]).i & groupbit)) continue;
-    for (int d = 0; d < 3; d++) {
-      double x = stored[at + RECORD_X + d];
-      if (domain->periodicity[d]) x = lo[d] + (x - lo[d] - prd[d] * floor((x - lo[d]) / prd[d]));
-      out.push_back(x);
-    }
+    double x[3] = {stored[at + RECORD_X], stored[at + RECORD_X + 1], stored[at + RECORD_X + 2]};
+    domain->remap(x);
+    out.insert(out.end(), x, x + 3);
     for (int d = 0; d < 3; d++) out.push_back(stored[at + RECORD_V + d]);
     out.push_back(stored[at + RECORD_RMASS]);
     out.push_back(stored[at + RECORD_RADIUS]);
@@ -876,7 +872,6 @@ void FixGriddemRom::return_near()
   AtomVec *avec = atom->avec;
   const double lag = (update->ntimestep - last_model) * update->dt;
   std::vector<size_t> kept_at;
-  std::vector<double> kept_radius;
   size_t write = 0;
   int back = 0;
   for (size_t k = 0; k < record_at.size(); k++) {
@@ -893,12 +888,10 @@ void FixGriddemRom::return_near()
     } else {
       if (write != at) std::memmove(&stored[write], &stored[at], (end - at) * sizeof(double));
       kept_at.push_back(write);
-      kept_radius.push_back(stored_radius[k]);
       write += end - at;
     }
   }
   record_at.swap(kept_at);
-  stored_radius.swap(kept_radius);
   stored_near.clear();
   stored_budget.clear();
   stored_used = write;
@@ -920,7 +913,6 @@ void FixGriddemRom::return_stored(bool exchange_follows)
   stored_used = 0;
   nstored_all = 0.0;
   record_at.clear();
-  stored_radius.clear();
   stored_budget.clear();
   stored_near.clear();
   reset_local_map();

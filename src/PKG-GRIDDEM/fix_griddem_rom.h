@@ -157,7 +157,6 @@ class FixGriddemRom : public Fix {
   // those it finds near come back at the next step's exchange (near_return_at), the others stay out.
   enum RecordOffset { RECORD_X = 1, RECORD_V = 4, RECORD_MASK = 9, RECORD_RADIUS = 11, RECORD_RMASS = 12 };
   std::vector<size_t> record_at;       // where each record starts in stored
-  std::vector<double> stored_radius;   // each record's atom's radius
   std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
   std::vector<char> stored_near;       // records that reach test found near
   bool records_readable;               // the last store's first record held its atom's x, v, mask,
