@@ -8,11 +8,13 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "error.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
 #include "pair.h"
+#include "update.h"
 
 #include <algorithm>
 #include <cstring>
@@ -372,6 +374,25 @@ int FixGriddem::maxsize_restart()
   return most;
 }
 
+/* The elastic energy is tallied on the steps LAMMPS tallies energy (Integrate::ev_set: where a
+   compute of it is due), as a pair style's is. Its value read on another step is refused; read on
+   such a step, it invokes compute thermo_pe as thermo's pe keyword does, so that whoever reads it
+   (thermo, dumps, fix print, ave/time, halt) announces its next step to that compute
+   (Modify::addstep_compute) and LAMMPS tallies energy there. */
+
+void FixGriddem::request_energy(const griddem_engine_stats &s)
+{
+  if (!s.energy_tallied)
+    error->all(FLERR, "Fix {}: value 7 (the elastic energy) is tallied on the steps LAMMPS tallies energy, "
+               "and step {} was not one: read it on a thermo step, through a fix that reads it on its own "
+               "steps (print, ave/time, halt), or after run 0", id, update->ntimestep);
+  Compute *pe = modify->get_compute_by_id("thermo_pe");
+  if (pe && !(pe->invoked_flag & Compute::INVOKED_SCALAR)) {
+    pe->compute_scalar();
+    pe->invoked_flag |= Compute::INVOKED_SCALAR;
+  }
+}
+
 /* 1 occupied cells, 2 most centres in one cell, 3 largest displacement per step in cells,
    4 cell edge, 5 contacts (pairs), 6 most contacts of one atom, 7 elastic energy in contacts */
 
@@ -397,7 +418,10 @@ double FixGriddem::compute_vector(int n)
     case 3: mine = s.cell_edge; break;
     case 4: mine = 0.5 * (double) s.contacts, op = MPI_SUM; break;    // each seen from both atoms
     case 5: mine = s.max_contacts; break;
-    case 6: mine = s.elastic_energy, op = MPI_SUM; break;
+    case 6:
+      request_energy(s);
+      mine = s.elastic_energy, op = MPI_SUM;
+      break;
   }
   MPI_Allreduce(&mine, &value, 1, MPI_DOUBLE, op, world);
   return value;

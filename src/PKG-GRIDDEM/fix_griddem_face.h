@@ -103,6 +103,8 @@ class FixGriddem : public Fix {
   // pair_style as they do after stock's, which makes its history fix at the first run.
   void track_atoms();
   int tracking;    // 1: in Atom's per-atom callbacks (track_atoms)
+  // value 7 read: refused unless the step tallied the energy; due again when its reader next reads
+  void request_energy(const struct griddem_engine_stats &s);
   // atoms given new IDs between runs (delete_atoms compress yes, reset_atoms id): each row's own
   // ID, written into it at a run's end, tells the keys to renumber at the next init
   void follow_renumbering();

@@ -38,8 +38,9 @@ typedef struct griddem_classic_batch {
 int griddem_classic_batchable(const griddem_pair_params *p);
 
 /* Evaluate the batch's lanes with law p (griddem_classic_batchable) and time step dt, the history
- * advancing (griddem_contact's history_update: a step of a run). */
-void griddem_classic_batch_eval(const griddem_pair_params *p, griddem_classic_batch *b, double dt);
+ * advancing (griddem_contact's history_update: a step of a run); each lane's energy is set only
+ * where energy is nonzero (a copy without it computes none). */
+void griddem_classic_batch_eval(const griddem_pair_params *p, griddem_classic_batch *b, double dt, int energy);
 
 #ifdef __cplusplus
 }

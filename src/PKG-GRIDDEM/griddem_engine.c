@@ -380,7 +380,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   }
   griddem_sweep(cls, e->ngrid, all.order, &e->channels, p->nlocal, s->model, s->excl,
                         s->dt, s->history_update, s->hist, s->row_of, s->f, s->torque, s->vatom,
-                        s->want_virial, result);
+                        s->tally, result);
 
   /* how far the fastest owned particle moves in a step, in cells of the finest grid */
   e->stats.max_speed = sqrt(scan->vmax2);
@@ -392,6 +392,7 @@ int griddem_engine_step(griddem_engine *e, const griddem_step *s, griddem_sweep_
   e->stats.contacts = result->contacts;
   e->stats.max_contacts = result->max_contacts;
   e->stats.elastic_energy = result->energy;
+  e->stats.energy_tallied = (s->tally & GRIDDEM_TALLY_ENERGY) != 0;
   return result->fault;
 }
 

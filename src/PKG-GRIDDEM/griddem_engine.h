@@ -20,7 +20,8 @@ typedef struct griddem_engine_stats {
   double cell_edge;     /* edge used (a dilute scene may coarsen it) */
   long contacts;        /* contacts of owned particles (an owned pair counts twice) */
   int max_contacts;     /* most contacts of one owned particle */
-  double elastic_energy;
+  double elastic_energy; /* tallied on steps that asked for it (energy_tallied), else 0 */
+  int energy_tallied;
   double max_speed;       /* of an owned particle */
   double max_cells_moved; /* max_speed * dt in cells */
   int nonfinite_velocity; /* 1: some owned particle has a non-finite velocity */
@@ -120,7 +121,7 @@ typedef struct griddem_step {
   int *row_of;             /* per particle: its history row (-1: none); updated for owned ones */
   double *f, *torque;      /* added into, 3 per owned particle */
   double *vatom;           /* NULL, or 6 per owned particle, added into */
-  int want_virial;
+  int tally;               /* what the sweep sums (GRIDDEM_TALLY_*) */
 } griddem_step;
 
 void griddem_engine_init(griddem_engine *e);

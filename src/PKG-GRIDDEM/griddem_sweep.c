@@ -284,7 +284,7 @@ typedef struct sweep_context {
   const int *row_of;
   double *f, *torque;    /* of the particles, added into where owned */
   double *vatom;
-  int want_virial;
+  int tally;    /* GRIDDEM_TALLY_* */
   griddem_sweep_result *result;
   griddem_spheres spheres;        /* the channels' centres and radii, and their float copies */
   griddem_touching_fn touching;   /* the candidate test */
@@ -464,7 +464,7 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
 
   /* a pair shared with another process is tallied half here, half there */
   const double share = b_owned ? 1.0 : 0.5;
-  sums->energy += share * energy;
+  if (cx->tally & GRIDDEM_TALLY_ENERGY) sums->energy += share * energy;
   if (!virial) return;
   const double w[6] = {dx[0] * fc[0], dx[1] * fc[1], dx[2] * fc[2], dx[0] * fc[1], dx[0] * fc[2], dx[1] * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
@@ -567,8 +567,9 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 }
 
 /* The ends of a batch's evaluated contacts, in the order they were found; virial (whether the
- * sweep tallies it) a constant of each copy */
-SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial)
+ * sweep tallies it) a constant of each copy, energy whether the lanes hold their energies */
+SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial,
+                                    const int energy)
 {
   const griddem_classic_batch *l = &q->lanes;
   for (int k = 0; k < l->n; k++) {
@@ -577,7 +578,7 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
     pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], dx, hv, fc, ta, tb,
-             l->energy[k], 0, 0.0, 1, 3, virial);
+             energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial);
   }
 }
 
@@ -611,9 +612,10 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
     if (q->kept[k]) stored_values(cx, law_of_all, q->entry_a[k], q->entry_b[k], 3, hv);
     for (int d = 0; d < 3; d++) l->shear[d][k] = hv[d];
   }
-  griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt);    /* every pair's law */
-  if (cx->want_virial || cx->vatom) finish_lanes(cx, sums, q, 1);
-  else finish_lanes(cx, sums, q, 0);
+  const int energy = (cx->tally & GRIDDEM_TALLY_ENERGY) != 0;
+  griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt, energy);    /* every pair's law */
+  if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom) finish_lanes(cx, sums, q, 1, energy);
+  else finish_lanes(cx, sums, q, 0, energy);
   l->n = 0;
 }
 
@@ -665,7 +667,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
                         : body == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                 : composed_law(body, law, &c, hv, fc, ta, tb);
   pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
-           track ? (values >= 0 ? values : cx->hist->values) : 0, cx->want_virial || cx->vatom);
+           track ? (values >= 0 ? values : cx->hist->values) : 0, (cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
@@ -1239,7 +1241,7 @@ double griddem_sweep_candidates(const griddem_class_grid *cls, int ncls, double 
 int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
                   int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
                   int history_update, griddem_history *hist, int *row_of, double *f,
-                  double *torque, double *vatom, int want_virial, griddem_sweep_result *result)
+                  double *torque, double *vatom, int tally, griddem_sweep_result *result)
 {
   double rmax = 0.0;
   for (int kc = 0; kc < ncls; kc++) rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax;
@@ -1248,7 +1250,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
                                       excl->group_both_bits))
                                 ? excl : NULL,
-                            dt, history_update, hist, row_of, f, torque, vatom, want_virial, result,
+                            dt, history_update, hist, row_of, f, torque, vatom, tally, result,
                             {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf, slack},
                             griddem_touching(), griddem_touching_width(),
                             batch_gather()};

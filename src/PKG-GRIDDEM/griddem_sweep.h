@@ -66,12 +66,18 @@ enum griddem_fault {
 
 typedef struct griddem_sweep_result {
   double virial[6];    /* xx yy zz xy xz yz; a pair with one owned atom counts half */
-  double energy;       /* elastic energy stored in the contacts' springs, counted as the virial */
+  double energy;       /* elastic energy stored in the contacts' springs, counted as the virial
+                          (tallied only with GRIDDEM_TALLY_ENERGY, else 0) */
   long contacts;       /* contacts summed over owned particles (an owned pair counts twice) */
   int max_contacts;    /* most contacts of one owned particle */
   int fault;           /* enum griddem_fault; the first one met */
   int fault_i, fault_j;/* original indices of the particles involved */
 } griddem_sweep_result;
+
+/* What a sweep sums besides forces and torques (bits): the global virial, the elastic energy. A
+ * host asks for each only on the steps that read it, as LAMMPS's eflag and vflag do. */
+#define GRIDDEM_TALLY_VIRIAL 1
+#define GRIDDEM_TALLY_ENERGY 2
 
 /* One size class: its particles binned on its own grid g (b's slots are slots base.. of the
  * channels), and the largest radius it may hold. One class is the plain single grid. kinematic:
@@ -104,14 +110,14 @@ void griddem_owned_cells(const griddem_grid *g, const double lo[3], const double
  * contact is evaluated once and its force and torques go to whichever of its two particles are
  * owned, so ghosts receive nothing (newton off across processes). Adds into f and torque
  * (3*nlocal), and half of del*f of each contact into vatom (6*nlocal) if not NULL; sums the virial
- * into result only if want_virial. If model->track_contacts, particle i's history is row
+ * and the energy into result only as tally (GRIDDEM_TALLY_*) asks. If model->track_contacts, particle i's history is row
  * row_of[i] of hist (-1: none), which the sweep updates in place (griddem_history_end: rows may
  * be given, moved or laid out afresh, and row_of with them). excl may be NULL. Returns
  * result->fault. */
 int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, griddem_channels *ch,
                   int nlocal, const griddem_model *model, const griddem_exclusions *excl, double dt,
                   int history_update, griddem_history *hist, int *row_of, double *f,
-                  double *torque, double *vatom, int want_virial, griddem_sweep_result *result);
+                  double *torque, double *vatom, int tally, griddem_sweep_result *result);
 
 /* Candidate pairs griddem_sweep tests on the classes cls (what a grid layout costs): per class,
  * each cell's centres against its forward half stencil; across two classes, each sphere of the

@@ -241,6 +241,7 @@ void PairGriddem::init_style()
 
   FixGriddem *fix = keeper.choose(history_fix_style(), history_fix_style() != "griddem", model.track_contacts);
   last_stats = griddem_engine_stats();    // the values of a step without atoms, which runs no sweep
+  last_stats.energy_tallied = 1;          // (its energy, none, is known on every step)
   if (model.track_contacts && fix->options.contacts == 0)
     error->all(FLERR, "Pair style {} needs contact history: fix {} has contacts 0", style, fix->id);
   // the Kokkos kernels' options: they run with fix griddem/kk only
@@ -709,7 +710,7 @@ void PairGriddem::engine_step()
   step.f = atom->f[0];
   step.torque = atom->torque[0];
   step.vatom = vflag_atom ? vatom[0] : nullptr;
-  step.want_virial = vflag_global;
+  step.tally = (vflag_global ? GRIDDEM_TALLY_VIRIAL : 0) | (eflag_global ? GRIDDEM_TALLY_ENERGY : 0);
 
   griddem_sweep_result result;
   int coarsened = 0;

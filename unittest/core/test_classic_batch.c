@@ -51,8 +51,11 @@ static void check_law(const char *text, double dt)
     memset(&b, 0, sizeof(b));
     b.n = n;
     for (int k = 0; k < n; k++) random_contact(&b, k);
-    griddem_classic_batch scalar = b;
-    griddem_classic_batch_eval(&law, &b, dt);
+    griddem_classic_batch scalar = b, without_energy = b;
+    griddem_classic_batch_eval(&law, &b, dt, 1);
+    /* a copy without the energy: the same forces, torques and shear to the bit, no energy set */
+    for (int k = 0; k < n; k++) without_energy.energy[k] = -1.0;
+    griddem_classic_batch_eval(&law, &without_energy, dt, 0);
     for (int k = 0; k < n; k++) {
       double dx[3], vi[3], vj[3], wi[3], wj[3], shear[3], f[3], ti[3], tj[3];
       for (int d = 0; d < 3; d++) {
@@ -69,6 +72,12 @@ static void check_law(const char *text, double dt)
                 same_bits(b.tj[d][k], tj[d]);
       CHECK(same, "%s, batch of %d, lane %d: force %.17g %.17g %.17g against the scalar law's %.17g %.17g %.17g", text, n,
             k, b.f[0][k], b.f[1][k], b.f[2][k], f[0], f[1], f[2]);
+      int same_without = without_energy.energy[k] == -1.0;
+      for (int d = 0; d < 3; d++)
+        same_without &= same_bits(without_energy.shear[d][k], shear[d]) && same_bits(without_energy.f[d][k], f[d]) &&
+                        same_bits(without_energy.ti[d][k], ti[d]) && same_bits(without_energy.tj[d][k], tj[d]);
+      CHECK(same_without, "%s, batch of %d, lane %d, without energy: force %.17g %.17g %.17g against %.17g %.17g %.17g",
+            text, n, k, without_energy.f[0][k], without_energy.f[1][k], without_energy.f[2][k], f[0], f[1], f[2]);
       const double fs = sqrt(c.fs[0] * c.fs[0] + c.fs[1] * c.fs[1] + c.fs[2] * c.fs[2]);
       if (fs >= law.tangential.mu * c.fncrit * (1.0 - 1e-12) && fs > 0.0) {
         capped++;

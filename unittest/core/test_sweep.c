@@ -155,7 +155,8 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
     griddem_channels_fill(&ch, &b, &part);
     griddem_sweep_result res;
     const griddem_class_grid one = all_owned(&g, &b, rmax);
-    griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va, 1, &res);
+    griddem_sweep(&one, 1, b.order, &ch, N, m, &excl, dt, 1, &hist, row_of, f, t, va,
+                  GRIDDEM_TALLY_VIRIAL | GRIDDEM_TALLY_ENERGY, &res);
     /* the rows completed every other step, as migrations do: the steps between find a pair's
        contact in the row of its other particle where the pair changed sides */
     const int completed = step % 2 == 1;
@@ -402,7 +403,7 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
   for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
   st.cell_edge = griddem_cell_edge(size_classes ? GRIDDEM_CELL_CLASSES : GRIDDEM_CELL_MULTI, st.rmin, st.rmax, 0.0);
   st.max_cells = 1L << 26, st.model = &m, st.excl = &excl, st.dt = 1e-4, st.history_update = 1;
-  st.hist = &hist, st.row_of = row_of, st.f = f, st.torque = t, st.want_virial = 1;
+  st.hist = &hist, st.row_of = row_of, st.f = f, st.torque = t, st.tally = GRIDDEM_TALLY_VIRIAL | GRIDDEM_TALLY_ENERGY;
   char what[256];
   static const char *const SIZES[] = {"", ", classes", ", classes, few large", ", classes, few small"};
   snprintf(what, sizeof(what), "%s%s%s, %d threads", law, SIZES[sizes], idle ? (idle == 2 ? ", mostly kinematic" : ", idle") : "", threads);

@@ -6,7 +6,10 @@
   frozen sphere of diameter 100: stops where its equation of motion along the arc puts it (0.2051 m;
   v^2 / (2 mu g) = 0.2038 m on a flat floor), less the tangential spring's stretch mu m g / Kt
   that pulls it back once it sticks (4.9e-4 m), to 2.4e-4 m;
-- no damping, no friction: kinetic plus contact spring energy conserved to 1e-6 over 1e5 steps."""
+- no damping, no friction: kinetic plus contact spring energy conserved to 1e-6 over 1e5 steps;
+- the spring energy (fix griddem's value 7) tallied only on the steps LAMMPS tallies energy: read
+  by fix ave/time every 700 steps, with thermo printing none, it equals the every-step run's at those
+  steps; read on a step that tallied none, the run stops naming the value and the step."""
 import math
 import os
 import sys
@@ -187,8 +190,61 @@ run 100000
     t.check(drift <= 1e-6, "total energy drift %.3g relative over 1e5 steps" % drift)
 
 
+def energy_on_demand():
+    """fix ave/time reads v_etotal every 700 steps while thermo (every 1000) prints no energy: each
+    value equals the one of a run that prints it every step (the state does not depend on when
+    energy is tallied, so the two runs agree to the bit)."""
+    data = os.path.join(WD, "data.demand")
+    t.write_random_spheres(data, 216, (6.2, 6.2, 6.2), 0.3, 0.45, seed=5, vscale=1.0, wscale=1.0,
+                           lattice=0.85)    # neighbours up to 0.05 deep: springs loaded throughout
+    base = """
+units lj
+atom_style sphere
+boundary p p p
+comm_modify vel yes
+read_data {data}
+pair_style griddem/hooke/history 1e4 NULL 0.0 NULL 0.0 0
+pair_coeff * *
+timestep 2e-5
+fix integrate all nve/sphere
+compute rot all erotate/sphere
+compute trans all ke
+variable etotal equal c_trans+c_rot+f_GRIDDEM[7]
+variable spring equal f_GRIDDEM[7]
+""".format(data=data)
+    fmt = "\nthermo_modify format float %.17g norm no\n"
+    every = t.run_ok(base + "thermo_style custom step f_GRIDDEM[5] v_spring v_etotal" + fmt + "thermo 1\nrun 2100\n", WD,
+                     name="in.energy_every")
+    steps, springs = t.thermo_values(every, "Step"), t.thermo_values(every, "v_spring")
+    total = dict(zip(steps, t.thermo_values(every, "v_etotal")))
+    spring = dict(zip(steps, springs))
+    t.run_ok(base + "thermo_style custom step f_GRIDDEM[5]\nthermo 1000\n"
+             "fix tell all ave/time 1 1 700 v_spring v_etotal file demand.txt format \" %.17g\"\n"
+             "run 2100\n", WD, name="in.energy_demand")
+    with open(os.path.join(WD, "demand.txt")) as f:
+        printed = [line.split() for line in f if not line.startswith("#")]
+    t.check([int(p[0]) for p in printed] == [0, 700, 1400, 2100], "fix ave/time read the energy at steps %s"
+            % [p[0] for p in printed])
+    for p in printed:
+        n = int(p[0])
+        t.check(float(p[1]) == spring[n] and float(p[2]) == total[n],
+                "step %d: spring %s, total %s; every step's run %.17g, %.17g" % (n, p[1], p[2], spring[n], total[n]))
+    t.check(min(spring[int(p[0])] for p in printed) > 0.0, "springs loaded at every printed step")
+    # read after a run whose last step tallied no energy (thermo prints none, nothing read it)
+    rc, out = t.run_lmp(base + "thermo_style custom step\nthermo 50\nrun 100\nprint \"LATE $(f_GRIDDEM[7])\"\n", WD,
+                        name="in.energy_late")
+    t.check(rc != 0 and "value 7 (the elastic energy) is tallied on the steps LAMMPS tallies energy, and step 100 "
+            "was not one" in out and "\nLATE " not in out, "reading value 7 on a step without energy stops the run (rc %d)" % rc)
+    # run 0 tallies it (its setup step asks every compute), and the value is the last step's
+    late = t.run_ok(base + "thermo_style custom step\nthermo 50\nrun 2100\nrun 0\nprint \"LATE $(f_GRIDDEM[7]:%.17g)\"\n",
+                    WD, name="in.energy_run0")
+    value = [float(line.split()[1]) for line in late.splitlines() if line.startswith("LATE ")]
+    t.check(value == [spring[2100]], "after run 0: %s, the every-step run's %.17g" % (value, spring[2100]))
+
+
 head_on()
 free_fall()
 sliding()
 energy()
+energy_on_demand()
 t.finish()

@@ -26,7 +26,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
   typedef GriddemKKSweepValue value_type;
   typedef ArrayTypes<DeviceType> AT;
 
-  int frozen_bit, vflag_global, vflag_atom;
+  int frozen_bit, eflag_global, vflag_global, vflag_atom;
   double dt;
   int history_update;    // 0 in setup: stored values are read, not advanced
   int track;             // model.track_contacts: rows are kept
@@ -118,7 +118,7 @@ struct GriddemKKSweep : public GriddemKKSorted<DeviceType, Real> {
       }
       for (int d = 0; d < 3; d++) fsum[d] += fc[d], tsum[d] += ti[d];
       if (!Classic && heat) heat_in += c.heat;
-      energy += 0.5 * uel;
+      if (eflag_global) energy += 0.5 * uel;
       ncontact++;
       if (vflag_global || vflag_atom) {
         w[0] += 0.5 * dx * fc[0], w[1] += 0.5 * dy * fc[1], w[2] += 0.5 * dz * fc[2];

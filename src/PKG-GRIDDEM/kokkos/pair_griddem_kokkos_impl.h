@@ -689,6 +689,7 @@ void PairGriddemKokkos<DeviceType, Base>::sweep(const GriddemKKGrids &grids, dou
   GriddemKKSweep<DeviceType, Real, Classic> sweep;
   static_cast<GriddemKKSorted<DeviceType, Real> &>(sweep) = sorted;
   sweep.frozen_bit = this->freeze_group_bit;
+  sweep.eflag_global = this->eflag_global;
   sweep.vflag_global = this->vflag_global;
   sweep.vflag_atom = this->vflag_atom;
   sweep.dt = this->update->dt;
@@ -780,6 +781,7 @@ void PairGriddemKokkos<DeviceType, Base>::close_step(const GriddemKKGrids &grids
   stats.contacts = sums.contacts;
   stats.max_contacts = sums.most;
   stats.elastic_energy = sums.energy;
+  stats.energy_tallied = this->eflag_global != 0;
   stats.max_speed = last_speed;
   stats.max_cells_moved = stats.max_speed * this->update->dt / grids.g[grids.ncls - 1].h;
   stats.nonfinite_velocity = 0;
