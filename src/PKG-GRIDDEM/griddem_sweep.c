@@ -437,13 +437,13 @@ static inline void subtract3(double *v, const double *w)
  * its history values hv (seen from a; track: contacts are kept, values of them a contact) written
  * to a's row, with b's index if b is owned (griddem_history_mirror), the contact counted for each
  * owned particle; the force fc on a (b gets -fc) and the torques ta and tb added to the owned particles,
- * the heat into a (if heat) likewise; its elastic energy and (virial: the sweep tallies it) its
- * virial tallied. */
+ * the heat into a (if heat) likewise; its elastic energy (with_energy: the sweep tallies it) and
+ * (virial: likewise) its virial tallied. */
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
                                 int64_t key_b, long entry_a, const double *dx,
                                 const double *hv, const double *fc,
                                 const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
-                                const int track, const int values, const int virial)
+                                const int track, const int values, const int virial, const int with_energy)
 {
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
@@ -464,7 +464,7 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
 
   /* a pair shared with another process is tallied half here, half there */
   const double share = b_owned ? 1.0 : 0.5;
-  if (cx->tally & GRIDDEM_TALLY_ENERGY) sums->energy += share * energy;
+  if (with_energy) sums->energy += share * energy;
   if (!virial) return;
   const double w[6] = {dx[0] * fc[0], dx[1] * fc[1], dx[2] * fc[2], dx[0] * fc[1], dx[0] * fc[2], dx[1] * fc[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
@@ -566,8 +566,8 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
   return gather_plain;
 }
 
-/* The ends of a batch's evaluated contacts, in the order they were found; virial (whether the
- * sweep tallies it) a constant of each copy, energy whether the lanes hold their energies */
+/* The ends of a batch's evaluated contacts, in the order they were found; virial and energy
+ * (whether the sweep tallies each, and the lanes hold their energies) constants of each copy */
 SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial,
                                     const int energy)
 {
@@ -578,7 +578,7 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
     const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
     const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
     pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], dx, hv, fc, ta, tb,
-             energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial);
+             energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial, energy);
   }
 }
 
@@ -614,8 +614,8 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   }
   const int energy = (cx->tally & GRIDDEM_TALLY_ENERGY) != 0;
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt, energy);    /* every pair's law */
-  if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom) finish_lanes(cx, sums, q, 1, energy);
-  else finish_lanes(cx, sums, q, 0, energy);
+  if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom) energy ? finish_lanes(cx, sums, q, 1, 1) : finish_lanes(cx, sums, q, 1, 0);
+  else energy ? finish_lanes(cx, sums, q, 0, 1) : finish_lanes(cx, sums, q, 0, 0);
   l->n = 0;
 }
 
@@ -667,7 +667,8 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
                         : body == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                 : composed_law(body, law, &c, hv, fc, ta, tb);
   pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
-           track ? (values >= 0 ? values : cx->hist->values) : 0, (cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom);
+           track ? (values >= 0 ? values : cx->hist->values) : 0, (cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom,
+           (cx->tally & GRIDDEM_TALLY_ENERGY) != 0);
 }
 
 /* Candidates that touch, collected for slot s before they are evaluated in order */
