@@ -18,6 +18,7 @@
 #include "grid3d.h"
 #include "group.h"
 #include "input.h"
+#include "irregular.h"
 #include "memory.h"
 #include "modify.h"
 #include "output.h"
@@ -49,7 +50,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
     counts(), stored(), stored_used(0), nstored(0), nstored_all(0.0), store_at(-1), return_at(-1), reach_due(false),
-    records_readable(false), near_return_at(-1)
+    records_readable(false), near_return_at(-1), irregular(nullptr), jumped(false)
 {
   std::string model_file;
   int every = 0;
@@ -165,6 +166,7 @@ FixGriddemRom::~FixGriddemRom()
   griddem_bins_free(&check_bins);
   griddem_bins_free(&near_bins);
   deallocate_grid();
+  delete irregular;
 }
 
 int FixGriddemRom::setmask()
@@ -487,64 +489,138 @@ void FixGriddemRom::catch_up()
     for (int i = 0; i < atom->nlocal; i++)
       if ((mask[i] & kinematic_bit) && track[i][TRACK_NEAR] == 0.0)
         for (int d = 0; d < 3; d++) x[i][d] += lag * v[i][d];
+    jumped = true;
   }
   last_model = update->ntimestep;
+}
+
+/* The held atoms a reach test on this process takes part with, each as (x, y, z, radius): this
+   process's (nstored, where they are) and, on several processes, the others' that lie, as
+   themselves or as a periodic image, within the ghost cutoff of this sub-domain (no process holds
+   ghosts of held atoms, and a held atom may have drifted from its process's sub-domain), with the
+   process and record each came from (from); in images, the periodic images of this process's that
+   lie within that reach. */
+void FixGriddemRom::held_within_reach(std::vector<double> &held, std::vector<double> &images,
+                                      std::vector<std::pair<int, int>> &from) const
+{
+  const int nprocs = comm->nprocs, me = comm->me;
+  const double cut = comm->get_comm_cutoff();
+  const double *prd = domain->prd;
+  // each process's sub-domain widened by the cutoff (orthogonal: reach_test_in_place)
+  double mine[6];
+  for (int d = 0; d < 3; d++) mine[d] = domain->sublo[d] - cut, mine[3 + d] = domain->subhi[d] + cut;
+  std::vector<double> reach_of(6 * (size_t) nprocs);
+  if (nprocs > 1) MPI_Allgather(mine, 6, MPI_DOUBLE, reach_of.data(), 6, MPI_DOUBLE, world);
+  else std::copy(mine, mine + 6, reach_of.begin());
+  auto within = [&](const double *p, int q) {
+    const double *b = &reach_of[6 * (size_t) q];
+    return p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] && p[2] <= b[5];
+  };
+  held.clear(), images.clear(), from.clear();
+  std::vector<std::vector<double>> send(nprocs);    // (x, y, z, radius, record) for each process
+  for (int k = 0; k < nstored; k++) {
+    const double *p = &stored[record_at[k] + RECORD_X], radius = stored[record_at[k] + RECORD_RADIUS];
+    held.insert(held.end(), p, p + 3);
+    held.push_back(radius);
+    int nshift[3], shift[3][3];
+    for (int d = 0; d < 3; d++) {
+      nshift[d] = 0;
+      shift[d][nshift[d]++] = 0;
+      if (domain->periodicity[d]) shift[d][nshift[d]++] = 1, shift[d][nshift[d]++] = -1;
+    }
+    for (int a = 0; a < nshift[0]; a++)
+      for (int b = 0; b < nshift[1]; b++)
+        for (int c = 0; c < nshift[2]; c++) {
+          const bool itself = a == 0 && b == 0 && c == 0;
+          const double image[3] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
+                                   p[2] + shift[2][c] * prd[2]};
+          for (int q = 0; q < nprocs; q++) {
+            if (!within(image, q)) continue;
+            if (q != me) {
+              send[q].insert(send[q].end(), image, image + 3);
+              send[q].push_back(radius);
+              send[q].push_back(k);
+            } else if (!itself) {
+              images.insert(images.end(), image, image + 3);
+              images.push_back(radius);
+            }
+          }
+        }
+  }
+  if (nprocs == 1) return;
+  std::vector<int> nsend(nprocs), nrecv(nprocs), sstart(nprocs), rstart(nprocs);
+  for (int q = 0; q < nprocs; q++) nsend[q] = (int) send[q].size();
+  MPI_Alltoall(nsend.data(), 1, MPI_INT, nrecv.data(), 1, MPI_INT, world);
+  int stotal = 0, rtotal = 0;
+  for (int q = 0; q < nprocs; q++) sstart[q] = stotal, stotal += nsend[q], rstart[q] = rtotal, rtotal += nrecv[q];
+  std::vector<double> out(stotal), in(rtotal);
+  for (int q = 0; q < nprocs; q++) std::copy(send[q].begin(), send[q].end(), out.begin() + sstart[q]);
+  MPI_Alltoallv(out.data(), nsend.data(), sstart.data(), MPI_DOUBLE, in.data(), nrecv.data(), rstart.data(),
+                MPI_DOUBLE, world);
+  for (int q = 0; q < nprocs; q++)
+    for (int m = rstart[q]; m < rstart[q] + nrecv[q]; m += 5) {
+      held.insert(held.end(), &in[m], &in[m] + 4);
+      from.emplace_back(q, (int) in[m + 4]);
+    }
+}
+
+/* The near flags this process found for other processes' held atoms (near, one per entry of from)
+   sent to those processes, which mark their records near (stored_near). */
+void FixGriddemRom::near_elsewhere(const std::vector<std::pair<int, int>> &from, const int *near)
+{
+  const int nprocs = comm->nprocs;
+  std::vector<std::vector<int>> send(nprocs);
+  for (size_t j = 0; j < from.size(); j++)
+    if (near[j]) send[from[j].first].push_back(from[j].second);
+  std::vector<int> nsend(nprocs), nrecv(nprocs), sstart(nprocs), rstart(nprocs);
+  for (int q = 0; q < nprocs; q++) nsend[q] = (int) send[q].size();
+  MPI_Alltoall(nsend.data(), 1, MPI_INT, nrecv.data(), 1, MPI_INT, world);
+  int stotal = 0, rtotal = 0;
+  for (int q = 0; q < nprocs; q++) sstart[q] = stotal, stotal += nsend[q], rstart[q] = rtotal, rtotal += nrecv[q];
+  std::vector<int> out(stotal), in(rtotal);
+  for (int q = 0; q < nprocs; q++) std::copy(send[q].begin(), send[q].end(), out.begin() + sstart[q]);
+  MPI_Alltoallv(out.data(), nsend.data(), sstart.data(), MPI_INT, in.data(), nrecv.data(), rstart.data(), MPI_INT,
+                world);
+  for (const int k : in) stored_near[k] = 1;
 }
 
 /* Which kinematic atoms move at DEM's step (near: a dynamic atom within reach), and how far each
    dynamic atom may move before a lagging one could meet it (its budget); griddem_rom_mark_near.
    Positions and masks of the ghosts must be current. Atoms held in the store (only where
-   reach_test_in_place) take part where they are: those found near are marked to come back. */
+   reach_test_in_place) take part where they are (held_within_reach): those found near are marked
+   to come back, where their own process or another found them near. */
 void FixGriddemRom::mark_near()
 {
   const int nlocal = atom->nlocal, nghost = atom->nghost;
   double **x = atom->x, **v = atom->v;
   int *mask = atom->mask;
-  // the stored atoms (reach_test_in_place) take part as owned atoms after LAMMPS's, their periodic
-  // images within the ghost cutoff after LAMMPS's ghosts
-  const int ns = nstored, nown = nlocal + ns;
-  std::vector<int> kinematic(nown + nghost), near(nown);
+  const int ns = nstored;
+  std::vector<double> held, images;
+  std::vector<std::pair<int, int>> from;
+  if (nstored_all > 0.0) held_within_reach(held, images, from);
+  // the held atoms take part as owned atoms after LAMMPS's (so that each gets its near flag), the
+  // images of this process's after LAMMPS's ghosts
+  const int nheld = (int) held.size() / 4, nimage = (int) images.size() / 4, nown = nlocal + nheld;
+  std::vector<int> kinematic(nown + nghost + nimage), near(nown);
   std::vector<double> budget(nown), points, radii;
   const double *xs = nlocal + nghost ? x[0] : nullptr, *rs = atom->radius;
-  for (int j = 0; j < nlocal + nghost; j++) kinematic[j < nlocal ? j : j + ns] = (mask[j] & kinematic_bit) ? 1 : 0;
-  if (ns > 0) {
-    kinematic.reserve(nown + nghost + ns);    // room for an image a stored atom
-    points.reserve(3 * kinematic.capacity());
-    radii.reserve(kinematic.capacity());
-    points.resize(3 * (size_t) (nown + nghost));
-    radii.resize(nown + nghost);
+  for (int j = 0; j < nlocal + nghost; j++) kinematic[j < nlocal ? j : j + nheld] = (mask[j] & kinematic_bit) ? 1 : 0;
+  if (nheld > 0) {
+    const size_t nall = kinematic.size();
+    points.resize(3 * nall);
+    radii.resize(nall);
     if (nlocal + nghost) {
       std::copy(xs, xs + 3 * (size_t) nlocal, points.begin());
       std::copy(xs + 3 * (size_t) nlocal, xs + 3 * (size_t) (nlocal + nghost), points.begin() + 3 * (size_t) nown);
       std::copy(rs, rs + nlocal, radii.begin());
       std::copy(rs + nlocal, rs + nlocal + nghost, radii.begin() + nown);
     }
-    const double cut = comm->get_comm_cutoff();
-    const double *lo = domain->boxlo, *hi = domain->boxhi, *prd = domain->prd;
-    for (int k = 0; k < ns; k++) {
-      const double *p = &stored[record_at[k] + RECORD_X], radius = stored[record_at[k] + RECORD_RADIUS];
-      std::copy(p, p + 3, points.begin() + 3 * (size_t) (nlocal + k));
-      radii[nlocal + k] = radius;
-      kinematic[nlocal + k] = 1;
-      // per axis the shifts by the box's length that keep the point within the ghost cutoff
-      int nshift[3], shift[3][3];
-      for (int d = 0; d < 3; d++) {
-        nshift[d] = 0;
-        shift[d][nshift[d]++] = 0;
-        if (domain->periodicity[d]) {
-          if (p[d] + prd[d] <= hi[d] + cut) shift[d][nshift[d]++] = 1;
-          if (p[d] - prd[d] >= lo[d] - cut) shift[d][nshift[d]++] = -1;
-        }
-      }
-      for (int a = 0; a < nshift[0]; a++)
-        for (int b = 0; b < nshift[1]; b++)
-          for (int c = (a == 0 && b == 0) ? 1 : 0; c < nshift[2]; c++) {
-            const double image[3] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
-                                     p[2] + shift[2][c] * prd[2]};
-            points.insert(points.end(), image, image + 3);
-            radii.push_back(radius);
-            kinematic.push_back(1);
-          }
+    for (int k = 0; k < nheld + nimage; k++) {
+      const size_t at = k < nheld ? nlocal + k : nown + nghost + (k - nheld);
+      const double *p = k < nheld ? &held[4 * (size_t) k] : &images[4 * (size_t) (k - nheld)];
+      std::copy(p, p + 3, points.begin() + 3 * at);
+      radii[at] = p[3];
+      kinematic[at] = 1;
     }
     xs = points.data(), rs = radii.data();
   }
@@ -568,9 +644,10 @@ void FixGriddemRom::mark_near()
   }
   stored_near.assign(ns, 0);
   stored_budget.assign(ns, 0.0);
+  for (int k = 0; k < ns; k++) stored_near[k] = near[nlocal + k] ? 1 : 0;
+  if (comm->nprocs > 1 && nstored_all > 0.0) near_elsewhere(from, &near[nlocal + ns]);
   for (int k = 0; k < ns; k++) {    // near: back at the next step; lagging: out, as they were
     nkin += 1.0;
-    stored_near[k] = near[nlocal + k] ? 1 : 0;
     stored_budget[k] = budget[nlocal + k];
     nnear += stored_near[k];
     const double *vk = &stored[record_at[k] + RECORD_V];
@@ -626,8 +703,9 @@ void FixGriddemRom::end_of_step()
       comm->forward_comm();
       mark_near();
       plan_store();
-      if (std::find(stored_near.begin(), stored_near.end(), 1) != stored_near.end())
-        near_return_at = update->ntimestep + 1;
+      int near_here = std::find(stored_near.begin(), stored_near.end(), 1) != stored_near.end(), near_any = 0;
+      MPI_Allreduce(&near_here, &near_any, 1, MPI_INT, MPI_MAX, world);
+      if (near_any) near_return_at = update->ntimestep + 1;    // every process returns its own then
     }
     if (nstored_all > 0.0) plan_return();
     arm_reneighbor();
@@ -640,6 +718,7 @@ void FixGriddemRom::post_run()
 {
   if (nstored_all > 0.0) return_stored(false);    // a run stopped early (fix halt, timer)
   catch_up();
+  if (jumped) migrate_far();    // (LAMMPS's next exchange, a command's or a run's set-up, reaches neighbours only)
   store_at = return_at = near_return_at = next_reneighbor = -1;
   reach_due = false;
 }
@@ -739,7 +818,22 @@ void FixGriddemRom::pre_exchange()
     store_at = -1;
     store_lagging();
   }
+  if (jumped) migrate_far();
   arm_reneighbor();
+}
+
+/* LAMMPS's exchange passes an atom to a neighbouring process only: atoms that came back from the
+   store or caught up with the field since the last exchange (jumped) may have gone further, and
+   go by irregular communication, as fix balance moves atoms (wrapped into the box first). */
+void FixGriddemRom::migrate_far()
+{
+  jumped = false;
+  if (comm->nprocs == 1) return;
+  if (!irregular) irregular = new Irregular(lmp);
+  if (domain->triclinic) domain->x2lamda(atom->nlocal);
+  domain->pbc();
+  if (comm->layout == Comm::LAYOUT_TILED || irregular->migrate_check()) irregular->migrate_atoms();
+  if (domain->triclinic) domain->lamda2x(atom->nlocal);
 }
 
 /* The next step whose pre_exchange takes atoms out or brings them back, as the step LAMMPS is asked
@@ -774,6 +868,10 @@ void FixGriddemRom::store_lagging()
     for (int d = 0; d < 3; d++) same = same && r[RECORD_X + d] == atom->x[first][d] && r[RECORD_V + d] == atom->v[first][d];
     records_readable = same;
   }
+  // a process without lagging atoms makes no records: it keeps no other's from reading theirs
+  int readable = first < 0 || records_readable, readable_all = 0;
+  MPI_Allreduce(&readable, &readable_all, 1, MPI_INT, MPI_MIN, world);
+  records_readable = readable_all != 0;
   if (nstored_all == 0.0) return_at = -1;
   plan_return();
   MPI_Allreduce(&lagging, &lagging_all, 1, MPI_DOUBLE, MPI_SUM, world);
@@ -821,12 +919,12 @@ void FixGriddemRom::reset_local_map()
 }
 
 /* Whether the skin rule's reach test can read the stored atoms where they are instead of bringing
-   them back: on one process (no other process holds ghosts of them), in an orthogonal box (their
-   periodic images are shifts by the box's lengths), with records that hold x, v and the mask where
-   AtomVec::pack_exchange puts them (checked on the first atom of each store). */
+   them back: in an orthogonal box (their periodic images are shifts by the box's lengths), with
+   records that hold x, v and the mask where AtomVec::pack_exchange puts them (checked on the first
+   atom of each store, on every process), atoms being held. */
 bool FixGriddemRom::reach_test_in_place() const
 {
-  return comm->nprocs == 1 && !domain->triclinic && records_readable && !record_at.empty();
+  return !domain->triclinic && records_readable && nstored_all > 0.0;
 }
 
 /* Whether compute griddem/cg can deposit the stored atoms where they are: on one process (whose
@@ -896,8 +994,11 @@ void FixGriddemRom::return_near()
   stored_budget.clear();
   stored_used = write;
   nstored -= back;
-  nstored_all -= back;    // one process
-  atom->natoms += back;
+  int back_all = 0;
+  MPI_Allreduce(&back, &back_all, 1, MPI_INT, MPI_SUM, world);
+  nstored_all -= back_all;
+  atom->natoms += back_all;
+  jumped = true;
   reset_local_map();
 }
 
@@ -915,6 +1016,7 @@ void FixGriddemRom::return_stored(bool exchange_follows)
   record_at.clear();
   stored_budget.clear();
   stored_near.clear();
+  jumped = true;
   reset_local_map();
   if (!exchange_follows) fill_nearlist();
 }

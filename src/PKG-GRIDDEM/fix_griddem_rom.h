@@ -139,7 +139,7 @@ class FixGriddemRom : public Fix {
 
   // The store: this process's lagging atoms taken out of LAMMPS's arrays (each as LAMMPS's own
   // exchange record, so every fix's per-atom data goes with it) from the step after a reach test
-  // until they are needed again: the next model step, reach test (on several processes), dump,
+  // until they are needed again: the next model step, a reach test in a triclinic box, dump,
   // restart file, the run's last step or a step where another fix creates or deletes atoms
   // (return_at). They wait where the last model step or in-place reach test left them, as lagging
   // atoms do.
@@ -151,7 +151,7 @@ class FixGriddemRom : public Fix {
   bigint return_at;              // the step whose pre_exchange brings them back
   bool reach_due;                // the skin rule fired while atoms were stored: the reach test runs
                                  // after they are back (post_neighbor)
-  // The reach test on the store in place (one process, an orthogonal box, records laid out as
+  // The reach test on the store in place (an orthogonal box, records laid out as
   // AtomVec::pack_exchange lays them: x, v at 1-6, mask at 9, then atom style sphere's radius and
   // rmass): the stored atoms are brought up to date in their records and take part where they are;
   // those it finds near come back at the next step's exchange (near_return_at), the others stay out.
@@ -160,14 +160,20 @@ class FixGriddemRom : public Fix {
   std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
   std::vector<char> stored_near;       // records that reach test found near
   bool records_readable;               // the last store's first record held its atom's x, v, mask,
-                                       // radius and mass where RecordOffset says
+                                       // radius and mass where RecordOffset says, on every process
   bigint near_return_at;               // the step whose pre_exchange brings back the records found near
+  class Irregular *irregular;          // migrate_far()
+  bool jumped;                         // atoms came back or caught up since the last exchange
 
   void read_model(const char *file);
   void place_grid();
   void classify();
   void release_by_force();
   void catch_up();
+  void migrate_far();
+  void held_within_reach(std::vector<double> &held, std::vector<double> &images,
+                         std::vector<std::pair<int, int>> &from) const;
+  void near_elsewhere(const std::vector<std::pair<int, int>> &from, const int *near);
   void mark_near();
   void fill_nearlist();
   void fill_state();

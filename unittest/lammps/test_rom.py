@@ -729,9 +729,9 @@ def migration():
     and thermo's atoms plus f_rom[17]), with atoms held at most steps; no atom is lost or has its ID
     twice at the end, every atom ends at x0 + U t (wrapped), and the classification, the atoms within
     reach and the reach tests between model steps are the same on 1, 2 and 4 processes and with
-    store no, where thermo's atoms stay 125 (with atoms held on several processes, a reach test the
-    skin rule calls for runs at the next step, once they are back; on one process it reads them where
-    they are held, at the step it is called for, so they are back only for the model steps)."""
+    store no, where thermo's atoms stay 125 (a reach test the skin rule calls for reads the held
+    atoms where they are, on several processes every process's, so they are back only for the model
+    steps)."""
     U = FLOW
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
@@ -764,16 +764,12 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
         if store == "yes":
             t.check(sum(h == 50 for h in held) > 2500, "%s: the 50 lagging atoms held at %d of 3001 steps" %
                     (label, sum(h == 50 for h in held)))
-            # one process: the reach tests between model steps read the held atoms in place, so they
-            # are back only around the 14 model steps after the first (the step itself and the next)
+            # the reach tests between model steps read the held atoms in place, so they are back only
+            # around the 14 model steps after the first (the step itself and the next)
             back = sum(h != 50 for h in held[202:])
             reach_tests = t.thermo_values(out, "f_rom[11]")[-1]
-            if nprocs == 1:
-                t.check(back <= 2 * 14 + 2, "%s: held atoms back at %d steps after step 201 (model steps only; %d "
-                        "reach tests between them)" % (label, back, reach_tests))
-            else:
-                t.check(back >= 2 * reach_tests, "%s: held atoms back at %d steps after step 201, twice the %d reach "
-                        "tests at least (one process reads them in place)" % (label, back, reach_tests))
+            t.check(back <= 2 * 14 + 2, "%s: held atoms back at %d steps after step 201 (model steps only; %d "
+                    "reach tests between them)" % (label, back, reach_tests))
         else:
             t.check(max(held) == 0, "%s: none held" % label)
         t.check(len(ids) == 125 and sorted(ids) == list(range(1, 126)), "%s: IDs 1-125 once each at the end" % label)
@@ -790,16 +786,20 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
 def store_in_place():
     """migration()'s lattice, every 500, with the atom at (0.3, 0.3, 1.5) removed and the dynamic
     atom below it, at (0.3, 0.3, 0.3), shot up through the hole at 1.5 on top of the flow: it nears
-    the held atom above the hole, at z = 2.7, between model steps (steps 500 and 1000), so that on
-    one process the reach test, reading the held atoms where they are, brings that atom back alone
-    (the others stay held: the held count drops by one) to move at every step as a kinematic
-    obstacle, which the shot atom hits and bounces off. Every atom ends where it ends with store no
-    on as many processes (1 and 2: on 2 the held atoms all come back for each reach test), also
-    where a dump brings every held atom back at the step that one comes back."""
+    the held atom above the hole, at z = 2.7, between model steps (steps 500 and 1000), so that the
+    reach test, reading the held atoms where they are (on 2 processes every process's), brings that
+    atom back alone (the others stay held: the held count drops by one) to move at every step as a
+    kinematic obstacle, which the shot atom hits and bounces off. On 2 processes split along z at
+    z = 2 (balance), the shot atom is below the cut and the held atom above it when that happens: a
+    process finds near a held atom of the other. Every atom ends where it ends with store no on as
+    many processes (1 and 2), also where a dump brings every held atom back at the step that one
+    comes back."""
     model = os.path.join(WD, "flow.model")
     t.write_rom_model(model, (3, 3, 3), BOX, bias=FLOW)
-    for nprocs, grid in ((1, "1 1 1"), (2, "2 1 1")):
+    for nprocs, grid in ((1, "1 1 1"), (2, "2 1 1"), (2, "1 1 2")):
         ends, held, partial = {}, {}, []
+        cut = "balance 1.0 z 0.3333333333\n" if grid == "1 1 2" else ""
+        where = "%d process(es) %s" % (nprocs, grid.replace(" ", "x"))
         # store yes and, on one process, again with a dump at the step that atom comes back, where every
         # held atom comes back too (that atom still as a near one)
         for run in ("no", "yes", "yes, dumped") if nprocs == 1 else ("no", "yes"):
@@ -812,13 +812,15 @@ group shot region gun
 delete_atoms group hole
 velocity shot set 0.7 0.4 1.5 units box
 variable vz equal vcm(shot,z)
-thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_vz
+variable zs equal xcm(shot,z)
+thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_vz v_zs
 thermo 1
-""" + dumped + """run 1200
+""" + cut + dumped + """run 1200
 write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.17g
 """
-            label = "%d process(es), store %s" % (nprocs, run)
-            out = t.run_ok(text, WD, nprocs=nprocs, name="in.inplace%d%s" % (nprocs, run.replace(", ", "")))
+            label = "%s, store %s" % (where, run)
+            out = t.run_ok(text, WD, nprocs=nprocs, name="in.inplace%d%s%s" % (nprocs, run.replace(", ", ""),
+                                                                              grid.replace(" ", "")))
             ends[run] = t.read_dump(os.path.join(WD, "end.dump"))[1]
             held[run] = t.thermo_values(out, "f_rom[17]")
             vz = t.thermo_values(out, "v_vz")
@@ -826,21 +828,78 @@ write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.1
                     (label, min(vz)))
             if run == "yes":    # a drop by one between model steps: that atom alone came back
                 partial = [k for k in range(1, len(held[run])) if 0 < held[run][k] == held[run][k - 1] - 1 and k % 500]
+                shot_z = t.thermo_values(out, "v_zs")
+        t.check(len(partial) == 1, "%s: the held atom the shot one nears comes back alone, between model steps "
+                "(step %s)" % (where, partial))
+        if cut and partial:
+            t.check(shot_z[partial[0] - 1] < 2.0, "%s: the shot atom below the cut at z = 2 (z %.3f), the held atom "
+                    "at 2.7 above it, at the reach test" % (where, shot_z[partial[0] - 1]))
         if nprocs == 1:
-            t.check(len(partial) == 1, "1 process: the held atom the shot one nears comes back alone, between model "
-                    "steps (step %s)" % partial)
             later = [held[run][partial[0] + 5] for run in ("yes", "yes, dumped")]
             t.check(held["yes, dumped"][partial[0]] == 0 and later[0] == later[1],
                     "1 process: all held atoms back at the dump's step %d, and then all but that one out again "
                     "(held 5 steps later: %s, as without the dump: %s)" % (partial[0], later[1], later[0]))
-        else:
-            t.check(not partial and max(held["yes"]) > 0, "2 processes: the held atoms come back together")
         # positions modulo the box: a held atom comes back at a run's end unwrapped
         for run, end in ends.items():
             worst = max(min(abs(a - b) % 6.0, 6.0 - abs(a - b) % 6.0) if d < 3 else abs(a - b)
                         for tag in ends["no"] for d, (a, b) in enumerate(zip(end[tag], ends["no"][tag])))
-            t.check(len(end) == 124 and worst <= 1e-12, "%d process(es), store %s: the 124 atoms end as with store no "
-                    "(largest difference %.2g)" % (nprocs, run, worst))
+            t.check(len(end) == 124 and worst <= 1e-12, "%s, store %s: the 124 atoms end as with store no "
+                    "(largest difference %.2g)" % (where, run, worst))
+
+
+def near_elsewhere():
+    """A held atom found near by another process than its own: in a periodic box 12 x 3 x 3 on 4
+    processes along x (sub-domains 3 wide), atom 1 is driven by the uniform field (2, 0, 0) (drive
+    box) from x = 1 (process 0, which holds it from step 1 on; one model step, at 0) toward atom 2, outside
+    the fix's group, at rest at x = 8 (process 2). By the reach test that finds it near (gap below
+    0.3, x about 6.7) it lies 3.7 from process 0's sub-domain, and atom 2 is no ghost of process 0
+    (ghost cutoff 1.3): only process 2 can find it near, and tells process 0. It comes back alone
+    then (held 1 at every step before, so no earlier reach test brought it back), hits atom 2 as a
+    kinematic obstacle, and both end as with store no."""
+    model = os.path.join(WD, "push.model")
+    t.write_rom_model(model, (3, 1, 1), (0.0, 12.0, 0.0, 3.0, 0.0, 3.0), bias=(2.0, 0.0, 0.0))
+    runs = {}
+    for store in ("no", "yes"):
+        text = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+processors 4 1 1
+region box block 0 12 0 3 0 3
+create_box 1 box
+create_atoms 1 single 1.0 1.5 1.5 units box
+create_atoms 1 single 8.0 1.5 1.5 units box
+set type 1 diameter 1.0
+set type 1 density 1.0
+group carried id 1
+velocity carried set 2 0 0 units box
+""" + PAIR + """
+fix rom carried griddem/rom model {model} eps 0.5 v0 1 every 5000 cfl 5 drive box store {store}
+fix integrate rom_dynamic nve/sphere
+variable x1 equal x[1]
+variable v2 equal vx[2]
+thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_x1 v_v2
+thermo_modify format float %.17g
+thermo 1
+run 3500
+write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.17g
+""".format(model=model, store=store)
+        out = t.run_ok(text, WD, nprocs=4, name="in.near_elsewhere_%s" % store)
+        runs[store] = (t.read_dump(os.path.join(WD, "end.dump"))[1], t.thermo_values(out, "f_rom[17]"),
+                       t.thermo_values(out, "v_x1"), t.thermo_values(out, "v_v2"), t.thermo_values(out, "f_rom[11]"))
+    end, held, x1, v2, reach_tests = runs["yes"]
+    back = [k for k in range(2, len(held)) if held[k] == 0]
+    t.check(back and all(h == 1 for h in held[2:back[0]]) and reach_tests[back[0]] > 1,
+            "atom 1 held from step 2 until it comes back at step %s, after %s reach tests" %
+            (back[0] if back else None, reach_tests[back[0]] if back else None))
+    if back:    # (x[1] reads 0 while it is held)
+        t.check(6.0 < x1[back[0]] < 7.0, "atom 1 back at x %.3f: 3 or more past process 0's sub-domain" % x1[back[0]])
+    t.check(v2[-1] > 0.5 and v2[-1] == runs["no"][3][-1], "atom 2 pushed to vx %.6f, as with store no (%.6f)"
+            % (v2[-1], runs["no"][3][-1]))
+    worst = max(abs(a - b) for tag in end for a, b in zip(end[tag], runs["no"][0][tag]))
+    t.check(worst <= 1e-12, "both atoms end as with store no (largest difference %.2g)" % worst)
 
 
 def store_limits():
@@ -1550,6 +1609,7 @@ boundary(2)
 boundary(1, "reach 0")
 migration()
 store_in_place()
+near_elsewhere()
 store_limits()
 fields_from_store()
 blocks()
