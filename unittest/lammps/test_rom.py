@@ -902,6 +902,44 @@ write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.1
     t.check(worst <= 1e-12, "both atoms end as with store no (largest difference %.2g)" % worst)
 
 
+def far_catch_up():
+    """One atom driven by the uniform field (2, 0, 0) in a periodic box 12 x 3 x 3 on 4 processes
+    along x (sub-domains 3 wide), model steps 2000 steps apart (cfl 5), no dynamic atom (so no
+    reach test): at each model step the lagging atom catches up by 4, past the neighbouring
+    sub-domain, which LAMMPS's exchange does not reach. With the store and without, no atom is lost
+    and it ends at x0 + 2 t (wrapped)."""
+    model = os.path.join(WD, "push.model")
+    t.write_rom_model(model, (3, 1, 1), (0.0, 12.0, 0.0, 3.0, 0.0, 3.0), bias=(2.0, 0.0, 0.0))
+    for store in ("no", "yes"):
+        text = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+processors 4 1 1
+region box block 0 12 0 3 0 3
+create_box 1 box
+create_atoms 1 single 1.0 1.5 1.5 units box
+set type 1 diameter 1.0
+set type 1 density 1.0
+velocity all set 2 0 0 units box
+""" + PAIR + """
+fix rom all griddem/rom model {model} eps 0.5 v0 1 every 2000 cfl 5 drive box store {store}
+fix integrate rom_dynamic nve/sphere
+thermo_style custom step atoms f_rom[1] f_rom[11] f_rom[18]
+thermo 500
+run 4001
+write_dump all custom end.dump id x y z modify sort id format float %.17g
+""".format(model=model, store=store)
+        rc, out = t.run_lmp(text, WD, nprocs=4, name="in.far_catch_up_%s" % store)
+        end = t.read_dump(os.path.join(WD, "end.dump"))[1] if rc == 0 else {}
+        x = end[1][0] if 1 in end else float("nan")
+        t.check(rc == 0 and abs(x - (1.0 + 2.0 * 4.001) % 12.0) <= 1e-9,
+                "store %s: no atom lost (rc %d%s), the atom at x %.12g (x0 + 2 t: %.12g)" %
+                (store, rc, ", lost atoms" if "Lost atoms" in out else "", x, (1.0 + 2.0 * 4.001) % 12.0))
+
+
 def store_limits():
     """What the store (keyword store) refuses, on migration()'s lattice (the 50 atoms of the planes
     z = 2.7 and 3.9, IDs 51-100, lag from the first model step, 200, and are held out of LAMMPS
@@ -1610,6 +1648,7 @@ boundary(1, "reach 0")
 migration()
 store_in_place()
 near_elsewhere()
+far_catch_up()
 store_limits()
 fields_from_store()
 blocks()
