@@ -516,34 +516,43 @@ void FixGriddemRom::held_within_reach(std::vector<double> &held, std::vector<dou
     const double *b = &reach_of[6 * (size_t) q];
     return p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] && p[2] <= b[5];
   };
-  held.clear(), images.clear(), from.clear();
+  held.resize(4 * (size_t) nstored);
+  images.clear(), from.clear();
+  const double *lo = domain->boxlo, *hi = domain->boxhi;
+  const int *periodic = domain->periodicity;
   std::vector<std::vector<double>> send(nprocs);    // (x, y, z, radius, record) for each process
   for (int k = 0; k < nstored; k++) {
     const double *p = &stored[record_at[k] + RECORD_X], radius = stored[record_at[k] + RECORD_RADIUS];
-    held.insert(held.end(), p, p + 3);
-    held.push_back(radius);
+    double *h = &held[4 * (size_t) k];
+    h[0] = p[0], h[1] = p[1], h[2] = p[2], h[3] = radius;
+    // per axis the shifts by the box's length that keep the point within the cutoff of the box
     int nshift[3], shift[3][3];
     for (int d = 0; d < 3; d++) {
       nshift[d] = 0;
       shift[d][nshift[d]++] = 0;
-      if (domain->periodicity[d]) shift[d][nshift[d]++] = 1, shift[d][nshift[d]++] = -1;
+      if (periodic[d]) {
+        if (p[d] + prd[d] <= hi[d] + cut) shift[d][nshift[d]++] = 1;
+        if (p[d] - prd[d] >= lo[d] - cut) shift[d][nshift[d]++] = -1;
+      }
     }
     for (int a = 0; a < nshift[0]; a++)
       for (int b = 0; b < nshift[1]; b++)
         for (int c = 0; c < nshift[2]; c++) {
           const bool itself = a == 0 && b == 0 && c == 0;
-          const double image[3] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
-                                   p[2] + shift[2][c] * prd[2]};
+          if (itself && nprocs == 1) continue;
+          const double image[4] = {p[0] + shift[0][a] * prd[0], p[1] + shift[1][b] * prd[1],
+                                   p[2] + shift[2][c] * prd[2], radius};
+          if (nprocs == 1) {    // (the sub-domain is the box: the shifts keep it within the cutoff)
+            images.insert(images.end(), image, image + 4);
+            continue;
+          }
           for (int q = 0; q < nprocs; q++) {
             if (!within(image, q)) continue;
             if (q != me) {
-              send[q].insert(send[q].end(), image, image + 3);
-              send[q].push_back(radius);
+              send[q].insert(send[q].end(), image, image + 4);
               send[q].push_back(k);
-            } else if (!itself) {
-              images.insert(images.end(), image, image + 3);
-              images.push_back(radius);
-            }
+            } else if (!itself)
+              images.insert(images.end(), image, image + 4);
           }
         }
   }

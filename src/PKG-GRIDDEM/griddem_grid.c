@@ -234,11 +234,31 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     }
   } else {
     int *start = b->cell_start;
-    memset(start, 0, sizeof(int) * (size_t) (g->ncell + 2));
     /* cell c's count at start[c + 2]; the scan turns start[c + 1] into c's first slot, and the
        scatter advances it to c's end, which is c + 1's first slot: cell_start without a shift.
-       A grid mostly empty (a free surface, a dilute gas) costs two passes over its cells. */
+       On a grid mostly empty only the spans of GRIDDEM_BIN_SPAN cells that hold centres are
+       cleared and scanned, the others take the running start; otherwise the grid is one span. */
+    const long span_cells = g->ncell >= GRIDDEM_BIN_SPARSE * (long) n ? GRIDDEM_BIN_SPAN : (g->ncell > 0 ? g->ncell : 1);
+    const long nspan = (g->ncell + span_cells - 1) / span_cells;
+    if (nspan > b->span_cap) {
+      free(b->span_count);
+      b->span_count = (int *) malloc(sizeof(int) * (size_t) nspan);
+      b->span_cap = b->span_count ? nspan : 0;
+      if (!b->span_count) return -1;
+    }
+    int *span = b->span_count;
     cells_of(g, 0, n, x, b->cell);
+    if (nspan > 1) {
+      memset(span, 0, sizeof(int) * (size_t) nspan);
+      for (int i = 0; i < n; i++) span[b->cell[i] / GRIDDEM_BIN_SPAN]++;
+    } else if (nspan == 1)
+      span[0] = n;
+    start[0] = start[1] = 0;
+    for (long s = 0; s < nspan; s++)
+      if (span[s]) {
+        const long c0 = s * span_cells, c1 = c0 + span_cells < g->ncell ? c0 + span_cells : g->ncell;
+        memset(start + c0 + 2, 0, sizeof(int) * (size_t) (c1 - c0));
+      }
     long crowded = 0;
     if (key) {
       /* the crowded cells listed as their second centre is counted (at most n / 2 of them; each
@@ -256,7 +276,13 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
       }
     } else
       for (int i = 0; i < n; i++) start[b->cell[i] + 2]++;
-    for (long c = 0; c < g->ncell; c++) start[c + 2] += start[c + 1];
+    for (long s = 0; s < nspan; s++) {
+      const long c0 = s * span_cells, c1 = c0 + span_cells < g->ncell ? c0 + span_cells : g->ncell;
+      if (span[s])
+        for (long c = c0; c < c1; c++) start[c + 2] += start[c + 1];
+      else
+        for (long c = c0, first = start[c0 + 1]; c < c1; c++) start[c + 2] = (int) first;
+    }
     for (int i = 0; i < n; i++) b->order[start[b->cell[i] + 1]++] = i;
     /* each crowded cell's centres in key order */
     for (long k = 0; k < crowded; k++) {
@@ -363,6 +389,7 @@ void griddem_bins_free(griddem_bins *b)
   free(b->cell);
   free(b->thread_count);
   free(b->crowded);
+  free(b->span_count);
   free(b->next_cell);
   memset(b, 0, sizeof(*b));
 }

@@ -220,11 +220,20 @@ typedef struct griddem_bins {
   long thread_count_cap;
   long *crowded;    /* binned on one thread with keys: the cells holding more than one centre */
   int crowded_cap;
+  int *span_count;  /* binned on one thread: centres in each span of GRIDDEM_BIN_SPAN cells */
+  long span_cap;
   griddem_grid grid;/* the grid binned into */
   int movable;      /* 1: binned by key with no two equal keys in a cell, so that griddem_bin_points_again
                        can move the slots of the points that changed cells into place */
   long *next_cell;  /* [n] griddem_bin_points_again: the cell of each point now */
 } griddem_bins;
+
+/* Cells a span of the one-thread counting sort on a grid of at least GRIDDEM_BIN_SPARSE cells a
+ * centre: spans without centres are neither cleared nor scanned cell by cell, so that a grid
+ * mostly empty (the few atoms a reduced-order run resolves, a dilute gas) costs about a store per
+ * cell; a fuller grid is one span (the extra pass over the centres would not pay) */
+#define GRIDDEM_BIN_SPAN 64
+#define GRIDDEM_BIN_SPARSE 8
 
 /* Counting sort of n interleaved points into g's cells; within a cell, slots are ordered by key
  * and position (griddem_sort_cell). key is 32- or 64-bit per key_bytes, or NULL to keep input order.

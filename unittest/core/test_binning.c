@@ -209,8 +209,43 @@ static void check_faces(void)
   griddem_bins_free(&b);
 }
 
+/* A grid mostly empty, binned after a dense one into the same bins (stale counts left in its
+ * cell starts): every cell's start and count as a direct count says, in spans with and without
+ * centres and in the last, partial span */
+static void check_sparse(void)
+{
+  enum { N = 3000, M = 37 };
+  static double x[3 * N];
+  static int tag[N];
+  for (int i = 0; i < 3 * N; i++) x[i] = 4.0 * check_uniform();
+  for (int i = 0; i < N; i++) tag[i] = i + 1;
+  const double anchor[3] = {0.0, 0.0, 0.0};
+  griddem_grid g;
+  griddem_bins b = {0};
+  CHECK(griddem_grid_cover(&g, anchor, N, x, 0.5, 1L << 30) == 0 && griddem_bin_points(&b, &g, N, x, tag, 4) == 0,
+        "dense binning first");
+  /* M points: a cluster at one corner, one at the far corner (the last span), a few on the way */
+  static double y[3 * M];
+  for (int i = 0; i < M; i++)
+    for (int d = 0; d < 3; d++) y[3 * i + d] = i == M - 1 ? 29.99 : i < 30 ? 0.5 * check_uniform() : 30.0 * check_uniform();
+  CHECK(griddem_grid_cover(&g, anchor, M, y, 0.35, 1L << 30) == 0 && g.ncell % GRIDDEM_BIN_SPAN != 0 &&
+            griddem_bin_points(&b, &g, M, y, tag, 4) == 0,
+        "sparse binning (%ld cells, %ld spans of %d)", g.ncell, g.ncell / GRIDDEM_BIN_SPAN + 1, GRIDDEM_BIN_SPAN);
+  int *count = calloc((size_t) g.ncell, sizeof(int));
+  for (int i = 0; i < M; i++) count[griddem_cell_of(&g, y[3 * i], y[3 * i + 1], y[3 * i + 2])]++;
+  long wrong = 0, first = 0;
+  for (long c = 0; c < g.ncell; c++) {
+    wrong += b.cell_start[c] != first || b.cell_start[c + 1] - b.cell_start[c] != count[c];
+    first += count[c];
+  }
+  CHECK(wrong == 0 && b.cell_start[g.ncell] == M, "every cell's start and count as counted (%ld wrong)", wrong);
+  free(count);
+  griddem_bins_free(&b);
+}
+
 int main(void)
 {
+  check_sparse();
   check_cell_sort();
   check_faces();
   check_moved(3000, 4);
