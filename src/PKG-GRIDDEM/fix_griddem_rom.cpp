@@ -472,6 +472,7 @@ void FixGriddemRom::release_by_force()
   }
   int all = 0;
   MPI_Allreduce(&released, &all, 1, MPI_INT, MPI_SUM, world);
+  if (all && lag > 0.0) jumped = true;    // a lagging atom released has caught up (on every process alike)
   if (all) {
     comm->forward_comm(this);    // the ghosts of released atoms too
     counts[RELEASED_FORCE] += all;

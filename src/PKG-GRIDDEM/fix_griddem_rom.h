@@ -163,7 +163,8 @@ class FixGriddemRom : public Fix {
                                        // radius and mass where RecordOffset says, on every process
   bigint near_return_at;               // the step whose pre_exchange brings back the records found near
   class Irregular *irregular;          // migrate_far()
-  bool jumped;                         // atoms came back or caught up since the last exchange
+  bool jumped;                         // atoms came back or caught up since the last exchange (the same
+                                       // on every process: set where all act alike)
 
   void read_model(const char *file);
   void place_grid();
