@@ -39,6 +39,25 @@ namespace {
 // saves (its two reneighborings against the held atoms' skipped per-step work; measured on
 // examples/rom-pile and rom-hopper)
 constexpr double STORE_PAYBACK = 8.0;
+
+// Each process's lists for the others (send[q]: for process q) delivered: what this process gets,
+// the parts of the processes one after the other (part q from start[q] to start[q + 1])
+template <typename T>
+std::vector<T> exchange_lists(const std::vector<std::vector<T>> &send, MPI_Datatype type, MPI_Comm world,
+                              std::vector<int> &start)
+{
+  const int nprocs = (int) send.size();
+  std::vector<int> nsend(nprocs), nrecv(nprocs), sstart(nprocs);
+  for (int q = 0; q < nprocs; q++) nsend[q] = (int) send[q].size();
+  MPI_Alltoall(nsend.data(), 1, MPI_INT, nrecv.data(), 1, MPI_INT, world);
+  start.assign(nprocs + 1, 0);
+  int stotal = 0;
+  for (int q = 0; q < nprocs; q++) sstart[q] = stotal, stotal += nsend[q], start[q + 1] = start[q] + nrecv[q];
+  std::vector<T> out(stotal), in(start[nprocs]);
+  for (int q = 0; q < nprocs; q++) std::copy(send[q].begin(), send[q].end(), out.begin() + sstart[q]);
+  MPI_Alltoallv(out.data(), nsend.data(), sstart.data(), type, in.data(), nrecv.data(), start.data(), type, world);
+  return in;
+}
 }    // namespace
 
 FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
@@ -558,17 +577,10 @@ void FixGriddemRom::held_within_reach(std::vector<double> &held, std::vector<dou
         }
   }
   if (nprocs == 1) return;
-  std::vector<int> nsend(nprocs), nrecv(nprocs), sstart(nprocs), rstart(nprocs);
-  for (int q = 0; q < nprocs; q++) nsend[q] = (int) send[q].size();
-  MPI_Alltoall(nsend.data(), 1, MPI_INT, nrecv.data(), 1, MPI_INT, world);
-  int stotal = 0, rtotal = 0;
-  for (int q = 0; q < nprocs; q++) sstart[q] = stotal, stotal += nsend[q], rstart[q] = rtotal, rtotal += nrecv[q];
-  std::vector<double> out(stotal), in(rtotal);
-  for (int q = 0; q < nprocs; q++) std::copy(send[q].begin(), send[q].end(), out.begin() + sstart[q]);
-  MPI_Alltoallv(out.data(), nsend.data(), sstart.data(), MPI_DOUBLE, in.data(), nrecv.data(), rstart.data(),
-                MPI_DOUBLE, world);
+  std::vector<int> start;
+  const std::vector<double> in = exchange_lists(send, MPI_DOUBLE, world, start);
   for (int q = 0; q < nprocs; q++)
-    for (int m = rstart[q]; m < rstart[q] + nrecv[q]; m += 5) {
+    for (int m = start[q]; m < start[q + 1]; m += 5) {
       held.insert(held.end(), &in[m], &in[m] + 4);
       from.emplace_back(q, (int) in[m + 4]);
     }
@@ -582,16 +594,8 @@ void FixGriddemRom::near_elsewhere(const std::vector<std::pair<int, int>> &from,
   std::vector<std::vector<int>> send(nprocs);
   for (size_t j = 0; j < from.size(); j++)
     if (near[j]) send[from[j].first].push_back(from[j].second);
-  std::vector<int> nsend(nprocs), nrecv(nprocs), sstart(nprocs), rstart(nprocs);
-  for (int q = 0; q < nprocs; q++) nsend[q] = (int) send[q].size();
-  MPI_Alltoall(nsend.data(), 1, MPI_INT, nrecv.data(), 1, MPI_INT, world);
-  int stotal = 0, rtotal = 0;
-  for (int q = 0; q < nprocs; q++) sstart[q] = stotal, stotal += nsend[q], rstart[q] = rtotal, rtotal += nrecv[q];
-  std::vector<int> out(stotal), in(rtotal);
-  for (int q = 0; q < nprocs; q++) std::copy(send[q].begin(), send[q].end(), out.begin() + sstart[q]);
-  MPI_Alltoallv(out.data(), nsend.data(), sstart.data(), MPI_INT, in.data(), nrecv.data(), rstart.data(), MPI_INT,
-                world);
-  for (const int k : in) stored_near[k] = 1;
+  std::vector<int> start;
+  for (const int k : exchange_lists(send, MPI_INT, world, start)) stored_near[k] = 1;
 }
 
 /* Which kinematic atoms move at DEM's step (near: a dynamic atom within reach), and how far each

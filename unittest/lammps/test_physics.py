@@ -159,11 +159,8 @@ run 5000
     t.check(abs(x[-1] - expected) <= 2.4e-4, "slid %.6f m, expected %.6f m" % (x[-1], expected))
 
 
-def energy():
-    data = os.path.join(WD, "data.gas")
-    t.write_random_spheres(data, 216, (6.6, 6.6, 6.6), 0.3, 0.45, seed=5, vscale=1.0, wscale=1.0,
-                           lattice=1.1)
-    text = """
+# an elastic gas (no damping, no friction) and its kinetic plus spring energy
+ELASTIC_GAS = """
 units lj
 atom_style sphere
 boundary p p p
@@ -176,11 +173,18 @@ fix integrate all nve/sphere
 compute rot all erotate/sphere
 compute trans all ke
 variable etotal equal c_trans+c_rot+f_GRIDDEM[7]
-thermo_style custom step atoms f_GRIDDEM[5] v_etotal
+"""
+
+
+def energy():
+    data = os.path.join(WD, "data.gas")
+    t.write_random_spheres(data, 216, (6.6, 6.6, 6.6), 0.3, 0.45, seed=5, vscale=1.0, wscale=1.0,
+                           lattice=1.1)
+    text = ELASTIC_GAS.format(data=data) + """thermo_style custom step atoms f_GRIDDEM[5] v_etotal
 thermo_modify format float %.17g norm no
 thermo 10000
 run 100000
-""".format(data=data)
+"""
     out = t.run_ok(text, WD, name="in.energy")
     e = t.thermo_values(out, "v_etotal")
     contacts = t.thermo_values(out, "f_GRIDDEM[5]")
@@ -197,21 +201,7 @@ def energy_on_demand():
     data = os.path.join(WD, "data.demand")
     t.write_random_spheres(data, 216, (6.2, 6.2, 6.2), 0.3, 0.45, seed=5, vscale=1.0, wscale=1.0,
                            lattice=0.85)    # neighbours up to 0.05 deep: springs loaded throughout
-    base = """
-units lj
-atom_style sphere
-boundary p p p
-comm_modify vel yes
-read_data {data}
-pair_style griddem/hooke/history 1e4 NULL 0.0 NULL 0.0 0
-pair_coeff * *
-timestep 2e-5
-fix integrate all nve/sphere
-compute rot all erotate/sphere
-compute trans all ke
-variable etotal equal c_trans+c_rot+f_GRIDDEM[7]
-variable spring equal f_GRIDDEM[7]
-""".format(data=data)
+    base = ELASTIC_GAS.format(data=data) + "variable spring equal f_GRIDDEM[7]\n"
     fmt = "\nthermo_modify format float %.17g norm no\n"
     every = t.run_ok(base + "thermo_style custom step f_GRIDDEM[5] v_spring v_etotal" + fmt + "thermo 1\nrun 2100\n", WD,
                      name="in.energy_every")

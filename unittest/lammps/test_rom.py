@@ -847,6 +847,26 @@ write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.1
                     "(largest difference %.2g)" % (where, run, worst))
 
 
+def corridor(model, centres, every, store):
+    """A periodic box 12 x 3 x 3 on 4 processes along x (sub-domains 3 wide), unit spheres at the
+    centres (x, at y = z = 1.5), atom 1 driven by the uniform field (2, 0, 0) of model (drive box,
+    every steps apart: cfl 5 lets the model step be that long), keyword store as given."""
+    return HEAD.format(bnd="p p p").replace("region box block 0 6 0 6 0 6", "processors 4 1 1\nregion box block 0 12 0 3 0 3") + \
+        "".join("create_atoms 1 single %r 1.5 1.5 units box\n" % c for c in centres) + """set type 1 diameter 1.0
+set type 1 density 1.0
+group carried id 1
+velocity carried set 2 0 0 units box
+""" + PAIR + """fix rom carried griddem/rom model %s eps 0.5 v0 1 every %d cfl 5 drive box store %s
+fix integrate rom_dynamic nve/sphere
+""" % (model, every, store)
+
+
+def push_model():
+    model = os.path.join(WD, "push.model")
+    t.write_rom_model(model, (3, 1, 1), (0.0, 12.0, 0.0, 3.0, 0.0, 3.0), bias=(2.0, 0.0, 0.0))
+    return model
+
+
 def near_elsewhere():
     """A held atom found near by another process than its own: in a periodic box 12 x 3 x 3 on 4
     processes along x (sub-domains 3 wide), atom 1 is driven by the uniform field (2, 0, 0) (drive
@@ -856,36 +876,17 @@ def near_elsewhere():
     (ghost cutoff 1.3): only process 2 can find it near, and tells process 0. It comes back alone
     then (held 1 at every step before, so no earlier reach test brought it back), hits atom 2 as a
     kinematic obstacle, and both end as with store no."""
-    model = os.path.join(WD, "push.model")
-    t.write_rom_model(model, (3, 1, 1), (0.0, 12.0, 0.0, 3.0, 0.0, 3.0), bias=(2.0, 0.0, 0.0))
+    model = push_model()
     runs = {}
     for store in ("no", "yes"):
-        text = """
-units lj
-atom_style sphere
-atom_modify map array
-boundary p p p
-comm_modify vel yes
-processors 4 1 1
-region box block 0 12 0 3 0 3
-create_box 1 box
-create_atoms 1 single 1.0 1.5 1.5 units box
-create_atoms 1 single 8.0 1.5 1.5 units box
-set type 1 diameter 1.0
-set type 1 density 1.0
-group carried id 1
-velocity carried set 2 0 0 units box
-""" + PAIR + """
-fix rom carried griddem/rom model {model} eps 0.5 v0 1 every 5000 cfl 5 drive box store {store}
-fix integrate rom_dynamic nve/sphere
-variable x1 equal x[1]
+        text = corridor(model, (1.0, 8.0), 5000, store) + """variable x1 equal x[1]
 variable v2 equal vx[2]
 thermo_style custom step atoms f_rom[9] f_rom[11] f_rom[17] v_x1 v_v2
 thermo_modify format float %.17g
 thermo 1
 run 3500
 write_dump all custom end.dump id x y z vx vy vz modify sort id format float %.17g
-""".format(model=model, store=store)
+"""
         out = t.run_ok(text, WD, nprocs=4, name="in.near_elsewhere_%s" % store)
         runs[store] = (t.read_dump(os.path.join(WD, "end.dump"))[1], t.thermo_values(out, "f_rom[17]"),
                        t.thermo_values(out, "v_x1"), t.thermo_values(out, "v_v2"), t.thermo_values(out, "f_rom[11]"))
@@ -908,30 +909,13 @@ def far_catch_up():
     reach test): at each model step the lagging atom catches up by 4, past the neighbouring
     sub-domain, which LAMMPS's exchange does not reach. With the store and without, no atom is lost
     and it ends at x0 + 2 t (wrapped)."""
-    model = os.path.join(WD, "push.model")
-    t.write_rom_model(model, (3, 1, 1), (0.0, 12.0, 0.0, 3.0, 0.0, 3.0), bias=(2.0, 0.0, 0.0))
+    model = push_model()
     for store in ("no", "yes"):
-        text = """
-units lj
-atom_style sphere
-atom_modify map array
-boundary p p p
-comm_modify vel yes
-processors 4 1 1
-region box block 0 12 0 3 0 3
-create_box 1 box
-create_atoms 1 single 1.0 1.5 1.5 units box
-set type 1 diameter 1.0
-set type 1 density 1.0
-velocity all set 2 0 0 units box
-""" + PAIR + """
-fix rom all griddem/rom model {model} eps 0.5 v0 1 every 2000 cfl 5 drive box store {store}
-fix integrate rom_dynamic nve/sphere
-thermo_style custom step atoms f_rom[1] f_rom[11] f_rom[18]
+        text = corridor(model, (1.0,), 2000, store) + """thermo_style custom step atoms f_rom[1] f_rom[11] f_rom[18]
 thermo 500
 run 4001
 write_dump all custom end.dump id x y z modify sort id format float %.17g
-""".format(model=model, store=store)
+"""
         rc, out = t.run_lmp(text, WD, nprocs=4, name="in.far_catch_up_%s" % store)
         end = t.read_dump(os.path.join(WD, "end.dump"))[1] if rc == 0 else {}
         x = end[1][0] if 1 in end else float("nan")
