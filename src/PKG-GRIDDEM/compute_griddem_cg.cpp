@@ -431,9 +431,7 @@ void ComputeGriddemCg::compute_pergrid()
       error->all(FLERR, "Compute griddem/cg: invoked at step {}, which was not announced to it, while fix {} holds {} "
                  "atoms out of LAMMPS (its keyword store); use store no",
                  update->ntimestep, rom->id, (bigint) *nheld);
-    std::vector<double> more;
-    rom->stored_for_fields(groupbit, more);
-    held.insert(held.end(), more.begin(), more.end());
+    rom->stored_for_fields(groupbit, held);
   }
   if (slot[VIRIAL] >= 0) {
     ask_for_virial();

@@ -388,6 +388,7 @@ void FixGriddemRom::setup(int)
   if (drive != DRIVE_MATCH && never_classified) classify();
   mark_near();
   store_active = store_active && cap > 0.0;    // without reach no atom lags
+  check_records();
   plan_store();
   fill_state();
 }
@@ -526,12 +527,14 @@ void FixGriddemRom::held_within_reach(std::vector<double> &held, std::vector<dou
   const int nprocs = comm->nprocs, me = comm->me;
   const double cut = comm->get_comm_cutoff();
   const double *prd = domain->prd;
-  // each process's sub-domain widened by the cutoff (orthogonal: reach_test_in_place)
-  double mine[6];
-  for (int d = 0; d < 3; d++) mine[d] = domain->sublo[d] - cut, mine[3 + d] = domain->subhi[d] + cut;
+  // on several processes, each one's sub-domain widened by the cutoff (orthogonal:
+  // reach_test_in_place)
   std::vector<double> reach_of(6 * (size_t) nprocs);
-  if (nprocs > 1) MPI_Allgather(mine, 6, MPI_DOUBLE, reach_of.data(), 6, MPI_DOUBLE, world);
-  else std::copy(mine, mine + 6, reach_of.begin());
+  if (nprocs > 1) {
+    double mine[6];
+    for (int d = 0; d < 3; d++) mine[d] = domain->sublo[d] - cut, mine[3 + d] = domain->subhi[d] + cut;
+    MPI_Allgather(mine, 6, MPI_DOUBLE, reach_of.data(), 6, MPI_DOUBLE, world);
+  }
   auto within = [&](const double *p, int q) {
     const double *b = &reach_of[6 * (size_t) q];
     return p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] && p[2] <= b[5];
@@ -865,27 +868,7 @@ void FixGriddemRom::store_lagging()
 {
   const int *mask = atom->mask;
   double lagging = 0.0, lagging_all = 0.0;
-  int first = -1;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (mask[i] & lagging_bit) lagging += 1.0, first = first < 0 ? i : first;
-  // room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
-  // and the fixes' maxexchange plus its BUFEXTRA of 1024)
-  size_t record = atom->avec->maxexchange + 1024;
-  for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
-  // the layout of the records this store makes, which the plan of their return depends on
-  if (first >= 0) {
-    std::vector<double> scratch(record);
-    atom->avec->pack_exchange(first, scratch.data());
-    const double *r = scratch.data();
-    bool same = ubuf(r[RECORD_MASK]).i == mask[first] && atom->rmass && r[RECORD_RADIUS] == atom->radius[first] &&
-        r[RECORD_RMASS] == atom->rmass[first];
-    for (int d = 0; d < 3; d++) same = same && r[RECORD_X + d] == atom->x[first][d] && r[RECORD_V + d] == atom->v[first][d];
-    records_readable = same;
-  }
-  // a process without lagging atoms makes no records: it keeps no other's from reading theirs
-  int readable = first < 0 || records_readable, readable_all = 0;
-  MPI_Allreduce(&readable, &readable_all, 1, MPI_INT, MPI_MIN, world);
-  records_readable = readable_all != 0;
+  for (int i = 0; i < atom->nlocal; i++) lagging += (mask[i] & lagging_bit) ? 1.0 : 0.0;
   if (nstored_all == 0.0) return_at = -1;
   plan_return();
   MPI_Allreduce(&lagging, &lagging_all, 1, MPI_DOUBLE, MPI_SUM, world);
@@ -895,6 +878,7 @@ void FixGriddemRom::store_lagging()
     if (nstored_all == 0.0) return_at = next_reneighbor = -1;
     return;
   }
+  const size_t record = record_room();
   AtomVec *avec = atom->avec;
   int taken = 0, kept = 0;
   // the atoms that stay close ranks in order: most of a bed lags at once, so moving the few that
@@ -921,6 +905,33 @@ void FixGriddemRom::store_lagging()
   reset_local_map();
 }
 
+/* Room for one atom's record: what LAMMPS's exchange leaves for one (CommBrick: the atom style's
+   and the fixes' maxexchange plus its BUFEXTRA of 1024). */
+size_t FixGriddemRom::record_room() const
+{
+  size_t record = atom->avec->maxexchange + 1024;
+  for (const auto &ifix : modify->get_fix_list()) record += ifix->maxexchange;
+  return record;
+}
+
+/* Whether AtomVec::pack_exchange's records hold x, v, mask, radius and mass where RecordOffset
+   says: the atom style lays them out, so once a run, on the first atom of every process that has
+   one (a process without atoms keeps no other's from reading theirs). */
+void FixGriddemRom::check_records()
+{
+  int readable = 1, readable_all = 0;
+  if (atom->nlocal > 0) {
+    std::vector<double> scratch(record_room());
+    atom->avec->pack_exchange(0, scratch.data());
+    const double *r = scratch.data();
+    readable = ubuf(r[RECORD_MASK]).i == atom->mask[0] && atom->rmass && r[RECORD_RADIUS] == atom->radius[0] &&
+        r[RECORD_RMASS] == atom->rmass[0];
+    for (int d = 0; d < 3; d++) readable = readable && r[RECORD_X + d] == atom->x[0][d] && r[RECORD_V + d] == atom->v[0][d];
+  }
+  MPI_Allreduce(&readable, &readable_all, 1, MPI_INT, MPI_MIN, world);
+  records_readable = readable_all != 0;
+}
+
 /* After atoms left or came back: the ghosts are rebuilt by this step's borders (or the next run's
    set-up), and the map must not point at moved atoms until then. */
 void FixGriddemRom::reset_local_map()
@@ -934,8 +945,8 @@ void FixGriddemRom::reset_local_map()
 
 /* Whether the skin rule's reach test can read the stored atoms where they are instead of bringing
    them back: in an orthogonal box (their periodic images are shifts by the box's lengths), with
-   records that hold x, v and the mask where AtomVec::pack_exchange puts them (checked on the first
-   atom of each store, on every process), atoms being held. */
+   records that hold x, v and the mask where AtomVec::pack_exchange puts them (check_records),
+   atoms being held. */
 bool FixGriddemRom::reach_test_in_place() const
 {
   return !domain->triclinic && records_readable && nstored_all > 0.0;
@@ -954,7 +965,6 @@ bool FixGriddemRom::fields_in_place() const
    them), wrapped into the box along periodic axes (a held atom is not remapped by reneighboring). */
 void FixGriddemRom::stored_for_fields(int groupbit, std::vector<double> &out) const
 {
-  out.clear();
   for (const size_t at : record_at) {
     if (!(ubuf(stored[at + RECORD_MASK]).i & groupbit)) continue;
     double x[3] = {stored[at + RECORD_X], stored[at + RECORD_X + 1], stored[at + RECORD_X + 2]};

@@ -58,8 +58,8 @@ class FixGriddemRom : public Fix {
   // compute griddem/cg's fields from the stored atoms where they are (no return for them): on one
   // process, with records laid out as AtomVec::pack_exchange lays them
   bool fields_in_place() const;
-  // the stored atoms of the group bits groupbit, FIELD_VALUES values each: x wrapped into the
-  // periodic box, v, mass, radius
+  // the stored atoms of the group bits groupbit appended to out, FIELD_VALUES values each: x
+  // wrapped into the periodic box, v, mass, radius
   enum { FIELD_VALUES = 8 };
   void stored_for_fields(int groupbit, std::vector<double> &out) const;
 
@@ -159,8 +159,8 @@ class FixGriddemRom : public Fix {
   std::vector<size_t> record_at;       // where each record starts in stored
   std::vector<double> stored_budget;   // the in-place reach test's budget of each record's atom
   std::vector<char> stored_near;       // records that reach test found near
-  bool records_readable;               // the last store's first record held its atom's x, v, mask,
-                                       // radius and mass where RecordOffset says, on every process
+  bool records_readable;               // records hold x, v, mask, radius and mass where RecordOffset
+                                       // says, on every process (check_records, at each run's set-up)
   bigint near_return_at;               // the step whose pre_exchange brings back the records found near
   class Irregular *irregular;          // migrate_far()
   bool jumped;                         // atoms came back or caught up since the last exchange (the same
@@ -172,6 +172,8 @@ class FixGriddemRom : public Fix {
   void release_by_force();
   void catch_up();
   void migrate_far();
+  size_t record_room() const;
+  void check_records();
   void held_within_reach(std::vector<double> &held, std::vector<double> &images,
                          std::vector<std::pair<int, int>> &from) const;
   void near_elsewhere(const std::vector<std::pair<int, int>> &from, const int *near);

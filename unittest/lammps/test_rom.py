@@ -783,6 +783,34 @@ write_dump all custom end{n}.dump id x y z modify sort id format float %.17g
     t.check(results[0][2] == results[1][2] == results[2][2], "reach tests at the same steps on 1, 2 and 4 processes")
 
 
+def unreadable_records():
+    """migration()'s lattice with atom style hybrid charge sphere, whose exchange records put the
+    charge before the radius (record offsets not where the in-place reach test reads them): the
+    held atoms come back for each reach test instead, and every atom still ends at x0 + U t."""
+    U = FLOW
+    model = os.path.join(WD, "flow.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=U)
+    text = flow_lattice(model).format(store="yes").replace("atom_style sphere", "atom_style hybrid charge sphere") + """
+write_dump all custom start.dump id x y z modify sort id format float %.17g
+thermo_style custom step atoms f_rom[11] f_rom[17]
+thermo 1
+run 1000
+write_dump all custom end.dump id x y z modify sort id format float %.17g
+"""
+    out = t.run_ok(text, WD, name="in.unreadable")
+    held, reach_tests = t.thermo_values(out, "f_rom[17]"), t.thermo_values(out, "f_rom[11]")[-1]
+    back = sum(h != 50 for h in held[202:])
+    t.check(max(held) == 50 and reach_tests > 0 and back >= 2 * reach_tests,
+            "held atoms back at %d steps after step 201, twice the %d reach tests at least" % (back, reach_tests))
+    start, end = t.read_dump(os.path.join(WD, "start.dump"))[1], t.read_dump(os.path.join(WD, "end.dump"))[1]
+    worst = 0.0
+    for tag, x0 in start.items():
+        for d in range(3):
+            dx = (end[tag][d] - x0[d] - U[d] * 1000 * 0.001) % 6.0
+            worst = max(worst, min(dx, 6.0 - dx))
+    t.check(len(end) == 125 and worst <= 1e-10, "every atom at x0 + U t (worst %.2g)" % worst)
+
+
 def store_in_place():
     """migration()'s lattice, every 500, with the atom at (0.3, 0.3, 1.5) removed and the dynamic
     atom below it, at (0.3, 0.3, 0.3), shot up through the hole at 1.5 on top of the flow: it nears
@@ -1630,6 +1658,7 @@ boundary(1)
 boundary(2)
 boundary(1, "reach 0")
 migration()
+unreadable_records()
 store_in_place()
 near_elsewhere()
 far_catch_up()
