@@ -72,9 +72,9 @@ HOPPER = os.path.join(ROOT, "examples", "rom-hopper")
 BLADE = os.path.join(ROOT, "examples", "rom-blade")
 sys.path.insert(0, os.path.join(HERE, "..", "python"))  # griddemtools
 from griddemtools import lammps, log  # noqa: E402
-from griddemtools.blade import ATOMS, FIELDS, force_accuracy, load_run  # noqa: E402
+from griddemtools.blade import ATOMS, CONTROLS, FIELDS, force_accuracy, load_run  # noqa: E402
 from griddemtools.grid import read_grid_dump  # noqa: E402
-from griddemtools.rom import kinematic_fraction, near_fraction, predict, read_model  # noqa: E402
+from griddemtools.rom import kinematic_fraction, near_fraction, occupancy_fit, predict, read_model  # noqa: E402
 
 # a scene's griddem pair style -> the stock LAMMPS style with neighbor lists that it twins
 STOCK_TWIN = {"griddem/hooke/history": "gran/hooke/history", "griddem/granular": "granular"}
@@ -107,17 +107,19 @@ def in_folder(wd):
         os.chdir(here)
 
 
-def open_loop_accuracy(model, tag):
-    """The blade model's velocity field predicted from the densities and controls of resolved run
-    tag's snapshots (open loop, the paper's measure of its blade model), against that run's own
-    field on the model's grid: open_loop_velocity_accuracy and _worst10, as the forward runs'
-    (density-weighted, relative to the run's characteristic speed). Run where the files are."""
+def open_loop_accuracy(model, tag, controls="velocity"):
+    """The blade model's velocity field predicted from the densities and controls (in.blade's
+    -var controls) of resolved run tag's snapshots (open loop, the paper's measure of its blade
+    model), against that run's own field on the model's grid: open_loop_velocity_accuracy and
+    _worst10, as the forward runs' (density-weighted, relative to the run's characteristic speed).
+    Run where the files are."""
     m = read_model(model)
-    X, Y, _ = load_run(tag, (m["n"], m["box"]))
+    X, Y, _ = load_run(tag, (m["n"], m["box"]), CONTROLS[controls])
     nvox = m["n"][0] * m["n"][1] * m["n"][2]
     rho = X[:, :nvox]
     v_res = Y.reshape(len(Y), nvox, 3)
-    v_rom = predict(m["weights"], X).reshape(len(Y), nvox, 3)
+    field = occupancy_fit(nvox)[1] if m["form"] == "occupancy" else predict
+    v_rom = field(m["weights"], X).reshape(len(Y), nvox, 3)
     speed = romerror.characteristic_speed(rho, v_res)
     errors = [romerror.velocity_error(rho[t], v_res[t], v_rom[t], speed) for t in range(len(Y))]
     mean, worst = romerror.summary(errors)
@@ -235,7 +237,7 @@ class Hopper:
 
 # in.blade's and in.feed's own defaults of the reduced run's settings (a record's scene names
 # those chosen otherwise)
-BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1)
+BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1, controls="velocity")
 HOPPER_DEFAULTS = dict(drive="match", overlap=0.1)
 
 
@@ -273,7 +275,7 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, self.folder)
         self.name = "%s train %s test %s steps %d" % (self.label, a.train_traj, a.test_traj, a.steps)
-        self.name += settings_named(self.rom(), BLADE_DEFAULTS)
+        self.name += settings_named(self.rom(), BLADE_DEFAULTS) + settings_named(dict(form=a.form), dict(form="linear"))
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, dict(self.geometry, **variables),
@@ -289,8 +291,11 @@ class Blade:
             if not os.path.exists(os.path.join(self.wd, ATOMS % tag)):
                 self.run(tag, dict(zlow=zlow, push=push, adump=100))
             tags.append(tag)
-        model = "rom.%s.model" % self.a.train_traj.replace(":", "_").replace(",", "-")
-        return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags, ("--blade", self.blade))
+        model = "rom.%s%s.model" % (self.a.train_traj.replace(":", "_").replace(",", "-"),
+                                    settings_named(dict(controls=self.a.controls, form=self.a.form),
+                                                   dict(controls="velocity", form="linear")).replace(" ", "."))
+        return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags,
+                       ("--blade", self.blade, "--controls", self.a.controls, "--form", self.a.form))
 
     def test(self, scan=False):
         zlow, push = self.a.test_traj.split(":")
@@ -298,7 +303,7 @@ class Blade:
 
     def rom(self):
         return dict(eps=self.a.eps, v0=self.a.v0, every=self.a.every, drive=drive_setting(self.a),
-                    guard=self.a.guard, overlap=self.a.overlap)
+                    guard=self.a.guard, overlap=self.a.overlap, controls=self.a.controls)
 
 
 class PaperBlade(Blade):
@@ -393,7 +398,7 @@ def study(scene, a):
                 record.update(force_accuracy(ref, rom_tags[0], which))
             record["noise_force_accuracy"] = force_accuracy(stock_tags[0], stock_tags[1], "measured")[
                 "force_accuracy_measured"]
-            record.update(open_loop_accuracy(model, openloop))
+            record.update(open_loop_accuracy(model, openloop, a.controls))
         # the stock and reduced runs again without the fields and atoms the errors are measured on
         # (the force on the blade still sampled): the method's speed-up apart from that output
         quiet = ["%s.stock.nofields.seed%d" % (base, s) for s in seeds]
@@ -431,9 +436,13 @@ def main():
     ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
     ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
                     help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
-    ap.add_argument("--form", choices=("occupancy", "linear"), default="occupancy",
-                    help="hopper: the model's form (train_rom.py --form; default occupancy: each voxel's velocity "
-                    "its density times a linear function of the controls)")
+    ap.add_argument("--form", choices=("occupancy", "linear"),
+                    help="hopper, blade, plates: the model's form (train_rom.py's, train_blade.py's --form; default "
+                    "hopper and plates occupancy: each voxel's velocity its density times a linear function of the "
+                    "controls; blade linear: of every density and the controls)")
+    ap.add_argument("--controls", choices=sorted(CONTROLS),
+                    help="blade, plates: the model's controls (in.blade's -var controls; default blade velocity, "
+                    "the blade's; plates cut: its velocity times its depth below the bed's surface, and that depth)")
     ap.add_argument("--components", default="xz",
                     help="hopper: the velocity components the model predicts (train_rom.py --components; default xz: "
                     "the slice's mean vy is noise that would drive atoms into its front and rear walls)")
@@ -474,11 +483,13 @@ def main():
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1, form="occupancy"),
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
+                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9",
+                               controls="velocity", form="linear"),
                     plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9",
+                                controls="cut", form="occupancy"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)

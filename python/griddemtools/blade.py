@@ -3,7 +3,8 @@ and targets its model is trained on: train_blade.py), and the force on the blade
 
 Run TAG's files (in.blade's outputs, ATOMS and FIELDS named by TAG): atoms.TAG.bin (binary
 snapshots: id x y z vx vy vz mass ...), cg.TAG.bin (the voxel fields),
-controls.TAG.txt (step, the blade's front face bx and bottom bz, its velocity vbx vbz) and
+controls.TAG.txt (step, the blade's front face bx and bottom bz, then the controls of both sets
+of CONTROLS, each column named in the title line: velocity vbx vbz, cut cutx cutz depth) and
 force.TAG.txt (fix ave/time's file: every 100 steps, the means over those steps of the contact
 forces of the blade's walls on the spheres, x and z of each wall (c_onspheres[1], [2], then the
 second plate's [3], [4]), and of the force the reduced run's model predicts (fix griddem/rom's
@@ -32,6 +33,10 @@ FRAMES = {"block": ((48, 1, 8), (-6.0, 18.0, 0.0, 1.0, 0.0, 4.0)),
 
 # in.blade's dumps of run TAG (binary; the readers take text too)
 ATOMS, FIELDS = "atoms.%s.bin", "cg.%s.bin"
+
+# the model's controls by in.blade's -var controls, as controls.TAG.txt names them: the blade's
+# velocity, or its cut (velocity times the depth below the bed's surface, and that depth)
+CONTROLS = {"velocity": ("vbx", "vbz"), "cut": ("cutx", "cutz", "depth")}
 
 
 def read_snapshots(path):
@@ -91,18 +96,34 @@ def bin_frame(x, y, z, vx, vy, vz, mass, n, box):
     return m / vol, np.where(m > 0, px / safe, 0.0), uy, np.where(m > 0, pz / safe, 0.0)
 
 
-def load_run(tag, frame):
-    """Features, velocity targets and force targets of one resolved run's snapshots (run TAG's
-    files in the working folder), binned in frame (voxels, box)."""
-    controls = read_table("controls.%s.txt" % tag)
+def read_columns(path):
+    """{step: {name: value}} of a file of rows 'step value ...' whose columns the title line
+    '# step NAME ...' names."""
+    with open(path) as f:
+        title = f.readline().split()
+    if title[:2] != ["#", "step"]:
+        raise ValueError("%s: no title line '# step NAME ...' naming its columns" % path)
+    return {step: dict(zip(title[2:], row)) for step, row in read_table(path).items()}
+
+
+def load_run(tag, frame, controls=CONTROLS["velocity"]):
+    """Features (the densities, then the named controls), velocity targets and force targets of
+    one resolved run's snapshots (run TAG's files in the working folder), binned in frame (voxels,
+    box)."""
+    table = read_columns("controls.%s.txt" % tag)
     force = {int(row[0]): row[1:] for row in read_force(tag)}
     X, Y, F = [], [], []
     for step, a in read_snapshots(ATOMS % tag):
-        if step not in controls or step not in force:
+        if step not in table or step not in force:
             continue
-        bx, _, vbx, vbz = controls[step]
-        rho, ux, uy, uz = bin_frame(a["x"] - bx, a["y"], a["z"], a["vx"], a["vy"], a["vz"], a["mass"], *frame)
-        X.append(np.concatenate([rho, [vbx, vbz]]))
+        row = table[step]
+        missing = [c for c in controls if c not in row]
+        if missing:
+            raise ValueError("controls.%s.txt has no column %s (an earlier in.blade's run: run it again)"
+                             % (tag, " ".join(missing)))
+        rho, ux, uy, uz = bin_frame(a["x"] - row["bx"], a["y"], a["z"], a["vx"], a["vy"], a["vz"], a["mass"],
+                                    *frame)
+        X.append(np.concatenate([rho, [row[c] for c in controls]]))
         Y.append(np.stack([ux, uy, uz], axis=1).ravel())
         F.append([force[step][0], 0.0, force[step][1]])
     return np.array(X), np.array(Y), np.array(F)

@@ -13,12 +13,13 @@ def write_model(path, n, box, lam, weights, note="", frame=None, force=None, for
     """weights: array [3 nvoxel, 1 + nvoxel + ncontrol] (row 3 m + d, columns bias, densities,
     controls), or with form "occupancy" [3 nvoxel, 1 + ncontrol] (columns bias, controls; the row's
     value times the voxel's density). frame: 'moving' for a box relative to fix griddem/rom's
-    keyword origin; force: array [3, 1 + nvoxel + ncontrol], the force on a tool from the same
-    features. Either one makes the file format version 2, form occupancy version 3."""
+    keyword origin; force: array [3, columns of weights], the force on a tool from the same
+    features (form occupancy: bias and controls, no density). Either one makes the file format
+    version 2, form occupancy version 3."""
     nvox = n[0] * n[1] * n[2]
     nrow, ncol = weights.shape
     assert nrow == 3 * nvox
-    assert force is None or (form == "linear" and force.shape == (3, ncol))
+    assert force is None or force.shape == (3, ncol)
     controls = ncol - 1 if form == "occupancy" else ncol - 1 - nvox
     version = 3 if form != "linear" else 1 if frame is None and force is None else 2
     with open(path, "w") as f:

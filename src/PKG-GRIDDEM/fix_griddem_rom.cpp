@@ -1070,8 +1070,8 @@ void FixGriddemRom::classify()
     for (int c = 0; c < ncontrol; c++) feature[1 + nvox + c] = control[c];
     griddem_rom_predict(3 * nvox, 1 + nvox + ncontrol, weights.data(), feature.data(), field.data());
   }
-  if (!force_weights.empty())
-    griddem_rom_predict(3, 1 + nvox + ncontrol, force_weights.data(), feature.data(), force_predicted);
+  if (!force_weights.empty())    // the features of a row of weights: the occupancy form's [1, controls]
+    griddem_rom_predict(3, (int) feature.size(), force_weights.data(), feature.data(), force_predicted);
   fill_grid();
 
   const double threshold = eps * v0;

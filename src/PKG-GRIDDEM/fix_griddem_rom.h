@@ -78,7 +78,7 @@ class FixGriddemRom : public Fix {
   int ncontrol;
   int form;    // the model's form, enum griddem_rom_form
   std::vector<double> weights;    // [3 nvoxel][1 + nvoxel + ncontrol] (occupancy: [1 + ncontrol])
-  std::vector<double> force_weights;    // model block 'force': [3][1 + nvoxel + ncontrol], or empty
+  std::vector<double> force_weights;    // model block 'force': [3][columns of weights], or empty
   double force_predicted[3];            // the force block's prediction at the last classification
   std::vector<std::string> control_names;
   std::vector<int> control_vars;

@@ -57,7 +57,8 @@ void griddem_rom_deposit(const griddem_rom_grid *g, int n, const double *x, int 
 void griddem_rom_predict(int nrow, int ncol, const double *w, const double *feature, double *out);
 
 /* The occupancy form's field: out[3 m + d] = density[m] (w[r][0] + sum_c w[r][1 + c] control[c]),
- * r = 3 m + d, w a [3 nvoxel][1 + ncontrol] matrix; scratch holds 1 + ncontrol doubles. */
+ * r = 3 m + d, w a [3 nvoxel][1 + ncontrol] matrix; scratch (1 + ncontrol doubles) holds the
+ * features [1, controls] on return. */
 void griddem_rom_predict_occupancy(int nvoxel, int ncontrol, const double *w, const double *control,
                                    const double *density, double *scratch, double *out);
 

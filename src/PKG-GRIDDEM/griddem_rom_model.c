@@ -296,13 +296,12 @@ static void parse_words(model_parser *ps, griddem_rom_model *model)
   if (!ps->failed && ps->p < ps->nwords) {
     if (!word_is(&ps->words[ps->p], "force")) {
       char force[NUMBER_SIZE + 32] = "";
-      if (ps->version >= 2 && !occupancy) snprintf(force, sizeof force, " or a block 'force 3 %s'", f);
+      if (ps->version >= 2) snprintf(force, sizeof force, " or a block 'force 3 %s'", f);
       fail(ps, ps->p, "expected the end of the file%s after the %s x %s weights, found '%s'", force, e, f,
            shown(&ps->words[ps->p], s));
     }
     const size_t force_at = ps->p;
     double frow = 0.0, fcol = 0.0;
-    if (occupancy && !ps->failed) fail(ps, force_at, "a 'force' block needs form linear (the file has form occupancy)");
     if (optional(ps, "force", 2) && expect(ps, "force", "3 NCOL", 2)) {
       number(ps, &frow, "the number of rows");
       number(ps, &fcol, "the number of columns");

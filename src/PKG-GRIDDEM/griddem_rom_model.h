@@ -10,10 +10,10 @@
  *   weights NROW NCOL        (NROW = 3 NX NY NZ; NCOL = 1 + NX NY NZ + NC, occupancy 1 + NC)
  * and NROW x NCOL numbers: row 3 m + d gives velocity component d of voxel m = i + NX (j + NY k)
  * as bias + sum_m' w density(m') + sum_c w control(c) (occupancy: density(m) (bias + sum_c w
- * control(c))); then optionally (version 2, form linear)
+ * control(c))); then optionally (version 2)
  *   force 3 NCOL
- * and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features; then the end of
- * the file. Every mismatch is an error that names it, its line and what was expected there. */
+ * and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features as a row of weights
+ * (occupancy: bias + sum_c w control(c), no density); then the end of the file. Every mismatch is an error that names it, its line and what was expected there. */
 #ifndef GRIDDEM_ROM_MODEL_H
 #define GRIDDEM_ROM_MODEL_H
 
@@ -33,7 +33,7 @@ typedef struct griddem_rom_model {
   double lambda;           /* the ridge parameter of the training (recorded, not used) */
   int form;                /* enum griddem_rom_form */
   double *weights;         /* [3 nvoxel][1 + nvoxel + ncontrol], occupancy [3 nvoxel][1 + ncontrol] */
-  double *force;           /* block 'force': [3][1 + nvoxel + ncontrol], or NULL without it */
+  double *force;           /* block 'force': [3][NCOL of weights], or NULL without it */
 } griddem_rom_model;
 
 /* A message buffer of this many bytes plus the file name's length holds every message whole

@@ -131,6 +131,13 @@ static void check_good(void)
         "version 3: form occupancy, weights");
   griddem_rom_model_free(&m);
   free(text);
+  /* its force block has the weights' columns (bias, control) */
+  text = occupancy_text("force 3 2\n1 2\n3 4\n5 -6\n");
+  CHECK(griddem_rom_model_parse(NAME, text, strlen(text), &m, message, sizeof message) == 0 && m.force &&
+            m.force[0] == 1.0 && m.force[3] == 4.0 && m.force[5] == -6.0,
+        "version 3: form occupancy with a force block of 3 x 2 (%s)", message);
+  griddem_rom_model_free(&m);
+  free(text);
   /* version 3 without a form line: linear */
   char *v3 = replaced(HEAD1, "griddem/rom 1", "griddem/rom 3");
   text = model_text(v3, "");
@@ -229,8 +236,8 @@ static void check_messages(void)
   t = replaced(v3, "weights 6 4", "form occupancy\nweights 6 4");
   REFUSED(t, "model file m.model, line 8: weights has 4 columns; form occupancy with 1 controls needs 1 + 1 = 2");
   free(t);
-  t = occupancy_text("force 3 2\n");
-  REFUSED(t, "model file m.model, line 15: a 'force' block needs form linear (the file has form occupancy)");
+  t = occupancy_text("force 3 4\n");
+  REFUSED(t, "model file m.model, line 15: force has 3 rows and 4 columns; expected 3 and 2 (as weights)");
   free(t);
   free(v3);
 

@@ -476,10 +476,11 @@ run 200
     t.check(rc != 0 and "region nowhere (keyword resolved) does not exist" in out, "a missing region is refused by name")
 
 
-def lattice_fields(model, name, before=""):
+def lattice_fields(model, name, before="", forces=None):
     """The field and density (rows vx, vy, vz, density of the 27 voxels) that fix griddem/rom with
     model dumps at step 10 on 64 unit spheres at rest on a lattice of spacing 1.5 (lines before:
-    the fix's controls), on 1 and 2 processes."""
+    the fix's controls), on 1 and 2 processes; the predicted force at step 10 (f_rom[14..16]) of
+    each appended to the list forces if one is given."""
     frames = []
     for nprocs in (1, 2):
         text = HEAD.format(bnd="f f f").replace("region box", "processors %d 1 1\nregion box" % nprocs) + """
@@ -493,9 +494,14 @@ fix rom all griddem/rom model {m} eps 0.5 v0 1 every 5{controls}
 fix integrate rom_dynamic nve/sphere
 dump g all grid 5 {name}{n}.txt f_rom:field:vx f_rom:field:vy f_rom:field:vz f_rom:field:density
 dump_modify g sort id format float %.17g
+thermo_style custom step f_rom[14] f_rom[15] f_rom[16]
+thermo_modify format float %.17g
+thermo 5
 run 10
 """.format(m=model, n=nprocs, name=name, controls=" control v_c" if before else "")
-        t.run_ok(text, WD, nprocs=nprocs, name="in.%s%d" % (name, nprocs))
+        out = t.run_ok(text, WD, nprocs=nprocs, name="in.%s%d" % (name, nprocs))
+        if forces is not None:
+            forces.append([t.thermo_values(out, "f_rom[%d]" % k)[-1] for k in (14, 15, 16)])
         with open(os.path.join(WD, "%s%d.txt" % (name, nprocs))) as f:
             lines = f.read().splitlines()
         k = max(i for i, line in enumerate(lines) if line.startswith("ITEM: GRID CELLS"))
@@ -523,14 +529,21 @@ def field_output():
 def occupancy_form():
     """A model of form occupancy: voxel m's velocity is density(m) (w0 + w1 c) with c = 2 (an
     equal-style variable) and per-component weights: (0.2 + 0.1 c, -0.1, 0.05 m c) = (0.4, -0.1,
-    0.1 m) times the density the fix dumps, on the lattice of field_output (1 and 2 processes)."""
+    0.1 m) times the density the fix dumps, on the lattice of field_output (1 and 2 processes).
+    Its force block has the weights' two columns: the force is (1 + 0.5 c, 2, -1 + 0.25 c) =
+    (2, 2, -0.5), with no density."""
     model = os.path.join(WD, "occupancy.model")
     with open(model, "w") as f:
         f.write("griddem/rom 3\ngrid 3 3 3\nbox %s\ncontrols 1\nlambda 0\nform occupancy\nweights 81 2\n"
                 % " ".join("%.17g" % b for b in BOX))
         for m in range(27):
             f.write("0.2 0.1\n-0.1 0\n0 %.17g\n" % (0.05 * m))
-    frames = lattice_fields(model, "occ", before="variable c equal 2\n")
+        f.write("force 3 2\n1 0.5\n2 0\n-1 0.25\n")
+    forces = []
+    frames = lattice_fields(model, "occ", before="variable c equal 2\n", forces=forces)
+    t.check(forces == [[2.0, 2.0, -0.5]] * 2,
+            "form occupancy: the predicted force is (1 + 0.5 c, 2, -1 + 0.25 c) = (2, 2, -0.5) on 1 and 2 "
+            "processes (%s)" % forces)
     rows = frames[0]
     worst = max(abs(r[d] - r[3] * (0.4, -0.1, 0.1 * m)[d]) for m, r in enumerate(rows) for d in range(3))
     t.check(len(rows) == 27 and min(r[3] for r in rows) > 0 and worst <= 1e-15,

@@ -111,10 +111,13 @@ def columns_3d():
 def open_loop():
     """The blade's open-loop accuracy (bench/rom.py open_loop_accuracy) of a model whose field is
     the snapshot's own plus 0.5 in x in every voxel: every atom moves at vx 1, so every filled voxel's
-    speed is 1, V_c is 1 and the error 0.5: accuracy 0.5. The model file survives a round trip."""
+    speed is 1, V_c is 1 and the error 0.5: accuracy 0.5. The model file survives a round trip. The
+    same field from a model of form occupancy on the cut controls (each filled voxel's weight its
+    field over its density), with a force block of the weights' 4 columns; a controls file without
+    the cut's columns is refused naming them."""
     from rom import open_loop_accuracy
     from griddemtools.rom import read_model, write_model
-    from griddemtools.blade import ATOMS, FRAMES, load_run
+    from griddemtools.blade import ATOMS, CONTROLS, FRAMES, load_run
     FRAME_N, FRAME_BOX = FRAMES["block"]
     wd = os.path.join(WD, "openloop")
     os.makedirs(wd, exist_ok=True)
@@ -127,7 +130,7 @@ def open_loop():
             f.write("ITEM: BOX BOUNDS pp pp ff\n-10 30\n0 1\n0 6\nITEM: ATOMS id x y z vx vy vz mass v_kin\n")
             f.writelines("%d %g 0.5 %g 1 0 0 %g 0\n" % (i, x, z, 0.5 + 0.1 * i) for i, x, z in atoms)
         with open("controls.t.txt", "w") as f:
-            f.write("# step bx bz vbx vbz\n100 0 0 0.5 0\n")
+            f.write("# step bx bz vbx vbz cutx cutz depth\n100 0 0 0.5 0 0.1 0 0.2\n")
         with open("force.t.txt", "w") as f:
             f.write("# Time-averaged data for fix force\n# TimeStep c_onspheres[1] c_onspheres[2]\n100 -1 -2\n")
         X, Y, _ = load_run("t", FRAMES["block"])
@@ -141,6 +144,23 @@ def open_loop():
         acc = open_loop_accuracy("m.model", "t")
         t.check(acc["open_loop_frames"] == 1 and abs(acc["open_loop_velocity_accuracy"] - 0.5) < 1e-12,
                 "open-loop accuracy of a field off by 0.5 at speed 1: %s (0.5)" % acc)
+        Xc, _, _ = load_run("t", FRAMES["block"], CONTROLS["cut"])
+        rho = np.repeat(Xc[0, :nvox], 3)
+        t.check(np.array_equal(Xc[0, nvox:], [0.1, 0.0, 0.2]), "the cut's controls by name: %s" % Xc[0, nvox:])
+        Wo = np.zeros((3 * nvox, 4))
+        Wo[:, 0] = np.divide(W[:, 0], rho, out=np.zeros_like(rho), where=rho > 0)
+        write_model("o.model", FRAME_N, FRAME_BOX, 1.0, Wo, frame="moving", force=np.ones((3, 4)), form="occupancy")
+        acc = open_loop_accuracy("o.model", "t", "cut")
+        t.check(read_model("o.model")["force"].shape == (3, 4) and abs(acc["open_loop_velocity_accuracy"] - 0.5) < 1e-9,
+                "form occupancy, cut controls: open-loop accuracy %s (0.5; the file's weights to 10 digits)" % acc)
+        with open("controls.t.txt", "w") as f:
+            f.write("# step bx bz vbx vbz\n100 0 0 0.5 0\n")
+        try:
+            load_run("t", FRAMES["block"], CONTROLS["cut"])
+            refused = ""
+        except ValueError as e:
+            refused = str(e)
+        t.check("has no column cutx cutz depth" in refused, "a controls file without the cut's columns: %r" % refused)
     finally:
         os.chdir(here)
 
