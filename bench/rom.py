@@ -10,7 +10,7 @@
                                   [--dense 0.5] [--overlap 0.1]
     /usr/bin/python3 bench/rom.py --scene blade|plates [--train-traj Z:P,Z:P,...] [--test-traj Z:P] [--steps 10000]
                                   [--eps 0.1] [--v0 0.45] [--every 500] [--drive box|match|dense] [--guard no|yes]
-                                  [--overlap 1.0]
+                                  [--overlap 1.0] [--controls cut|velocity] [--form occupancy|linear]
     common: [--seeds 8172,3391,5807] [--skins S,S,S] [--scan-steps N] [--repeats 3] [--build NAME]
             [--figure PNG]
 
@@ -42,7 +42,9 @@ function of the controls, vx and vz only); the reduced run drives the atoms that
 field (--drive match, overlap 0.1: with drive dense, atoms were lost, see the example's README).
 Scene blade
 (examples/rom-blade, 5,200 spheres): the bed is built once; a blade is lowered to z = Z, pushed at
-speed P and raised (trajectory Z:P), its velocity the controls; as the method's paper drives its
+speed P and raised (trajectory Z:P); the model's controls are the blade's cut (--controls cut: its
+velocity times its depth below the bed's surface, and that depth), its form occupancy (each
+voxel's velocity its density times a linear function of the controls); as the method's paper drives its
 blade's grid, the reduced run drives every atom in the model's grid (--drive box, no guard region
 kept resolved near the blade); adds the blade-force accuracies (griddemtools.blade.force_accuracy),
 the open-loop accuracy, and without_fields: the stock runs (three seeds) and the reduced runs
@@ -107,7 +109,7 @@ def in_folder(wd):
         os.chdir(here)
 
 
-def open_loop_accuracy(model, tag, controls="velocity"):
+def open_loop_accuracy(model, tag, controls):
     """The blade model's velocity field predicted from the densities and controls (in.blade's
     -var controls) of resolved run tag's snapshots (open loop, the paper's measure of its blade
     model), against that run's own field on the model's grid: open_loop_velocity_accuracy and
@@ -237,7 +239,7 @@ class Hopper:
 
 # in.blade's and in.feed's own defaults of the reduced run's settings (a record's scene names
 # those chosen otherwise)
-BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1, controls="velocity")
+BLADE_DEFAULTS = dict(drive="match", guard="yes", overlap=0.1, controls="cut")
 HOPPER_DEFAULTS = dict(drive="match", overlap=0.1)
 
 
@@ -275,7 +277,7 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, self.folder)
         self.name = "%s train %s test %s steps %d" % (self.label, a.train_traj, a.test_traj, a.steps)
-        self.name += settings_named(self.rom(), BLADE_DEFAULTS) + settings_named(dict(form=a.form), dict(form="linear"))
+        self.name += settings_named(self.rom(), BLADE_DEFAULTS) + settings_named(dict(form=a.form), dict(form="occupancy"))
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, dict(self.geometry, **variables),
@@ -291,9 +293,8 @@ class Blade:
             if not os.path.exists(os.path.join(self.wd, ATOMS % tag)):
                 self.run(tag, dict(zlow=zlow, push=push, adump=100))
             tags.append(tag)
-        model = "rom.%s%s.model" % (self.a.train_traj.replace(":", "_").replace(",", "-"),
-                                    settings_named(dict(controls=self.a.controls, form=self.a.form),
-                                                   dict(controls="velocity", form="linear")).replace(" ", "."))
+        model = "rom.%s.%s.%s.model" % (self.a.train_traj.replace(":", "_").replace(",", "-"), self.a.controls,
+                                        self.a.form)
         return trained(self.wd, os.path.join(BLADE, "train_blade.py"), model, tags,
                        ("--blade", self.blade, "--controls", self.a.controls, "--form", self.a.form))
 
@@ -436,13 +437,13 @@ def main():
     ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
     ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
                     help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
-    ap.add_argument("--form", choices=("occupancy", "linear"),
+    ap.add_argument("--form", choices=("occupancy", "linear"), default="occupancy",
                     help="hopper, blade, plates: the model's form (train_rom.py's, train_blade.py's --form; default "
-                    "hopper and plates occupancy: each voxel's velocity its density times a linear function of the "
-                    "controls; blade linear: of every density and the controls)")
-    ap.add_argument("--controls", choices=sorted(CONTROLS),
-                    help="blade, plates: the model's controls (in.blade's -var controls; default blade velocity, "
-                    "the blade's; plates cut: its velocity times its depth below the bed's surface, and that depth)")
+                    "occupancy: each voxel's velocity its density times a linear function of the controls; linear: "
+                    "of every density and the controls)")
+    ap.add_argument("--controls", choices=sorted(CONTROLS), default="cut",
+                    help="blade, plates: the model's controls (in.blade's -var controls; default cut: the blade's "
+                    "velocity times its depth below the bed's surface, and that depth; velocity: the blade's)")
     ap.add_argument("--components", default="xz",
                     help="hopper: the velocity components the model predicts (train_rom.py --components; default xz: "
                     "the slice's mean vy is noise that would drive atoms into its front and rear walls)")
@@ -483,13 +484,11 @@ def main():
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
     defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1, form="occupancy"),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9",
-                               controls="velocity", form="linear"),
+                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
                     plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9",
-                                controls="cut", form="occupancy"))[a.scene]
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)

@@ -3,16 +3,16 @@
 ridge regression of the voxel velocities and of the force on the blade on the voxel densities and
 the blade's controls, from resolved runs.
 
-    train_blade.py [--blade block|plates] [--controls velocity|cut] [--form linear|occupancy]
+    train_blade.py [--blade block|plates] [--controls cut|velocity] [--form occupancy|linear]
                    OUT.model TAG [TAG ...]
 
 Reads, per run TAG, in.blade's outputs, each snapshot binned in the frame of in.blade's blade
 (default block, the slice's; python/griddemtools/blade.py: the files, the frames and their
-binning). Features: the densities and the controls (default velocity: vbx, vbz; cut: the velocity
-times the depth below the bed's surface, and that depth; in.blade's -var controls). Form linear
-(the default): each voxel's velocity a linear function of every density and the controls, the
-force of the same features; occupancy: each voxel's velocity its density times a linear function
-of the controls, the force a linear function of the controls. Each fitted by griddemtools.rom's
+binning). Features: the densities and the controls (in.blade's -var controls: default cut, the
+blade's velocity times its depth below the bed's surface, and that depth; velocity: vbx, vbz).
+Form occupancy (the default): each voxel's velocity its density times a linear function of the
+controls, the force a linear function of the controls; linear: each voxel's velocity a linear
+function of every density and the controls, the force of the same features. Each fitted by griddemtools.rom's
 ridge (train_rom.py's) with its own lambda (leave-one-run-out). Writes a model with 'frame moving'
 (fix griddem/rom ... origin v_bx 0 0) and the 'force' block."""
 import argparse
@@ -28,8 +28,8 @@ from griddemtools.rom import fit_validated, occupancy_fit, write_model  # noqa: 
 def main():
     ap = argparse.ArgumentParser(usage=__doc__)
     ap.add_argument("--blade", choices=sorted(FRAMES), default="block")
-    ap.add_argument("--controls", choices=sorted(CONTROLS), default="velocity")
-    ap.add_argument("--form", choices=("linear", "occupancy"), default="linear")
+    ap.add_argument("--controls", choices=sorted(CONTROLS), default="cut")
+    ap.add_argument("--form", choices=("linear", "occupancy"), default="occupancy")
     ap.add_argument("out")
     ap.add_argument("tags", nargs="+")
     a = ap.parse_args()

@@ -6,8 +6,9 @@
   uniform field is its speed; the worst tenth of a series is the mean of its largest tenth;
 - the same through error_series on hand-made grid frames (two voxel columns above the floor);
   surface heights per (x, y) column of a frame two voxels deep;
-- the blade's open-loop accuracy of a model field off by a known offset, and the model file's
-  round trip; in.blade refuses a blade shape it does not have, by name; the blade's force read from
+- the blade's open-loop accuracy of a model field off by a known offset (form linear on the
+  blade's velocity, form occupancy on its cut's controls, read by name), and the model file's
+  round trip; in.blade refuses a blade shape or controls it does not have, by name; the blade's force read from
   fix ave/time's columns of its walls (minus their sum) and of the model's prediction;
 - a smoke run of the pile study (a tiny horizon: 1000 steps, two training widths) writes a record
   with every field the issue names, a speed-up against the faster baseline of its own loop times,
@@ -141,7 +142,7 @@ def open_loop():
         m = read_model("m.model")
         t.check(m["n"] == FRAME_N and m["box"] == FRAME_BOX and m["frame"] == "moving" and m["controls"] == 2 and
                 np.array_equal(m["weights"], W) and m["force"].shape == (3, W.shape[1]), "model file round trip")
-        acc = open_loop_accuracy("m.model", "t")
+        acc = open_loop_accuracy("m.model", "t", "velocity")
         t.check(acc["open_loop_frames"] == 1 and abs(acc["open_loop_velocity_accuracy"] - 0.5) < 1e-12,
                 "open-loop accuracy of a field off by 0.5 at speed 1: %s (0.5)" % acc)
         Xc, _, _ = load_run("t", FRAMES["block"], CONTROLS["cut"])
@@ -212,12 +213,14 @@ def kinematic_share():
 
 
 def blade_shape_refused():
-    """examples/rom-blade's in.blade with a blade it does not have stops before reading its bed,
-    naming the value."""
-    rc, out = t.run_lmp("include %s\n" % os.path.join(TOP, "examples", "rom-blade", "in.blade"), WD,
-                        name="in.blade_wedge", extra=("-var", "blade", "wedge"))
-    t.check(rc != 0 and "in.blade: -var blade wedge: neither block nor plates" in out,
-            "in.blade -var blade wedge refused by name (exit %d): %s" % (rc, out[-200:]))
+    """examples/rom-blade's in.blade with a blade or controls it does not have stops before reading
+    its bed, naming the value."""
+    for var, value, expected in (("blade", "wedge", "in.blade: -var blade wedge: neither block nor plates"),
+                                 ("controls", "force", "in.blade: -var controls force: neither velocity nor cut")):
+        rc, out = t.run_lmp("include %s\n" % os.path.join(TOP, "examples", "rom-blade", "in.blade"), WD,
+                            name="in.blade_%s" % value, extra=("-var", var, value))
+        t.check(rc != 0 and expected in out, "in.blade -var %s %s refused by name (exit %d): %s" % (var, value, rc,
+                                                                                                   out[-200:]))
 
 
 def smoke():
