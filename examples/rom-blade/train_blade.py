@@ -12,9 +12,9 @@ binning). Features: the densities and the controls (in.blade's -var controls: de
 blade's velocity times its depth below the bed's surface, and that depth; velocity: vbx, vbz).
 Form occupancy (the default): each voxel's velocity its density times a linear function of the
 controls, the force a linear function of the controls; linear: each voxel's velocity a linear
-function of every density and the controls, the force of the same features. Each fitted by griddemtools.rom's
-ridge (train_rom.py's) with its own lambda (leave-one-run-out). Writes a model with 'frame moving'
-(fix griddem/rom ... origin v_bx 0 0) and the 'force' block."""
+function of every density and the controls, the force of the same features. Each fitted by
+griddemtools.rom's ridge (train_rom.py's) with its own lambda (leave-one-run-out). Writes a model
+with 'frame moving' (fix griddem/rom ... origin v_bx 0 0) and the 'force' block."""
 import argparse
 import os
 import sys

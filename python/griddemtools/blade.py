@@ -106,8 +106,8 @@ def read_columns(path):
     return {step: dict(zip(title[2:], row)) for step, row in read_table(path).items()}
 
 
-def load_run(tag, frame, controls=CONTROLS["velocity"]):
-    """Features (the densities, then the named controls), velocity targets and force targets of
+def load_run(tag, frame, controls):
+    """Features (the densities, then the controls named, a list of CONTROLS), velocity targets and force targets of
     one resolved run's snapshots (run TAG's files in the working folder), binned in frame (voxels,
     box)."""
     table = read_columns("controls.%s.txt" % tag)

@@ -134,7 +134,7 @@ def open_loop():
             f.write("# step bx bz vbx vbz cutx cutz depth\n100 0 0 0.5 0 0.1 0 0.2\n")
         with open("force.t.txt", "w") as f:
             f.write("# Time-averaged data for fix force\n# TimeStep c_onspheres[1] c_onspheres[2]\n100 -1 -2\n")
-        X, Y, _ = load_run("t", FRAMES["block"])
+        X, Y, _ = load_run("t", FRAMES["block"], CONTROLS["velocity"])
         nvox = FRAME_N[0] * FRAME_N[1] * FRAME_N[2]
         W = np.zeros((3 * nvox, 1 + nvox + 2))
         W[:, 0] = Y[0] + np.tile([0.5, 0.0, 0.0], nvox)
