@@ -165,6 +165,7 @@ class Pile:
                                                                           else ""))
         self.name = "rom-pile W%d H%d fill %g inlet %g test w %g steps %d" % (
             a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet, a.test, a.steps)
+        self.name += settings_named(dict(form=a.form), dict(form="linear"))
 
     def run(self, tag, variables):
         lmp_run(self.lmp, self.wd, os.path.join(EXAMPLE, "in.rom-pile"), tag, dict(self.vars, **variables))
@@ -176,8 +177,8 @@ class Pile:
             if not os.path.exists(os.path.join(self.wd, self.fields % tag)):
                 self.run(tag, dict(w=w))
             specs.append("%s:%s" % (self.fields % tag, w))
-        model = "rom.%s.s%d.model" % (self.a.train.replace(",", "_"), self.a.steps)
-        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs)
+        model = "rom.%s.s%d.%s.model" % (self.a.train.replace(",", "_"), self.a.steps, self.a.form)
+        return trained(self.wd, os.path.join(EXAMPLE, "train_rom.py"), model, specs, ("--form", self.a.form))
 
     def test(self, scan=False):
         """The test's variables (scan: cut to --scan-steps)."""
@@ -437,10 +438,10 @@ def main():
     ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
     ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
                     help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
-    ap.add_argument("--form", choices=("occupancy", "linear"), default="occupancy",
-                    help="hopper, blade, plates: the model's form (train_rom.py's, train_blade.py's --form; default "
-                    "occupancy: each voxel's velocity its density times a linear function of the controls; linear: "
-                    "of every density and the controls)")
+    ap.add_argument("--form", choices=("occupancy", "linear"),
+                    help="the model's form (train_rom.py's, train_blade.py's --form; default pile linear: each "
+                    "voxel's velocity a linear function of every density and the controls; the others occupancy: "
+                    "its density times a linear function of the controls)")
     ap.add_argument("--controls", choices=sorted(CONTROLS), default="cut",
                     help="blade, plates: the model's controls (in.blade's -var controls; default cut: the blade's "
                     "velocity times its depth below the bed's surface, and that depth; velocity: the blade's)")
@@ -483,12 +484,13 @@ def main():
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
-    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
+    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match", form="linear"),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1, form="occupancy"),
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
+                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9", form="occupancy"),
                     plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9",
+                                form="occupancy"))[a.scene]
     for k, v in defaults.items():
         if getattr(a, k) is None:
             setattr(a, k, v)
