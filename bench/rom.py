@@ -30,7 +30,8 @@ time over the reduced runs' median. Errors (bench/romerror.py: velocity, granula
 surface height above the container's floor and walls) are series over the run's field frames,
 written to errors.TAG.txt; the record holds one minus their time mean (*_accuracy) and one minus
 the mean of their worst tenth (*_accuracy_worst10). One JSON line is appended to
-bench/results/rom.jsonl; what the study could not measure is named with its reason in left_out.
+bench/results/rom.jsonl (model: the model file, named by its training runs, controls and form);
+what the study could not measure is named with its reason in left_out.
 The errors over time (bench/romfigure.py) go to the example's reference/errors.png.
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
@@ -363,7 +364,8 @@ def study(scene, a):
     times = {stock: [loop_seconds(scene.wd, t) for t in stock_tags], scene.pair: [loop_seconds(scene.wd, ref)]}
     reduced = [loop_seconds(scene.wd, t) for t in rom_tags]
     style, seconds = pick_baseline(times)
-    record = dict(build=a.build, reduced_settings=scene.rom(), baseline=dict(pair_style=style, loop_s=seconds),
+    record = dict(build=a.build, reduced_settings=scene.rom(), model=model,
+                  baseline=dict(pair_style=style, loop_s=seconds),
                   speedup=seconds / statistics.median(reduced),
                   loop_s={stock: times[stock], scene.pair: times[scene.pair], "reduced": reduced,
                           "do_nothing": loop_seconds(scene.wd, nothing)},
