@@ -107,9 +107,9 @@ def read_columns(path):
 
 
 def load_run(tag, frame, controls):
-    """Features (the densities, then the controls named, a list of CONTROLS), velocity targets and force targets of
-    one resolved run's snapshots (run TAG's files in the working folder), binned in frame (voxels,
-    box)."""
+    """Features (the densities, then the controls named, one of CONTROLS' lists), velocity targets
+    and force targets of one resolved run's snapshots (run TAG's files in the working folder),
+    binned in frame (voxels, box)."""
     table = read_columns("controls.%s.txt" % tag)
     force = {int(row[0]): row[1:] for row in read_force(tag)}
     X, Y, F = [], [], []

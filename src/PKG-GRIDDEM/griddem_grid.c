@@ -250,6 +250,7 @@ int griddem_bin_points(griddem_bins *b, const griddem_grid *g, int n, const doub
     cells_of(g, 0, n, x, b->cell);
     if (nspan > 1) {
       memset(span, 0, sizeof(int) * (size_t) nspan);
+      /* several spans are GRIDDEM_BIN_SPAN cells each (span_cells): the constant divides by a shift */
       for (int i = 0; i < n; i++) span[b->cell[i] / GRIDDEM_BIN_SPAN]++;
     } else if (nspan == 1)
       span[0] = n;
