@@ -149,9 +149,9 @@ __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_sphe
   const cluster_avx2 c = {_mm256_permutevar8x32_ps(l.x, pairs), _mm256_permutevar8x32_ps(l.y, pairs),
                           _mm256_permutevar8x32_ps(l.z, pairs), _mm256_permutevar8x32_ps(l.s, pairs),
                           _mm256_permutevar8x32_ps(l.sure, pairs)};
-  for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx2(sp, reach, i0, 1, lo[q], hi[q], &c, slot, n);
-    else run_avx2(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
+  const int first = own && nruns > 0;    /* the own run, then the others: one copy each */
+  if (first) run_avx2(sp, reach, i0, 1, lo[0], hi[0], &c, slot, n);
+  for (int q = first; q < nruns; q++) run_avx2(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
@@ -165,9 +165,9 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure))};
-  for (int q = 0; q < nruns; q++)
-    if (own && q == 0) run_avx512(sp, reach, i0, 1, lo[q], hi[q], &c, slot, n);
-    else run_avx512(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
+  const int first = own && nruns > 0;
+  if (first) run_avx512(sp, reach, i0, 1, lo[0], hi[0], &c, slot, n);
+  for (int q = first; q < nruns; q++) run_avx512(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
 }
 #endif
 
