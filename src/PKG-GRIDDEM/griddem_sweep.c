@@ -849,6 +849,24 @@ typedef struct row_room {
   const int **row_lo, **row_hi;
 } row_room;
 
+/* The rows of the forward half stencil of reach 1 (the cell row itself, the next along y and the
+ * three of the next layer along z): a constant, so that the common case's loop is unrolled */
+#define FORWARD_ROWS 5
+
+/* The slot ranges [lo[q], hi[q]) of the n stencil rows from cell xa to cell xb of a cell row
+ * whose stencil lies inside the grid (row_lo, row_hi: each stencil row's cell starts from the cell
+ * row's x = 0), and their total length */
+SWEEP_SPECIALIZED int runs_inside(const int *const *row_lo, const int *const *row_hi, const int n, int into_base, int xa,
+                                  int xb, int *lo, int *hi)
+{
+  int total = 0;
+  for (int q = 0; q < n; q++) {
+    lo[q] = into_base + row_lo[q][xa], hi[q] = into_base + row_hi[q][xb];
+    total += hi[q] - lo[q];
+  }
+  return total;
+}
+
 /* Pairs (s, t) of the slots s in the cell row (y, z) of class grid k with the slots t of grid
  * `into`'s cells in their stencil: k's own (own 1: the forward stencil, t > s) or another class's
  * laid over the same cells (own 0: the full stencil; same_cells below). Slots of the channels
@@ -910,10 +928,8 @@ static void sweep_cell_row(const sweep_context *cx, sweep_sums *sums, cluster_hi
     const int ghosts = ghost_row || xb < olo[0] || xa > ohi[0];
     int total = 0;
     if (!ghosts && xa >= xsafe_lo && xb <= xsafe_hi)
-      for (int q = 0; q < nvalid; q++) {
-        lo[q] = into_base + row_lo[q][xa], hi[q] = into_base + row_hi[q][xb];
-        total += hi[q] - lo[q];
-      }
+      total = nvalid == FORWARD_ROWS ? runs_inside(row_lo, row_hi, FORWARD_ROWS, into_base, xa, xb, lo, hi)
+                                     : runs_inside(row_lo, row_hi, nvalid, into_base, xa, xb, lo, hi);
     else {
       const int xmin = ghosts ? olo[0] : 0, xmax = ghosts ? ohi[0] : nx - 1;
       for (int q = 0; q < nvalid; q++) {
