@@ -789,8 +789,8 @@ static void cluster_hits_init(cluster_hits *h)
  * at once where every sphere's candidates fit its list, else sphere by sphere in parts. own: run 0
  * is the cluster's own run, whose candidates of a sphere are the slots after it (lo[0] is then
  * moved to each sphere's). */
-SWEEP_SPECIALIZED void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *h, int i0, int ni, int own,
-                           int *lo, const int *hi, int nruns, int total)
+SWEEP_SPECIALIZED void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *h, int i0, int ni,
+                                      int own, int *lo, const int *hi, int nruns, int total)
 {
   if (total <= HITS_CAP) {
     int nhit[GRIDDEM_CLUSTER_MAX] = {0};    /* all lanes: a constant size, cleared in place */
