@@ -122,6 +122,15 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
       for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2)                                    \
         test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, slot, n);                                      \
     for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, slot, n);                                 \
+  }                                                                                                           \
+  /* the runs [lo[q], hi[q]), the own one first (own: run 0), one inlined copy of run_ISA each */             \
+  __attribute__((target(TARGET), always_inline)) static inline void runs_##ISA(                              \
+      const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
+      const cluster_##ISA *c, int *const *slot, int *n)                                                       \
+  {                                                                                                           \
+    const int first = own && nruns > 0;                                                                       \
+    if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, slot, n);                                         \
+    for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, slot, n);                \
   }
 
 /* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
@@ -149,9 +158,7 @@ __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_sphe
   const cluster_avx2 c = {_mm256_permutevar8x32_ps(l.x, pairs), _mm256_permutevar8x32_ps(l.y, pairs),
                           _mm256_permutevar8x32_ps(l.z, pairs), _mm256_permutevar8x32_ps(l.s, pairs),
                           _mm256_permutevar8x32_ps(l.sure, pairs)};
-  const int first = own && nruns > 0;    /* the own run, then the others: one copy each */
-  if (first) run_avx2(sp, reach, i0, 1, lo[0], hi[0], &c, slot, n);
-  for (int q = first; q < nruns; q++) run_avx2(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
+  runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
@@ -165,9 +172,7 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
                             _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure))};
-  const int first = own && nruns > 0;
-  if (first) run_avx512(sp, reach, i0, 1, lo[0], hi[0], &c, slot, n);
-  for (int q = first; q < nruns; q++) run_avx512(sp, reach, i0, 0, lo[q], hi[q], &c, slot, n);
+  runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
 }
 #endif
 
