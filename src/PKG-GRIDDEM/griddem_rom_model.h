@@ -13,7 +13,8 @@
  * control(c))); then optionally (version 2)
  *   force 3 NCOL
  * and 3 x NCOL numbers, the force on a tool (x, y, z) from the same features as a row of weights
- * (occupancy: bias + sum_c w control(c), no density); then the end of the file. Every mismatch is an error that names it, its line and what was expected there. */
+ * (occupancy: bias + sum_c w control(c), no density); then the end of the file. Every mismatch
+ * is an error that names it, its line and what was expected there. */
 #ifndef GRIDDEM_ROM_MODEL_H
 #define GRIDDEM_ROM_MODEL_H
 

@@ -856,8 +856,8 @@ typedef struct row_room {
 /* The slot ranges [lo[q], hi[q]) of the n stencil rows from cell xa to cell xb of a cell row
  * whose stencil lies inside the grid (row_lo, row_hi: each stencil row's cell starts from the cell
  * row's x = 0), and their total length */
-SWEEP_SPECIALIZED int runs_inside(const int *const *row_lo, const int *const *row_hi, const int n, int into_base, int xa,
-                                  int xb, int *lo, int *hi)
+SWEEP_SPECIALIZED int runs_inside(const int *const *row_lo, const int *const *row_hi, const int n, int into_base,
+                                  int xa, int xb, int *lo, int *hi)
 {
   int total = 0;
   for (int q = 0; q < n; q++) {
