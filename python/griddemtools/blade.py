@@ -111,16 +111,17 @@ def load_run(tag, frame, controls):
     and force targets of one resolved run's snapshots (run TAG's files in the working folder),
     binned in frame (voxels, box)."""
     table = read_columns("controls.%s.txt" % tag)
+    named = next(iter(table.values()), {})    # every row holds the names of the title line
+    missing = [c for c in controls if c not in named]
+    if table and missing:
+        raise ValueError("controls.%s.txt has no column %s (an earlier in.blade's run: run it again)"
+                         % (tag, " ".join(missing)))
     force = {int(row[0]): row[1:] for row in read_force(tag)}
     X, Y, F = [], [], []
     for step, a in read_snapshots(ATOMS % tag):
         if step not in table or step not in force:
             continue
         row = table[step]
-        missing = [c for c in controls if c not in row]
-        if missing:
-            raise ValueError("controls.%s.txt has no column %s (an earlier in.blade's run: run it again)"
-                             % (tag, " ".join(missing)))
         rho, ux, uy, uz = bin_frame(a["x"] - row["bx"], a["y"], a["z"], a["vx"], a["vy"], a["vz"], a["mass"],
                                     *frame)
         X.append(np.concatenate([rho, [row[c] for c in controls]]))
