@@ -153,6 +153,7 @@ def trained(wd, script, model, inputs, options=()):
 class Pile:
     """examples/rom-pile: the outlet width is the control."""
     pair = "griddem/hooke/history"
+    form = "linear"    # the model's form unless --form says otherwise
     example = EXAMPLE
     skins = "0.1,0.2,0.4"
     fields = "cg.%s.txt"
@@ -166,7 +167,7 @@ class Pile:
                                                                           else ""))
         self.name = "rom-pile W%d H%d fill %g inlet %g test w %g steps %d" % (
             a.W, a.H, a.fill, a.W - 2 if a.inlet is None else a.inlet, a.test, a.steps)
-        self.name += settings_named(dict(form=a.form), dict(form="linear"))
+        self.name += settings_named(dict(form=a.form), dict(form=self.form))
 
     def run(self, tag, variables):
         lmp_run(self.lmp, self.wd, os.path.join(EXAMPLE, "in.rom-pile"), tag, dict(self.vars, **variables))
@@ -193,6 +194,7 @@ class Hopper:
     """examples/rom-hopper, the paper's pile: filled from empty, the feed rate and the outlet's
     speed are the controls, histories of --seg-step segments."""
     pair = "griddem/granular"
+    form = "occupancy"
     example = HOPPER
     skins = "0.03,0.06,0.12"
     fields = "cg.%s.txt"
@@ -265,8 +267,10 @@ def drive_setting(a):
 
 
 class Blade:
-    """examples/rom-blade: the blade's velocity is the control, the model's grid moves with it."""
+    """examples/rom-blade: the blade's cut (or its velocity: --controls) is the control, the model's
+    grid moves with it."""
     pair = "griddem/granular"
+    form = "occupancy"
     example = BLADE
     skins = "0.03,0.06,0.12"
     fields = FIELDS
@@ -279,7 +283,7 @@ class Blade:
         self.a, self.lmp = a, lmp
         self.wd = os.path.join(a.work, self.folder)
         self.name = "%s train %s test %s steps %d" % (self.label, a.train_traj, a.test_traj, a.steps)
-        self.name += settings_named(self.rom(), BLADE_DEFAULTS) + settings_named(dict(form=a.form), dict(form="occupancy"))
+        self.name += settings_named(self.rom(), BLADE_DEFAULTS) + settings_named(dict(form=a.form), dict(form=self.form))
 
     def run(self, tag, variables, inp="in.blade"):
         lmp_run(self.lmp, self.wd, os.path.join(BLADE, inp), tag, dict(self.geometry, **variables),
@@ -486,14 +490,13 @@ def main():
     ap.add_argument("--work", default=os.path.join(HERE, "work-rom"), help="folder of the scenes' work folders")
     a = ap.parse_args()
     a.build = a.build or benchlib.commit(dirty=True)    # the build the study starts with
-    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match", form="linear"),
-                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1, form="occupancy"),
+    defaults = dict(pile=dict(steps=30000, eps=0.1, every=10, v0=1.0, drive="match"),
+                    hopper=dict(steps=0, eps=0.3, every=50, v0=0.36, drive="match", overlap=0.1),
                     blade=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9", form="occupancy"),
+                               train_traj="1.0:0.6,1.0:1.2,1.4:0.6,1.4:1.2", test_traj="1.2:0.9"),
                     plates=dict(steps=10000, eps=0.1, every=500, v0=0.45, drive="box", overlap=1.0,
-                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9",
-                                form="occupancy"))[a.scene]
-    for k, v in defaults.items():
+                                train_traj="0.6:0.6,0.6:1.2,0.8:0.6,0.8:1.2", test_traj="0.7:0.9"))[a.scene]
+    for k, v in dict(defaults, form=SCENES[a.scene].form).items():
         if getattr(a, k) is None:
             setattr(a, k, v)
     a.work = os.path.abspath(a.work)
