@@ -3,6 +3,7 @@ ranks and threads, one result recorded, LAMMPS's chute with a law of pair granul
 import os
 import platform
 import re
+import statistics
 import subprocess
 import sys
 
@@ -51,6 +52,28 @@ def run_lmp(lmp, wd, text, ranks, threads=1, extra=(), env=None):
     out = lammps.run(lmp, list(extra) + ["-in", "in.run", "-log", "none"], wd, ranks, threads,
                      ["--bind-to", "core", "-x", "OMP_NUM_THREADS"], env).stdout
     return loop_time(out, "%s on %d ranks" % (text.splitlines()[0], ranks)) + (out,)
+
+
+def run_rounds(lmp, wd, runs, rounds, path, scene, build, fields=None):
+    """Each run of runs, a tuple (label, input text, ranks, threads), `rounds` times in turn (the
+    first round of every run, then the second, ...), so that the machine's swings fall on every
+    variant alike; each run recorded in path (build, its round, and fields(screen output)'s items),
+    then per rank count each label's median loop time and stock's median over it printed: the
+    job's ratio."""
+    loops = {}
+    for r in range(rounds):
+        for label, text, ranks, threads in runs:
+            loop, steps, atoms, out = run_lmp(lmp, wd, text, ranks, threads)
+            record(path, scene, label, ranks, threads, loop, steps, atoms, build=build, round=r + 1, rounds=rounds,
+                   **(fields(out) if fields else {}))
+            loops.setdefault((ranks, label), []).append(loop)
+    for (ranks, label), times in loops.items():
+        ratio = ""
+        if label != "stock" and (ranks, "stock") in loops:
+            stock = statistics.median(loops[(ranks, "stock")])
+            ratio = ", %.2fx of stock's speed (stock %.3f s)" % (stock / statistics.median(times), stock)
+        print("%s, %d rank(s): %s median %.3f s of %d runs%s" % (scene, ranks, label, statistics.median(times),
+                                                                 len(times), ratio))
 
 
 def record(path, scene, style, ranks, threads, loop, steps, atoms, **extra):

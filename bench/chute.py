@@ -5,10 +5,11 @@ and 2 MPI ranks (and griddem multi with 2 OpenMP threads where the cores allow),
 one machine. --law LAW: each style's pair granular twin (stock granular, griddem/granular) with a
 composed law of the examples (benchlib.GRANULAR_LAWS) instead. Appends one JSON line per run to
 bench/results/cpu.jsonl, naming the build (--build, default the checkout's commit) so that two
-builds run back to back compare.
+builds run back to back compare. --rounds N runs every variant N times in turn and prints each
+one's median and its ratio to stock's.
 
 usage: bench/chute.py [--steps N] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]
-                      [--law rolling|nohistory] [--lammps-bench DIR]"""
+                      [--law rolling|nohistory] [--lammps-bench DIR] [--rounds N]"""
 import argparse
 import os
 import re
@@ -42,6 +43,7 @@ def main():
     ap.add_argument("--law", choices=sorted(benchlib.GRANULAR_LAWS), default=None,
                     help="pair granular with this law (default: gran/hooke/history's)")
     ap.add_argument("--lammps-bench", default=os.path.join(TOP, ".deps", "lammps-4Feb2025", "bench"))
+    ap.add_argument("--rounds", type=int, default=1, help="runs of each variant, in turn (benchlib.run_rounds)")
     args = ap.parse_args()
 
     wd = tempfile.mkdtemp(prefix="griddem-chute-")
@@ -51,6 +53,7 @@ def main():
     out_path = os.path.join(HERE, "results", "cpu.jsonl")
     build = args.build or benchlib.commit()
     only = args.only.split(",") if args.only else None
+    runs = []
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label, threads in VARIANTS:
             if ranks * threads > (os.cpu_count() or 1) or (only and label not in only):
@@ -60,10 +63,12 @@ def main():
             text = re.sub(r"run\s+100", "run %d" % args.steps, text)
             if args.law:
                 text = benchlib.chute_granular(text, args.law)
-            loop, steps, atoms, out = benchlib.run_lmp(args.lmp, wd, text, ranks, threads)
-            sections = timing_sections(out)
-            benchlib.record(out_path, "chute", label, ranks, threads, loop, steps, atoms, build=build,
-                            **({"law": args.law} if args.law else {}),
-                            pair_pct=sections.get("Pair"), neigh_pct=sections.get("Neigh"))
+            runs.append((label, text, ranks, threads))
+
+    def fields(out):
+        sections = timing_sections(out)
+        return dict(({"law": args.law} if args.law else {}), pair_pct=sections.get("Pair"),
+                    neigh_pct=sections.get("Neigh"))
+    benchlib.run_rounds(args.lmp, wd, runs, args.rounds, out_path, "chute", build, fields)
 
 main()

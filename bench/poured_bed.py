@@ -4,9 +4,11 @@ fix pour into a periodic 24 x 24 box onto a frictional floor under gravity, Hook
 stock gran/hooke/history and griddem/hooke/history (defaults, and cell multi), on 1 and 2 MPI
 ranks, in one job. The scene is the same for both: fix pour's random stream does not depend on
 the pair style. Appends one JSON line per run to bench/results/cpu.jsonl with the atoms present
-at the end.
+at the end; --rounds N runs every variant N times in turn and prints each one's median and its
+ratio to stock's.
 
-usage: bench/poured_bed.py [--steps 20000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]"""
+usage: bench/poured_bed.py [--steps 20000] [--ranks 1,2] [--lmp build/lmp] [--build NAME] [--only LABEL,...]
+                           [--rounds N]"""
 import argparse
 import os
 import tempfile
@@ -46,19 +48,19 @@ def main():
     ap.add_argument("--lmp", default=os.path.join(TOP, "build", "lmp"))
     ap.add_argument("--build", default=None, help="name of the build measured (default: git commit)")
     ap.add_argument("--only", default=None)
+    ap.add_argument("--rounds", type=int, default=1, help="runs of each variant, in turn (benchlib.run_rounds)")
     args = ap.parse_args()
     build = args.build or benchlib.commit()
     only = args.only.split(",") if args.only else None
     wd = tempfile.mkdtemp(prefix="griddem-bed-")
+    runs = []
     for ranks in [int(r) for r in args.ranks.split(",")]:
         for style, fix, label in VARIANTS:
             if only and label not in only:
                 continue
-            text = SCENE.format(style=style, fix=fix, steps=args.steps)
-            loop, steps, atoms, _ = benchlib.run_lmp(args.lmp, wd, text, ranks)
-            benchlib.record(os.path.join(HERE, "results", "cpu.jsonl"), "poured bed 1:10", label, ranks, 1,
-                            loop, steps, atoms, build=build)
-
+            runs.append((label, SCENE.format(style=style, fix=fix, steps=args.steps), ranks, 1))
+    benchlib.run_rounds(args.lmp, wd, runs, args.rounds, os.path.join(HERE, "results", "cpu.jsonl"),
+                        "poured bed 1:10", build)
 
 if __name__ == "__main__":
     main()
