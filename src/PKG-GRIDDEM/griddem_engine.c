@@ -32,52 +32,13 @@ void griddem_class_bounds(double rmax, int ncls, double *upper)
   for (int c = 0; c <= GRIDDEM_MAX_CLASSES; c++) upper[c] = c < ncls ? ldexp(rmax, -GRIDDEM_CLASS_SHIFT * c) : 0.0;
 }
 
-/* Whether a double is not finite, as a bit: its exponent's bits are all set exactly where adding
- * one to the exponent carries into the sign bit (integer arithmetic, which vector lanes run) */
-static inline uint64_t nonfinite_bit(double v)
-{
-  uint64_t bits;
-  memcpy(&bits, &v, sizeof(bits));
-  return ((bits & 0x7ff0000000000000ull) + 0x0010000000000000ull) >> 63;
-}
-
-/* one point into the box and the non-finite bit (the box may leave out a NaN: the bit says so) */
-#define BOX_OF_POINT(i)                                                                            \
-  do {                                                                                             \
-    const double a = x[3 * (size_t) (i)], b = x[3 * (size_t) (i) + 1], c = x[3 * (size_t) (i) + 2]; \
-    l0 = a < l0 ? a : l0, h0 = a > h0 ? a : h0;                                                    \
-    l1 = b < l1 ? b : l1, h1 = b > h1 ? b : h1;                                                    \
-    l2 = c < l2 ? c : l2, h2 = c > h2 ? c : h2;                                                    \
-    bad |= nonfinite_bit(a) | nonfinite_bit(b) | nonfinite_bit(c);                                 \
-  } while (0)
-
-/* Box lo, hi of n points (3n doubles at x), and whether some of their coordinates are not finite
- * (the box is then meaningless: the step stops). The reductions are OpenMP's, whose order is
- * free, so the points run in vector lanes. */
-GRIDDEM_VECTOR_COPIES static int box_of(const double *x, int n, double *lo, double *hi)
-{
-  double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2;
-  uint64_t bad = 0;
-  if (griddem_threaded(n)) {
-#pragma omp parallel for simd schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) \
-    reduction(| : bad)
-    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
-  } else {
-#pragma omp simd reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)
-    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
-  }
-  lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
-  return bad != 0;
-}
-#undef BOX_OF_POINT
-
 /* one owned particle's squared speed into the largest and the non-finite bit (a component that is
  * not finite, or one too large to square) */
 #define SPEED_OF(i)                                                                              \
   do {                                                                                           \
     const double *u = v + 3 * (size_t) (i), q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];         \
     most = q > most ? q : most;                                                                  \
-    bad |= nonfinite_bit(q);                                                                     \
+    bad |= griddem_nonfinite_bit(q);                                                             \
   } while (0)
 
 /* The largest squared speed of n particles (3n doubles at v), and whether some squared speed is
@@ -103,10 +64,10 @@ void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *sc
   const double *x = p->x;
   /* the owned particles' box, then the ghosts' added */
   double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0}, ghost_lo[3], ghost_hi[3];
-  int suspect = p->nlocal > 0 && box_of(x, p->nlocal, lo, hi);
+  int suspect = p->nlocal > 0 && griddem_box_of(x, p->nlocal, lo, hi);
   for (int d = 0; d < 3; d++) scan->owned_lo[d] = lo[d], scan->owned_hi[d] = hi[d];
   if (p->nall > p->nlocal) {
-    suspect |= box_of(x + 3 * (size_t) p->nlocal, p->nall - p->nlocal, ghost_lo, ghost_hi);
+    suspect |= griddem_box_of(x + 3 * (size_t) p->nlocal, p->nall - p->nlocal, ghost_lo, ghost_hi);
     for (int d = 0; d < 3; d++) {
       lo[d] = p->nlocal > 0 && lo[d] < ghost_lo[d] ? lo[d] : ghost_lo[d];
       hi[d] = p->nlocal > 0 && hi[d] > ghost_hi[d] ? hi[d] : ghost_hi[d];

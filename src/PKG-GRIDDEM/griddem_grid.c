@@ -69,17 +69,41 @@ static long cells_for(const griddem_grid *g, const double *lo, const double *hi,
   return total;
 }
 
+/* one point into the box and the non-finite bit (the box may leave out a NaN: the bit says so) */
+#define BOX_OF_POINT(i)                                                                            \
+  do {                                                                                             \
+    const double a = x[3 * (size_t) (i)], b = x[3 * (size_t) (i) + 1], c = x[3 * (size_t) (i) + 2]; \
+    l0 = a < l0 ? a : l0, h0 = a > h0 ? a : h0;                                                    \
+    l1 = b < l1 ? b : l1, h1 = b > h1 ? b : h1;                                                    \
+    l2 = c < l2 ? c : l2, h2 = c > h2 ? c : h2;                                                    \
+    bad |= griddem_nonfinite_bit(a) | griddem_nonfinite_bit(b) | griddem_nonfinite_bit(c);         \
+  } while (0)
+
+/* The reductions are OpenMP's, whose order is free, so the points run in vector lanes. */
+GRIDDEM_VECTOR_COPIES int griddem_box_of(const double *x, int n, double *lo, double *hi)
+{
+  double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2;
+  uint64_t bad = 0;
+  if (griddem_threaded(n)) {
+#pragma omp parallel for simd schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) \
+    reduction(| : bad)
+    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
+  } else {
+#pragma omp simd reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) reduction(| : bad)
+    for (int i = 0; i < n; i++) BOX_OF_POINT(i);
+  }
+  lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
+  return bad != 0;
+}
+#undef BOX_OF_POINT
+
 int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
                        long max_cells)
 {
   double lo[3], hi[3];
-  for (int d = 0; d < 3; d++) lo[d] = hi[d] = n > 0 ? x[d] : anchor[d];
-  for (int i = 1; i < n; i++)
-    for (int d = 0; d < 3; d++) {
-      const double v = x[3 * i + d];
-      if (v < lo[d]) lo[d] = v;
-      if (v > hi[d]) hi[d] = v;
-    }
+  if (n > 0) griddem_box_of(x, n, lo, hi);
+  else
+    for (int d = 0; d < 3; d++) lo[d] = hi[d] = anchor[d];
   return griddem_grid_fit(g, anchor, lo, hi, h, max_cells);
 }
 

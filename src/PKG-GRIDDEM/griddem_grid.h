@@ -9,6 +9,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -151,6 +152,19 @@ typedef struct griddem_stencil {
 /* The stencil of part for cells of edge h and the distance cut (centres closer than cut). 0, or -1
  * (and no rows) when it would reach more than GRIDDEM_MAX_REACH cells. */
 int griddem_stencil_build(griddem_stencil *s, double h, double cut, int part);
+
+/* Whether a double is not finite, as a bit: its exponent's bits are all set exactly where adding
+ * one to the exponent carries into the sign bit (integer arithmetic, which vector lanes run) */
+GRIDDEM_INLINE uint64_t griddem_nonfinite_bit(double v)
+{
+  uint64_t bits;
+  memcpy(&bits, &v, sizeof(bits));
+  return ((bits & 0x7ff0000000000000ull) + 0x0010000000000000ull) >> 63;
+}
+
+/* Box lo, hi of n > 0 points (3n doubles at x), and whether some of their coordinates are not
+ * finite (the box then means nothing) */
+int griddem_box_of(const double *x, int n, double *lo, double *hi);
 
 /* Grid with edge h, faces aligned to anchor, covering the bounding box of n interleaved points.
  * Aligning to a fixed anchor makes a point's cell depend on its position only, not on which other
