@@ -2,6 +2,7 @@
 #include "griddem_grid.h"
 #include "griddem_threads.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -141,11 +142,21 @@ static inline long cell_index(const griddem_grid *g, double x, double y, double 
 }
 
 /* The cells of points i0 .. i1 - 1 of x (interleaved) into cell, lanes of points at once where
- * the processor has them */
+ * the processor has them: on a grid of fewer than 2^31 cells the index is summed in 32-bit lanes
+ * (AVX2 multiplies no 64-bit lanes) */
 GRIDDEM_VECTOR_COPIES static void cells_of(const griddem_grid *restrict g, int i0, int i1, const double *restrict x,
                                            long *restrict cell)
 {
-  for (int i = i0; i < i1; i++) cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  if (g->ncell <= INT_MAX) {
+    const int row = g->n[0], layer = g->n[0] * g->n[1];
+    for (int i = i0; i < i1; i++) {
+      const int cx = griddem_axis_cell(x[3 * i], g->anchor[0], g->hinv, g->k0[0], g->n[0]);
+      const int cy = griddem_axis_cell(x[3 * i + 1], g->anchor[1], g->hinv, g->k0[1], g->n[1]);
+      const int cz = griddem_axis_cell(x[3 * i + 2], g->anchor[2], g->hinv, g->k0[2], g->n[2]);
+      cell[i] = cx + row * cy + layer * cz;
+    }
+  } else
+    for (int i = i0; i < i1; i++) cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
 }
 
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z)
