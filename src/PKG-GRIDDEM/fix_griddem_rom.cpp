@@ -529,7 +529,7 @@ void FixGriddemRom::held_within_reach(std::vector<double> &held, std::vector<dou
   const double *prd = domain->prd;
   // on several processes, each one's sub-domain widened by the cutoff (orthogonal:
   // reach_test_in_place)
-  std::vector<double> reach_of(6 * (size_t) nprocs);
+  std::vector<double> reach_of(nprocs > 1 ? 6 * (size_t) nprocs : 0);
   if (nprocs > 1) {
     double mine[6];
     for (int d = 0; d < 3; d++) mine[d] = domain->sublo[d] - cut, mine[3 + d] = domain->subhi[d] + cut;
