@@ -88,8 +88,8 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
   }
 }
 
-/* run_ISA: one run against 4 spheres (AVX2, 8 lanes) or 8 (AVX-512, 16 lanes), candidates t and
- * t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
+/* run_ISA: one run against 8 spheres in 16 lanes (AVX2: two vectors; AVX-512: one), candidates t
+ * and t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
  * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c and
  * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
  * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
@@ -133,31 +133,76 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, slot, n);                \
   }
 
+/* AVX2's 16 lanes as two vectors (lo: lanes 0-7, spheres 0-3; hi: lanes 8-15, spheres 4-7), so
+ * that its clusters are the AVX-512 kernel's 8 spheres: a cluster's set-up, and its runs' cells at
+ * either end, are paid once for 8 spheres */
+typedef struct avx2x2 {
+  __m256 lo, hi;
+} avx2x2;
+#define AVX2X2_OP(name, op)                                                                                   \
+  __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 name(avx2x2 a, avx2x2 b)            \
+  {                                                                                                           \
+    const avx2x2 r = {op(a.lo, b.lo), op(a.hi, b.hi)};                                                        \
+    return r;                                                                                                 \
+  }
+#define AVX2X2_OP3(name, op)                                                                                  \
+  __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 name(avx2x2 a, avx2x2 b, avx2x2 c)  \
+  {                                                                                                           \
+    const avx2x2 r = {op(a.lo, b.lo, c.lo), op(a.hi, b.hi, c.hi)};                                            \
+    return r;                                                                                                 \
+  }
+AVX2X2_OP(avx2x2_sub, _mm256_sub_ps)
+AVX2X2_OP(avx2x2_add, _mm256_add_ps)
+AVX2X2_OP(avx2x2_mul, _mm256_mul_ps)
+AVX2X2_OP(avx2x2_max, _mm256_max_ps)
+AVX2X2_OP3(avx2x2_fma, _mm256_fmadd_ps)
+AVX2X2_OP3(avx2x2_fnma, _mm256_fnmadd_ps)
+__attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_pair(double p)
+{
+  const __m256 v = _mm256_castpd_ps(_mm256_set1_pd(p));
+  const avx2x2 r = {v, v};
+  return r;
+}
+__attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_zero(void)
+{
+  const avx2x2 r = {_mm256_setzero_ps(), _mm256_setzero_ps()};
+  return r;
+}
+__attribute__((target("avx2,fma"), always_inline)) static inline unsigned avx2x2_signs(avx2x2 a)
+{
+  return (unsigned) _mm256_movemask_ps(a.lo) | (unsigned) _mm256_movemask_ps(a.hi) << 8;
+}
+
 /* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
 typedef struct cluster_avx2 {
-  __m256 x, y, z, s, sure;
+  avx2x2 x, y, z, s, sure;
 } cluster_avx2;
 typedef struct cluster_avx512 {
   __m512 x, y, z, s, sure;
 } cluster_avx512;
 
-#define AVX2_PAIR(p) _mm256_castpd_ps(_mm256_set1_pd(p))
-GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", __m256, AVX2_PAIR, _mm256_sub_ps, _mm256_add_ps, _mm256_mul_ps, _mm256_fmadd_ps,
-                   _mm256_fnmadd_ps, _mm256_max_ps, _mm256_setzero_ps(), _mm256_movemask_ps, 4)
+GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
+                   avx2x2_max, avx2x2_zero(), avx2x2_signs, 8)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
 #define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
 GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
                    _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE, 8)
+
+/* Sphere k's lanes 2 k and 2 k + 1 of a cluster's 8 floats v, as the two AVX2 vectors hold them */
+__attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_lanes(__m256 v)
+{
+  const avx2x2 r = {_mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3)),
+                    _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7))};
+  return r;
+}
 
 __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,
                                                           int *const *slot, int *n)
 {
   const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
-  const __m256i pairs = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3);
-  const cluster_avx2 c = {_mm256_permutevar8x32_ps(l.x, pairs), _mm256_permutevar8x32_ps(l.y, pairs),
-                          _mm256_permutevar8x32_ps(l.z, pairs), _mm256_permutevar8x32_ps(l.s, pairs),
-                          _mm256_permutevar8x32_ps(l.sure, pairs)};
+  const cluster_avx2 c = {avx2x2_lanes(l.x), avx2x2_lanes(l.y), avx2x2_lanes(l.z), avx2x2_lanes(l.s),
+                          avx2x2_lanes(l.sure)};
   runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
 }
 
@@ -179,7 +224,7 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
 static const struct {
   const char *name;
   int width;
-} KERNELS[] = {{"avx512", 8}, {"avx2", 4}, {"scalar", 4}};
+} KERNELS[] = {{"avx512", 8}, {"avx2", 8}, {"scalar", 4}};
 #define NKERNELS (sizeof(KERNELS) / sizeof(KERNELS[0]))
 
 griddem_touching_fn griddem_touching_kernel(const char *name)

@@ -6,10 +6,10 @@
  * spheres of one cell row share them. A kernel tests a cluster of up to GRIDDEM_CLUSTER_MAX such
  * spheres against some candidates at once, a pair of sphere and candidate per vector lane (as
  * GROMACS's cluster-pair kernels do), reading the spheres as four arrays (x, y, z, radius by
- * slot). A plain-C kernel is the reference, in double. The AVX2 (with FMA: 4 spheres by 2
- * candidates in 8 float lanes) and AVX-512 (8 by 2 in 16) kernels first test single-precision
- * copies against a contact distance widened by a slack that covers their rounding, so that no
- * touching pair fails it; a pair that also passes against the distance narrowed by the slack
+ * slot). A plain-C kernel is the reference, in double. The AVX2 (with FMA: 8 spheres by 2
+ * candidates in 16 float lanes, two vectors of 8) and AVX-512 (8 by 2 in 16) kernels first test
+ * single-precision copies against a contact distance widened by a slack that covers their
+ * rounding, so that no touching pair fails it; a pair that also passes against the distance narrowed by the slack
  * (where that is positive) touches in double too, and every other pair that passes is tested
  * again with the reference's expression in double, in the same order (no fused multiply-add):
  * every kernel finds the same slots in the same order. The widest kernel the processor runs is chosen at first use. */
