@@ -1,7 +1,8 @@
 /* Binning: the counting sort is a permutation, cells are in order, slots within a cell are in
  * key order (a cell's sort agrees with libc's qsort, for cells of every size and tied tags), occupancy statistics match a direct count, and dilute boxes are coarsened; output
  * grids over a box put points in the cell that holds them; points on and near the cells' faces go to the cells
- * their faces' numbers say. */
+ * their faces' numbers say; the box of a set of points is the point-by-point one, and flags a non-finite
+ * coordinate wherever it is. */
 #include "check.h"
 #include "griddem_grid.h"
 #include "griddem_threads.h"
@@ -243,8 +244,50 @@ static void check_sparse(void)
   griddem_bins_free(&b);
 }
 
+/* griddem_box_of against a point-by-point box, for every count of points up to 40 (blocks of
+ * points and their tails), the extremes at every point and axis, a non-finite coordinate (NaN,
+ * +inf, -inf) at every point and axis flagged; and over many points, threaded where OpenMP is */
+static void check_box_of(void)
+{
+  enum { M = 40, BIG = 3 * GRIDDEM_THREADED_MIN + 7 };
+  static double x[3 * BIG];
+  long wrong = 0, unflagged = 0, flagged = 0;
+  for (int n = 1; n <= M; n++)
+    for (int at = 0; at < 3 * n; at++) {
+      for (int k = 0; k < 3 * n; k++) x[k] = -1.0 + 2.0 * check_uniform();
+      x[at] = at % 2 ? 5.0 + at : -5.0 - at; /* the extreme of its axis */
+      double lo[3], hi[3], want_lo[3], want_hi[3];
+      for (int d = 0; d < 3; d++) {
+        want_lo[d] = want_hi[d] = x[d];
+        for (int i = 0; i < n; i++)
+          want_lo[d] = fmin(want_lo[d], x[3 * i + d]), want_hi[d] = fmax(want_hi[d], x[3 * i + d]);
+      }
+      flagged += griddem_box_of(x, n, lo, hi) != 0;
+      for (int d = 0; d < 3; d++) wrong += lo[d] != want_lo[d] || hi[d] != want_hi[d];
+      const double bad[3] = {NAN, INFINITY, -INFINITY};
+      for (int v = 0; v < 3; v++) {
+        const double keep = x[at];
+        x[at] = bad[v];
+        unflagged += griddem_box_of(x, n, lo, hi) == 0;
+        x[at] = keep;
+      }
+    }
+  CHECK(wrong == 0, "%ld box faces differ from the point-by-point box", wrong);
+  CHECK(flagged == 0, "%ld finite sets flagged non-finite", flagged);
+  CHECK(unflagged == 0, "%ld non-finite coordinates not flagged", unflagged);
+
+  for (int k = 0; k < 3 * BIG; k++) x[k] = 10.0 * check_uniform();
+  x[3 * (BIG - 1) + 2] = -1.0, x[3 * (BIG / 2)] = 12.0;
+  double lo[3], hi[3];
+  CHECK(griddem_box_of(x, BIG, lo, hi) == 0, "finite points flagged");
+  CHECK(lo[2] == -1.0 && hi[0] == 12.0, "many points: z from %g (want -1), x to %g (want 12)", lo[2], hi[0]);
+  x[3 * (BIG - 2) + 1] = NAN;
+  CHECK(griddem_box_of(x, BIG, lo, hi) != 0, "a NaN among many points not flagged");
+}
+
 int main(void)
 {
+  check_box_of();
   check_sparse();
   check_cell_sort();
   check_faces();
@@ -253,6 +296,7 @@ int main(void)
 #ifdef _OPENMP
   check_threaded();
   omp_set_num_threads(2);
+  check_box_of();
   check_moved(2 * GRIDDEM_THREADED_MIN, 4);
   omp_set_num_threads(1);
 #endif
