@@ -9,10 +9,11 @@
  * slot). A plain-C kernel is the reference, in double. The AVX2 (with FMA: 8 spheres by 2
  * candidates in 16 float lanes, two vectors of 8) and AVX-512 (8 by 2 in 16) kernels first test
  * single-precision copies against a contact distance widened by a slack that covers their
- * rounding, so that no touching pair fails it; a pair that also passes against the distance narrowed by the slack
- * (where that is positive) touches in double too, and every other pair that passes is tested
- * again with the reference's expression in double, in the same order (no fused multiply-add):
- * every kernel finds the same slots in the same order. The widest kernel the processor runs is chosen at first use. */
+ * rounding, so that no touching pair fails it; a pair that also passes against the distance
+ * narrowed by the slack (where that is positive) touches in double too, and every other pair that
+ * passes is tested again with the reference's expression in double, in the same order (no fused
+ * multiply-add): every kernel finds the same slots in the same order. The widest kernel the
+ * processor runs is chosen at first use. */
 #ifndef GRIDDEM_SEARCH_H
 #define GRIDDEM_SEARCH_H
 
