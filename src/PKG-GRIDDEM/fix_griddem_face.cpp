@@ -6,6 +6,8 @@
 
 #include "fix_griddem_face.h"
 
+#include "griddem_search.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "compute.h"
@@ -43,7 +45,7 @@ FixGriddem::FixGriddem(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), options(parse_options(narg, arg)), made_by_pair(0), tracking(0), image_axes(0)
 {
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 8;
   global_freq = 1;
   extvector = 0;
   restart_peratom = 1;
@@ -66,6 +68,7 @@ GriddemFixOptions FixGriddem::parse_options(int narg, char **arg)
   o.contacts = 6;
   o.precision = GRIDDEM_PRECISION_DOUBLE;
   o.search = GRIDDEM_SEARCH_AUTO;
+  o.kernel = GRIDDEM_KERNEL_AUTO;
   int iarg = 3;
   while (iarg < narg) {
     if (strcmp(arg[iarg], "cell") == 0) {
@@ -96,6 +99,13 @@ GriddemFixOptions FixGriddem::parse_options(int narg, char **arg)
       o.search = choice(arg[iarg + 1], {{"auto", GRIDDEM_SEARCH_AUTO}, {"thread", GRIDDEM_SEARCH_THREAD},
                                         {"team", GRIDDEM_SEARCH_TEAM}});
       if (o.search < 0) error->all(FLERR, "Fix griddem search must be auto, thread or team, not {}", arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "kernel") == 0) {
+      if (iarg + 2 > narg) utils::missing_cmd_args(FLERR, "fix griddem kernel", error);
+      o.kernel = choice(arg[iarg + 1], {{"auto", GRIDDEM_KERNEL_AUTO}, {"scalar", GRIDDEM_KERNEL_SCALAR},
+                                        {"avx2", GRIDDEM_KERNEL_AVX2}, {"avx512", GRIDDEM_KERNEL_AVX512}});
+      if (o.kernel < 0)
+        error->all(FLERR, "Fix griddem kernel must be auto, scalar, avx2 or avx512, not {}", arg[iarg + 1]);
       iarg += 2;
     } else
       error->all(FLERR, "Unknown fix griddem keyword: {}", arg[iarg]);
@@ -421,6 +431,10 @@ double FixGriddem::compute_vector(int n)
     case 6:
       request_energy(s);
       mine = s.elastic_energy, op = MPI_SUM;
+      break;
+    case 7:    // the candidate kernel the CPU engine runs (the kk kernels search with their own)
+      mine = kokkosable ? -1.0 : (double) (strcmp(griddem_touching_name(), "scalar") == 0 ? 0
+                                           : strcmp(griddem_touching_name(), "avx2") == 0 ? 1 : 2);
       break;
   }
   MPI_Allreduce(&mine, &value, 1, MPI_DOUBLE, op, world);

@@ -18,6 +18,9 @@ enum { GRIDDEM_PRECISION_DOUBLE, GRIDDEM_PRECISION_SINGLE };
 // the Kokkos styles' search: a thread per atom reading its candidates from device memory, or a
 // team per block of cells with their neighbourhood staged in scratch memory; auto: teams on a GPU
 enum { GRIDDEM_SEARCH_AUTO, GRIDDEM_SEARCH_THREAD, GRIDDEM_SEARCH_TEAM };
+// the CPU engine's candidate kernel (griddem_search.h), by its name in GRIDDEM_KERNEL_NAMES
+enum { GRIDDEM_KERNEL_AUTO, GRIDDEM_KERNEL_SCALAR, GRIDDEM_KERNEL_AVX2, GRIDDEM_KERNEL_AVX512 };
+static constexpr const char *GRIDDEM_KERNEL_NAMES[] = {"auto", "scalar", "avx2", "avx512"};
 
 
 // fix griddem's options, as its keywords set them
@@ -27,6 +30,7 @@ struct GriddemFixOptions {
   int contacts;         // contacts: expected per atom (initial history storage); 0: no history
   int precision;        // precision: GRIDDEM_PRECISION_*, of the Kokkos styles' sorted particle data
   int search;           // search: GRIDDEM_SEARCH_*, the Kokkos styles' search
+  int kernel;           // kernel: GRIDDEM_KERNEL_*, the CPU engine's candidate kernel
 };
 
 /* What every fix griddem is: the grid options, the grid diagnostics of its pair style's last step

@@ -276,6 +276,10 @@ int griddem_touching_width(void)
 
 int griddem_touching_use(const char *name)
 {
+  if (strcmp(name, "auto") == 0) {
+    chosen = -1;
+    return 0;
+  }
   for (size_t k = 0; k < NKERNELS; k++) {
     if (strcmp(name, KERNELS[k].name) != 0) continue;
     griddem_touching_fn fn = griddem_touching_kernel(name);

@@ -76,8 +76,8 @@ griddem_touching_fn griddem_touching(void);
 const char *griddem_touching_name(void);
 int griddem_touching_width(void);
 
-/* Make the named kernel the sweep's (tests compare kernels through whole sweeps). 0, or -1 where
- * griddem_touching_kernel(name) is NULL. */
+/* Make the named kernel the sweep's (fix griddem kernel; tests compare kernels through whole
+ * sweeps), or with "auto" the widest again. 0, or -1 where griddem_touching_kernel(name) is NULL. */
 int griddem_touching_use(const char *name);
 
 /* Whether the CPU engine reads particles into vector lanes with AVX2's gathers (the channels, a

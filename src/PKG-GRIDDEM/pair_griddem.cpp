@@ -7,6 +7,8 @@
 
 #include "pair_griddem.h"
 
+#include "griddem_search.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
@@ -252,6 +254,14 @@ void PairGriddem::init_style()
     error->all(FLERR, "Pair style {}: fix {} search {} chooses among the Kokkos styles' searches "
                "(griddem/.../kk, with fix griddem/kk); the CPU engine has one", style, fix->id,
                fix->options.search == GRIDDEM_SEARCH_TEAM ? "team" : "thread");
+  // the CPU engine's candidate kernel: every kernel finds the same pairs in the same order
+  const char *kernel = GRIDDEM_KERNEL_NAMES[fix->options.kernel];
+  if (fix->options.kernel != GRIDDEM_KERNEL_AUTO && kokkosable && fix->kokkosable)
+    error->all(FLERR, "Pair style {}: fix {} kernel {} chooses among the CPU engine's candidate kernels; the "
+               "Kokkos styles' kernels search with their own (fix griddem search)", style, fix->id, kernel);
+  if (griddem_touching_use(kernel) != 0)
+    error->all(FLERR, "Pair style {}: fix {} kernel {}: this processor or build does not run it (the widest it "
+               "runs: {})", style, fix->id, kernel, (griddem_touching_use("auto"), griddem_touching_name()));
   if (model.track_contacts && !sweeps(*fix))
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,

@@ -201,6 +201,7 @@ case("precision_cpu", "precision single is implemented by the Kokkos styles only
 case("fix_search", "search must be auto, thread or team, not warp", pre="fix grid all griddem search warp")
 case("search_cpu", "search team chooses among the Kokkos styles' searches",
      pre="fix grid all griddem search team")
+case("fix_kernel", "kernel must be auto, scalar, avx2 or avx512, not sse9", pre="fix grid all griddem kernel sse9")
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")

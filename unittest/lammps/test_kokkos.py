@@ -551,6 +551,13 @@ def check_mismatch(wd, data):
         rc, out = t.run_lmp(text, wd, name="in.mismatch", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
         t.check(rc != 0 and any("keeps its contact history in fix " + wanted in l for l in t.errors(out)),
                 "pair style %s with fix %s refused naming both: %s" % (pair, fix, t.errors(out)[:1]))
+    # fix griddem kernel chooses among the CPU engine's candidate kernels: the kk kernels refuse it
+    text = t.PERIODIC_SPHERES.format(data=data, pair="griddem/hooke/history/kk 1e4 NULL 50 NULL 0.5 1",
+                                     coeffs="pair_coeff * *")
+    text = text.replace("atom_style sphere", "atom_style sphere/kk") + "fix grid all griddem/kk kernel avx2\nrun 0\n"
+    rc, out = t.run_lmp(text, wd, name="in.kernel", extra=["-k", "on"] + (["g", GPUS] if GPUS else ["t", "1"]))
+    t.check(rc != 0 and any("kernel avx2 chooses among the CPU engine's candidate kernels" in l for l in t.errors(out)),
+            "the kk kernels refuse fix griddem kernel avx2: %s" % t.errors(out)[:1])
 
 
 def check_engine(wd, data):

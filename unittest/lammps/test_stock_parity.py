@@ -4,7 +4,9 @@ griddem/hertz/history equal those of stock gran/hooke/history, gran/hooke and gr
 polydisperse (1:3) configuration with random linear and angular velocities; in every cell mode,
 as the one sub-style of pair hybrid, hybrid/overlay and hybrid/scaled (and overlaid with gran/hooke), with limit_damping, dampflag 0, no friction, units metal (hertz: Kn, Kt in pressure units), fix
 freeze, a triclinic box, rigid clumps (fix rigid/small, neigh_modify
-exclude molecule/intra), radii that grow during the run (fix adapt), and in 2d."""
+exclude molecule/intra), radii that grow during the run (fix adapt), and in 2d. Every candidate kernel the processor
+runs (fix griddem kernel: plain C, AVX2, AVX-512) gives the same numbers to the bit, the fix's value 8 naming the
+kernel that ran."""
 import math
 import os
 import sys
@@ -36,6 +38,42 @@ def run(wd, name, data, pair, extra="", coeffs="pair_coeff * *", dimension=3, un
     text = TEMPLATE.format(data=data, pair=pair, coeffs=coeffs, extra=extra, name=name)
     out = t.run_ok(head + text.replace("units lj\n", "units %s\n" % units), wd, name="in." + name)
     return t.read_dumps(os.path.join(wd, "dump." + name)), out
+
+
+KERNELS = ["scalar", "avx2", "avx512"]
+
+
+def kernels(wd, label, data, pair, ref, extra):
+    """The run of `pair` (fix grid's keywords in extra) with each candidate kernel this processor
+    runs: each equals stock's (ref) as the other runs do, and the first to the bit; the fix's value
+    8 (0 plain C, 1 AVX2, 2 AVX-512) names the kernel that ran. A kernel the processor lacks stops
+    the run with an error saying so, and is left out."""
+    first, ran = None, []
+    for code, kernel in enumerate(KERNELS):
+        name = "grid_kernel_%s_%s" % (label.replace("/", "_").replace(" ", "_").replace(":", "_"), kernel)
+        text = TEMPLATE.format(data=data, pair=pair, coeffs="pair_coeff * *", name=name,
+                               extra="%s kernel %s" % (extra, kernel))
+        rc, out = t.run_lmp(text + 'print "KERNEL $(f_grid[8])"\n', wd, name="in." + name)
+        if rc != 0 and "this processor or build does not run it" in out:
+            continue
+        t.check(rc == 0, "%s kernel %s: the run stopped: %s" % (label, kernel, t.errors(out)))
+        if rc != 0:
+            continue
+        t.check("KERNEL %d" % code in out, "%s kernel %s: fix grid's value 8 names another kernel" % (label, kernel))
+        test = (t.read_dumps(os.path.join(wd, "dump." + name)), out)
+        compare("%s kernel %s" % (label, kernel), ref, test)
+        if first is None:
+            first = (kernel, test)
+            continue
+        for k in (0, 1):
+            err = t.max_rel_diff(test[0][k], first[1][0][k], FORCES + STATE)
+            t.check(err == 0.0, "%s: kernel %s against %s, snapshot %d: relative difference %.3g"
+                    % (label, kernel, first[0], k, err))
+        t.check(t.thermo_values(out, "Press") == t.thermo_values(first[1][1], "Press"),
+                "%s: kernel %s's pressures differ from kernel %s's" % (label, kernel, first[0]))
+        ran.append(kernel)
+    t.check(first is not None and first[0] == "scalar", label + ": the plain-C kernel ran")
+    print("%s: kernels compared to the plain-C one: %s" % (label, ", ".join(ran) or "none on this processor"))
 
 
 def growing_text(data, pair, name):
@@ -156,6 +194,8 @@ def main():
                 run(wd, "grid_hh_" + cell, data, "griddem/hooke/history " + hist,
                     "fix grid all griddem contacts 64 cell " + cell))
 
+    kernels(wd, "hooke/history", data, "griddem/hooke/history " + hist, ref, "fix grid all griddem contacts 64")
+
     args = "2e4 3e3 80 20 0.3 0 limit_damping"
     compare("hooke/history dampflag 0 limit_damping", run(wd, "stock_ld", data, "gran/hooke/history " + args),
             run(wd, "grid_ld", data, "griddem/hooke/history " + args))
@@ -224,8 +264,11 @@ def main():
     # radii 1:8: two size classes, pairs across them from the small sphere into the coarse grid
     poly = os.path.join(wd, "data.poly")
     t.write_random_spheres(poly, 1500, (4.5, 4.5, 4.5), 0.05, 0.4, seed=9, vscale=1.0, wscale=5.0)
-    compare("hooke/history 1:8, cell classes", run(wd, "stock_poly", poly, "gran/hooke/history " + hist),
+    ref_poly = run(wd, "stock_poly", poly, "gran/hooke/history " + hist)
+    compare("hooke/history 1:8, cell classes", ref_poly,
             run(wd, "grid_poly", poly, "griddem/hooke/history " + hist, "fix grid all griddem contacts 64 cell classes"))
+    kernels(wd, "hooke/history 1:8", poly, "griddem/hooke/history " + hist, ref_poly,
+            "fix grid all griddem contacts 64 cell classes")
 
     compare("hooke/history triclinic", run(wd, "stock_tri", tri, "gran/hooke/history " + hist),
             run(wd, "grid_tri", tri, "griddem/hooke/history " + hist))
