@@ -259,9 +259,11 @@ void PairGriddem::init_style()
   if (fix->options.kernel != GRIDDEM_KERNEL_AUTO && kokkosable && fix->kokkosable)
     error->all(FLERR, "Pair style {}: fix {} kernel {} chooses among the CPU engine's candidate kernels; the "
                "Kokkos styles' kernels search with their own (fix griddem search)", style, fix->id, kernel);
-  if (griddem_touching_use(kernel) != 0)
+  if (griddem_touching_use(kernel) != 0) {
+    griddem_touching_use("auto");
     error->all(FLERR, "Pair style {}: fix {} kernel {}: this processor or build does not run it (the widest it "
-               "runs: {})", style, fix->id, kernel, (griddem_touching_use("auto"), griddem_touching_name()));
+               "runs: {})", style, fix->id, kernel, griddem_touching_name());
+  }
   if (model.track_contacts && !sweeps(*fix))
     error->all(FLERR, "Pair style {} keeps its contact history in fix {}, but fix {} is fix {}: "
                "define the fix with the same Kokkos suffix as the pair style (or none)", style,
