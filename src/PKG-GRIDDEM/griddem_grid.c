@@ -149,12 +149,9 @@ GRIDDEM_VECTOR_COPIES static void cells_of(const griddem_grid *restrict g, int i
 {
   if (g->ncell <= INT_MAX) {
     const int row = g->n[0], layer = g->n[0] * g->n[1];
-    for (int i = i0; i < i1; i++) {
-      const int cx = griddem_axis_cell(x[3 * i], g->anchor[0], g->hinv, g->k0[0], g->n[0]);
-      const int cy = griddem_axis_cell(x[3 * i + 1], g->anchor[1], g->hinv, g->k0[1], g->n[1]);
-      const int cz = griddem_axis_cell(x[3 * i + 2], g->anchor[2], g->hinv, g->k0[2], g->n[2]);
-      cell[i] = cx + row * cy + layer * cz;
-    }
+    for (int i = i0; i < i1; i++)
+      cell[i] = (int) axis_cell(g, 0, x[3 * i]) + row * (int) axis_cell(g, 1, x[3 * i + 1]) +
+                layer * (int) axis_cell(g, 2, x[3 * i + 2]);
   } else
     for (int i = i0; i < i1; i++) cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
 }
