@@ -432,9 +432,11 @@ double FixGriddem::compute_vector(int n)
       request_energy(s);
       mine = s.elastic_energy, op = MPI_SUM;
       break;
-    case 7:    // the candidate kernel the CPU engine runs (the kk kernels search with their own)
-      mine = kokkosable ? -1.0 : (double) (strcmp(griddem_touching_name(), "scalar") == 0 ? 0
-                                           : strcmp(griddem_touching_name(), "avx2") == 0 ? 1 : 2);
+    case 7:    // the candidate kernel the CPU engine runs, by its place after auto in
+               // GRIDDEM_KERNEL_NAMES (the kk kernels search with their own: -1)
+      mine = -1.0;
+      for (int k = GRIDDEM_KERNEL_SCALAR; !kokkosable && k <= GRIDDEM_KERNEL_AVX512; k++)
+        if (strcmp(GRIDDEM_KERNEL_NAMES[k], griddem_touching_name()) == 0) mine = k - GRIDDEM_KERNEL_SCALAR;
       break;
   }
   MPI_Allreduce(&mine, &value, 1, MPI_DOUBLE, op, world);
