@@ -3,8 +3,11 @@ contacts N is only the initial history size per atom: an atom touching more atom
 equals stock, and a restart written with contacts 8 and read with contacts 1 continues bit for
 bit like the uninterrupted run. The package's computes and fixes: compute griddem/grid before the
 box or in a box made triclinic later, fix griddem cell with a word, fix griddem/kinematic moving
-atoms out of a 2d plane or at an infinite speed: each an error naming it."""
+atoms out of a 2d plane or at an infinite speed, fix griddem kernel naming one the processor lacks (run
+under valgrind, whose processor has no AVX-512, where this one has it): each an error naming it."""
 import os
+import shutil
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -202,6 +205,30 @@ case("fix_search", "search must be auto, thread or team, not warp", pre="fix gri
 case("search_cpu", "search team chooses among the Kokkos styles' searches",
      pre="fix grid all griddem search team")
 case("fix_kernel", "kernel must be auto, scalar, avx2 or avx512, not sse9", pre="fix grid all griddem kernel sse9")
+
+
+def kernel_lacking():
+    """A kernel the processor lacks stops the run naming the widest it runs: kernel avx512, run
+    as it is where the processor has no AVX-512, else under valgrind, whose processor has none"""
+    text = BASE.format(atom_style="sphere", dim=3, zb="p", zbox="0 4", comm="comm_modify vel yes",
+                       atoms=TWO.format(x2=1.9, v=0.0), pre="fix grid all griddem kernel avx512",
+                       pair="griddem/hooke/history 1e3 NULL 10 NULL 0.5 1", coeff="* *", post="", dt=1e-4,
+                       integrate="nve/sphere")
+    rc, out = t.run_lmp(text, WD, name="in.kernel_lacking")
+    if rc == 0:
+        valgrind = shutil.which("valgrind")
+        if not valgrind:
+            print("kernel_lacking: not checked (this processor runs AVX-512 and there is no valgrind)")
+            return
+        proc = subprocess.run([valgrind, "-q", "--tool=none", t.LMP, "-in", "in.kernel_lacking", "-log", "none"],
+                              cwd=WD, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                              timeout=600)
+        rc, out = proc.returncode, proc.stdout
+    t.check(rc != 0 and any("fix grid kernel avx512: this processor or build does not run it (the widest it runs: "
+                            in l for l in t.errors(out)), "kernel_lacking: refused naming the widest: %s" % t.errors(out)[:1])
+
+
+kernel_lacking()
 case("kt_zero", "Kt = 0 with tangential damping divides by Kt",
      pair="griddem/hooke/history 1e3 0 10 NULL 0.5 1")
 case("fix_no_slots", "needs contact history: fix grid has contacts 0", pre="fix grid all griddem contacts 0")
