@@ -183,6 +183,17 @@ static void gather_range(griddem_engine *e, const griddem_particles *p, int i0, 
   }
 }
 
+/* The gathered particles' positions read again from theirs, in slot order */
+static void gather_positions(griddem_engine *e, const griddem_particles *p, int n)
+{
+  const int *member = e->member;
+  double *xc = e->xc;
+  const double *x = p->x;
+#pragma omp parallel for schedule(static) if (griddem_threaded(n))
+  for (int m = 0; m < n; m++)
+    for (int d = 0; d < 3; d++) xc[3 * (size_t) m + d] = x[3 * (size_t) member[m] + d];
+}
+
 /* Bin the particles that can interact, each size class on its own grid (one class: the step's
  * cell edge), class c holding radii in (upper[c+1], upper[c]], the last the rest; where the last
  * step binned at least as many particles with kinematic_bit (0: none) as without it
@@ -206,15 +217,25 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_
   griddem_class_bounds(s->rmax, ncls, upper);
   /* ghosts farther from every owned centre than any contact reaches are left out (judged
      against the box around the owned centres, which bounds the distance from below) */
-  const double reach = s->rmax + s->model->reach_extra;
   const double *lo = scan->owned_lo, *hi = scan->owned_hi;
+  /* where the host replaced the particles, the ghosts within the widened reach are gathered, and
+     stay gathered, in the same grids, until it replaces them again: the positions alone are
+     read again and each grid binned again */
+  const int holdable = s->fixed_radii && !apart_bit && !kinematic_bit;
+  const int again = holdable && s->same_particles && e->gathered && e->gathered_n == n && e->gathered_ncls == ncls &&
+                    e->gathered_rmax == s->rmax;
+  const int hold = holdable && !s->same_particles;
+  const double reach = s->rmax + s->model->reach_extra + (hold ? s->ghost_margin : 0.0);
   /* grid of each particle to be binned (-1: left out), counted per grid; then gathered by grid,
      in particle order within each: on threads, each counts and gathers one range of particles
      at the place the counts of the ranges before it give */
   int base[GRIDDEM_MAX_GRIDS + 1] = {0}, kinematic = 0;
   const int stride = e->ngrid / ncls;    /* grids per size class: 2 with kinematic grids */
   const gather_plan plan = {p, lo, hi, reach, upper, ncls, stride, apart_bit, kinematic_bit};
-  if (griddem_threaded(n)) {
+  if (again) {
+    memcpy(base, e->gathered_base, sizeof(base));
+    gather_positions(e, p, base[e->ngrid]);
+  } else if (griddem_threaded(n)) {
     const int nthreads = griddem_max_threads();
     int counts[nthreads][GRIDDEM_MAX_GRIDS], kinematic_of[nthreads];
 #pragma omp parallel num_threads(nthreads)
@@ -233,20 +254,31 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_
     kinematic = places_of(e->ngrid, 1, counts, kinematic_of, base);
     gather_range(e, p, 0, n, counts[0]);
   }
+  if (!again) {
+    e->gathered = hold, e->gathered_n = n, e->gathered_ncls = ncls, e->gathered_rmax = s->rmax;
+    memcpy(e->gathered_base, base, sizeof(base));
+  }
   e->kinematic_grids = kinematic_bit && kinematic >= base[e->ngrid] - kinematic;
   for (int size = 0; size < ncls; size++) {
     /* the class's grids (its kinematic twin's too) cover the class's particles */
     const int first = size * stride, nboth = base[first + stride] - base[first];
     const double *xboth = e->xc + 3 * (size_t) base[first];
-    if (ncls == 1)
-      *coarsened |= griddem_grid_cover(&e->grid[first], s->anchor, nboth, xboth, s->cell_edge, s->max_cells);
+    const double edge = ncls == 1 ? s->cell_edge : griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0);
+    double box_lo[3], box_hi[3];
+    if (nboth > 0) griddem_box_of(xboth, nboth, box_lo, box_hi);
     else
-      griddem_grid_cover(&e->grid[first], s->anchor, nboth, xboth,
-                         griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0), GRIDDEM_CLASS_MAX_CELLS(nboth));
+      for (int d = 0; d < 3; d++) box_lo[d] = box_hi[d] = s->anchor[d];
+    /* held particles that stay within their grid keep it, and are binned again on it */
+    if (!(again && griddem_grid_contains_box(&e->grid[first], s->anchor, edge, box_lo, box_hi))) {
+      const int grown = griddem_grid_fit(&e->grid[first], s->anchor, box_lo, box_hi, edge,
+                                         ncls == 1 ? s->max_cells : GRIDDEM_CLASS_MAX_CELLS(nboth));
+      if (ncls == 1) *coarsened |= grown;
+    }
     for (int c = first; c < first + stride; c++) {
       const int nc = base[c + 1] - base[c];
       if (c > first) e->grid[c] = e->grid[first];    /* the twin: the same cells */
-      if (griddem_bin_points(&e->bins[c], &e->grid[c], nc, e->xc + 3 * (size_t) base[c], e->keyc + base[c], 8) != 0)
+      if ((again ? griddem_bin_points_again : griddem_bin_points)(&e->bins[c], &e->grid[c], nc,
+                                                                  e->xc + 3 * (size_t) base[c], e->keyc + base[c], 8))
         return -1;
       int *order = e->order + base[c];
       const int *member = e->member + base[c], *binned = e->bins[c].order;
@@ -276,11 +308,13 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
   all->n = p->nall;
   const int apart_bit = s->excl ? s->excl->apart_bit : 0, kinematic_bit = s->excl ? s->excl->both_bit : 0;
   if (e->nclass == 1 && !apart_bit && !kinematic_bit) {
-    /* one grid over the scanned box: the particles are binned as they are, nothing gathered */
-    *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
-                             : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
+    /* one grid over the scanned box (kept while the same particles stay inside it): the
+       particles are binned as they are, nothing gathered */
     const int again = s->same_particles && e->one_grid_binned;
-    e->one_grid_binned = 0;
+    if (!(again && p->nall > 0 && griddem_grid_contains_box(&e->grid[0], s->anchor, s->cell_edge, scan->lo, scan->hi)))
+      *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
+                               : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
+    e->one_grid_binned = 0, e->gathered = 0;
     if ((again ? griddem_bin_points_again : griddem_bin_points)(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag,
                                                                 p->tag_bytes) != 0)
       return GRIDDEM_FAULT_MEMORY;
@@ -291,7 +325,10 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
     e->one_grid_binned = 0;
     all->n = bin_gathered(e, s, scan, apart_bit, kinematic_bit, cls, coarsened);
     all->order = e->order;
-    if (all->n < 0) return GRIDDEM_FAULT_MEMORY;
+    if (all->n < 0) {
+      e->gathered = 0;    /* what was held may be freed or half binned */
+      return GRIDDEM_FAULT_MEMORY;
+    }
   }
   for (int c = 0; c < e->ngrid; c++)
     griddem_owned_cells(cls[c].g, scan->owned_lo, scan->owned_hi, p->nlocal, cls[c].owned_lo, cls[c].owned_hi);

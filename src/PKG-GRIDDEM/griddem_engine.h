@@ -81,6 +81,13 @@ typedef struct griddem_engine {
   double *xc;
   int64_t *keyc;
   int work_cap;
+  /* where size classes gathered particles held since the host last replaced them (member and
+   * keyc, gathered_base[grid] their first slot in each grid; gathered 0: none held), the ghosts
+   * kept within the reach widened by ghost_margin: the same ones until it replaces them again */
+  int gathered;
+  int gathered_base[GRIDDEM_MAX_GRIDS + 1];
+  int gathered_n, gathered_ncls;
+  double gathered_rmax;
 } griddem_engine;
 
 /* The engine's first pass: one sweep over the particles finds what the step needs to know before
@@ -101,7 +108,8 @@ void griddem_engine_scan(const griddem_particles *p, int radii, griddem_scan *sc
 /* One step's input. Particles hold owned ones first, then ghosts. */
 typedef struct griddem_step {
   griddem_particles particles;
-  double anchor[3];        /* cell faces align to it (the box corner) */
+  double anchor[3];        /* cell faces align to it (the box corner where the host last
+                              replaced the particles: fixed while they are the same) */
   double cell_edge;        /* wanted cell edge (one grid) */
   int size_classes;        /* 1: a grid per size class (edge: twice its largest radius); ghosts
                               out of reach of every owned particle are then not binned */
@@ -113,8 +121,15 @@ typedef struct griddem_step {
   const griddem_scan *scan; /* this step's griddem_engine_scan of the particles; NULL: the step scans */
   int same_particles;      /* 1: the particles of the engine's last step, each at the same index
                               (positions moved: the host did not re-sort, exchange or re-ghost
-                              them), so that one grid is binned again by moving the slots of
+                              them), so that a grid is binned again by moving the slots of
                               those that changed cells (griddem_bin_points_again) */
+  int fixed_radii;         /* 1: every radius as at the engine's last step */
+  double ghost_margin;     /* the most a ghost and an owned particle together move between the
+                              host's replacements of the particles (LAMMPS: its skin, on which
+                              its ghosts rely too): where it replaces them, size classes keep
+                              ghosts within this much beyond reach, and keep the same particles in
+                              the same grids while they stay the same particles with fixed radii
+                              and no exclusion bits */
   double dt;
   int history_update;      /* 1: advance history values */
   griddem_history *hist;   /* the contact history (NULL where the model tracks no contacts) */

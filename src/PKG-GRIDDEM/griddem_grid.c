@@ -126,6 +126,16 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
   return coarsened;
 }
 
+int griddem_grid_contains_box(const griddem_grid *g, const double anchor[3], double h, const double lo[3],
+                        const double hi[3])
+{
+  int covers = g->ncell > 0 && g->h == h;
+  for (int d = 0; d < 3; d++)
+    covers &= g->anchor[d] == anchor[d] && axis_index(lo[d], anchor[d], g->hinv) >= g->k0[d] &&
+              axis_index(hi[d], anchor[d], g->hinv) < g->k0[d] + g->n[d];
+  return covers;
+}
+
 static inline long clamp_cell(long c, long n)
 {
   return c < 0 ? 0 : (c >= n ? n - 1 : c);

@@ -31,7 +31,7 @@ using namespace LAMMPS_NS;
 
 PairGriddem::PairGriddem(LAMMPS *lmp) :
     Pair(lmp), model(), cutoff_global(-1.0), layout_set(0), single_hooke_layout(0), keeper(lmp), last_stats(),
-    conducts_heat(false), coarsened_warned(0), cost_warned(0), cost_natoms(-1), auto_one_grid(0), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
+    conducts_heat(false), grid_anchor{0.0, 0.0, 0.0}, coarsened_warned(0), cost_warned(0), cost_natoms(-1), auto_one_grid(0), rmin(0.0), rmax(0.0), radii_vary(false), ghost_reach_warned(0), image_axes(0), image_axes_found(0), images(nullptr), freeze_group_bit(0), exclusions(), fix_rigid(nullptr)
 {
   no_virial_fdotr_compute = 1;    // ghosts get no force: the virial is tallied pair by pair
   comm_forward = 1;               // rigid bodies' masses (contact_masses())
@@ -706,7 +706,12 @@ void PairGriddem::engine_step()
   step.scan = &scan;
   // LAMMPS re-sorts, exchanges and re-ghosts atoms only on steps it reneighbors (ago 0)
   step.same_particles = neighbor->ago > 0;
-  for (int d = 0; d < 3; d++) step.anchor[d] = domain->boxlo[d];
+  step.fixed_radii = !radii_vary;
+  step.ghost_margin = neighbor->skin;
+  // the cells stay where they were while the atoms are the same ones, though the box deforms
+  if (!step.same_particles)
+    for (int d = 0; d < 3; d++) grid_anchor[d] = domain->boxlo[d];
+  for (int d = 0; d < 3; d++) step.anchor[d] = grid_anchor[d];
   step.cell_edge = griddem_cell_edge(options.cell_mode, rmin, rmax, options.cell_edge);
   step.size_classes = grid_per_class();
   step.rmin = rmin;

@@ -63,6 +63,7 @@ class PairGriddem : public Pair, public GriddemPairLink {
   virtual void count_occupancy(griddem_engine_stats &);
   // a step of the CPU engine after ev_init(): grids, search and contacts over the host arrays
   void engine_step();
+  double grid_anchor[3];    // the cells' corner: the box's where LAMMPS last reneighbored
   int coarsened_warned;
   int cost_warned;        // check_grid_cost() warned
   bigint cost_natoms;     // the atom count check_grid_cost() last measured

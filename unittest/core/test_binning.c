@@ -285,8 +285,49 @@ static void check_box_of(void)
   CHECK(griddem_box_of(x, BIG, lo, hi) != 0, "a NaN among many points not flagged");
 }
 
+/* A grid kept while its points move inside it: griddem_grid_contains_box holds for boxes inside its
+ * cells and fails one cell past any face, for another edge or anchor; points binned on a grid that
+ * reaches further than theirs take the slots a grid fitted to them gives (cells in z, y, x order
+ * whatever the extent), which is what lets a kept grid bin them again. */
+static void check_kept_grid(void)
+{
+  enum { N = 1500 };
+  static double x[3 * N];
+  static int tag[N];
+  for (int i = 0; i < N; i++) {
+    for (int d = 0; d < 3; d++) x[3 * i + d] = 1.0 + 6.0 * check_uniform();
+    tag[i] = (int) ((i * 7919L) % N) + 1;
+  }
+  const double anchor[3] = {0.1, -0.2, 0.3}, other[3] = {0.1, -0.2, 0.35}, h = 0.7;
+  double lo[3], hi[3], wide_lo[3], wide_hi[3];
+  griddem_box_of(x, N, lo, hi);
+  for (int d = 0; d < 3; d++) wide_lo[d] = lo[d] - 1.5, wide_hi[d] = hi[d] + 1.5;
+  griddem_grid fitted, wide;
+  griddem_grid_fit(&fitted, anchor, lo, hi, h, 1L << 30);
+  griddem_grid_fit(&wide, anchor, wide_lo, wide_hi, h, 1L << 30);
+  int past = 0;
+  for (int d = 0; d < 3; d++) {
+    double up[3] = {hi[0], hi[1], hi[2]}, down[3] = {lo[0], lo[1], lo[2]};
+    up[d] += h, down[d] -= h;
+    past += griddem_grid_contains_box(&fitted, anchor, h, lo, up) + griddem_grid_contains_box(&fitted, anchor, h, down, hi);
+  }
+  CHECK(griddem_grid_contains_box(&fitted, anchor, h, lo, hi) && griddem_grid_contains_box(&wide, anchor, h, lo, hi) &&
+            griddem_grid_contains_box(&wide, anchor, h, wide_lo, wide_hi) && past == 0 &&
+            !griddem_grid_contains_box(&fitted, anchor, 0.75, lo, hi) && !griddem_grid_contains_box(&fitted, other, h, lo, hi),
+        "a grid contains the boxes inside its cells only (%d one cell past a face), for its edge and anchor only", past);
+  griddem_bins on_fitted = {0}, on_wide = {0};
+  CHECK(griddem_bin_points(&on_fitted, &fitted, N, x, tag, 4) == 0 && griddem_bin_points(&on_wide, &wide, N, x, tag, 4) == 0,
+        "binned on both grids");
+  int same = wide.ncell > fitted.ncell;
+  for (int s = 0; s < N; s++) same &= on_fitted.order[s] == on_wide.order[s];
+  CHECK(same, "points binned on a grid of %ld cells take the slots of the %ld cells fitted to them", wide.ncell,
+        fitted.ncell);
+  griddem_bins_free(&on_fitted), griddem_bins_free(&on_wide);
+}
+
 int main(void)
 {
+  check_kept_grid();
   check_box_of();
   check_sparse();
   check_cell_sort();

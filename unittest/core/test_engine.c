@@ -135,6 +135,105 @@ static void ghost_shell(const griddem_model *m, int size_classes)
   griddem_history_free(&h);
 }
 
+/* Size classes held while the host keeps the same particles (same_particles, fixed radii and a
+ * ghost margin, as LAMMPS's skin): over steps that move every particle by less than half the
+ * margin, each owned particle's force and contacts are a direct sum's over every pair with an
+ * owned particle, the same particles stay in the grids (binned again), and a ghost that was out of
+ * reach when they were gathered but comes into contact later is found. Returns 1 where every step's
+ * forces and contacts are right (without the margin, margin 0, G's contact is missed). */
+static int held_classes(const griddem_model *m, double margin)
+{
+  enum { NOWN = 300, NMAX = 27 * NOWN + 1, STEPS = 4 };
+  const double L = 5.0, kn = 1e3, big = 0.7, small = 0.15;
+  static double x[3 * NMAX], v[3 * NMAX], w[3 * NMAX], rad[NMAX], mass[NMAX], f[3 * NMAX], t[3 * NMAX];
+  static double fref[3 * NMAX], move[3 * NOWN];
+  static int tag[NMAX], type[NMAX], mask[NMAX], row_of[NMAX], owner[NMAX];
+  /* owned particle 0 (big) at the box's lowest x, ghost G (small) of another process 0.95 from
+     it, 0.1 past the 0.85 that a contact with it reaches; the two close in by 0.08 each at step 1 */
+  for (int i = 0; i < NOWN; i++) {
+    x[3 * i] = 0.1 + 4.8 * check_uniform(), x[3 * i + 1] = L * check_uniform(), x[3 * i + 2] = L * check_uniform();
+    rad[i] = i % 10 == 0 ? big : small;
+  }
+  x[0] = 0.05, x[1] = x[2] = 2.5;
+  const double shell = 2.0 * big + margin + 0.1;
+  int n = NOWN;
+  for (int sx = -1; sx <= 1; sx++)
+    for (int sy = -1; sy <= 1; sy++)
+      for (int sz = -1; sz <= 1; sz++)
+        for (int i = 0; i < NOWN && (sx || sy || sz); i++) {
+          const double y[3] = {x[3 * i] + sx * L, x[3 * i + 1] + sy * L, x[3 * i + 2] + sz * L};
+          int inside = 1;
+          for (int d = 0; d < 3; d++) inside &= y[d] >= -shell && y[d] < L + shell;
+          if (!inside) continue;
+          owner[n] = i, rad[n] = rad[i], tag[n] = i + 1;
+          for (int d = 0; d < 3; d++) x[3 * n + d] = y[d];
+          n++;
+        }
+  const int g = n++;    /* G */
+  x[3 * g] = x[0] - (big + small + 0.1), x[3 * g + 1] = x[1], x[3 * g + 2] = x[2];
+  rad[g] = small, tag[g] = 100000, owner[g] = -1;
+  for (int i = 0; i < NOWN; i++) owner[i] = i, tag[i] = i + 1;
+  for (int i = 0; i < n; i++) {
+    for (int d = 0; d < 3; d++) v[3 * i + d] = w[3 * i + d] = 0.0;
+    mass[i] = 1.0, type[i] = 1, mask[i] = 1, row_of[i] = -1;
+  }
+  griddem_history h;
+  griddem_history_init(&h, 3);
+  griddem_particles part = {NOWN, n, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_step s;
+  memset(&s, 0, sizeof(s));
+  s.particles = part, s.model = m, s.rmin = small, s.rmax = big, s.max_cells = 1L << 24, s.size_classes = 1;
+  s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, small, big, 0.0);
+  s.dt = 1e-4, s.history_update = 1, s.hist = &h, s.row_of = row_of, s.f = f, s.torque = t;
+  s.fixed_radii = 1, s.ghost_margin = margin;
+  griddem_engine e;
+  griddem_engine_init(&e);
+  int held = -1, same_slots = 1, found_g = 0, right = 1;
+  for (int step = 0; step < STEPS; step++) {
+    s.same_particles = step > 0;
+    if (step > 0) {    /* every owned particle (and its images) moves by at most 0.025 an axis */
+      for (int i = 0; i < NOWN; i++)
+        for (int d = 0; d < 3; d++) move[3 * i + d] = 0.025 * (2.0 * check_uniform() - 1.0);
+      move[0] = step == 1 ? -0.08 : 0.0, move[1] = move[2] = 0.0;    /* particle 0: toward G once */
+      for (int i = 0; i < n; i++)
+        for (int d = 0; d < 3; d++) x[3 * i + d] += owner[i] >= 0 ? move[3 * owner[i] + d] : (step == 1 && d == 0 ? 0.08 : 0.0);
+    }
+    long contacts = 0, with_g = 0;
+    for (int k = 0; k < 3 * n; k++) f[k] = t[k] = fref[k] = 0.0;
+    for (int i = 0; i < NOWN; i++)
+      for (int j = 0; j < n; j++) {
+        const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+        const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+        if (j == i || r >= rad[i] + rad[j]) continue;
+        contacts++, with_g += j == g;
+        for (int d = 0; d < 3; d++) fref[3 * i + d] += kn * (rad[i] + rad[j] - r) * dx[d] / r;
+      }
+    griddem_sweep_result r;
+    int coarsened;
+    CHECK(griddem_engine_step(&e, &s, &r, &coarsened) == GRIDDEM_FAULT_NONE, "held classes: step runs");
+    double worst = 0.0, largest = 0.0;
+    for (int k = 0; k < 3 * NOWN; k++) {
+      worst = fabs(f[k] - fref[k]) > worst ? fabs(f[k] - fref[k]) : worst;
+      largest = fabs(fref[k]) > largest ? fabs(fref[k]) : largest;
+    }
+    int slots = 0;
+    for (int c = 0; c < e.ngrid; c++) slots += e.bins[c].n;
+    if (step == 0) held = slots;
+    same_slots &= slots == held;
+    found_g += with_g > 0;
+    right &= e.stats.contacts == contacts && worst <= 1e-12 * largest;
+    if (!(e.stats.contacts == contacts && worst <= 1e-12 * largest))
+      printf("# margin %g, step %d: contacts %ld (direct sum %ld, %ld with G); largest force difference %g of %g\n",
+             margin, step, e.stats.contacts, contacts, with_g, worst, largest);
+  }
+  CHECK(e.ngrid == 2 && e.gathered && same_slots && found_g == STEPS - 1,
+        "held classes (margin %g): %d grids held, the same %d slots every step (%d), G in contact at %d of %d steps",
+        margin, e.ngrid, held, same_slots, found_g, STEPS - 1);
+  griddem_engine_free(&e);
+  griddem_history_free(&h);
+  return right;
+}
+
 #ifdef _OPENMP
 /* the scan of GRIDDEM_THREADED_MIN particles and more on two threads (min, max and sum
  * reductions): one thread's box, fastest speed and radius range; a NaN and an infinite speed
@@ -287,6 +386,8 @@ int main(void)
 
   ghost_shell(&m, 0);
   ghost_shell(&m, 1);
+  CHECK(held_classes(&m, 0.3), "held classes: every step's forces and contacts those of a direct sum");
+  CHECK(!held_classes(&m, 0.0), "held classes without a margin miss a contact (the scene needs the margin)");
 
   /* a row of three: particle 0 between 1 and 2, 3 apart; 2 and 3 are ghosts */
   double x[12] = {0, 0, 0, 0.9, 0, 0, -0.9, 0, 0, 5, 5, 5}, v[12] = {0, 1, 0, 0, -1, 0, 0, 0, 2, 3, 0, 0};

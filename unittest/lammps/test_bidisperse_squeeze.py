@@ -6,7 +6,14 @@ since each big sphere ends with more than 24 contacts). Asserted: the runs compl
 ranks; the big spheres end with more than 24 contacts (compute contact/atom, and the most
 contacts of one atom reported by fix GRIDDEM); positions, velocities and forces at the end equal
 stock's, and griddem's on 2 ranks its own on 1, to 1e-11 relative (ROUNDOFF; a compressed packing
-amplifies round-off over the run, which stock shows between its own 1- and 2-rank runs)."""
+amplifies round-off over the run, which stock shows between its own 1- and 2-rank runs).
+
+Between LAMMPS's reneighborings the size classes keep the ghosts they took at the last one,
+within the contact reach plus the neighbor skin: a ghost farther than the reach then, which comes
+into contact before LAMMPS reneighbors (two atoms closing in by less than the skin), is found.
+Scene: a sphere of radius 1 at the box's low x face and the periodic image of one of radius 0.2,
+0.1 beyond contact, closing in at 2 a time unit (`fix griddem cell classes`); the force on each
+atom equals stock's at every step, and LAMMPS does not reneighbor before the contact ends."""
 import os
 import sys
 
@@ -43,8 +50,60 @@ def big_contacts(snap):
     return sorted(int(v[ic]) for v in atoms.values() if v[itype] == 2)
 
 
+HELD_GHOST = """
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+region box block 0 10 0 10 0 10
+create_box 1 box
+create_atoms 1 single 1.15 5 5
+create_atoms 1 single 9.85 5 5
+set atom 1 diameter 2.0
+set atom 2 diameter 0.4
+velocity all set 0 0 0
+set atom 1 vx -1.0
+set atom 2 vx 1.0
+pair_style {pair} 1000 NULL 50 NULL 0.5 1
+pair_coeff * *
+{fix}
+neighbor 0.3 bin
+timestep 0.001
+fix integrate all nve/sphere
+variable f1 equal fx[1]
+variable f2 equal fx[2]
+thermo_style custom step v_f1 v_f2
+thermo_modify format float %.17g
+thermo 1
+run 120
+"""
+
+
+def held_ghost(wd):
+    """The ghost that comes into contact between reneighborings (module docstring)."""
+    runs = {}
+    for name, pair, fix in (("stock", "gran/hooke/history", ""),
+                            ("griddem", "griddem/hooke/history", "fix grid all griddem cell classes")):
+        rc, out = t.run_lmp(HELD_GHOST.format(pair=pair, fix=fix), wd, name="in.held_" + name)
+        t.check(rc == 0, "held ghost, %s: the run completes: %s" % (name, t.errors(out)[:1]))
+        runs[name] = out
+    if not all(t.errors(o) == [] for o in runs.values()):
+        return
+    stock = [t.thermo_values(runs["stock"], v) for v in ("v_f1", "v_f2")]
+    grid = [t.thermo_values(runs["griddem"], v) for v in ("v_f1", "v_f2")]
+    touching = sum(1 for f in stock[0] if f != 0.0)
+    worst = max(abs(a - b) for s, g in zip(stock, grid) for a, b in zip(s, g))
+    t.check(len(grid[0]) == len(stock[0]) == 121 and touching >= 40 and worst <= 1e-10 * max(abs(f) for f in stock[0]),
+            "held ghost: the force on each atom at every step equals stock's (largest difference %.3g; touching at %d "
+            "of %d steps)" % (worst, touching, len(stock[0])))
+    t.check("Neighbor list builds = 0" in runs["griddem"].replace("  ", " "),
+            "held ghost: LAMMPS did not reneighbor during the run")
+
+
 def main():
     wd = t.workdir()
+    held_ghost(wd)
     data = os.path.join(wd, "data.squeeze")
     write_packing(data)
 
