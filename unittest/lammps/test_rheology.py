@@ -15,7 +15,10 @@ learn_mu.py. Each number has its own reason:
   prepare_state writes ahead once (-var compress_only) and reports when LAMMPS fails;
 - at I = 1 the control, whose cap and gain grow with the shear rate, holds Pzz at P and the
   measured I is the requested one (high_I_checks; with the fixed cap of 0.05/time it measured 0.57
-  with blocks at Pzz 14-16);
+  with blocks at Pzz 14-16): each block within 20 % and their mean within 10 %, as this dilute,
+  collisional flow allows: 20 runs whose shear gain differed by at most 5e-13 relative, from two
+  compressed states that differ by round-off, gave blocks of 4.78-5.69 (up to 13.9 % from P) and
+  means 1.2-6.9 % above it (2026-12-06), so round-off alone broke the 10 % and 5 % once asked;
 - the strain to steady state that learn_mu.py records (rve_log_info) is a whole number of windows
   between minwin and maxwin, and the total adds the blocks; run_rve reuses a recorded point of the
   same requested I (--recorded) without running the binary;
@@ -115,8 +118,8 @@ def high_I_checks(wd):
     blocks = [float(x) for x in re.findall(r"block \d+: .* Pzz (\S+)", out)]
     t.check(rc == 0 and res is not None and abs(res["I"] / 1.0 - 1) < 0.1,
             "measured I within 10%% of the requested 1.0 (exit %d): %s" % (rc, res or out[-1500:]))
-    t.check(len(blocks) == 3 and all(abs(b / 5.0 - 1) < 0.10 for b in blocks) and abs(sum(blocks) / 15.0 - 1) < 0.05,
-            "at I = 1 block mean Pzz within 10%% of 5.0, their mean within 5%%: %s" % blocks)
+    t.check(len(blocks) == 3 and all(abs(b / 5.0 - 1) < 0.20 for b in blocks) and abs(sum(blocks) / 15.0 - 1) < 0.10,
+            "at I = 1 block mean Pzz within 20%% of 5.0, their mean within 10%%: %s" % blocks)
 
 
 def shared_state_checks():
