@@ -127,13 +127,13 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
 }
 
 int griddem_grid_contains_box(const griddem_grid *g, const double anchor[3], double h, const double lo[3],
-                        const double hi[3])
+                              const double hi[3])
 {
-  int covers = g->ncell > 0 && g->h == h;
+  int contains = g->ncell > 0 && g->h == h;
   for (int d = 0; d < 3; d++)
-    covers &= g->anchor[d] == anchor[d] && axis_index(lo[d], anchor[d], g->hinv) >= g->k0[d] &&
-              axis_index(hi[d], anchor[d], g->hinv) < g->k0[d] + g->n[d];
-  return covers;
+    contains &= g->anchor[d] == anchor[d] && axis_index(lo[d], anchor[d], g->hinv) >= g->k0[d] &&
+                axis_index(hi[d], anchor[d], g->hinv) < g->k0[d] + g->n[d];
+  return contains;
 }
 
 static inline long clamp_cell(long c, long n)
@@ -397,12 +397,14 @@ int griddem_bin_points_again(griddem_bins *b, const griddem_grid *g, int n, cons
     }
   } else
     cells_of(g, 0, n, x, now);
-  /* the slots moved one by one while that shifts fewer slots and cell starts than a counting sort
-     passes over (a point crossing a plane of cells shifts a plane's); past that, binned afresh */
+  /* the slots moved one by one while that shifts at most 16 slots or cell starts a point and one a
+     cell (a point crossing a plane of cells shifts a plane's): a shift is a fraction of an
+     instruction (memmove, a vector loop), where a counting sort pays tens a point for its
+     scattered counts and stores; past that, binned afresh */
   enum { BLOCK = 64 }; /* points compared at once before any is looked at */
   long shifted = 0, *was = b->cell;
   int twins = 0;
-  const long budget = 2L * n + g->ncell / 8;
+  const long budget = 16L * n + g->ncell;
   for (int i0 = 0; i0 < n && shifted <= budget; i0 += BLOCK) {
     const int i1 = n - i0 < BLOCK ? n : i0 + BLOCK;
     for (int i = differing(now, was, i0, i1); i < i1; i++)

@@ -182,7 +182,7 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
  * ordered by their faces, z, y, then x, whatever the grid's extent), so a grid kept while its
  * points move inside it lets them be binned again (griddem_bin_points_again). */
 int griddem_grid_contains_box(const griddem_grid *g, const double anchor[3], double h, const double lo[3],
-                        const double hi[3]);
+                              const double hi[3]);
 
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);
