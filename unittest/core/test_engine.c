@@ -66,6 +66,59 @@ static void candidates(const griddem_model *m)
   griddem_engine_free(&e);
 }
 
+/* The periodic images of owned particles 0 .. nown - 1 (box [0, L) on each axis) that lie within
+ * shell of the box, appended after them as ghosts: positions, radii and each ghost's owned
+ * particle (owner, 0 .. nown - 1). Returns the particle count. */
+static int add_images(double *x, double *rad, int *owner, int nown, double L, double shell)
+{
+  int n = nown;
+  for (int sx = -1; sx <= 1; sx++)
+    for (int sy = -1; sy <= 1; sy++)
+      for (int sz = -1; sz <= 1; sz++)
+        for (int i = 0; i < nown && (sx || sy || sz); i++) {
+          const double y[3] = {x[3 * i] + sx * L, x[3 * i + 1] + sy * L, x[3 * i + 2] + sz * L};
+          int inside = 1;
+          for (int d = 0; d < 3; d++) inside &= y[d] >= -shell && y[d] < L + shell;
+          if (!inside) continue;
+          for (int d = 0; d < 3; d++) x[3 * n + d] = y[d];
+          rad[n] = rad[i], owner[n++] = i;
+        }
+  for (int i = 0; i < nown; i++) owner[i] = i;
+  return n;
+}
+
+/* Each owned particle's (0 .. nown - 1) force from Hooke springs of stiffness kn with every particle
+ * it overlaps, summed directly into fref (zeroed first); returns the contacts, those with particle
+ * j into *with_j */
+static long direct_hooke(const double *x, const double *rad, int nown, int n, double kn, int j_counted, long *with_j,
+                         double *fref)
+{
+  long contacts = 0;
+  *with_j = 0;
+  for (int k = 0; k < 3 * nown; k++) fref[k] = 0.0;
+  for (int i = 0; i < nown; i++)
+    for (int j = 0; j < n; j++) {
+      const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+      const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+      if (j == i || r >= rad[i] + rad[j]) continue;
+      contacts++, *with_j += j == j_counted;
+      for (int d = 0; d < 3; d++) fref[3 * i + d] += kn * (rad[i] + rad[j] - r) * dx[d] / r;
+    }
+  return contacts;
+}
+
+/* The largest difference of the first m values of f from fref's, and fref's largest magnitude */
+static double largest_difference(const double *f, const double *fref, int m, double *largest)
+{
+  double worst = 0.0;
+  *largest = 0.0;
+  for (int k = 0; k < m; k++) {
+    worst = fabs(f[k] - fref[k]) > worst ? fabs(f[k] - fref[k]) : worst;
+    *largest = fabs(fref[k]) > *largest ? fabs(fref[k]) : *largest;
+  }
+  return worst;
+}
+
 /* Ghosts as a process holds them: the periodic images of a box of owned particles in a shell as
  * thick as LAMMPS's ghost cutoff (the longest contact distance and a skin). A ghost's pairs with
  * other ghosts are not evaluated, so the sweep tests only its owned candidates; every owned
@@ -77,39 +130,20 @@ static void ghost_shell(const griddem_model *m, int size_classes)
   enum { NOWN = 300, NMAX = 27 * NOWN };
   const double L = 5.0, kn = 1e3;
   static double x[3 * NMAX], v[3 * NMAX], w[3 * NMAX], rad[NMAX], mass[NMAX], f[3 * NMAX], t[3 * NMAX], fref[3 * NMAX];
-  static int tag[NMAX], type[NMAX], mask[NMAX], row_of[NMAX];
+  static int tag[NMAX], type[NMAX], mask[NMAX], row_of[NMAX], owner[NMAX];
   double rmin = 1e30, rmax = 0.0;
   for (int i = 0; i < NOWN; i++) {
     for (int d = 0; d < 3; d++) x[3 * i + d] = L * check_uniform();
     rad[i] = i % 10 == 0 ? 0.6 + 0.1 * check_uniform() : 0.15 + 0.1 * check_uniform();
     rmin = rad[i] < rmin ? rad[i] : rmin, rmax = rad[i] > rmax ? rad[i] : rmax;
   }
-  const double shell = 2.0 * rmax + 0.1;
-  int n = NOWN;
-  for (int sx = -1; sx <= 1; sx++)
-    for (int sy = -1; sy <= 1; sy++)
-      for (int sz = -1; sz <= 1; sz++)
-        for (int i = 0; i < NOWN && (sx || sy || sz); i++) {
-          const double y[3] = {x[3 * i] + sx * L, x[3 * i + 1] + sy * L, x[3 * i + 2] + sz * L};
-          int inside = 1;
-          for (int d = 0; d < 3; d++) inside &= y[d] >= -shell && y[d] < L + shell;
-          if (!inside) continue;
-          for (int d = 0; d < 3; d++) x[3 * n + d] = y[d];
-          rad[n++] = rad[i];
-        }
+  const int n = add_images(x, rad, owner, NOWN, L, 2.0 * rmax + 0.1);
   for (int i = 0; i < n; i++) {
     for (int d = 0; d < 3; d++) v[3 * i + d] = w[3 * i + d] = f[3 * i + d] = t[3 * i + d] = fref[3 * i + d] = 0.0;
     mass[i] = 1.0, tag[i] = i % NOWN + 1, type[i] = 1, mask[i] = 1, row_of[i] = -1;
   }
-  long contacts = 0;
-  for (int i = 0; i < NOWN; i++)
-    for (int j = 0; j < n; j++) {
-      const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
-      const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
-      if (j == i || r >= rad[i] + rad[j]) continue;
-      contacts++;
-      for (int d = 0; d < 3; d++) fref[3 * i + d] += kn * (rad[i] + rad[j] - r) * dx[d] / r;
-    }
+  long none;
+  const long contacts = direct_hooke(x, rad, NOWN, n, kn, -1, &none, fref);
   griddem_history h;
   griddem_history_init(&h, 3);
   griddem_particles part = {NOWN, n, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
@@ -123,11 +157,8 @@ static void ghost_shell(const griddem_model *m, int size_classes)
   griddem_sweep_result r;
   int coarsened;
   CHECK(griddem_engine_step(&e, &s, &r, &coarsened) == GRIDDEM_FAULT_NONE, "ghost shell: step runs");
-  double worst = 0.0, largest = 0.0;
-  for (int k = 0; k < 3 * NOWN; k++) {
-    worst = fabs(f[k] - fref[k]) > worst ? fabs(f[k] - fref[k]) : worst;
-    largest = fabs(fref[k]) > largest ? fabs(fref[k]) : largest;
-  }
+  double largest;
+  const double worst = largest_difference(f, fref, 3 * NOWN, &largest);
   CHECK(n > 2 * NOWN && e.ngrid == (size_classes ? 2 : 1) && e.stats.contacts == contacts && worst <= 1e-12 * largest,
         "ghost shell (%d grids): %d owned, %d ghosts; contacts %ld (direct sum %ld); largest force difference %g of %g",
         e.ngrid, NOWN, n - NOWN, e.stats.contacts, contacts, worst, largest);
@@ -155,24 +186,11 @@ static int held_classes(const griddem_model *m, double margin)
     rad[i] = i % 10 == 0 ? big : small;
   }
   x[0] = 0.05, x[1] = x[2] = 2.5;
-  const double shell = 2.0 * big + margin + 0.1;
-  int n = NOWN;
-  for (int sx = -1; sx <= 1; sx++)
-    for (int sy = -1; sy <= 1; sy++)
-      for (int sz = -1; sz <= 1; sz++)
-        for (int i = 0; i < NOWN && (sx || sy || sz); i++) {
-          const double y[3] = {x[3 * i] + sx * L, x[3 * i + 1] + sy * L, x[3 * i + 2] + sz * L};
-          int inside = 1;
-          for (int d = 0; d < 3; d++) inside &= y[d] >= -shell && y[d] < L + shell;
-          if (!inside) continue;
-          owner[n] = i, rad[n] = rad[i], tag[n] = i + 1;
-          for (int d = 0; d < 3; d++) x[3 * n + d] = y[d];
-          n++;
-        }
+  int n = add_images(x, rad, owner, NOWN, L, 2.0 * big + margin + 0.1);
+  for (int i = 0; i < n; i++) tag[i] = owner[i] + 1;
   const int g = n++;    /* G */
   x[3 * g] = x[0] - (big + small + 0.1), x[3 * g + 1] = x[1], x[3 * g + 2] = x[2];
   rad[g] = small, tag[g] = 100000, owner[g] = -1;
-  for (int i = 0; i < NOWN; i++) owner[i] = i, tag[i] = i + 1;
   for (int i = 0; i < n; i++) {
     for (int d = 0; d < 3; d++) v[3 * i + d] = w[3 * i + d] = 0.0;
     mass[i] = 1.0, type[i] = 1, mask[i] = 1, row_of[i] = -1;
@@ -198,24 +216,14 @@ static int held_classes(const griddem_model *m, double margin)
       for (int i = 0; i < n; i++)
         for (int d = 0; d < 3; d++) x[3 * i + d] += owner[i] >= 0 ? move[3 * owner[i] + d] : (step == 1 && d == 0 ? 0.08 : 0.0);
     }
-    long contacts = 0, with_g = 0;
-    for (int k = 0; k < 3 * n; k++) f[k] = t[k] = fref[k] = 0.0;
-    for (int i = 0; i < NOWN; i++)
-      for (int j = 0; j < n; j++) {
-        const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
-        const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
-        if (j == i || r >= rad[i] + rad[j]) continue;
-        contacts++, with_g += j == g;
-        for (int d = 0; d < 3; d++) fref[3 * i + d] += kn * (rad[i] + rad[j] - r) * dx[d] / r;
-      }
+    for (int k = 0; k < 3 * n; k++) f[k] = t[k] = 0.0;
+    long with_g;
+    const long contacts = direct_hooke(x, rad, NOWN, n, kn, g, &with_g, fref);
     griddem_sweep_result r;
     int coarsened;
     CHECK(griddem_engine_step(&e, &s, &r, &coarsened) == GRIDDEM_FAULT_NONE, "held classes: step runs");
-    double worst = 0.0, largest = 0.0;
-    for (int k = 0; k < 3 * NOWN; k++) {
-      worst = fabs(f[k] - fref[k]) > worst ? fabs(f[k] - fref[k]) : worst;
-      largest = fabs(fref[k]) > largest ? fabs(fref[k]) : largest;
-    }
+    double largest;
+    const double worst = largest_difference(f, fref, 3 * NOWN, &largest);
     int slots = 0;
     for (int c = 0; c < e.ngrid; c++) slots += e.bins[c].n;
     if (step == 0) held = slots;
