@@ -1150,10 +1150,20 @@ static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *
   int kept_dxlo[nrows], kept_dxhi[nrows], kept_row[nrows], lo[nrows], hi[nrows];
   const int *row_lo[nrows], *row_hi[nrows];
   const row_room room = {kept_lo, kept_hi, kept_dxlo, kept_dxhi, kept_row, lo, hi, row_lo, row_hi};
-  for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy];) {
-    const long row = b->cell[b->order[s]] / g->n[0];
-    sweep_cell_row(cx, &sums, &hits, &room, k, into, sc, own, (int) (row % g->n[1]), (int) (row / g->n[1]));
-    s = b->cell_start[(row + 1) * g->n[0]];
+  const int nx = g->n[0], ny = g->n[1];
+  long row = -1;    /* the cell row last swept, (y, z) */
+  int y = 0, z = 0;
+  for (int s = b->cell_start[zlo * nxy]; s < b->cell_start[zhi * nxy]; s = b->cell_start[(row + 1) * nx]) {
+    /* the next occupied row: the one after the last where it holds slot s (a dense grid's), else
+       the row of slot s's cell, which takes two divisions */
+    if (row >= 0 && b->cell_start[(row + 2) * nx] > s) {
+      row++;
+      if (++y == ny) y = 0, z++;
+    } else {
+      row = b->cell[b->order[s]] / nx;
+      y = (int) (row % ny), z = (int) (row / ny);
+    }
+    sweep_cell_row(cx, &sums, &hits, &room, k, into, sc, own, y, z);
   }
   return finished_sums(cx, sums);
 }
