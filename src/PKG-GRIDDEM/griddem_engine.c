@@ -263,17 +263,14 @@ static int bin_gathered(griddem_engine *e, const griddem_step *s, const griddem_
     /* the class's grids (its kinematic twin's too) cover the class's particles */
     const int first = size * stride, nboth = base[first + stride] - base[first];
     const double *xboth = e->xc + 3 * (size_t) base[first];
-    const double edge = ncls == 1 ? s->cell_edge : griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0);
-    double box_lo[3], box_hi[3];
-    if (nboth > 0) griddem_box_of(xboth, nboth, box_lo, box_hi);
-    else
-      for (int d = 0; d < 3; d++) box_lo[d] = box_hi[d] = s->anchor[d];
     /* held particles that stay within their grid keep it, and are binned again on it */
-    if (!(again && griddem_grid_contains_box(&e->grid[first], s->anchor, edge, box_lo, box_hi))) {
-      const int grown = griddem_grid_fit(&e->grid[first], s->anchor, box_lo, box_hi, edge,
-                                         ncls == 1 ? s->max_cells : GRIDDEM_CLASS_MAX_CELLS(nboth));
-      if (ncls == 1) *coarsened |= grown;
-    }
+    int (*const cover)(griddem_grid *, const double *, int, const double *, double, long) =
+        again ? griddem_grid_cover_again : griddem_grid_cover;
+    if (ncls == 1)
+      *coarsened |= cover(&e->grid[first], s->anchor, nboth, xboth, s->cell_edge, s->max_cells);
+    else
+      cover(&e->grid[first], s->anchor, nboth, xboth, griddem_cell_edge(GRIDDEM_CELL_MULTI, 0.0, upper[size], 0.0),
+            GRIDDEM_CLASS_MAX_CELLS(nboth));
     for (int c = first; c < first + stride; c++) {
       const int nc = base[c + 1] - base[c];
       if (c > first) e->grid[c] = e->grid[first];    /* the twin: the same cells */
@@ -311,9 +308,9 @@ static int engine_bin(griddem_engine *e, const griddem_step *s, const griddem_sc
     /* one grid over the scanned box (kept while the same particles stay inside it): the
        particles are binned as they are, nothing gathered */
     const int again = s->same_particles && e->one_grid_binned;
-    if (!(again && p->nall > 0 && griddem_grid_contains_box(&e->grid[0], s->anchor, s->cell_edge, scan->lo, scan->hi)))
-      *coarsened = p->nall > 0 ? griddem_grid_fit(&e->grid[0], s->anchor, scan->lo, scan->hi, s->cell_edge, s->max_cells)
-                               : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
+    *coarsened = p->nall > 0 ? (again ? griddem_grid_fit_again : griddem_grid_fit)(&e->grid[0], s->anchor, scan->lo,
+                                                                                 scan->hi, s->cell_edge, s->max_cells)
+                             : griddem_grid_fit(&e->grid[0], s->anchor, s->anchor, s->anchor, s->cell_edge, s->max_cells);
     e->one_grid_binned = 0, e->gathered = 0;
     if ((again ? griddem_bin_points_again : griddem_bin_points)(&e->bins[0], &e->grid[0], p->nall, p->x, p->tag,
                                                                 p->tag_bytes) != 0)

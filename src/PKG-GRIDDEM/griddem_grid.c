@@ -98,14 +98,28 @@ GRIDDEM_VECTOR_COPIES int griddem_box_of(const double *x, int n, double *lo, dou
 }
 #undef BOX_OF_POINT
 
+/* The box of n points, or the anchor alone without points */
+static void points_box(const double anchor[3], int n, const double *x, double lo[3], double hi[3])
+{
+  if (n > 0) griddem_box_of(x, n, lo, hi);
+  else
+    for (int d = 0; d < 3; d++) lo[d] = hi[d] = anchor[d];
+}
+
 int griddem_grid_cover(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
                        long max_cells)
 {
   double lo[3], hi[3];
-  if (n > 0) griddem_box_of(x, n, lo, hi);
-  else
-    for (int d = 0; d < 3; d++) lo[d] = hi[d] = anchor[d];
+  points_box(anchor, n, x, lo, hi);
   return griddem_grid_fit(g, anchor, lo, hi, h, max_cells);
+}
+
+int griddem_grid_cover_again(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
+                             long max_cells)
+{
+  double lo[3], hi[3];
+  points_box(anchor, n, x, lo, hi);
+  return griddem_grid_fit_again(g, anchor, lo, hi, h, max_cells);
 }
 
 int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3], const double hi[3],
@@ -134,6 +148,12 @@ int griddem_grid_contains_box(const griddem_grid *g, const double anchor[3], dou
     contains &= g->anchor[d] == anchor[d] && axis_index(lo[d], anchor[d], g->hinv) >= g->k0[d] &&
                 axis_index(hi[d], anchor[d], g->hinv) < g->k0[d] + g->n[d];
   return contains;
+}
+
+int griddem_grid_fit_again(griddem_grid *g, const double anchor[3], const double lo[3], const double hi[3],
+                           double h, long max_cells)
+{
+  return griddem_grid_contains_box(g, anchor, h, lo, hi) ? 0 : griddem_grid_fit(g, anchor, lo, hi, h, max_cells);
 }
 
 static inline long clamp_cell(long c, long n)

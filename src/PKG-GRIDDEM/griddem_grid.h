@@ -183,6 +183,12 @@ int griddem_grid_fit(griddem_grid *g, const double anchor[3], const double lo[3]
  * points move inside it lets them be binned again (griddem_bin_points_again). */
 int griddem_grid_contains_box(const griddem_grid *g, const double anchor[3], double h, const double lo[3],
                               const double hi[3]);
+/* griddem_grid_fit and griddem_grid_cover for points binned again: g is kept as it is (returns 0)
+ * where it contains their box (griddem_grid_contains_box), else fitted to it. */
+int griddem_grid_fit_again(griddem_grid *g, const double anchor[3], const double lo[3], const double hi[3],
+                           double h, long max_cells);
+int griddem_grid_cover_again(griddem_grid *g, const double anchor[3], int n, const double *x, double h,
+                             long max_cells);
 
 /* Cell of a point; points on or past the upper faces go to the last cell. */
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z);

@@ -323,6 +323,14 @@ static void check_kept_grid(void)
   CHECK(same, "points binned on a grid of %ld cells take the slots of the %ld cells fitted to them", wide.ncell,
         fitted.ncell);
   griddem_bins_free(&on_fitted), griddem_bins_free(&on_wide);
+  /* covered again: the wide grid is kept, a grid the points left is fitted to them */
+  const long wide_cells = wide.ncell;
+  griddem_grid moved = fitted;
+  for (int i = 0; i < N; i++) x[3 * i + 2] += h;
+  CHECK(griddem_grid_cover_again(&wide, anchor, N, x, h, 1L << 30) == 0 && wide.ncell == wide_cells &&
+            griddem_grid_cover_again(&moved, anchor, N, x, h, 1L << 30) == 0 && moved.k0[2] == fitted.k0[2] + 1,
+        "covered again: the wide grid kept (%ld cells), the fitted one moved up a cell (k0 %ld to %ld)", wide.ncell,
+        fitted.k0[2], moved.k0[2]);
 }
 
 int main(void)
