@@ -97,40 +97,59 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run
  * (own_run, a constant of each inlined copy), the candidates within the cluster (t < i0 + NS, NS
  * spheres a vector) are masked to those after their sphere (mask) before any is looked at
- * again. */
+ * again. Where every sphere has one radius (same_radius, a constant of each copy), the cluster holds
+ * its contact distances to that radius squared (s2_same, sure2_same: one rounding more, which the
+ * slack covers as it covers the others), d2 is compared with them, and no candidate's radius is
+ * read. */
 #define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS)              \
   __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
-      int *const *slot, int *n)                                                                               \
+      const int same_radius, int *const *slot, int *n)                                                        \
   {                                                                                                           \
-    double px, py, pz, pr;                                                                                    \
+    double px, py, pz, pr = 0.0;                                                                              \
     memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
-    memcpy(&pr, sp->rf + t, 8);                                                                               \
-    const V rt = B(pr), dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                  \
-    const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, rt);                                    \
-    const unsigned bits = (unsigned) SIGNS(FNMA(s, s, d2)) & mask;                                            \
+    if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
+    const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                              \
+    const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, B(pr));                                \
+    const unsigned bits = (unsigned) SIGNS(same_radius ? SUB(d2, c->s2_same) : FNMA(s, s, d2)) & mask;        \
     if (!bits) return;                                                                                        \
-    const V sure = MAX(ADD(c->sure, rt), ZERO);                                                               \
-    passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(FNMA(sure, sure, d2)), slot, n);                      \
+    const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                            \
+    const V narrow = same_radius ? SUB(d2, c->sure2_same) : FNMA(sure, sure, d2);                             \
+    passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), slot, n);                                    \
   }                                                                                                           \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi,                     \
-      const cluster_##ISA *c, int *const *slot, int *n)                                                       \
+      const cluster_##ISA *c, const int same_radius, int *const *slot, int *n)                                \
   {                                                                                                           \
     int t = lo;                                                                                               \
     if (own_run)                                                                                              \
       for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2)                                    \
-        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, slot, n);                                      \
-    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, slot, n);                                 \
+        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, same_radius, slot, n);                         \
+    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, same_radius, slot, n);                    \
   }                                                                                                           \
   /* the runs [lo[q], hi[q]), the own one first (own: run 0), one inlined copy of run_ISA each */             \
   __attribute__((target(TARGET), always_inline)) static inline void runs_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
-      const cluster_##ISA *c, int *const *slot, int *n)                                                       \
+      const cluster_##ISA *c, const int same_radius, int *const *slot, int *n)                                \
   {                                                                                                           \
     const int first = own && nruns > 0;                                                                       \
-    if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, slot, n);                                         \
-    for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, slot, n);                \
+    if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, same_radius, slot, n);                            \
+    for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, same_radius, slot, n);   \
+  }                                                                                                           \
+  /* the cluster's runs, with its distances to one radius added where every sphere has it */                  \
+  __attribute__((target(TARGET), always_inline)) static inline void cluster_runs_##ISA(                      \
+      const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
+      cluster_##ISA *c, int *const *slot, int *n)                                                             \
+  {                                                                                                           \
+    if (sp->same_radius) {                                                                                    \
+      double pr;                                                                                              \
+      const float r2[2] = {sp->rf[i0], sp->rf[i0]};                                                           \
+      memcpy(&pr, r2, 8);                                                                                     \
+      const V s = ADD(c->s, B(pr)), sure = MAX(ADD(c->sure, B(pr)), ZERO);                                    \
+      c->s2_same = MUL(s, s), c->sure2_same = MUL(sure, sure);                                                \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 1, slot, n);                                           \
+    } else                                                                                                    \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 0, slot, n);                                           \
   }
 
 /* AVX2's 16 lanes as two vectors (lo: lanes 0-7, spheres 0-3; hi: lanes 8-15, spheres 4-7), so
@@ -175,10 +194,10 @@ __attribute__((target("avx2,fma"), always_inline)) static inline unsigned avx2x2
 
 /* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
 typedef struct cluster_avx2 {
-  avx2x2 x, y, z, s, sure;
+  avx2x2 x, y, z, s, sure, s2_same, sure2_same;
 } cluster_avx2;
 typedef struct cluster_avx512 {
-  __m512 x, y, z, s, sure;
+  __m512 x, y, z, s, sure, s2_same, sure2_same;
 } cluster_avx512;
 
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
@@ -201,9 +220,9 @@ __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_sphe
                                                           int *const *slot, int *n)
 {
   const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
-  const cluster_avx2 c = {avx2x2_lanes(l.x), avx2x2_lanes(l.y), avx2x2_lanes(l.z), avx2x2_lanes(l.s),
-                          avx2x2_lanes(l.sure)};
-  runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
+  cluster_avx2 c = {avx2x2_lanes(l.x), avx2x2_lanes(l.y), avx2x2_lanes(l.z), avx2x2_lanes(l.s),
+                    avx2x2_lanes(l.sure), avx2x2_zero(), avx2x2_zero()};
+  cluster_runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
@@ -212,12 +231,14 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
 {
   const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
   const __m512i pairs = _mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
-  const cluster_avx512 c = {_mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.x)),
-                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.y)),
-                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
-                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
-                            _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure))};
-  runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
+  cluster_avx512 c = {_mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.x)),
+                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.y)),
+                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
+                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
+                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure)),
+                      _mm512_setzero_ps(),
+                      _mm512_setzero_ps()};
+  cluster_runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
 }
 #endif
 

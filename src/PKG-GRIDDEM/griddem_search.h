@@ -35,11 +35,13 @@ GRIDDEM_INLINE int griddem_search_touches(const double *dx, double ri, double re
 
 /* The spheres in slot order: centre and radius of each slot; the same rounded to float (each
  * array readable GRIDDEM_SEARCH_PAD slots past the last), and the slack of the float test, at
- * least griddem_search_slack's for these spheres. */
+ * least griddem_search_slack's for these spheres; same_radius: nonzero only where every slot has
+ * one radius (the vector kernels then read no candidate's radius). */
 typedef struct griddem_spheres {
   const double *x, *y, *z, *r;
   const float *xf, *yf, *zf, *rf;
   float slack;
+  int same_radius;
 } griddem_spheres;
 
 /* Slots past the last that the vector kernels read (and never use) */

@@ -39,23 +39,30 @@ static inline void fill_slot(griddem_channels *ch, int i, const griddem_particle
   ch->ncontact[s] = 0;
 }
 
-/* The largest |coordinate| of slots s0 .. s1 - 1 (a NaN is left to the search, whose tests it fails) */
-static double extent_of(const griddem_channels *ch, int s0, int s1)
+/* What a fill learns of its slots: the largest |coordinate| (a NaN is left to the search, whose
+ * tests it fails) and the smallest and largest radius */
+typedef struct fill_range {
+  double extent, rmin, rmax;
+} fill_range;
+
+static fill_range range_of(const griddem_channels *ch, int s0, int s1)
 {
-  double m = 0.0;
+  fill_range m = {0.0, INFINITY, 0.0};
   for (int s = s0; s < s1; s++) {
     const double a = fabs(ch->x[s]), b = fabs(ch->y[s]), c = fabs(ch->z[s]);
-    m = a > m ? a : m, m = b > m ? b : m, m = c > m ? c : m;
+    m.extent = a > m.extent ? a : m.extent, m.extent = b > m.extent ? b : m.extent;
+    m.extent = c > m.extent ? c : m.extent;
+    m.rmin = ch->r[s] < m.rmin ? ch->r[s] : m.rmin, m.rmax = ch->r[s] > m.rmax ? ch->r[s] : m.rmax;
   }
   return m;
 }
 
 /* Slots s0 .. s1 - 1 of the channels, of particles order[s]: one at a time, and four at a time by
- * AVX2's gathers (the same values); returns their extent */
-static double fill_plain(griddem_channels *ch, const int *order, const griddem_particles *p, int s0, int s1)
+ * AVX2's gathers (the same values); returns their range */
+static fill_range fill_plain(griddem_channels *ch, const int *order, const griddem_particles *p, int s0, int s1)
 {
   for (int s = s0; s < s1; s++) fill_slot(ch, order[s], p, s);
-  return extent_of(ch, s0, s1);
+  return range_of(ch, s0, s1);
 }
 
 #ifdef GRIDDEM_SWEEP_GATHER
@@ -66,12 +73,12 @@ __attribute__((target("avx2"), always_inline)) static inline __m256i first_of_th
   return _mm256_add_epi64(wide, _mm256_add_epi64(wide, wide));
 }
 
-__attribute__((target("avx2"))) static double fill_avx2(griddem_channels *ch, const int *order,
-                                                        const griddem_particles *p, int s0, int s1)
+__attribute__((target("avx2"))) static fill_range fill_avx2(griddem_channels *ch, const int *order,
+                                                            const griddem_particles *p, int s0, int s1)
 {
   int s = s0;
   const __m256d sign = _mm256_set1_pd(-0.0);
-  __m256d most = _mm256_setzero_pd();
+  __m256d most = _mm256_setzero_pd(), rmin = _mm256_set1_pd(INFINITY), rmax = _mm256_setzero_pd();
   for (; s + 4 <= s1; s += 4) {
     const __m128i i4 = _mm_loadu_si128((const __m128i *) (order + s));
     const __m256i i3 = first_of_three(i4);
@@ -83,15 +90,20 @@ __attribute__((target("avx2"))) static double fill_avx2(griddem_channels *ch, co
     _mm_storeu_ps(ch->zf + s, _mm256_cvtpd_ps(z)), _mm_storeu_ps(ch->rf + s, _mm256_cvtpd_ps(r));
     most = _mm256_max_pd(most, _mm256_max_pd(_mm256_andnot_pd(sign, x),
                                              _mm256_max_pd(_mm256_andnot_pd(sign, y), _mm256_andnot_pd(sign, z))));
+    rmin = _mm256_min_pd(rmin, r), rmax = _mm256_max_pd(rmax, r);
     const __m256i tag = p->tag_bytes == 8 ? _mm256_i32gather_epi64((const long long *) p->tag, i4, 8)
                                           : _mm256_cvtepi32_epi64(_mm_i32gather_epi32((const int *) p->tag, i4, 4));
     _mm256_storeu_si256((__m256i *) (ch->tag + s), tag);
     if (p->image) _mm_storeu_si128((__m128i *) (ch->image + s), _mm_i32gather_epi32(p->image, i4, 4));
     _mm_storeu_si128((__m128i *) (ch->ncontact + s), _mm_setzero_si128());
   }
-  double lane[4], m = fill_plain(ch, order, p, s, s1);
-  _mm256_storeu_pd(lane, most);
-  for (int k = 0; k < 4; k++) m = lane[k] > m ? lane[k] : m;
+  fill_range m = fill_plain(ch, order, p, s, s1);
+  double lane[3][4];
+  _mm256_storeu_pd(lane[0], most), _mm256_storeu_pd(lane[1], rmin), _mm256_storeu_pd(lane[2], rmax);
+  for (int k = 0; k < 4; k++) {
+    m.extent = lane[0][k] > m.extent ? lane[0][k] : m.extent;
+    m.rmin = lane[1][k] < m.rmin ? lane[1][k] : m.rmin, m.rmax = lane[2][k] > m.rmax ? lane[2][k] : m.rmax;
+  }
   return m;
 }
 #endif
@@ -122,23 +134,26 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->n = n;
   ch->p = p;
   ch->keyed_by_image = p->image != NULL;
-  double (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
+  fill_range (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
 #ifdef GRIDDEM_SWEEP_GATHER
   if (griddem_touching_gathers()) fill = fill_avx2;
 #endif
-  double extent = 0.0;
+  double extent = 0.0, rmin = INFINITY, rmax = 0.0;
   if (griddem_threaded(n)) {
     enum { BLOCK = 4096 };    /* slots a thread fills at once */
     const int nblock = (n + BLOCK - 1) / BLOCK;
-#pragma omp parallel for schedule(static) reduction(max : extent)
+#pragma omp parallel for schedule(static) reduction(max : extent, rmax) reduction(min : rmin)
     for (int k = 0; k < nblock; k++) {
-      const double e = fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
-      extent = e > extent ? e : extent;
+      const fill_range m = fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
+      extent = m.extent > extent ? m.extent : extent;
+      rmin = m.rmin < rmin ? m.rmin : rmin, rmax = m.rmax > rmax ? m.rmax : rmax;
     }
   } else {
-    extent = fill(ch, b->order, p, 0, n);
+    const fill_range m = fill(ch, b->order, p, 0, n);
+    extent = m.extent, rmin = m.rmin, rmax = m.rmax;
   }
   ch->extent = extent;
+  ch->same_radius = n > 0 && rmin == rmax;
   for (int s = n; s < n + GRIDDEM_SEARCH_PAD; s++) ch->xf[s] = ch->yf[s] = ch->zf[s] = ch->rf[s] = 0.0f;
   return 0;
 }
@@ -1278,7 +1293,7 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                                       excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, tally, result,
-                            {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf, slack},
+                            {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf, slack, ch->same_radius},
                             griddem_touching(), griddem_touching_width(),
                             batch_gather()};
   memset(result, 0, sizeof(*result));

@@ -2,7 +2,9 @@
  * each sphere of a cluster, exactly the slots of the documented test in run order, on random
  * polydisperse scenes with random clusters, runs and own runs, and on ties at the contact distance;
  * spheres clearly inside or outside the contact distance are found or not whatever the rounding;
- * lanes past the cluster are never written; the widest kernel the processor runs is chosen.
+ * lanes past the cluster are never written; the widest kernel the processor runs is chosen. Each
+ * of those checks runs twice: with every scene's spheres read as of any radii, and with scenes of
+ * one radius marked so (same_radius), which the vector kernels test by another path.
  * griddem_touching_pairs with each kernel: the touching pairs of random polydisperse spheres binned
  * for their contacts, each query's in the documented order, against the pairs written out; a visit
  * that returns nonzero ends its sphere's pairs; spheres that are not queries get none. */
@@ -24,15 +26,24 @@ static double X[NSPHERE], Y[NSPHERE], Z[NSPHERE], R[NSPHERE];
 static float XF[NSPHERE + GRIDDEM_SEARCH_PAD], YF[NSPHERE + GRIDDEM_SEARCH_PAD], ZF[NSPHERE + GRIDDEM_SEARCH_PAD],
     RF[NSPHERE + GRIDDEM_SEARCH_PAD];
 
-/* The spheres as the kernels read them: the float copies and the slack for their coordinates, radii and reach */
+/* Whether spheres() marks spheres of one radius so, and how many times it did */
+static int mark_same_radius;
+static long marked_same_radius;
+
+/* The spheres as the kernels read them: the float copies and the slack for their coordinates,
+ * radii and reach; one radius marked where mark_same_radius */
 static griddem_spheres spheres(double reach)
 {
   double extent = 0.0, rmax = 0.0;
+  int same = 1;
   for (int t = 0; t < NSPHERE; t++) {
     XF[t] = (float) X[t], YF[t] = (float) Y[t], ZF[t] = (float) Z[t], RF[t] = (float) R[t];
     extent = fmax(extent, fmax(fabs(X[t]), fmax(fabs(Y[t]), fabs(Z[t])))), rmax = fmax(rmax, R[t]);
+    same &= R[t] == R[0];
   }
-  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent, rmax, reach)};
+  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent, rmax, reach),
+                              same && mark_same_radius};
+  marked_same_radius += sp.same_radius;
   return sp;
 }
 
@@ -94,16 +105,17 @@ static int random_cluster(int width, int *i0, int *ni, int *own, int *lo, int *h
   return nruns;
 }
 
-/* Polydisperse spheres (radius ratio 1:10) in boxes where a sphere has tens of candidates in reach */
+/* Polydisperse spheres (radius ratio 1:10), every fourth scene of one radius, in boxes where a
+ * sphere has tens of candidates in reach */
 static void random_scenes(const char *name, griddem_touching_fn fn, int width)
 {
   long found = 0, tested = 0;
   int lo[MAX_RUNS], hi[MAX_RUNS], i0, ni, own;
   for (int scene = 0; scene < 200; scene++) {
-    const double box = 2.0 + 6.0 * check_uniform();
+    const double box = 2.0 + 6.0 * check_uniform(), one = 0.05 + 0.45 * check_uniform();
     for (int t = 0; t < NSPHERE; t++) {
       X[t] = 100.0 + box * check_uniform(), Y[t] = -50.0 + box * check_uniform(), Z[t] = box * check_uniform();
-      R[t] = 0.05 + 0.45 * check_uniform();
+      R[t] = scene % 4 == 0 ? one : 0.05 + 0.45 * check_uniform();
     }
     for (int probe = 0; probe < 50; probe++) {
       const int nruns = random_cluster(width, &i0, &ni, &own, lo, hi);
@@ -121,7 +133,8 @@ static void random_scenes(const char *name, griddem_touching_fn fn, int width)
 static void ties(const char *name, griddem_touching_fn fn, int width)
 {
   const double c[3] = {1.0, 2.0, 3.0};
-  for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2], R[k] = 0.25;
+  for (int t = 0; t < NSPHERE; t++) R[t] = 0.25;
+  for (int k = 0; k < width; k++) X[k] = c[0], Y[k] = c[1], Z[k] = c[2];
   for (int len = 0; len <= MAX_RUN; len++)
     for (int offset = width; offset < width + 9; offset++) {
       int expect = 0;
@@ -130,7 +143,7 @@ static void ties(const char *name, griddem_touching_fn fn, int width)
         double p[3] = {c[0], c[1], c[2]};
         p[axis] += 0.5; /* the contact distance 0.25 + 0.25, exact in these coordinates */
         if (inside) p[axis] = nextafter(p[axis], c[axis]);
-        X[t] = p[0], Y[t] = p[1], Z[t] = p[2], R[t] = 0.25;
+        X[t] = p[0], Y[t] = p[1], Z[t] = p[2];
         expect += inside;
       }
       const int lo = offset, hi = offset + len;
@@ -284,10 +297,15 @@ int main(void)
     }
     CHECK(width >= 1 && width <= GRIDDEM_CLUSTER_MAX, "kernel %s: width %d", KERNELS[k], width);
     const int failed = check_failed;
-    random_scenes(KERNELS[k], fn, width);
-    ties(KERNELS[k], fn, width);
-    near_ties(KERNELS[k], fn, width);
-    run_ends_and_margins(KERNELS[k], fn, width);
+    for (mark_same_radius = 0; mark_same_radius < 2; mark_same_radius++) {
+      marked_same_radius = 0;
+      random_scenes(KERNELS[k], fn, width);
+      ties(KERNELS[k], fn, width);
+      near_ties(KERNELS[k], fn, width);
+      run_ends_and_margins(KERNELS[k], fn, width);
+      CHECK(mark_same_radius ? marked_same_radius > 1000 : marked_same_radius == 0,
+            "kernel %s: %ld calls on spheres marked of one radius", KERNELS[k], marked_same_radius);
+    }
     CHECK(griddem_touching_use(KERNELS[k]) == 0, "kernel %s not chosen", KERNELS[k]);
     touching_pairs(KERNELS[k]);
     CHECK(griddem_touching_use(KERNELS[k]) == 0 && griddem_touching() == fn && griddem_touching_width() == width &&
