@@ -21,14 +21,21 @@ static inline int touches(const griddem_spheres *sp, double reach, int i, int t)
   return griddem_search_touches(dx, sp->r[i], reach, sp->r[t]);
 }
 
+/* A pair found: sphere k of the cluster and slot t */
+static inline void hit(griddem_cluster_hits *hits, int k, int t)
+{
+  hits->sphere[hits->n] = k, hits->slot[hits->n] = t;
+  hits->n++;
+}
+
 static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int ni, int own, const int *lo,
-                            const int *hi, int nruns, int *const *slot, int *n)
+                            const int *hi, int nruns, griddem_cluster_hits *hits)
 {
   for (int q = 0; q < nruns; q++)
     for (int t = lo[q]; t < hi[q]; t++) {
       const int lanes = own && q == 0 && t - i0 < ni ? t - i0 : ni;    /* the own run: spheres before t */
       for (int k = 0; k < lanes; k++)
-        if (touches(sp, reach, i0 + k, t)) slot[k][n[k]++] = t;
+        if (touches(sp, reach, i0 + k, t)) hit(hits, k, t);
     }
 }
 
@@ -73,19 +80,20 @@ static inline unsigned own_lanes(int o)
   return o < 0 ? 0u : OWN_LANES[o];
 }
 
-/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j) in lane
- * order, so that each sphere's slots stay in run order: those that passed it against the contact
- * distance narrowed by the slack (sure; the test widens it by the slack) touch in double too (the
- * float test's roundings move a distance by at most half the slack), the others are tested again
- * in double; candidate t + 1 past the run's end is masked off first. */
+/* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j), candidate
+ * t's (the even lanes) before t + 1's, each in lane order: those that passed it against the
+ * contact distance narrowed by the slack (sure; the test widens it by the slack) touch in double
+ * too (the float test's roundings move a distance by at most half the slack), the others are
+ * tested again in double; candidate t + 1 past the run's end is left out. */
 static inline void passed(const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned bits,
-                          unsigned sure, int *const *slot, int *n)
+                          unsigned sure, griddem_cluster_hits *hits)
 {
-  if (t + 1 >= hi) bits &= 0x55555555u;
-  for (; bits; bits &= bits - 1) {
-    const int l = __builtin_ctz(bits), k = l / 2, u = t + l % 2;
-    if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, u)) slot[k][n[k]++] = u;
-  }
+  if (t + 1 >= hi) bits &= 0x5555u;
+  for (int j = 0; j < 2; j++)
+    for (unsigned lanes = bits & (0x5555u << j); lanes; lanes &= lanes - 1) {
+      const int l = __builtin_ctz(lanes), k = l / 2;
+      if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, t + j)) hit(hits, k, t + j);
+    }
 }
 
 /* run_ISA: one run against 8 spheres in 16 lanes (AVX2: two vectors; AVX-512: one), candidates t
@@ -104,7 +112,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
 #define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS)              \
   __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
-      const int same_radius, int *const *slot, int *n)                                                        \
+      const int same_radius, griddem_cluster_hits *hits)                                                     \
   {                                                                                                           \
     double px, py, pz, pr = 0.0;                                                                              \
     memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
@@ -112,34 +120,34 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                              \
     const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, B(pr));                                \
     const unsigned bits = (unsigned) SIGNS(same_radius ? SUB(d2, c->s2_same) : FNMA(s, s, d2)) & mask;        \
-    if (!bits) return;                                                                                        \
+    if (__builtin_expect(!bits, 1)) return; /* most tests: the hit path kept out of the loop's registers */   \
     const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                            \
     const V narrow = same_radius ? SUB(d2, c->sure2_same) : FNMA(sure, sure, d2);                             \
-    passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), slot, n);                                    \
+    passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), hits);                                       \
   }                                                                                                           \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi,                     \
-      const cluster_##ISA *c, const int same_radius, int *const *slot, int *n)                                \
+      const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
   {                                                                                                           \
     int t = lo;                                                                                               \
     if (own_run)                                                                                              \
       for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2)                                    \
-        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, same_radius, slot, n);                         \
-    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, same_radius, slot, n);                    \
+        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, same_radius, hits);                            \
+    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, same_radius, hits);                       \
   }                                                                                                           \
   /* the runs [lo[q], hi[q]), the own one first (own: run 0), one inlined copy of run_ISA each */             \
   __attribute__((target(TARGET), always_inline)) static inline void runs_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
-      const cluster_##ISA *c, const int same_radius, int *const *slot, int *n)                                \
+      const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
   {                                                                                                           \
     const int first = own && nruns > 0;                                                                       \
-    if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, same_radius, slot, n);                            \
-    for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, same_radius, slot, n);   \
+    if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, same_radius, hits);                               \
+    for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, same_radius, hits);      \
   }                                                                                                           \
   /* the cluster's runs, with its distances to one radius added where every sphere has it */                  \
   __attribute__((target(TARGET), always_inline)) static inline void cluster_runs_##ISA(                      \
       const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
-      cluster_##ISA *c, int *const *slot, int *n)                                                             \
+      cluster_##ISA *c, griddem_cluster_hits *hits)                                                           \
   {                                                                                                           \
     if (sp->same_radius) {                                                                                    \
       double pr;                                                                                              \
@@ -147,9 +155,9 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
       memcpy(&pr, r2, 8);                                                                                     \
       const V s = ADD(c->s, B(pr)), sure = MAX(ADD(c->sure, B(pr)), ZERO);                                    \
       c->s2_same = MUL(s, s), c->sure2_same = MUL(sure, sure);                                                \
-      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 1, slot, n);                                           \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 1, hits);                                              \
     } else                                                                                                    \
-      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 0, slot, n);                                           \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 0, hits);                                              \
   }
 
 /* AVX2's 16 lanes as two vectors (lo: lanes 0-7, spheres 0-3; hi: lanes 8-15, spheres 4-7), so
@@ -217,17 +225,17 @@ __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_l
 
 __attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
                                                           int own, const int *lo, const int *hi, int nruns,
-                                                          int *const *slot, int *n)
+                                                          griddem_cluster_hits *hits)
 {
   const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
   cluster_avx2 c = {avx2x2_lanes(l.x), avx2x2_lanes(l.y), avx2x2_lanes(l.z), avx2x2_lanes(l.s),
                     avx2x2_lanes(l.sure), avx2x2_zero(), avx2x2_zero()};
-  cluster_runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
+  cluster_runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, hits);
 }
 
 __attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
                                                                int ni, int own, const int *lo, const int *hi,
-                                                               int nruns, int *const *slot, int *n)
+                                                               int nruns, griddem_cluster_hits *hits)
 {
   const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
   const __m512i pairs = _mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
@@ -238,14 +246,14 @@ __attribute__((target("avx512f"))) static void touching_avx512(const griddem_sph
                       _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure)),
                       _mm512_setzero_ps(),
                       _mm512_setzero_ps()};
-  cluster_runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, slot, n);
+  cluster_runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, hits);
 }
 #endif
 
 static const struct {
   const char *name;
   int width;
-} KERNELS[] = {{"avx512", 8}, {"avx2", 8}, {"scalar", 4}};
+} KERNELS[] = {{"avx512", 8}, {"avx2", 8}, {"scalar", 8}};    /* one width: the same clusters, so the same order */
 #define NKERNELS (sizeof(KERNELS) / sizeof(KERNELS[0]))
 
 griddem_touching_fn griddem_touching_kernel(const char *name)

@@ -12,8 +12,8 @@
  * rounding, so that no touching pair fails it; a pair that also passes against the distance
  * narrowed by the slack (where that is positive) touches in double too, and every other pair that
  * passes is tested again with the reference's expression in double, in the same order (no fused
- * multiply-add): every kernel finds the same slots in the same order. The widest kernel the
- * processor runs is chosen at first use. */
+ * multiply-add): every kernel finds the same pairs in the same order, in clusters of the same
+ * width. The widest kernel the processor runs is chosen at first use. */
 #ifndef GRIDDEM_SEARCH_H
 #define GRIDDEM_SEARCH_H
 
@@ -58,14 +58,23 @@ double griddem_search_slack(double coordinate_max, double rmax, double reach);
 /* The most spheres in a cluster (the widest kernel's). */
 #define GRIDDEM_CLUSTER_MAX 8
 
-/* For each sphere k < ni of the cluster of slots i0 + k, append to slot[k] (count n[k]) the slots
- * t of the runs [lo[q], hi[q]), q < nruns, in run order, whose sphere touches it: with
- * dx = centre of i0 + k - centre of t and s = (radius of i0 + k + reach) + radius of t,
- * dx0 dx0 + dx1 dx1 + dx2 dx2 < s s, summed left to right. If own, run 0 is the cluster's own
- * run and only its slots t > i0 + k are candidates of sphere k. ni is at most the kernel's
- * width (griddem_touching_width); slot[k] needs room for every candidate. */
+/* The touching pairs of a cluster, in the order a kernel found them: for each, the cluster's
+ * sphere (0 .. ni - 1) and the candidate's slot; n of them. */
+typedef struct griddem_cluster_hits {
+  int *sphere, *slot;
+  int n;
+} griddem_cluster_hits;
+
+/* Append to hits the pairs of the spheres k < ni of the cluster of slots i0 + k with the slots t
+ * of the runs [lo[q], hi[q]), q < nruns, that touch: with dx = centre of i0 + k - centre of t and
+ * s = (radius of i0 + k + reach) + radius of t, dx0 dx0 + dx1 dx1 + dx2 dx2 < s s, summed left to
+ * right; run by run, candidate by candidate in run order, and a candidate's spheres in order of k
+ * (so each sphere's candidates come in run order, and each candidate's spheres in slot order). If
+ * own, run 0 is the cluster's own run and only its slots t > i0 + k are candidates of sphere k.
+ * ni is at most the kernel's width (griddem_touching_width); hits needs room for ni pairs a
+ * candidate. */
 typedef void (*griddem_touching_fn)(const griddem_spheres *sp, double reach, int i0, int ni, int own, const int *lo,
-                                    const int *hi, int nruns, int *const *slot, int *n);
+                                    const int *hi, int nruns, griddem_cluster_hits *hits);
 
 /* The kernel by name ("scalar", "avx2", "avx512"), or NULL where this build or processor has none;
  * and its width (the cluster it tests at once; 0 for an unknown name). */

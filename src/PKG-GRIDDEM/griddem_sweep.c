@@ -686,25 +686,26 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
            (cx->tally & GRIDDEM_TALLY_ENERGY) != 0);
 }
 
-/* Candidates that touch, collected for slot s before they are evaluated in order */
+/* Candidates a cluster's search tests at once: a cluster with more in its runs is searched sphere
+ * by sphere, in parts of this many */
 #define HITS_CAP 256
 
-typedef struct hit_list {
-  int n;
-  int slot[HITS_CAP];
-} hit_list;
+/* A thread's room for the touching pairs of one search (at most HITS_CAP candidates for each of
+ * a cluster's spheres) */
+typedef struct cluster_hits {
+  int sphere[GRIDDEM_CLUSTER_MAX * HITS_CAP], slot[GRIDDEM_CLUSTER_MAX * HITS_CAP];
+} cluster_hits;
 
-/* Slot s's touching candidates in the order found, each pair seen from an owned slot, by the
- * pair body specialized for (body, values) */
-SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int s, const hit_list *hits,
+/* The touching pairs of the spheres of slots i0 + k (k: the pairs' sphere) in the order found,
+ * each seen from an owned slot, by the pair body specialized for (body, values) */
+SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int i0, const griddem_cluster_hits *hits,
                                      const int body, const int values)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
-  const int s_owned = order[s] < cx->nlocal;
-  for (int q = 0; q < hits->n; q++) {
-    const int t = hits->slot[q];
-    const int t_owned = order[t] < cx->nlocal;
+  for (int m = 0; m < hits->n; m++) {
+    const int s = i0 + hits->sphere[m], t = hits->slot[m];
+    const int s_owned = order[s] < cx->nlocal, t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
     if (body == CLASSIC_BATCHED) {    /* read with the batch's other pairs */
       if (s_owned) batch_pair(cx, sums, s, t, order[s], order[t]);
@@ -721,104 +722,62 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
   }
 }
 
-/* Slot s's touching candidates by a law evaluated pair by pair */
-static void evaluate_each(const sweep_context *cx, sweep_sums *sums, int s, const hit_list *hits)
+/* The touching pairs by a law evaluated pair by pair */
+static void evaluate_each(const sweep_context *cx, sweep_sums *sums, int i0, const griddem_cluster_hits *hits)
 {
   switch (cx->law) {
-    case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 3); break;
-    case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HOOKE, 0); break;
-    case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 3); break;
-    case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, s, hits, CLASSIC_HERTZ, 0); break;
-    case SWEEP_COMPILED: evaluate_hits(cx, sums, s, hits, COMPILED, COMPILED_LAWS[0].values); break;
-    case SWEEP_COMPILED + 1: evaluate_hits(cx, sums, s, hits, COMPILED + 1, COMPILED_LAWS[1].values); break;
-    case SWEEP_COMPILED + 2: evaluate_hits(cx, sums, s, hits, COMPILED + 2, COMPILED_LAWS[2].values); break;
-    default: evaluate_hits(cx, sums, s, hits, COMPOSED, -1);
+    case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, i0, hits, CLASSIC_HOOKE, 3); break;
+    case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, i0, hits, CLASSIC_HOOKE, 0); break;
+    case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, i0, hits, CLASSIC_HERTZ, 3); break;
+    case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, i0, hits, CLASSIC_HERTZ, 0); break;
+    case SWEEP_COMPILED: evaluate_hits(cx, sums, i0, hits, COMPILED, COMPILED_LAWS[0].values); break;
+    case SWEEP_COMPILED + 1: evaluate_hits(cx, sums, i0, hits, COMPILED + 1, COMPILED_LAWS[1].values); break;
+    case SWEEP_COMPILED + 2: evaluate_hits(cx, sums, i0, hits, COMPILED + 2, COMPILED_LAWS[2].values); break;
+    default: evaluate_hits(cx, sums, i0, hits, COMPOSED, -1);
   }
 }
 
-/* Evaluate slot s's touching candidates, or queue them in the thread's batch (a few stores each,
- * done in place), and empty the list. */
-SWEEP_SPECIALIZED void sweep_hits(const sweep_context *cx, sweep_sums *sums, int s, hit_list *hits)
+/* Evaluate the touching pairs of the spheres of slots i0 + k, or queue them in the thread's batch
+ * (a few stores each, done in place), and empty the list. */
+SWEEP_SPECIALIZED void sweep_hits(const sweep_context *cx, sweep_sums *sums, int i0, griddem_cluster_hits *hits)
 {
-  if (cx->law == SWEEP_CLASSIC_BATCH) evaluate_hits(cx, sums, s, hits, CLASSIC_BATCHED, 3);
-  else evaluate_each(cx, sums, s, hits);
+  if (cx->law == SWEEP_CLASSIC_BATCH) evaluate_hits(cx, sums, i0, hits, CLASSIC_BATCHED, 3);
+  else evaluate_each(cx, sums, i0, hits);
   hits->n = 0;
 }
 
-/* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) in parts that
- * fit the list, evaluating slot s's list whenever the next part would overflow it: the path of a
- * sphere with more candidates than the list holds. */
+/* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) in parts of
+ * at most HITS_CAP, evaluating them whenever the next part could overflow HITS_CAP: the path of
+ * a cluster with more candidates than its search tests at once. */
 static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, const int *lo, const int *hi,
-                             int nruns, hit_list *hits)
+                             int nruns, griddem_cluster_hits *hits)
 {
-  int *const list[1] = {hits->slot};
   for (int q = 0; q < nruns; q++)
     for (int t0 = lo[q]; t0 < hi[q];) {
       if (hits->n + (hi[q] - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
       const int t1 = hi[q] - t0 > HITS_CAP ? t0 + HITS_CAP : hi[q];
-      cx->touching(&cx->spheres, cx->model->reach_extra, s, 1, 0, &t0, &t1, 1, list, &hits->n);
+      cx->touching(&cx->spheres, cx->model->reach_extra, s, 1, 0, &t0, &t1, 1, hits);
       t0 = t1;
     }
 }
 
-/* The lowest set bit's index of bits (not 0) */
-static inline int lowest_bit(unsigned bits)
-{
-#if defined(__GNUC__)
-  return __builtin_ctz(bits);
-#else
-  int k = 0;
-  for (; !(bits & 1u); bits >>= 1) k++;
-  return k;
-#endif
-}
-
-/* The spheres of a cluster that found a partner (nhit[c] > 0), as bits */
-static inline unsigned spheres_found(const int nhit[GRIDDEM_CLUSTER_MAX])
-{
-#if defined(__SSE2__) && GRIDDEM_CLUSTER_MAX == 8
-  const __m128i zero = _mm_setzero_si128();
-  const __m128i none_lo = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *) nhit), zero),
-                none_hi = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *) (nhit + 4)), zero);
-  return 0xffu & ~(unsigned) _mm_movemask_epi8(_mm_packs_epi16(_mm_packs_epi32(none_lo, none_hi), zero));
-#else
-  unsigned found = 0;
-  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) found |= (unsigned) (nhit[c] != 0) << c;
-  return found;
-#endif
-}
-
-/* A hit list per sphere of a cluster, and the kernel's view of their slots */
-typedef struct cluster_hits {
-  hit_list hits[GRIDDEM_CLUSTER_MAX];
-  int *list[GRIDDEM_CLUSTER_MAX];
-} cluster_hits;
-
-static void cluster_hits_init(cluster_hits *h)
-{
-  for (int c = 0; c < GRIDDEM_CLUSTER_MAX; c++) h->list[c] = h->hits[c].slot, h->hits[c].n = 0;
-}
-
 /* The contacts of the cluster of slots i0 .. i0 + ni - 1 with the slots of the runs
- * [lo[q], hi[q]) (at most total of them), each sphere's evaluated in slot order: the runs tested
- * at once where every sphere's candidates fit its list, else sphere by sphere in parts. own: run 0
- * is the cluster's own run, whose candidates of a sphere are the slots after it (lo[0] is then
- * moved to each sphere's). */
-SWEEP_SPECIALIZED void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *h, int i0, int ni,
+ * [lo[q], hi[q]) (at most total of them), in the order the kernel finds them: the runs tested at
+ * once where they hold at most HITS_CAP candidates, else sphere by sphere in parts. own: run 0 is
+ * the cluster's own run, whose candidates of a sphere are the slots after it (lo[0] is then moved
+ * to each sphere's). */
+SWEEP_SPECIALIZED void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *room, int i0, int ni,
                                       int own, int *lo, const int *hi, int nruns, int total)
 {
+  griddem_cluster_hits hits = {room->sphere, room->slot, 0};
   if (total <= HITS_CAP) {
-    int nhit[GRIDDEM_CLUSTER_MAX] = {0};    /* all lanes: a constant size, cleared in place */
-    cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, h->list, nhit);
-    for (unsigned found = spheres_found(nhit); found; found &= found - 1) {
-      const int c = lowest_bit(found);
-      h->hits[c].n = nhit[c], sweep_hits(cx, sums, i0 + c, &h->hits[c]);
-    }
+    cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, &hits);
+    if (hits.n) sweep_hits(cx, sums, i0, &hits);
   } else
     for (int c = 0; c < ni; c++) {
       if (own) lo[0] = i0 + c + 1;
-      collect_in_parts(cx, sums, i0 + c, lo, hi, nruns, &h->hits[0]);
-      if (h->hits[0].n) sweep_hits(cx, sums, i0 + c, &h->hits[0]);
+      collect_in_parts(cx, sums, i0 + c, lo, hi, nruns, &hits);
+      if (hits.n) sweep_hits(cx, sums, i0 + c, &hits);
     }
 }
 
@@ -1002,7 +961,6 @@ static sweep_sums sweep_across(const sweep_context *cx, const griddem_class_grid
   const long nx = g->n[0], nxy = (long) g->n[0] * g->n[1];
   const griddem_channels *ch = cx->ch;
   cluster_hits hits;
-  cluster_hits_init(&hits);
   int lo[MAX_BLOCK_ROWS], hi[MAX_BLOCK_ROWS], nrange = 0, total = 0;
   int block[6] = {-1, -1, -1, -1, -1, -1}; /* cells x0, y0, z0, x1, y1, z1 of the block */
   for (int q = 0; q < n;) {
@@ -1159,7 +1117,6 @@ static sweep_sums sweep_slab(const sweep_context *cx, const griddem_class_grid *
   contact_batch batch;
   sweep_sums sums = thread_sums(cx, &batch);
   cluster_hits hits;
-  cluster_hits_init(&hits);
   const int nrows = sc->nrows;
   long kept_lo[nrows], kept_hi[nrows];
   int kept_dxlo[nrows], kept_dxhi[nrows], kept_row[nrows], lo[nrows], hi[nrows];

@@ -44,7 +44,7 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
   const griddem_spheres sp = {slots, slots + n, slots + 2 * (size_t) n, slots + 3 * (size_t) n,
                               rounded, rounded + nf, rounded + 2 * nf, rounded + 3 * nf,
                               (float) griddem_search_slack(extent, rmax, 0.0), 0};
-  int *found = NULL, *slot[GRIDDEM_CLUSTER_MAX], nfound[GRIDDEM_CLUSTER_MAX];
+  int *found = NULL;    /* room for the pairs of a cluster: their spheres, then their slots */
   long found_room = 0;
   int status = 0;
   for (long c = 0; c < b->ncell && status == 0; c++) {
@@ -57,7 +57,7 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
     for (int q = 0; q < nruns; q++) candidates += hi[q] - lo[q];
     if (candidates * width > found_room) {
       found_room = 2 * candidates * width;
-      int *more = (int *) realloc(found, sizeof(int) * (size_t) found_room);
+      int *more = (int *) realloc(found, 2 * sizeof(int) * (size_t) found_room);
       if (!more) {
         status = -1;
         break;
@@ -66,16 +66,14 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
     }
     for (int i0 = first; i0 < last; i0 += width) {
       const int ni = last - i0 < width ? last - i0 : width;
-      for (int k = 0; k < ni; k++) {
-        slot[k] = found + k * candidates;
-        nfound[k] = 0;
-      }
-      touching(&sp, 0.0, i0, ni, 0, lo, hi, nruns, slot, nfound);
+      griddem_cluster_hits hits = {found, found + found_room, 0};
+      touching(&sp, 0.0, i0, ni, 0, lo, hi, nruns, &hits);
+      /* each query's pairs, in the order found */
       for (int k = 0; k < ni; k++) {
         const int i = b->order[i0 + k];
         if (!is_query(i, nquery, query)) continue;
-        for (int m = 0; m < nfound[k]; m++)
-          if (slot[k][m] != i0 + k && visit(ctx, i, b->order[slot[k][m]])) break;
+        for (int m = 0; m < hits.n; m++)
+          if (hits.sphere[m] == k && hits.slot[m] != i0 + k && visit(ctx, i, b->order[hits.slot[m]])) break;
       }
     }
   }

@@ -1,8 +1,9 @@
-/* The candidate search kernels (griddem_search.h): each kernel this processor runs finds, for
- * each sphere of a cluster, exactly the slots of the documented test in run order, on random
- * polydisperse scenes with random clusters, runs and own runs, and on ties at the contact distance;
- * spheres clearly inside or outside the contact distance are found or not whatever the rounding;
- * lanes past the cluster are never written; the widest kernel the processor runs is chosen. Each
+/* The candidate search kernels (griddem_search.h): each kernel this processor runs finds exactly
+ * the pairs of a cluster's spheres and candidates of the documented test, in its order (run,
+ * candidate, sphere), on random polydisperse scenes with random clusters, runs and own runs, and
+ * on ties at the contact distance; spheres clearly inside or outside the contact distance are
+ * found or not whatever the rounding; nothing is written past the pairs; every kernel has one
+ * width (the same clusters); the widest kernel the processor runs is chosen. Each
  * of those checks runs twice: with every scene's spheres read as of any radii, and with scenes of
  * one radius marked so (same_radius), which the vector kernels test by another path.
  * griddem_touching_pairs with each kernel: the touching pairs of random polydisperse spheres binned
@@ -47,44 +48,44 @@ static griddem_spheres spheres(double reach)
   return sp;
 }
 
-/* The documented test, written out pair by pair (this file is built without contraction) */
-static void reference(double reach, int i0, int ni, int own, const int *lo, const int *hi, int nruns,
-                      int want[][NSPHERE], int *m)
+/* The documented test, written out pair by pair (this file is built without contraction), in
+ * the documented order: run by run, candidate by candidate, a candidate's spheres by k */
+static int reference(double reach, int i0, int ni, int own, const int *lo, const int *hi, int nruns, int *sphere,
+                     int *slot)
 {
-  for (int k = 0; k < ni; k++) {
-    const int i = i0 + k;
-    m[k] = 0;
-    for (int q = 0; q < nruns; q++)
-      for (int t = lo[q]; t < hi[q]; t++) {
+  int n = 0;
+  for (int q = 0; q < nruns; q++)
+    for (int t = lo[q]; t < hi[q]; t++)
+      for (int k = 0; k < ni; k++) {
+        const int i = i0 + k;
         if (own && q == 0 && t <= i) continue;
         const double dx = X[i] - X[t], dy = Y[i] - Y[t], dz = Z[i] - Z[t], s = (R[i] + reach) + R[t];
         const double d2 = (dx * dx + dy * dy) + dz * dz;
-        if (d2 < s * s) want[k][m[k]++] = t;
+        if (d2 < s * s) sphere[n] = k, slot[n++] = t;
       }
-  }
+  return n;
 }
 
-/* Run kernel fn on a cluster and its runs; check each sphere's slots against the reference's, and
- * that lanes past the cluster are left alone. Returns the slots found. */
+/* Room for a cluster's pairs, and a canary past what a kernel may write */
+#define MAX_PAIRS (GRIDDEM_CLUSTER_MAX * MAX_RUNS * MAX_RUN + GRIDDEM_CLUSTER_MAX * NSPHERE)
+
+/* Run kernel fn on a cluster and its runs; check its pairs against the reference's, in order, and
+ * that it writes nothing past them. Returns the pairs found. */
 static long compare(const char *name, griddem_touching_fn fn, double reach, int i0, int ni, int own, const int *lo,
                     const int *hi, int nruns)
 {
-  static int got[GRIDDEM_CLUSTER_MAX][NSPHERE], want[GRIDDEM_CLUSTER_MAX][NSPHERE];
-  int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX], m[GRIDDEM_CLUSTER_MAX];
-  for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = k < ni ? 0 : CANARY, got[k][0] = CANARY;
+  static int got_sphere[MAX_PAIRS + 1], got_slot[MAX_PAIRS + 1], want_sphere[MAX_PAIRS], want_slot[MAX_PAIRS];
+  const int m = reference(reach, i0, ni, own, lo, hi, nruns, want_sphere, want_slot);
+  got_sphere[m] = got_slot[m] = CANARY;
   const griddem_spheres sp = spheres(reach);
-  fn(&sp, reach, i0, ni, own, lo, hi, nruns, list, n);
-  reference(reach, i0, ni, own, lo, hi, nruns, want, m);
-  long found = 0;
-  for (int k = 0; k < ni; k++) {
-    CHECK(n[k] == m[k], "kernel %s: sphere %d of %d: %d slots, reference %d", name, k, ni, n[k], m[k]);
-    CHECK(memcmp(got[k], want[k], sizeof(int) * (size_t) (n[k] < m[k] ? n[k] : m[k])) == 0,
-          "kernel %s: sphere %d of %d: other slots or order", name, k, ni);
-    found += n[k];
-  }
-  for (int k = ni; k < GRIDDEM_CLUSTER_MAX; k++)
-    CHECK(n[k] == CANARY && got[k][0] == CANARY, "kernel %s wrote lane %d of a cluster of %d", name, k, ni);
-  return found;
+  griddem_cluster_hits hits = {got_sphere, got_slot, 0};
+  fn(&sp, reach, i0, ni, own, lo, hi, nruns, &hits);
+  CHECK(hits.n == m, "kernel %s: cluster of %d: %d pairs, reference %d", name, ni, hits.n, m);
+  const size_t same = sizeof(int) * (size_t) (hits.n < m ? hits.n : m);
+  CHECK(memcmp(got_sphere, want_sphere, same) == 0 && memcmp(got_slot, want_slot, same) == 0,
+        "kernel %s: cluster of %d: other pairs or order", name, ni);
+  CHECK(hits.n != m || (got_sphere[m] == CANARY && got_slot[m] == CANARY), "kernel %s wrote past its pairs", name);
+  return hits.n;
 }
 
 /* A random cluster (its width at most the kernel's) with random runs (0..MAX_RUN long, at random
@@ -203,17 +204,17 @@ static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int w
     const double d = 0.2 * (t % 2 ? 1.001 : 0.999), u = 2.0 * check_uniform() - 1.0, phi = 6.283185307179586 * check_uniform();
     X[t] = d * sqrt(1.0 - u * u) * cos(phi), Y[t] = d * sqrt(1.0 - u * u) * sin(phi), Z[t] = d * u;
   }
-  static int got[GRIDDEM_CLUSTER_MAX][NSPHERE];
-  int *list[GRIDDEM_CLUSTER_MAX], n[GRIDDEM_CLUSTER_MAX];
-  for (int k = 0; k < GRIDDEM_CLUSTER_MAX; k++) list[k] = got[k], n[k] = 0;
+  static int sphere[MAX_PAIRS], slot[MAX_PAIRS];
+  griddem_cluster_hits hits = {sphere, slot, 0};
   const griddem_spheres sp = spheres(0.0);
   const int lo0 = width, hi0 = NSPHERE;
-  fn(&sp, 0.0, 0, width, 0, &lo0, &hi0, 1, list, n);
+  fn(&sp, 0.0, 0, width, 0, &lo0, &hi0, 1, &hits);
   for (int k = 0; k < width; k++) {
-    int ok = n[k] == (NSPHERE - width) / 2;
-    for (int j = 0; ok && j < n[k]; j++) ok = got[k][j] % 2 == 0;
-    CHECK(ok, "kernel %s: sphere %d: %d found; those at 0.999 of the contact distance expected, none at 1.001", name,
-          k, n[k]);
+    int n = 0, ok = 1;
+    for (int j = 0; j < hits.n; j++)
+      if (sphere[j] == k) n++, ok &= slot[j] % 2 == 0;
+    CHECK(ok && n == (NSPHERE - width) / 2,
+          "kernel %s: sphere %d: %d found; those at 0.999 of the contact distance expected, none at 1.001", name, k, n);
   }
 }
 
@@ -295,7 +296,7 @@ int main(void)
       printf("kernel %s: not run by this processor\n", KERNELS[k]);
       continue;
     }
-    CHECK(width >= 1 && width <= GRIDDEM_CLUSTER_MAX, "kernel %s: width %d", KERNELS[k], width);
+    CHECK(width == GRIDDEM_CLUSTER_MAX, "kernel %s: width %d", KERNELS[k], width);
     const int failed = check_failed;
     for (mark_same_radius = 0; mark_same_radius < 2; mark_same_radius++) {
       marked_same_radius = 0;
