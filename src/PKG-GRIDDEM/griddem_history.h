@@ -300,7 +300,7 @@ static inline int griddem_history_write(griddem_history *h, griddem_history_over
                                         const double *v)
 {
   griddem_history_pool *p = &h->cur;
-  if (e < 0 && (e = griddem_history_append(p, row)) < 0)
+  if (GRIDDEM_RARELY(e < 0 && (e = griddem_history_append(p, row)) < 0))
     return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
   p->written[row]++;
   p->partner[e] = partner | h->mark;

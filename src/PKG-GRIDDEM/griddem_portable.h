@@ -11,6 +11,14 @@
 #define GRIDDEM_INLINE static inline
 #endif
 
+/* A condition that almost never holds (a fault, an exclusion, a full store): the compiler lays
+ * its branch out of the way of the loop around it */
+#if defined(__GNUC__)
+#define GRIDDEM_RARELY(c) __builtin_expect(!!(c), 0)
+#else
+#define GRIDDEM_RARELY(c) (c)
+#endif
+
 #include <math.h> /* and with it the C library's name (__GLIBC__) */
 
 /* A loop's function in a copy for AVX2 processors and one for any x86-64, chosen at load time (by

@@ -393,7 +393,7 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
 {
   const griddem_channels *ch = cx->ch;
   const griddem_model *m = cx->model;
-  if (rsq == 0.0) {
+  if (GRIDDEM_RARELY(rsq == 0.0)) {
     record_fault(cx->result, GRIDDEM_FAULT_COINCIDENT, ia, ib);
     return 0;
   }
@@ -463,8 +463,8 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
   if (track) {
-    if (griddem_history_write(cx->hist, sums->overflow, values, ia, cx->row_of[ia], entry_a, key_b,
-                              b_owned ? ib : -1, hv) != 0)
+    if (GRIDDEM_RARELY(griddem_history_write(cx->hist, sums->overflow, values, ia, cx->row_of[ia], entry_a, key_b,
+                                             b_owned ? ib : -1, hv) != 0))
       record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
@@ -613,7 +613,7 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   const griddem_pair_params *law_of_all = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
     const int ma = q->ma[k], mb = q->mb[k];
-    if (griddem_excluded_by_bits(both, apart, ma, mb) && l->rsq[k] != 0.0) {
+    if (GRIDDEM_RARELY(griddem_excluded_by_bits(both, apart, ma, mb) && l->rsq[k] != 0.0)) {
       q->kept[k] = 0;
       for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
       continue;
