@@ -80,20 +80,26 @@ static inline unsigned own_lanes(int o)
   return o < 0 ? 0u : OWN_LANES[o];
 }
 
+/* The lanes of candidate u that passed the float test (lanes: lane 2 k + j, sphere k), in lane
+ * order: those that passed it against the contact distance narrowed by the slack (sure; the test
+ * widens it by the slack) touch in double too (the float test's roundings move a distance by at
+ * most half the slack), the others are tested again in double */
+static inline void passed_lanes(const griddem_spheres *sp, double reach, int i0, int u, unsigned lanes,
+                                unsigned sure, griddem_cluster_hits *hits)
+{
+  for (; lanes; lanes &= lanes - 1) {
+    const int l = __builtin_ctz(lanes), k = l / 2;
+    if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, u)) hit(hits, k, u);
+  }
+}
+
 /* The lanes that passed the float test (bits; lane 2 k + j: sphere k, candidate t + j), candidate
- * t's (the even lanes) before t + 1's, each in lane order: those that passed it against the
- * contact distance narrowed by the slack (sure; the test widens it by the slack) touch in double
- * too (the float test's roundings move a distance by at most half the slack), the others are
- * tested again in double; candidate t + 1 past the run's end is left out. */
+ * t's (the even lanes) before t + 1's; candidate t + 1 past the run's end is left out */
 static inline void passed(const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned bits,
                           unsigned sure, griddem_cluster_hits *hits)
 {
-  if (t + 1 >= hi) bits &= 0x5555u;
-  for (int j = 0; j < 2; j++)
-    for (unsigned lanes = bits & (0x5555u << j); lanes; lanes &= lanes - 1) {
-      const int l = __builtin_ctz(lanes), k = l / 2;
-      if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, t + j)) hit(hits, k, t + j);
-    }
+  passed_lanes(sp, reach, i0, t, bits & 0x5555u, sure, hits);
+  if (t + 1 < hi) passed_lanes(sp, reach, i0, t + 1, bits & 0xaaaau, sure, hits);
 }
 
 /* run_ISA: one run against 8 spheres in 16 lanes (AVX2: two vectors; AVX-512: one), candidates t
