@@ -14,6 +14,16 @@ double griddem_search_slack(double coordinate_max, double rmax, double reach)
   return ldexp(coordinate_max + 2.0 * rmax + reach, -20);
 }
 
+void griddem_spheres_one_radius(griddem_spheres *sp, double reach)
+{
+  /* as the vector kernels sum a sphere's distances (in double, rounded to float) and add a
+     candidate's radius (in float) */
+  const double r = sp->r[0];
+  const float s = (float) ((r + reach) + (double) sp->slack) + (float) r;
+  const float sure = fmaxf((float) ((r + reach) - (double) sp->slack) + (float) r, 0.0f);
+  sp->same_radius = 1, sp->s2_same = s * s, sp->sure2_same = sure * sure;
+}
+
 /* The documented test of sphere i against candidate t */
 static inline int touches(const griddem_spheres *sp, double reach, int i, int t)
 {
@@ -115,7 +125,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * its contact distances to that radius squared (s2_same, sure2_same: one rounding more, which the
  * slack covers as it covers the others), d2 is compared with them, and no candidate's radius is
  * read. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS)              \
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS, LANES, BCAST) \
   __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
       const int same_radius, griddem_cluster_hits *hits)                                                     \
@@ -150,20 +160,22 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     if (first) run_##ISA(sp, reach, i0, 1, lo[0], hi[0], c, same_radius, hits);                               \
     for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, same_radius, hits);      \
   }                                                                                                           \
-  /* the cluster's runs, with its distances to one radius added where every sphere has it */                  \
-  __attribute__((target(TARGET), always_inline)) static inline void cluster_runs_##ISA(                      \
-      const griddem_spheres *sp, double reach, int i0, int own, const int *lo, const int *hi, int nruns,      \
-      cluster_##ISA *c, griddem_cluster_hits *hits)                                                           \
+  /* the cluster's lanes (LANES: a float lane per sphere as the kernel holds them; BCAST: one float
+     in every lane) and its runs; where every sphere has one radius, the distances squared that the
+     spheres marked hold */                                                                                  \
+  __attribute__((target(TARGET))) static void touching_##ISA(const griddem_spheres *sp, double reach, int i0,  \
+                                                           int ni, int own, const int *lo, const int *hi,     \
+                                                           int nruns, griddem_cluster_hits *hits)             \
   {                                                                                                           \
+    const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);                                              \
     if (sp->same_radius) {                                                                                    \
-      double pr;                                                                                              \
-      const float r2[2] = {sp->rf[i0], sp->rf[i0]};                                                           \
-      memcpy(&pr, r2, 8);                                                                                     \
-      const V s = ADD(c->s, B(pr)), sure = MAX(ADD(c->sure, B(pr)), ZERO);                                    \
-      c->s2_same = MUL(s, s), c->sure2_same = MUL(sure, sure);                                                \
-      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 1, hits);                                              \
-    } else                                                                                                    \
-      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, c, 0, hits);                                              \
+      const cluster_##ISA c = {LANES(l.x), LANES(l.y), LANES(l.z), ZERO, ZERO, BCAST(sp->s2_same),            \
+                               BCAST(sp->sure2_same)};                                                        \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, &c, 1, hits);                                             \
+    } else {                                                                                                  \
+      const cluster_##ISA c = {LANES(l.x), LANES(l.y), LANES(l.z), LANES(l.s), LANES(l.sure), ZERO, ZERO};   \
+      runs_##ISA(sp, reach, i0, own, lo, hi, nruns, &c, 0, hits);                                             \
+    }                                                                                                         \
   }
 
 /* AVX2's 16 lanes as two vectors (lo: lanes 0-7, spheres 0-3; hi: lanes 8-15, spheres 4-7), so
@@ -214,46 +226,29 @@ typedef struct cluster_avx512 {
   __m512 x, y, z, s, sure, s2_same, sure2_same;
 } cluster_avx512;
 
-GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
-                   avx2x2_max, avx2x2_zero(), avx2x2_signs, 8)
-#define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
-#define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
-GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
-                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE, 8)
-
-/* Sphere k's lanes 2 k and 2 k + 1 of a cluster's 8 floats v, as the two AVX2 vectors hold them */
+/* Sphere k's lanes 2 k and 2 k + 1 of a cluster's 8 floats v, as the two AVX2 vectors hold them;
+ * one float in every lane */
 __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_lanes(__m256 v)
 {
   const avx2x2 r = {_mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3)),
                     _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7))};
   return r;
 }
-
-__attribute__((target("avx2,fma"))) static void touching_avx2(const griddem_spheres *sp, double reach, int i0, int ni,
-                                                          int own, const int *lo, const int *hi, int nruns,
-                                                          griddem_cluster_hits *hits)
+__attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_one(float f)
 {
-  const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
-  cluster_avx2 c = {avx2x2_lanes(l.x), avx2x2_lanes(l.y), avx2x2_lanes(l.z), avx2x2_lanes(l.s),
-                    avx2x2_lanes(l.sure), avx2x2_zero(), avx2x2_zero()};
-  cluster_runs_avx2(sp, reach, i0, own, lo, hi, nruns, &c, hits);
+  const avx2x2 r = {_mm256_set1_ps(f), _mm256_set1_ps(f)};
+  return r;
 }
 
-__attribute__((target("avx512f"))) static void touching_avx512(const griddem_spheres *sp, double reach, int i0,
-                                                               int ni, int own, const int *lo, const int *hi,
-                                                               int nruns, griddem_cluster_hits *hits)
-{
-  const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);
-  const __m512i pairs = _mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
-  cluster_avx512 c = {_mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.x)),
-                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.y)),
-                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.z)),
-                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.s)),
-                      _mm512_permutexvar_ps(pairs, _mm512_castps256_ps512(l.sure)),
-                      _mm512_setzero_ps(),
-                      _mm512_setzero_ps()};
-  cluster_runs_avx512(sp, reach, i0, own, lo, hi, nruns, &c, hits);
-}
+GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
+                   avx2x2_max, avx2x2_zero(), avx2x2_signs, 8, avx2x2_lanes, avx2x2_one)
+#define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
+#define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
+#define AVX512_LANES(v) \
+  _mm512_permutexvar_ps(_mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7), _mm512_castps256_ps512(v))
+GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
+                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE, 8,
+                   AVX512_LANES, _mm512_set1_ps)
 #endif
 
 static const struct {

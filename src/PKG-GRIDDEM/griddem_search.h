@@ -36,13 +36,18 @@ GRIDDEM_INLINE int griddem_search_touches(const double *dx, double ri, double re
 /* The spheres in slot order: centre and radius of each slot; the same rounded to float (each
  * array readable GRIDDEM_SEARCH_PAD slots past the last), and the slack of the float test, at
  * least griddem_search_slack's for these spheres; same_radius: nonzero only where every slot has
- * one radius (the vector kernels then read no candidate's radius). */
+ * one radius (griddem_spheres_one_radius; the vector kernels then read no radius but s2_same and
+ * sure2_same, the float test's contact distances widened and narrowed by the slack, squared). */
 typedef struct griddem_spheres {
   const double *x, *y, *z, *r;
   const float *xf, *yf, *zf, *rf;
   float slack;
   int same_radius;
+  float s2_same, sure2_same;
 } griddem_spheres;
+
+/* Mark spheres of one radius so, for a search within reach (their slack set) */
+void griddem_spheres_one_radius(griddem_spheres *sp, double reach);
 
 /* Slots past the last that the vector kernels read (and never use) */
 #define GRIDDEM_SEARCH_PAD 8

@@ -1244,13 +1244,15 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
 {
   double rmax = 0.0;
   for (int kc = 0; kc < ncls; kc++) rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax;
-  const float slack = (float) griddem_search_slack(ch->extent, rmax, model->reach_extra);
+  griddem_spheres spheres = {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf,
+                             (float) griddem_search_slack(ch->extent, rmax, model->reach_extra), 0, 0.0f, 0.0f};
+  if (ch->same_radius) griddem_spheres_one_radius(&spheres, model->reach_extra);
   const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
                             (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
                                       excl->group_both_bits))
                                 ? excl : NULL,
                             dt, history_update, hist, row_of, f, torque, vatom, tally, result,
-                            {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf, slack, ch->same_radius},
+                            spheres,
                             griddem_touching(), griddem_touching_width(),
                             batch_gather()};
   memset(result, 0, sizeof(*result));

@@ -43,7 +43,7 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
   }
   const griddem_spheres sp = {slots, slots + n, slots + 2 * (size_t) n, slots + 3 * (size_t) n,
                               rounded, rounded + nf, rounded + 2 * nf, rounded + 3 * nf,
-                              (float) griddem_search_slack(extent, rmax, 0.0), 0};
+                              (float) griddem_search_slack(extent, rmax, 0.0), 0, 0.0f, 0.0f};
   int *found = NULL;    /* room for the pairs of a cluster: their spheres, then their slots */
   long found_room = 0;
   int status = 0;

@@ -42,8 +42,8 @@ static griddem_spheres spheres(double reach)
     extent = fmax(extent, fmax(fabs(X[t]), fmax(fabs(Y[t]), fabs(Z[t])))), rmax = fmax(rmax, R[t]);
     same &= R[t] == R[0];
   }
-  const griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent, rmax, reach),
-                              same && mark_same_radius};
+  griddem_spheres sp = {X, Y, Z, R, XF, YF, ZF, RF, (float) griddem_search_slack(extent, rmax, reach), 0, 0.0f, 0.0f};
+  if (same && mark_same_radius) griddem_spheres_one_radius(&sp, reach);
   marked_same_radius += sp.same_radius;
   return sp;
 }
