@@ -116,7 +116,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * and t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
  * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c and
  * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
- * the lanes whose sign bit is set as bits). d2 - s s in one rounding is negative exactly where
+ * the lanes whose sign bit is set as bits; ANY_SIGN: whether there is one). d2 - s s in one rounding is negative exactly where
  * d2 < s s, and never -0. The narrowed distance is negative where the slack exceeds the contact
  * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run
  * (own_run, a constant of each inlined copy), the candidates within the cluster (t < i0 + NS, NS
@@ -125,31 +125,53 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * its contact distances to that radius squared (s2_same, sure2_same: one rounding more, which the
  * slack covers as it covers the others), d2 is compared with them, and no candidate's radius is
  * read. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, NS, LANES, BCAST) \
-  __attribute__((target(TARGET), always_inline)) static inline void test_##ISA(                              \
-      const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, const cluster_##ISA *c,  \
-      const int same_radius, griddem_cluster_hits *hits)                                                     \
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, ANY_SIGN, NS, LANES, \
+                           BCAST)                                                                             \
+  /* the float test of candidates t and t + 1: d2 - s s by lane (d2 the squared distances) */                  \
+  __attribute__((target(TARGET), always_inline)) static inline V test_##ISA(                                 \
+      const griddem_spheres *sp, int t, const cluster_##ISA *c, const int same_radius, V *d2)                 \
   {                                                                                                           \
     double px, py, pz, pr = 0.0;                                                                              \
     memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
     if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
-    const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                              \
-    const V d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx))), s = ADD(c->s, B(pr));                                \
-    const unsigned bits = (unsigned) SIGNS(same_radius ? SUB(d2, c->s2_same) : FNMA(s, s, d2)) & mask;        \
-    if (__builtin_expect(!bits, 1)) return; /* most tests: the hit path kept out of the loop's registers */   \
+    const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz)), s = ADD(c->s, B(pr));        \
+    *d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx)));                                                              \
+    return same_radius ? SUB(*d2, c->s2_same) : FNMA(s, s, *d2);                                             \
+  }                                                                                                           \
+  /* the pairs of a test that some lanes of mask passed (diff, d2: test_ISA's) */                             \
+  __attribute__((target(TARGET), always_inline)) static inline void hits_of_##ISA(                           \
+      const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, V diff, V d2,            \
+      const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
+  {                                                                                                           \
+    const unsigned bits = (unsigned) SIGNS(diff) & mask;                                                      \
+    if (!bits) return;                                                                                        \
+    double pr = 0.0;                                                                                          \
+    if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
     const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                            \
     const V narrow = same_radius ? SUB(d2, c->sure2_same) : FNMA(sure, sure, d2);                             \
     passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), hits);                                       \
   }                                                                                                           \
+  /* the own run's head (own_run, a constant) with its lanes masked, then the tests of the rest, each         \
+     stretch of tests that pass no lane in a loop of its own (most: the hit path kept out of its way) */      \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi,                     \
       const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
   {                                                                                                           \
     int t = lo;                                                                                               \
+    V d2, diff;                                                                                               \
     if (own_run)                                                                                              \
-      for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2)                                    \
-        test_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), c, same_radius, hits);                            \
-    for (; t < hi; t += 2) test_##ISA(sp, reach, i0, t, hi, ~0u, c, same_radius, hits);                       \
+      for (const int head = hi < i0 + NS ? hi : i0 + NS; t < head; t += 2) {                                  \
+        diff = test_##ISA(sp, t, c, same_radius, &d2);                                                        \
+        hits_of_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), diff, d2, c, same_radius, hits);               \
+      }                                                                                                       \
+    for (; t < hi; t += 2) {                                                                                  \
+      for (;; t += 2) {                                                                                       \
+        if (t >= hi) return;                                                                                  \
+        diff = test_##ISA(sp, t, c, same_radius, &d2);                                                        \
+        if (ANY_SIGN(diff)) break;                                                                            \
+      }                                                                                                       \
+      hits_of_##ISA(sp, reach, i0, t, hi, ~0u, diff, d2, c, same_radius, hits);                               \
+    }                                                                                                         \
   }                                                                                                           \
   /* the runs [lo[q], hi[q]), the own one first (own: run 0), one inlined copy of run_ISA each */             \
   __attribute__((target(TARGET), always_inline)) static inline void runs_##ISA(                              \
@@ -217,6 +239,11 @@ __attribute__((target("avx2,fma"), always_inline)) static inline unsigned avx2x2
 {
   return (unsigned) _mm256_movemask_ps(a.lo) | (unsigned) _mm256_movemask_ps(a.hi) << 8;
 }
+__attribute__((target("avx2,fma"), always_inline)) static inline int avx2x2_any_sign(avx2x2 a)
+{
+  const __m256 either = _mm256_or_ps(a.lo, a.hi);
+  return !_mm256_testz_ps(either, either);
+}
 
 /* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
 typedef struct cluster_avx2 {
@@ -241,14 +268,14 @@ __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_o
 }
 
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
-                   avx2x2_max, avx2x2_zero(), avx2x2_signs, 8, avx2x2_lanes, avx2x2_one)
+                   avx2x2_max, avx2x2_zero(), avx2x2_signs, avx2x2_any_sign, 8, avx2x2_lanes, avx2x2_one)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
 #define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
 #define AVX512_LANES(v) \
   _mm512_permutexvar_ps(_mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7), _mm512_castps256_ps512(v))
 GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
-                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE, 8,
-                   AVX512_LANES, _mm512_set1_ps)
+                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE,
+                   AVX512_NEGATIVE, 8, AVX512_LANES, _mm512_set1_ps)
 #endif
 
 static const struct {
