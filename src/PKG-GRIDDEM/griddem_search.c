@@ -53,21 +53,28 @@ static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int
 #define GRIDDEM_SEARCH_X86 1
 #include <immintrin.h>
 
-/* A cluster's spheres (up to 8) as float lanes: centres, radius + reach + slack (s) and radius +
- * reach - slack (sure), each summed in double first; past the cluster, centres at +infinity and
- * zero distances, where every test gives +infinity and fails (never NaN: a candidate is finite).
- * Reads the float copies up to slot i0 + 7 (within their padding), the doubles only within the
- * cluster. */
+/* A cluster's spheres (up to 8) as float lanes: centres, and where radii (a constant) radius +
+ * reach + slack (s) and radius + reach - slack (sure), each summed in double first; past the
+ * cluster, centres at +infinity and zero distances, where every test gives +infinity and fails
+ * (never NaN: a candidate is finite). Reads the float copies up to slot i0 + 7 (within their
+ * padding), the doubles only within the cluster. */
 typedef struct cluster_lanes {
   __m256 x, y, z, s, sure;
 } cluster_lanes;
 
 __attribute__((target("avx2"), always_inline)) static inline cluster_lanes cluster_lanes_of(const griddem_spheres *sp,
                                                                                              double reach, int i0,
-                                                                                             int ni)
+                                                                                             int ni, const int radii)
 {
   const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(ni), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   const __m256 far = _mm256_set1_ps(INFINITY), on = _mm256_castsi256_ps(live);
+  if (!radii) {    /* the centres alone */
+    const cluster_lanes c = {_mm256_blendv_ps(far, _mm256_loadu_ps(sp->xf + i0), on),
+                             _mm256_blendv_ps(far, _mm256_loadu_ps(sp->yf + i0), on),
+                             _mm256_blendv_ps(far, _mm256_loadu_ps(sp->zf + i0), on), _mm256_setzero_ps(),
+                             _mm256_setzero_ps()};
+    return c;
+  }
   const __m256d add = _mm256_set1_pd(reach), slack = _mm256_set1_pd((double) sp->slack);
   const __m256d r0 = _mm256_maskload_pd(sp->r + i0, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live))),
                 r1 = _mm256_maskload_pd(sp->r + i0 + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1)));
@@ -189,12 +196,13 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
                                                            int ni, int own, const int *lo, const int *hi,     \
                                                            int nruns, griddem_cluster_hits *hits)             \
   {                                                                                                           \
-    const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni);                                              \
     if (sp->same_radius) {                                                                                    \
+      const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni, 0);                                         \
       const cluster_##ISA c = {LANES(l.x), LANES(l.y), LANES(l.z), ZERO, ZERO, BCAST(sp->s2_same),            \
                                BCAST(sp->sure2_same)};                                                        \
       runs_##ISA(sp, reach, i0, own, lo, hi, nruns, &c, 1, hits);                                             \
     } else {                                                                                                  \
+      const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni, 1);                                         \
       const cluster_##ISA c = {LANES(l.x), LANES(l.y), LANES(l.z), LANES(l.s), LANES(l.sure), ZERO, ZERO};   \
       runs_##ISA(sp, reach, i0, own, lo, hi, nruns, &c, 0, hits);                                             \
     }                                                                                                         \
