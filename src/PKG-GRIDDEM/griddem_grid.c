@@ -385,7 +385,7 @@ static int move_point(griddem_bins *b, int i, long from, long to, const double *
 
 /* i0 where the cells of some of points i0 .. i1 - 1 differ in a and b, else i1 (compared in
  * vector lanes, without a branch per point) */
-static int differing(const long *restrict a, const long *restrict b, int i0, int i1)
+GRIDDEM_VECTOR_COPIES static int differing(const long *restrict a, const long *restrict b, int i0, int i1)
 {
   long differ = 0;
   for (int i = i0; i < i1; i++) differ |= a[i] ^ b[i];
