@@ -286,7 +286,7 @@ static inline void copy_entries(const griddem_history_pool *from, long a, gridde
 
 /* Whether some of rows r0 .. r1 - 1 hold entries the sweep did not write (compared in vector
  * lanes, without a branch per row) */
-static int some_unwritten(const int *restrict count, const int *restrict written, int r0, int r1)
+GRIDDEM_VECTOR_COPIES static int some_unwritten(const int *restrict count, const int *restrict written, int r0, int r1)
 {
   int differ = 0;
   for (int r = r0; r < r1; r++) differ |= count[r] ^ written[r];
