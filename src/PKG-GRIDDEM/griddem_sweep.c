@@ -293,6 +293,7 @@ typedef struct sweep_context {
   const griddem_model *model;
   int law;               /* enum sweep_law */
   const griddem_exclusions *excl;
+  int both_bits, apart_bits;    /* excl's group bits, where they are all it excludes by (else 0) */
   double dt;
   int history_update;
   griddem_history *hist;
@@ -316,6 +317,7 @@ typedef struct contact_batch {
   int a[GRIDDEM_CLASSIC_BATCH], b[GRIDDEM_CLASSIC_BATCH], ia[GRIDDEM_CLASSIC_BATCH], ib[GRIDDEM_CLASSIC_BATCH];
   int type_a[GRIDDEM_CLASSIC_BATCH], type_b[GRIDDEM_CLASSIC_BATCH];
   int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
+  int excluded[GRIDDEM_CLASSIC_BATCH];    /* by the sweep's group-bit exclusions (excluded_bits) */
   int64_t key_b[GRIDDEM_CLASSIC_BATCH], key_a[GRIDDEM_CLASSIC_BATCH];    /* b seen from a, a from b */
   long entry_a[GRIDDEM_CLASSIC_BATCH], entry_b[GRIDDEM_CLASSIC_BATCH];  /* their history entries */
   int kept[GRIDDEM_CLASSIC_BATCH];
@@ -517,6 +519,7 @@ static void gather_plain(const sweep_context *cx, contact_batch *q)
     l->mi[k] = p->rmass[ia], l->mj[k] = p->rmass[ib];
     q->type_a[k] = p->type[ia], q->type_b[k] = p->type[ib], q->ma[k] = p->mask[ia], q->mb[k] = p->mask[ib];
     l->frozen_i[k] = (q->ma[k] & p->frozen_bit) != 0, l->frozen_j[k] = (q->mb[k] & p->frozen_bit) != 0;
+    q->excluded[k] = griddem_excluded_by_bits(cx->both_bits, cx->apart_bits, q->ma[k], q->mb[k]);
     q->key_b[k] = contact_key(ch, a, b), q->key_a[k] = contact_key(ch, b, a);
   }
 }
@@ -544,6 +547,10 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
                      _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(ma, frozen), none), one));
     _mm_storeu_si128((__m128i *) (l->frozen_j + k),
                      _mm_andnot_si128(_mm_cmpeq_epi32(_mm_and_si128(mb, frozen), none), one));
+    const __m128i both = _mm_and_si128(_mm_and_si128(ma, mb), _mm_set1_epi32(cx->both_bits));
+    const __m128i apart = _mm_and_si128(_mm_or_si128(ma, mb), _mm_set1_epi32(cx->apart_bits));
+    _mm_storeu_si128((__m128i *) (q->excluded + k),
+                     _mm_andnot_si128(_mm_cmpeq_epi32(_mm_or_si128(both, apart), none), one));
     const __m256i ia3 = first_of_three(ia4), ib3 = first_of_three(ib4);
     const __m256d d0 = _mm256_sub_pd(_mm256_i32gather_pd(ch->x, a, 8), _mm256_i32gather_pd(ch->x, b, 8));
     const __m256d d1 = _mm256_sub_pd(_mm256_i32gather_pd(ch->y, a, 8), _mm256_i32gather_pd(ch->y, b, 8));
@@ -609,11 +616,10 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
      their bits at hand; a coincident pair still goes on to pair_begin's fault */
   const griddem_exclusions *excl = cx->excl;
   const int by_bits = excl && griddem_exclusions_by_bits(excl);
-  const int both = by_bits ? excl->both_bit | excl->group_both_bits : 0, apart = by_bits ? excl->apart_bit : 0;
   const griddem_pair_params *law_of_all = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
     const int ma = q->ma[k], mb = q->mb[k];
-    if (GRIDDEM_RARELY(griddem_excluded_by_bits(both, apart, ma, mb) && l->rsq[k] != 0.0)) {
+    if (GRIDDEM_RARELY(q->excluded[k] && l->rsq[k] != 0.0)) {
       q->kept[k] = 0;
       for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
       continue;
@@ -1247,10 +1253,15 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
   griddem_spheres spheres = {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf,
                              (float) griddem_search_slack(ch->extent, rmax, model->reach_extra), 0, 0.0f, 0.0f};
   if (ch->same_radius) griddem_spheres_one_radius(&spheres, model->reach_extra);
-  const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update),
-                            (excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
-                                      excl->group_both_bits))
-                                ? excl : NULL,
+  const griddem_exclusions *excluding =
+      excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||
+               excl->group_both_bits)
+          ? excl
+          : NULL;
+  const int by_bits = excluding && griddem_exclusions_by_bits(excluding);
+  const sweep_context cx = {order, ch, nlocal, model, sweep_law_of(model, hist, history_update), excluding,
+                            by_bits ? excluding->both_bit | excluding->group_both_bits : 0,
+                            by_bits ? excluding->apart_bit : 0,
                             dt, history_update, hist, row_of, f, torque, vatom, tally, result,
                             spheres,
                             griddem_touching(), griddem_touching_width(),
