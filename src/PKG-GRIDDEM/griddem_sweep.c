@@ -428,24 +428,25 @@ SWEEP_SPECIALIZED void stored_values(const sweep_context *cx, const griddem_pair
                            : 0.0;
 }
 
-/* v += w and v -= w for three doubles, element by element (the first two in one SSE2 operation) */
-static inline void add3(double *v, const double *w)
+/* v += w and v -= w for three doubles w[0], w[stride], w[2 stride] (stride: a constant of each
+ * inlined copy, 1 or a batch's lanes), the first two in one SSE2 operation */
+static inline void add3(double *v, const double *w, const int stride)
 {
 #ifdef __SSE2__
-  _mm_storeu_pd(v, _mm_add_pd(_mm_loadu_pd(v), _mm_loadu_pd(w)));
-  v[2] += w[2];
+  _mm_storeu_pd(v, _mm_add_pd(_mm_loadu_pd(v), stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride)));
+  v[2] += w[2 * stride];
 #else
-  for (int d = 0; d < 3; d++) v[d] += w[d];
+  for (int d = 0; d < 3; d++) v[d] += w[d * stride];
 #endif
 }
 
-static inline void subtract3(double *v, const double *w)
+static inline void subtract3(double *v, const double *w, const int stride)
 {
 #ifdef __SSE2__
-  _mm_storeu_pd(v, _mm_sub_pd(_mm_loadu_pd(v), _mm_loadu_pd(w)));
-  v[2] -= w[2];
+  _mm_storeu_pd(v, _mm_sub_pd(_mm_loadu_pd(v), stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride)));
+  v[2] -= w[2 * stride];
 #else
-  for (int d = 0; d < 3; d++) v[d] -= w[d];
+  for (int d = 0; d < 3; d++) v[d] -= w[d * stride];
 #endif
 }
 
@@ -459,8 +460,9 @@ static inline void subtract3(double *v, const double *w)
 SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib,
                                 int64_t key_b, long entry_a, const double *dx,
                                 const double *hv, const double *fc,
-                                const double *ta, const double *tb, double energy, const int heat, double heat_into_a,
-                                const int track, const int values, const int virial, const int with_energy)
+                                const double *ta, const double *tb, const int stride, double energy, const int heat,
+                                double heat_into_a, const int track, const int values, const int virial,
+                                const int with_energy)
 {
   griddem_channels *ch = cx->ch;
   const int b_owned = ib < cx->nlocal;
@@ -470,8 +472,8 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
       record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
-  add3(cx->f + 3 * (size_t) ia, fc), add3(cx->torque + 3 * (size_t) ia, ta);
-  if (b_owned) subtract3(cx->f + 3 * (size_t) ib, fc), add3(cx->torque + 3 * (size_t) ib, tb);
+  add3(cx->f + 3 * (size_t) ia, fc, stride), add3(cx->torque + 3 * (size_t) ia, ta, stride);
+  if (b_owned) subtract3(cx->f + 3 * (size_t) ib, fc, stride), add3(cx->torque + 3 * (size_t) ib, tb, stride);
   ch->ncontact[a]++;
   if (b_owned) ch->ncontact[b]++;
   if (heat) {
@@ -483,7 +485,8 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   const double share = b_owned ? 1.0 : 0.5;
   if (with_energy) sums->energy += share * energy;
   if (!virial) return;
-  const double w[6] = {dx[0] * fc[0], dx[1] * fc[1], dx[2] * fc[2], dx[0] * fc[1], dx[0] * fc[2], dx[1] * fc[2]};
+  const double x[3] = {dx[0], dx[stride], dx[2 * stride]}, y[3] = {fc[0], fc[stride], fc[2 * stride]};
+  const double w[6] = {x[0] * y[0], x[1] * y[1], x[2] * y[2], x[0] * y[1], x[0] * y[2], x[1] * y[2]};
   for (int k = 0; k < 6; k++) sums->virial[k] += share * w[k];
   if (cx->vatom) {
     double *va = cx->vatom + 6 * (size_t) ia;
@@ -596,11 +599,10 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
   const griddem_classic_batch *l = &q->lanes;
   for (int k = 0; k < l->n; k++) {
     if (!q->kept[k]) continue;
-    const double dx[3] = {l->dx[0][k], l->dx[1][k], l->dx[2][k]}, hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
-    const double fc[3] = {l->f[0][k], l->f[1][k], l->f[2][k]}, ta[3] = {l->ti[0][k], l->ti[1][k], l->ti[2][k]};
-    const double tb[3] = {l->tj[0][k], l->tj[1][k], l->tj[2][k]};
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], dx, hv, fc, ta, tb,
-             energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial, energy);
+    const double hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k], hv, &l->f[0][k],
+             &l->ti[0][k], &l->tj[0][k], GRIDDEM_CLASSIC_BATCH, energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial,
+             energy);
   }
 }
 
@@ -687,7 +689,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   const double energy = body == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
                         : body == CLASSIC_HOOKE ? classic_hooke(law, &c, hv, fc, ta, tb)
                                                 : composed_law(body, law, &c, hv, fc, ta, tb);
-  pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, energy, heat, heat ? c.heat : 0.0, track,
+  pair_end(cx, sums, a, b, ia, ib, key_b, entry_a, c.dx, hv, fc, ta, tb, 1, energy, heat, heat ? c.heat : 0.0, track,
            track ? (values >= 0 ? values : cx->hist->values) : 0, (cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom,
            (cx->tally & GRIDDEM_TALLY_ENERGY) != 0);
 }
