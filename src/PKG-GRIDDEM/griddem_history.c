@@ -256,7 +256,7 @@ int griddem_history_begin(griddem_history *h, int nthreads)
 }
 
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int particle, int64_t partner,
-                                    int owned_partner, const double *v)
+                                    int owned_partner, const double *v, int stride)
 {
   long cap = o->cap;
   if (ensure((void **) &o->particle, &cap, o->n + 1, sizeof(int)) != 0) return -1;
@@ -269,7 +269,9 @@ int griddem_history_overflow_append(griddem_history_overflow *o, int values, int
   o->cap = cap;
   o->particle[o->n] = particle;
   o->owned_partner[o->n] = owned_partner;
-  griddem_history_put(o->partner, o->value, values, o->n++, partner, v);
+  o->partner[o->n] = partner;
+  for (int k = 0; k < values; k++) o->value[(size_t) values * o->n + k] = v[k * stride];
+  o->n++;
   return 0;
 }
 
@@ -507,7 +509,7 @@ int griddem_history_mirror(griddem_history *h, int nlocal, int *row_of, const vo
       if (f >= 0) {
         griddem_history_put(p->partner, p->value, nv, f, mirrored | h->mark, v);
         p->owned_partner[f] = -1;
-      } else if (griddem_history_overflow_append(o, nv, j, mirrored, -1, v) != 0)
+      } else if (griddem_history_overflow_append(o, nv, j, mirrored, -1, v, 1) != 0)
         failed = 1;
     }
   }

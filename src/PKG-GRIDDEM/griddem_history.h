@@ -280,9 +280,10 @@ int griddem_history_set_values(griddem_history *h, int values);
 int griddem_history_begin(griddem_history *h, int nthreads);
 int griddem_history_end(griddem_history *h, int nslot, const int *order, int nlocal, int *row_of);
 
-/* An entry beyond its row's room, kept in the thread's overflow list. 0, or -1 without memory. */
+/* An entry beyond its row's room (its values stride doubles apart at v), kept in the thread's
+ * overflow list. 0, or -1 without memory. */
 int griddem_history_overflow_append(griddem_history_overflow *o, int values, int particle, int64_t partner,
-                                    int owned_partner, const double *v);
+                                    int owned_partner, const double *v, int stride);
 
 /* The next entry of row (-1: none) of pool p, counted in it, or -1 where its room is full */
 static inline long griddem_history_append(griddem_history_pool *p, int row)
@@ -294,18 +295,18 @@ static inline long griddem_history_append(griddem_history_pool *p, int row)
  * index if it is owned, else -1): at entry e where the step's find found it in the particle's
  * row, else appended to that row (row_of[particle], -1: none) or to the thread's overflow list.
  * values is h->values, passed so that a sweep compiled for one history size copies a constant
- * count. 0, or -1 without memory. */
+ * count; v's values lie stride doubles apart. 0, or -1 without memory. */
 static inline int griddem_history_write(griddem_history *h, griddem_history_overflow *overflow, int values,
                                         int particle, int row, long e, int64_t partner, int owned_partner,
-                                        const double *v)
+                                        const double *v, int stride)
 {
   griddem_history_pool *p = &h->cur;
   if (GRIDDEM_RARELY(e < 0 && (e = griddem_history_append(p, row)) < 0))
-    return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v);
+    return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v, stride);
   p->written[row]++;
   p->partner[e] = partner | h->mark;
   p->owned_partner[e] = owned_partner;
-  for (int k = 0; k < values; k++) p->value[(size_t) values * e + k] = v[k];
+  for (int k = 0; k < values; k++) p->value[(size_t) values * e + k] = v[k * stride];
   return 0;
 }
 

@@ -468,7 +468,7 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   const int b_owned = ib < cx->nlocal;
   if (track) {
     if (GRIDDEM_RARELY(griddem_history_write(cx->hist, sums->overflow, values, ia, cx->row_of[ia], entry_a, key_b,
-                                             b_owned ? ib : -1, hv) != 0))
+                                             b_owned ? ib : -1, hv, stride) != 0))
       record_fault(cx->result, GRIDDEM_FAULT_MEMORY, ia, ib);
   }
 
@@ -599,8 +599,7 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
   const griddem_classic_batch *l = &q->lanes;
   for (int k = 0; k < l->n; k++) {
     if (!q->kept[k]) continue;
-    const double hv[3] = {l->shear[0][k], l->shear[1][k], l->shear[2][k]};
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k], hv, &l->f[0][k],
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k], &l->shear[0][k], &l->f[0][k],
              &l->ti[0][k], &l->tj[0][k], GRIDDEM_CLASSIC_BATCH, energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial,
              energy);
   }

@@ -44,7 +44,7 @@ static void check_threaded_end(void)
       for (int e = 0; e < r % 7; e += 2) {
         const double v[3] = {10.0 * r + e, 0.0, 0.0};
         griddem_history_write(&h, &h.overflow[0], 3, r, row_of[r], griddem_history_find_entry(&h, row_of[r], 100 + e),
-                              100 + e, -1, v);
+                              100 + e, -1, v, 1);
       }
     CHECK(griddem_history_end(&h, NROW, order, NROW, row_of) == 0, "end");
     for (int r = 0; r < NROW; r++)
@@ -214,16 +214,20 @@ int main(void)
   CHECK(griddem_history_begin(&h, 2) == 0, "begin");
   const int64_t big = 9007199254740993; /* 2^53 + 1: not a double */
   double v[6] = {1, 2, 3, 4, 5, 6};
-  int failed = griddem_history_write(&h, &h.overflow[0], h.values, 0, 0, griddem_history_find_entry(&h, 0, 9), 9, -1, v);
+  int failed = griddem_history_write(&h, &h.overflow[0], h.values, 0, 0, griddem_history_find_entry(&h, 0, 9), 9, -1, v, 1);
   for (int k = 0; k < 4; k++) {
     v[0] = 10 + k;
     failed |= griddem_history_write(&h, &h.overflow[k % 2], h.values, 0, 0, griddem_history_find_entry(&h, 0, big + k),
-                                    big + k, -1, v);
+                                    big + k, -1, v, 1);
   }
-  v[0] = -1;
-  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 2, -1, -1, 42, -1, v);
-  v[0] = 8, v[1] = 0.5;
-  failed |= griddem_history_write(&h, &h.overflow[1], h.values, 1, 1, griddem_history_find_entry(&h, 1, 5), 5, 0, v);
+  /* these two read their values two doubles apart, as the sweep reads a batch's lanes (between
+     them, values no contact has) */
+  double lanes[12];
+  for (int k = 0; k < 6; k++) lanes[2 * k] = v[k], lanes[2 * k + 1] = 1e300;
+  lanes[0] = -1;
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 2, -1, -1, 42, -1, lanes, 2);
+  lanes[0] = 8, lanes[2] = 0.5;
+  failed |= griddem_history_write(&h, &h.overflow[1], h.values, 1, 1, griddem_history_find_entry(&h, 1, 5), 5, 0, lanes, 2);
   CHECK(!failed && h.overflow[0].n + h.overflow[1].n == 5, "five entries overflowed: %ld", h.overflow[0].n + h.overflow[1].n);
   CHECK(griddem_history_end(&h, 3, order, 3, row_of) == 0, "end");
   /* row 0 moved with room 7, particle 2's new row 3: more room moved than the 7 contacts, so the
@@ -242,13 +246,15 @@ int main(void)
     CHECK(m[7 * (q + 1)] == (double) (big + k) && m[7 * (q + 1) + 1] == 10 + k, "new contact %d in place %d", k, q + 1);
   }
   CHECK(!griddem_history_find(&h, r0, 7), "the contact that ended is gone");
-  CHECK(griddem_history_find(&h, r2, 42)[0] == -1 && griddem_history_find(&h, r1, 5)[1] == 0.5, "other rows");
+  CHECK(griddem_history_find(&h, r2, 42)[0] == -1 && griddem_history_find(&h, r2, 42)[1] == 2 &&
+            griddem_history_find(&h, r1, 5)[1] == 0.5,
+        "other rows");
   /* a layout gives each row the margin to spare: a new contact next step stays in it */
   CHECK(griddem_history_begin(&h, 1) == 0, "begin again");
   for (int k = 0; k < 4; k++)
     failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, r0, griddem_history_find_entry(&h, r0, big + k),
-                                    big + k, -1, v);
-  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, r0, -1, 77, -1, v);
+                                    big + k, -1, v, 1);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, r0, -1, 77, -1, v, 1);
   CHECK(!failed && h.overflow[0].n == 0, "the laid out row holds a new contact");
   CHECK(griddem_history_end(&h, 3, order, 3, row_of) == 0 && row_of[0] == r0 && griddem_history_count(&h, r0) == 5 &&
             griddem_history_count(&h, r1) == 0 && !griddem_history_find(&h, r0, 9) && griddem_history_find(&h, r0, 77),
@@ -262,8 +268,8 @@ int main(void)
   int rows2[3] = {row_of[0], -1, row_of[1]};
   CHECK(griddem_history_begin(&h, 1) == 0, "begin a third time");
   v[0] = 3, v[1] = 4, v[2] = 5;
-  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 11, 1, v);
-  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 99, -1, v); /* a ghost */
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 11, 1, v, 1);
+  failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], -1, 99, -1, v, 1); /* a ghost */
   CHECK(griddem_history_end(&h, 3, order, 3, rows2) == 0 && h.one_sided, "end, one-sided");
   CHECK(!griddem_history_find(&h, rows2[2], 5), "the partner's row lacks the contact");
   CHECK(griddem_history_mirror(&h, 3, rows2, tags, 4, types, 1, parity) == 0 && !h.one_sided, "mirrored");
@@ -276,7 +282,7 @@ int main(void)
      the ghost has ended: the partner's copy and that contact, not written, are dropped */
   CHECK(griddem_history_begin(&h, 1) == 0, "begin after mirroring");
   failed |= griddem_history_write(&h, &h.overflow[0], h.values, 0, rows2[0], griddem_history_find_entry(&h, rows2[0], 11),
-                                  11, 1, v);
+                                  11, 1, v, 1);
   CHECK(!failed && griddem_history_end(&h, 3, order, 3, rows2) == 0 && griddem_history_count(&h, rows2[0]) == 1 &&
             griddem_history_count(&h, rows2[2]) == 0,
         "the copy not written dropped: rows of %d and %d contacts", griddem_history_count(&h, rows2[0]),
@@ -295,7 +301,7 @@ int main(void)
   CHECK(griddem_history_begin(&big_pool, 1) == 0, "begin over %d rows", NP);
   for (int s = 0; s < NP / 2; s += 10) {
     const int i = order3[s];
-    griddem_history_write(&big_pool, &big_pool.overflow[0], 3, i, rows3[i], griddem_history_find_entry(&big_pool, rows3[i], 3), 3, -1, one);
+    griddem_history_write(&big_pool, &big_pool.overflow[0], 3, i, rows3[i], griddem_history_find_entry(&big_pool, rows3[i], 3), 3, -1, one, 1);
   }
   CHECK(griddem_history_end(&big_pool, NP / 2, order3, NP, rows3) == 0 && big_pool.cur.nrows == NP / 2, "laid out afresh: %d rows",
         big_pool.cur.nrows);
