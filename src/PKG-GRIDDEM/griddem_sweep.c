@@ -416,16 +416,17 @@ SWEEP_SPECIALIZED int pair_begin(const sweep_context *cx, int a, int b, int ia, 
   return 1;
 }
 
-/* The nv history values a pair_begin found (a's entry, or b's seen from a; none: 0) into hv */
+/* The nv history values a pair_begin found (a's entry, or b's seen from a; none: 0) into hv, apart
+ * doubles apart (a constant: 1, or a batch's lanes) */
 SWEEP_SPECIALIZED void stored_values(const sweep_context *cx, const griddem_pair_params *law, long entry_a,
-                                     long entry_b, const int nv, double *hv)
+                                     long entry_b, const int nv, double *hv, const int apart)
 {
   const int stride = cx->hist ? cx->hist->values : 0;
   const double *value = cx->hist ? cx->hist->cur.value : NULL;
   for (int v = 0; v < GRIDDEM_MAX_HISTORY && v < nv; v++)
-    hv[v] = entry_a >= 0   ? value[(size_t) stride * entry_a + v]
-            : entry_b >= 0 ? law->parity[v] * value[(size_t) stride * entry_b + v]
-                           : 0.0;
+    hv[v * apart] = entry_a >= 0   ? value[(size_t) stride * entry_a + v]
+                    : entry_b >= 0 ? law->parity[v] * value[(size_t) stride * entry_b + v]
+                                   : 0.0;
 }
 
 /* v += w and v -= w for three doubles w[0], w[stride], w[2 stride] (stride: a constant of each
@@ -630,9 +631,10 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
                             q->key_a[k], by_bits ? NULL : excl, l->rsq[k], CLASSIC_BATCHED, 1, &law, &q->entry_a[k],
                             &q->entry_b[k]);
     /* a lane left out is evaluated on its inputs as they are, and its results dropped */
-    double hv[3] = {0.0, 0.0, 0.0};
-    if (q->kept[k]) stored_values(cx, law_of_all, q->entry_a[k], q->entry_b[k], 3, hv);
-    for (int d = 0; d < 3; d++) l->shear[d][k] = hv[d];
+    if (q->kept[k])
+      stored_values(cx, law_of_all, q->entry_a[k], q->entry_b[k], 3, &l->shear[0][k], GRIDDEM_CLASSIC_BATCH);
+    else
+      for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
   }
   const int energy = (cx->tally & GRIDDEM_TALLY_ENERGY) != 0;
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt, energy);    /* every pair's law */
@@ -682,7 +684,7 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
   if (heat) c.temp_i = p->temperature[ia], c.temp_j = p->temperature[ib];
 
   double hv[GRIDDEM_MAX_HISTORY];
-  stored_values(cx, law, entry_a, entry_b, nv, hv);
+  stored_values(cx, law, entry_a, entry_b, nv, hv, 1);
 
   double fc[3], ta[3], tb[3];
   const double energy = body == CLASSIC_HERTZ  ? classic_hertz(law, &c, hv, fc, ta, tb)
