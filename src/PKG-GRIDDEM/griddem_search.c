@@ -171,12 +171,15 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
         diff = test_##ISA(sp, t, c, same_radius, &d2);                                                        \
         hits_of_##ISA(sp, reach, i0, t, hi, own_lanes(t - i0), diff, d2, c, same_radius, hits);               \
       }                                                                                                       \
+    /* one radius: the tests that pass no lane in a loop of their own, which leaves the loop its       \
+       registers; with the candidates' radii read too, one loop, whose values then stay in registers */      \
     for (; t < hi; t += 2) {                                                                                  \
-      for (;; t += 2) {                                                                                       \
+      for (; same_radius; t += 2) {                                                                           \
         if (t >= hi) return;                                                                                  \
         diff = test_##ISA(sp, t, c, same_radius, &d2);                                                        \
         if (ANY_SIGN(diff)) break;                                                                            \
       }                                                                                                       \
+      if (!same_radius && !ANY_SIGN(diff = test_##ISA(sp, t, c, same_radius, &d2))) continue;                \
       hits_of_##ISA(sp, reach, i0, t, hi, ~0u, diff, d2, c, same_radius, hits);                               \
     }                                                                                                         \
   }                                                                                                           \
