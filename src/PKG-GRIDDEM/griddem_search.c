@@ -31,10 +31,10 @@ static inline int touches(const griddem_spheres *sp, double reach, int i, int t)
   return griddem_search_touches(dx, sp->r[i], reach, sp->r[t]);
 }
 
-/* A pair found: the sphere of slot s and the candidate of slot t */
-static inline void hit(griddem_cluster_hits *hits, int s, int t)
+/* A pair found: sphere k of the cluster and slot t */
+static inline void hit(griddem_cluster_hits *hits, int k, int t)
 {
-  hits->sphere[hits->n] = s, hits->slot[hits->n] = t;
+  hits->sphere[hits->n] = k, hits->slot[hits->n] = t;
   hits->n++;
 }
 
@@ -45,7 +45,7 @@ static void touching_scalar(const griddem_spheres *sp, double reach, int i0, int
     for (int t = lo[q]; t < hi[q]; t++) {
       const int lanes = own && q == 0 && t - i0 < ni ? t - i0 : ni;    /* the own run: spheres before t */
       for (int k = 0; k < lanes; k++)
-        if (touches(sp, reach, i0 + k, t)) hit(hits, i0 + k, t);
+        if (touches(sp, reach, i0 + k, t)) hit(hits, k, t);
     }
 }
 
@@ -106,7 +106,7 @@ static inline void passed_lanes(const griddem_spheres *sp, double reach, int i0,
 {
   for (; lanes; lanes &= lanes - 1) {
     const int l = __builtin_ctz(lanes), k = l / 2;
-    if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, u)) hit(hits, i0 + k, u);
+    if (((sure >> l) & 1u) || touches(sp, reach, i0 + k, u)) hit(hits, k, u);
   }
 }
 

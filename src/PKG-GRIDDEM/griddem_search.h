@@ -63,8 +63,8 @@ double griddem_search_slack(double coordinate_max, double rmax, double reach);
 /* The most spheres in a cluster (the widest kernel's). */
 #define GRIDDEM_CLUSTER_MAX 8
 
-/* The touching pairs of a cluster, in the order a kernel found them: for each, the slot of the
- * cluster's sphere and the candidate's; n of them. */
+/* The touching pairs of a cluster, in the order a kernel found them: for each, the cluster's
+ * sphere (0 .. ni - 1) and the candidate's slot; n of them. */
 typedef struct griddem_cluster_hits {
   int *sphere, *slot;
   int n;

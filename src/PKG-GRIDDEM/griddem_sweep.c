@@ -305,25 +305,16 @@ typedef struct sweep_context {
   griddem_spheres spheres;        /* the channels' centres and radii, and their float copies */
   griddem_touching_fn touching;   /* the candidate test */
   int cluster;                    /* its width */
-  void (*gather)(const struct sweep_context *, struct contact_batch *, int);    /* a batch's inputs */
+  void (*gather)(const struct sweep_context *, struct contact_batch *);    /* a batch's inputs */
 } sweep_context;
 
-/* Candidates a cluster's search tests at once: a cluster with more in its runs is searched sphere
- * by sphere, in parts of this many */
-#define HITS_CAP 256
-
-/* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the pairs its searches found and
- * that wait for a batch (each search's appended where they end: room for a batch less one and a
- * whole search's), then a batch's pairs, seen from an owned slot a (their slots and particles),
- * and the particles' types and group bits, one array each (read and written four at a time: a
- * batch holds whole vectors of four), then per contact what is kept for its end (kept: neither
- * coincident nor excluded, and one of its particles owned) and the law's lanes */
+/* A thread's contacts waiting for SWEEP_CLASSIC_BATCH's law: the slots of each pair (a owned)
+ * and their particles, as the pairs were found, and the particles' types and group bits, one
+ * array each (read and written four at a time: a batch holds whole vectors of four), then per
+ * contact what is kept for its end (kept: neither coincident nor excluded) and the law's lanes */
 typedef char batch_of_whole_vectors[GRIDDEM_CLASSIC_BATCH % 4 == 0 ? 1 : -1];
-#define FOUND_ROOM (GRIDDEM_CLASSIC_BATCH + GRIDDEM_CLUSTER_MAX * HITS_CAP)
 typedef struct contact_batch {
-  int found_sphere[FOUND_ROOM], found_slot[FOUND_ROOM], nfound;
   int a[GRIDDEM_CLASSIC_BATCH], b[GRIDDEM_CLASSIC_BATCH], ia[GRIDDEM_CLASSIC_BATCH], ib[GRIDDEM_CLASSIC_BATCH];
-  int ghosts[GRIDDEM_CLASSIC_BATCH];    /* neither particle owned */
   int type_a[GRIDDEM_CLASSIC_BATCH], type_b[GRIDDEM_CLASSIC_BATCH];
   int ma[GRIDDEM_CLASSIC_BATCH], mb[GRIDDEM_CLASSIC_BATCH];
   int excluded[GRIDDEM_CLASSIC_BATCH];    /* by the sweep's group-bit exclusions (excluded_bits) */
@@ -508,22 +499,17 @@ SWEEP_SPECIALIZED void pair_end(const sweep_context *cx, sweep_sums *sums, int a
   }
 }
 
-/* A batch's pairs, the found ones from first on, each seen from its sphere's slot where that is
- * owned, else from its candidate's, and its inputs read from their slots and particles:
- * separations (x_a - x_b, and its squared length summed left to right, as the sweep's test sums
- * it), radii, velocities, spins, masses, types and group bits, and whether each particle is
- * frozen. The plain reading, and where the processor has them (chosen once per sweep) AVX2's
- * gathers, four lanes at a time, which read the same values. */
-static void gather_plain(const sweep_context *cx, contact_batch *q, int first)
+/* A batch's inputs read from the slots and particles of its pairs: separations (x_a - x_b, and
+ * its squared length summed left to right, as the sweep's test sums it), radii, velocities, spins,
+ * masses, types and group bits, and whether each particle is frozen. The plain reading, and
+ * where the processor has them (chosen once per sweep) AVX2's gathers, four lanes at a time,
+ * which read the same values. */
+static void gather_plain(const sweep_context *cx, contact_batch *q)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
   griddem_classic_batch *l = &q->lanes;
   for (int k = 0; k < l->n; k++) {
-    const int s = q->found_sphere[first + k], t = q->found_slot[first + k], is = cx->order[s], it = cx->order[t];
-    const int s_owned = is < cx->nlocal;
-    q->a[k] = s_owned ? s : t, q->b[k] = s_owned ? t : s, q->ia[k] = s_owned ? is : it, q->ib[k] = s_owned ? it : is;
-    q->ghosts[k] = !s_owned && it >= cx->nlocal;
     const int a = q->a[k], b = q->b[k];
     const size_t ia = (size_t) q->ia[k], ib = (size_t) q->ib[k];
     const double dx[3] = {ch->x[a] - ch->x[b], ch->y[a] - ch->y[b], ch->z[a] - ch->z[b]};
@@ -543,25 +529,18 @@ static void gather_plain(const sweep_context *cx, contact_batch *q, int first)
 }
 
 #ifdef GRIDDEM_SWEEP_GATHER
-__attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx, contact_batch *q, int first)
+__attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx, contact_batch *q)
 {
   const griddem_channels *ch = cx->ch;
   const griddem_particles *p = ch->p;
   griddem_classic_batch *l = &q->lanes;
   const int n = l->n;
-  int *const sphere = q->found_sphere + first, *const slot = q->found_slot + first;
-  for (int k = n; k % 4; k++) /* a last partial vector reads the first pair again (within the room) */
-    sphere[k] = sphere[0], slot[k] = slot[0];
-  const __m128i nlocal = _mm_set1_epi32(cx->nlocal);
+  for (int k = n; k % 4; k++) /* a last partial vector reads the first pair again (within the batch) */
+    q->a[k] = q->a[0], q->b[k] = q->b[0], q->ia[k] = q->ia[0], q->ib[k] = q->ib[0];
   for (int k = 0; k < n; k += 4) {
-    const __m128i s = _mm_loadu_si128((const __m128i *) (sphere + k)), t = _mm_loadu_si128((const __m128i *) (slot + k));
-    const __m128i is = _mm_i32gather_epi32(cx->order, s, 4), it = _mm_i32gather_epi32(cx->order, t, 4);
-    const __m128i s_owned = _mm_cmpgt_epi32(nlocal, is), t_owned = _mm_cmpgt_epi32(nlocal, it);
-    const __m128i a = _mm_blendv_epi8(t, s, s_owned), b = _mm_blendv_epi8(s, t, s_owned);
-    const __m128i ia4 = _mm_blendv_epi8(it, is, s_owned), ib4 = _mm_blendv_epi8(is, it, s_owned);
-    _mm_storeu_si128((__m128i *) (q->a + k), a), _mm_storeu_si128((__m128i *) (q->b + k), b);
-    _mm_storeu_si128((__m128i *) (q->ia + k), ia4), _mm_storeu_si128((__m128i *) (q->ib + k), ib4);
-    _mm_storeu_si128((__m128i *) (q->ghosts + k), _mm_andnot_si128(_mm_or_si128(s_owned, t_owned), _mm_set1_epi32(1)));
+    const __m128i a = _mm_loadu_si128((const __m128i *) (q->a + k)), b = _mm_loadu_si128((const __m128i *) (q->b + k));
+    const __m128i ia4 = _mm_loadu_si128((const __m128i *) (q->ia + k));
+    const __m128i ib4 = _mm_loadu_si128((const __m128i *) (q->ib + k));
     const __m128i ma = _mm_i32gather_epi32(p->mask, ia4, 4), mb = _mm_i32gather_epi32(p->mask, ib4, 4);
     _mm_storeu_si128((__m128i *) (q->ma + k), ma), _mm_storeu_si128((__m128i *) (q->mb + k), mb);
     _mm_storeu_si128((__m128i *) (q->type_a + k), _mm_i32gather_epi32(p->type, ia4, 4));
@@ -605,7 +584,7 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
 #endif
 
 /* The batch's reading of its inputs (griddem_touching_gathers) */
-static void (*batch_gather(void))(const sweep_context *, contact_batch *, int)
+static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 {
 #ifdef GRIDDEM_SWEEP_GATHER
   if (griddem_touching_gathers()) return gather_avx2;
@@ -627,15 +606,14 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
   }
 }
 
-/* Evaluate a batch of the n found pairs from first on (those that pair_begin keeps, in the order
- * they were found: a coincident pair's fault comes before the contacts' own) and finish each in
- * that order */
-static void flush_batch(const sweep_context *cx, sweep_sums *sums, int first, int n)
+/* Evaluate the batch's contacts (those that pair_begin keeps, in the order they were found: a
+ * coincident pair's fault comes before the contacts' own) and finish each in that order */
+static void flush_batch(const sweep_context *cx, sweep_sums *sums)
 {
   contact_batch *q = sums->batch;
   griddem_classic_batch *l = &q->lanes;
-  l->n = n;
-  cx->gather(cx, q, first);
+  if (l->n == 0) return;
+  cx->gather(cx, q);
   /* exclusions by group bits alone (neigh_modify exclude group, fix griddem/rom's) tested here with
      their bits at hand; a coincident pair still goes on to pair_begin's fault */
   const griddem_exclusions *excl = cx->excl;
@@ -643,7 +621,7 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums, int first, in
   const griddem_pair_params *law_of_all = griddem_model_pair(cx->model, 1, 1);
   for (int k = 0; k < l->n; k++) {
     const int ma = q->ma[k], mb = q->mb[k];
-    if (GRIDDEM_RARELY(q->ghosts[k] || (q->excluded[k] && l->rsq[k] != 0.0))) {
+    if (GRIDDEM_RARELY(q->excluded[k] && l->rsq[k] != 0.0)) {
       q->kept[k] = 0;
       for (int d = 0; d < 3; d++) l->shear[d][k] = 0.0;
       continue;
@@ -662,25 +640,23 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums, int first, in
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt, energy);    /* every pair's law */
   if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom) energy ? finish_lanes(cx, sums, q, 1, 1) : finish_lanes(cx, sums, q, 1, 0);
   else energy ? finish_lanes(cx, sums, q, 0, 1) : finish_lanes(cx, sums, q, 0, 0);
+  l->n = 0;
 }
 
-/* The found pairs evaluated a batch at a time, those left (fewer than a batch) moved to the front */
-static void flush_full_batches(const sweep_context *cx, sweep_sums *sums)
+/* A pair of slots a (owned) and b (within reach), of particles ia and ib, into the thread's batch,
+ * which is evaluated when it is full */
+static inline void batch_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, int ia, int ib)
 {
   contact_batch *q = sums->batch;
-  int first = 0;
-  for (; q->nfound - first >= GRIDDEM_CLASSIC_BATCH; first += GRIDDEM_CLASSIC_BATCH)
-    flush_batch(cx, sums, first, GRIDDEM_CLASSIC_BATCH);
-  if (first == 0) return;
-  q->nfound -= first;
-  memmove(q->found_sphere, q->found_sphere + first, sizeof(int) * (size_t) q->nfound);
-  memmove(q->found_slot, q->found_slot + first, sizeof(int) * (size_t) q->nfound);
+  const int k = q->lanes.n;
+  q->a[k] = a, q->b[k] = b, q->ia[k] = ia, q->ib[k] = ib;
+  if (++q->lanes.n == GRIDDEM_CLASSIC_BATCH) flush_batch(cx, sums);
 }
 
 /* Evaluate the contact of slots a and b (separation dx = x_a - x_b of squared length rsq, within
  * reach) seen from a, which is owned; b receives its share if it is owned too. body (CLASSIC_HOOKE
  * or CLASSIC_HERTZ: every law is that classic one, and nothing interacts past touching; COMPOSED;
- * COMPILED + k; a CLASSIC_BATCHED sweep's pairs wait in its batch instead) and values (the history
+ * COMPILED + k; a CLASSIC_BATCHED sweep's pairs go to batch_pair instead) and values (the history
  * values per contact, or -1: the model's, with contacts kept as it says) are constants of each
  * specialization. */
 SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int a, int b, const double *dx,
@@ -719,23 +695,32 @@ SWEEP_SPECIALIZED void sweep_pair(const sweep_context *cx, sweep_sums *sums, int
            (cx->tally & GRIDDEM_TALLY_ENERGY) != 0);
 }
 
+/* Candidates a cluster's search tests at once: a cluster with more in its runs is searched sphere
+ * by sphere, in parts of this many */
+#define HITS_CAP 256
+
 /* A thread's room for the touching pairs of one search (at most HITS_CAP candidates for each of
- * a cluster's spheres), where its law is evaluated pair by pair */
+ * a cluster's spheres) */
 typedef struct cluster_hits {
   int sphere[GRIDDEM_CLUSTER_MAX * HITS_CAP], slot[GRIDDEM_CLUSTER_MAX * HITS_CAP];
 } cluster_hits;
 
-/* The touching pairs found in the order found, each seen from an owned slot, by the pair body
- * specialized for (body, values) */
-SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, const griddem_cluster_hits *hits,
+/* The touching pairs of the spheres of slots i0 + k (k: the pairs' sphere) in the order found,
+ * each seen from an owned slot, by the pair body specialized for (body, values) */
+SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int i0, const griddem_cluster_hits *hits,
                                      const int body, const int values)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
   for (int m = 0; m < hits->n; m++) {
-    const int s = hits->sphere[m], t = hits->slot[m];
+    const int s = i0 + hits->sphere[m], t = hits->slot[m];
     const int s_owned = order[s] < cx->nlocal, t_owned = order[t] < cx->nlocal;
     if (!s_owned && !t_owned) continue;
+    if (body == CLASSIC_BATCHED) {    /* read with the batch's other pairs */
+      if (s_owned) batch_pair(cx, sums, s, t, order[s], order[t]);
+      else batch_pair(cx, sums, t, s, order[t], order[s]);
+      continue;
+    }
     const double dx[3] = {ch->x[s] - ch->x[t], ch->y[s] - ch->y[t], ch->z[s] - ch->z[t]};
     const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
     if (s_owned) sweep_pair(cx, sums, s, t, dx, rsq, body, values);
@@ -747,52 +732,38 @@ SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, 
 }
 
 /* The touching pairs by a law evaluated pair by pair */
-static void evaluate_each(const sweep_context *cx, sweep_sums *sums, const griddem_cluster_hits *hits)
+static void evaluate_each(const sweep_context *cx, sweep_sums *sums, int i0, const griddem_cluster_hits *hits)
 {
   switch (cx->law) {
-    case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, hits, CLASSIC_HOOKE, 3); break;
-    case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, hits, CLASSIC_HOOKE, 0); break;
-    case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, hits, CLASSIC_HERTZ, 3); break;
-    case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, hits, CLASSIC_HERTZ, 0); break;
-    case SWEEP_COMPILED: evaluate_hits(cx, sums, hits, COMPILED, COMPILED_LAWS[0].values); break;
-    case SWEEP_COMPILED + 1: evaluate_hits(cx, sums, hits, COMPILED + 1, COMPILED_LAWS[1].values); break;
-    case SWEEP_COMPILED + 2: evaluate_hits(cx, sums, hits, COMPILED + 2, COMPILED_LAWS[2].values); break;
-    default: evaluate_hits(cx, sums, hits, COMPOSED, -1);
+    case SWEEP_HOOKE_SHEAR: evaluate_hits(cx, sums, i0, hits, CLASSIC_HOOKE, 3); break;
+    case SWEEP_HOOKE_NO_HISTORY: evaluate_hits(cx, sums, i0, hits, CLASSIC_HOOKE, 0); break;
+    case SWEEP_HERTZ_SHEAR: evaluate_hits(cx, sums, i0, hits, CLASSIC_HERTZ, 3); break;
+    case SWEEP_HERTZ_NO_HISTORY: evaluate_hits(cx, sums, i0, hits, CLASSIC_HERTZ, 0); break;
+    case SWEEP_COMPILED: evaluate_hits(cx, sums, i0, hits, COMPILED, COMPILED_LAWS[0].values); break;
+    case SWEEP_COMPILED + 1: evaluate_hits(cx, sums, i0, hits, COMPILED + 1, COMPILED_LAWS[1].values); break;
+    case SWEEP_COMPILED + 2: evaluate_hits(cx, sums, i0, hits, COMPILED + 2, COMPILED_LAWS[2].values); break;
+    default: evaluate_hits(cx, sums, i0, hits, COMPOSED, -1);
   }
 }
 
-/* Empty room for a search's pairs: after the found pairs in the thread's batch
- * (SWEEP_CLASSIC_BATCH), else the thread's list */
-static inline griddem_cluster_hits hits_room(sweep_sums *sums, cluster_hits *room)
+/* Evaluate the touching pairs of the spheres of slots i0 + k, or queue them in the thread's batch
+ * (a few stores each, done in place), and empty the list. */
+SWEEP_SPECIALIZED void sweep_hits(const sweep_context *cx, sweep_sums *sums, int i0, griddem_cluster_hits *hits)
 {
-  contact_batch *q = sums->batch;
-  const griddem_cluster_hits hits = {q ? q->found_sphere + q->nfound : room->sphere,
-                                     q ? q->found_slot + q->nfound : room->slot, 0};
-  return hits;
-}
-
-/* Evaluate the touching pairs of hits, or keep them in the thread's batch (whose full batches are
- * evaluated), and empty hits */
-SWEEP_SPECIALIZED void sweep_hits(const sweep_context *cx, sweep_sums *sums, cluster_hits *room,
-                                  griddem_cluster_hits *hits)
-{
-  if (sums->batch) {
-    sums->batch->nfound += hits->n;
-    flush_full_batches(cx, sums);
-  } else
-    evaluate_each(cx, sums, hits);
-  *hits = hits_room(sums, room);
+  if (cx->law == SWEEP_CLASSIC_BATCH) evaluate_hits(cx, sums, i0, hits, CLASSIC_BATCHED, 3);
+  else evaluate_each(cx, sums, i0, hits);
+  hits->n = 0;
 }
 
 /* Collect into hits (empty) slot s's touching candidates in the runs [lo[q], hi[q]) in parts of
  * at most HITS_CAP, evaluating them whenever the next part could overflow HITS_CAP: the path of
  * a cluster with more candidates than its search tests at once. */
-static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, cluster_hits *room, int s, const int *lo,
-                             const int *hi, int nruns, griddem_cluster_hits *hits)
+static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, int s, const int *lo, const int *hi,
+                             int nruns, griddem_cluster_hits *hits)
 {
   for (int q = 0; q < nruns; q++)
     for (int t0 = lo[q]; t0 < hi[q];) {
-      if (hits->n + (hi[q] - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, room, hits);
+      if (hits->n + (hi[q] - t0) > HITS_CAP && hits->n > 0) sweep_hits(cx, sums, s, hits);
       const int t1 = hi[q] - t0 > HITS_CAP ? t0 + HITS_CAP : hi[q];
       cx->touching(&cx->spheres, cx->model->reach_extra, s, 1, 0, &t0, &t1, 1, hits);
       t0 = t1;
@@ -807,15 +778,15 @@ static void collect_in_parts(const sweep_context *cx, sweep_sums *sums, cluster_
 SWEEP_SPECIALIZED void search_cluster(const sweep_context *cx, sweep_sums *sums, cluster_hits *room, int i0, int ni,
                                       int own, int *lo, const int *hi, int nruns, int total)
 {
-  griddem_cluster_hits hits = hits_room(sums, room);
+  griddem_cluster_hits hits = {room->sphere, room->slot, 0};
   if (total <= HITS_CAP) {
     cx->touching(&cx->spheres, cx->model->reach_extra, i0, ni, own, lo, hi, nruns, &hits);
-    if (hits.n) sweep_hits(cx, sums, room, &hits);
+    if (hits.n) sweep_hits(cx, sums, i0, &hits);
   } else
     for (int c = 0; c < ni; c++) {
       if (own) lo[0] = i0 + c + 1;
-      collect_in_parts(cx, sums, room, i0 + c, lo, hi, nruns, &hits);
-      if (hits.n) sweep_hits(cx, sums, room, &hits);
+      collect_in_parts(cx, sums, i0 + c, lo, hi, nruns, &hits);
+      if (hits.n) sweep_hits(cx, sums, i0 + c, &hits);
     }
 }
 
@@ -968,15 +939,14 @@ static sweep_sums thread_sums(const sweep_context *cx, contact_batch *batch)
   sweep_sums sums;
   memset(&sums, 0, sizeof(sums));
   if (cx->model->track_contacts) sums.overflow = &cx->hist->overflow[griddem_thread_num()];
-  if (cx->law == SWEEP_CLASSIC_BATCH) batch->nfound = 0, sums.batch = batch;
+  if (cx->law == SWEEP_CLASSIC_BATCH) batch->lanes.n = 0, sums.batch = batch;
   return sums;
 }
 
 /* A thread's accumulators once its pairs are found: the contacts left in its batch evaluated */
 static sweep_sums finished_sums(const sweep_context *cx, sweep_sums sums)
 {
-  if (sums.batch && sums.batch->nfound) flush_batch(cx, &sums, 0, sums.batch->nfound);
-  sums.batch = NULL;
+  if (sums.batch) flush_batch(cx, &sums), sums.batch = NULL;
   return sums;
 }
 

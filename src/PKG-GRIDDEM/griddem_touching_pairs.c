@@ -73,7 +73,7 @@ int griddem_touching_pairs(const griddem_grid *g, const griddem_bins *b, const g
         const int i = b->order[i0 + k];
         if (!is_query(i, nquery, query)) continue;
         for (int m = 0; m < hits.n; m++)
-          if (hits.sphere[m] == i0 + k && hits.slot[m] != i0 + k && visit(ctx, i, b->order[hits.slot[m]])) break;
+          if (hits.sphere[m] == k && hits.slot[m] != i0 + k && visit(ctx, i, b->order[hits.slot[m]])) break;
       }
     }
   }

@@ -61,7 +61,7 @@ static int reference(double reach, int i0, int ni, int own, const int *lo, const
         if (own && q == 0 && t <= i) continue;
         const double dx = X[i] - X[t], dy = Y[i] - Y[t], dz = Z[i] - Z[t], s = (R[i] + reach) + R[t];
         const double d2 = (dx * dx + dy * dy) + dz * dz;
-        if (d2 < s * s) sphere[n] = i, slot[n++] = t;
+        if (d2 < s * s) sphere[n] = k, slot[n++] = t;
       }
   return n;
 }
@@ -212,7 +212,7 @@ static void run_ends_and_margins(const char *name, griddem_touching_fn fn, int w
   for (int k = 0; k < width; k++) {
     int n = 0, ok = 1;
     for (int j = 0; j < hits.n; j++)
-      if (sphere[j] == k) n++, ok &= slot[j] % 2 == 0;    /* the cluster starts at slot 0 */
+      if (sphere[j] == k) n++, ok &= slot[j] % 2 == 0;
     CHECK(ok && n == (NSPHERE - width) / 2,
           "kernel %s: sphere %d: %d found; those at 0.999 of the contact distance expected, none at 1.001", name, k, n);
   }
