@@ -123,15 +123,15 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * and t + 1 at once: each candidate pair's floats loaded as one 64-bit value and broadcast (V: the
  * float vector, B: the double broadcast that carries the pair, FMA(a, b, c): a b + c and
  * FNMA(a, b, c): c - a b, each in one rounding, which the slack covers as it covers two; SIGNS:
- * the lanes whose sign bit is set as bits; ANY_SIGN: whether there is one). d2 - s s in one rounding is negative exactly where
- * d2 < s s, and never -0. The narrowed distance is negative where the slack exceeds the contact
- * distance (coordinates far from the origin): none is then sure (MAX with ZERO). In the own run
- * (own_run, a constant of each inlined copy), the candidates within the cluster (t < i0 + NS, NS
- * spheres a vector) are masked to those after their sphere (mask) before any is looked at
- * again. Where every sphere has one radius (same_radius, a constant of each copy), the cluster holds
- * its contact distances to that radius squared (s2_same, sure2_same: one rounding more, which the
- * slack covers as it covers the others), d2 is compared with them, and no candidate's radius is
- * read. */
+ * the lanes whose sign bit is set as bits; ANY_SIGN: whether there is one). d2 - s s in one
+ * rounding is negative exactly where d2 < s s, and never -0. The narrowed distance is negative
+ * where the slack exceeds the contact distance (coordinates far from the origin): none is then
+ * sure (MAX with ZERO). In the own run (own_run, a constant of each inlined copy), the candidates
+ * within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after their sphere
+ * (mask) before any is looked at again. Where every sphere has one radius (same_radius, a
+ * constant of each copy), the cluster holds its contact distances to that radius squared
+ * (s2_same, sure2_same: one rounding more, which the slack covers as it covers the others), d2 is
+ * compared with them, and no candidate's radius is read. */
 #define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, ANY_SIGN, NS, LANES, \
                            BCAST)                                                                             \
   /* the float test of candidates t and t + 1: d2 - s s by lane (d2 the squared distances) */                  \

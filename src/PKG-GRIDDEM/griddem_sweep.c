@@ -434,7 +434,8 @@ SWEEP_SPECIALIZED void stored_values(const sweep_context *cx, const griddem_pair
 static inline void add3(double *v, const double *w, const int stride)
 {
 #ifdef __SSE2__
-  _mm_storeu_pd(v, _mm_add_pd(_mm_loadu_pd(v), stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride)));
+  const __m128d first_two = stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride);
+  _mm_storeu_pd(v, _mm_add_pd(_mm_loadu_pd(v), first_two));
   v[2] += w[2 * stride];
 #else
   for (int d = 0; d < 3; d++) v[d] += w[d * stride];
@@ -444,7 +445,8 @@ static inline void add3(double *v, const double *w, const int stride)
 static inline void subtract3(double *v, const double *w, const int stride)
 {
 #ifdef __SSE2__
-  _mm_storeu_pd(v, _mm_sub_pd(_mm_loadu_pd(v), stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride)));
+  const __m128d first_two = stride == 1 ? _mm_loadu_pd(w) : _mm_loadh_pd(_mm_load_sd(w), w + stride);
+  _mm_storeu_pd(v, _mm_sub_pd(_mm_loadu_pd(v), first_two));
   v[2] -= w[2 * stride];
 #else
   for (int d = 0; d < 3; d++) v[d] -= w[d * stride];
@@ -600,9 +602,9 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
   const griddem_classic_batch *l = &q->lanes;
   for (int k = 0; k < l->n; k++) {
     if (!q->kept[k]) continue;
-    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k], &l->shear[0][k], &l->f[0][k],
-             &l->ti[0][k], &l->tj[0][k], GRIDDEM_CLASSIC_BATCH, energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial,
-             energy);
+    pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k],
+             &l->shear[0][k], &l->f[0][k], &l->ti[0][k], &l->tj[0][k], GRIDDEM_CLASSIC_BATCH,
+             energy ? l->energy[k] : 0.0, 0, 0.0, 1, 3, virial, energy);
   }
 }
 
@@ -707,8 +709,8 @@ typedef struct cluster_hits {
 
 /* The touching pairs of the spheres of slots i0 + k (k: the pairs' sphere) in the order found,
  * each seen from an owned slot, by the pair body specialized for (body, values) */
-SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int i0, const griddem_cluster_hits *hits,
-                                     const int body, const int values)
+SWEEP_SPECIALIZED void evaluate_hits(const sweep_context *cx, sweep_sums *sums, int i0,
+                                     const griddem_cluster_hits *hits, const int body, const int values)
 {
   const griddem_channels *ch = cx->ch;
   const int *order = cx->order;
