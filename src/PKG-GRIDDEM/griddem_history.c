@@ -269,9 +269,7 @@ int griddem_history_overflow_append(griddem_history_overflow *o, int values, int
   o->cap = cap;
   o->particle[o->n] = particle;
   o->owned_partner[o->n] = owned_partner;
-  o->partner[o->n] = partner;
-  for (int k = 0; k < values; k++) o->value[(size_t) values * o->n + k] = v[k * stride];
-  o->n++;
+  griddem_history_put_strided(o->partner, o->value, values, o->n++, partner, v, stride);
   return 0;
 }
 

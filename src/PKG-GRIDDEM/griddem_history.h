@@ -139,12 +139,19 @@ GRIDDEM_INLINE long griddem_history_entry(const int64_t *partner, long first, in
   return -1;
 }
 
-/* Write entry e of a pool: the partner tag and its values (values per contact). */
+/* Write entry e of a pool: the partner tag and its values (values per contact), read stride
+ * doubles apart at v (a batch's lanes), or next to each other. */
+GRIDDEM_INLINE void griddem_history_put_strided(int64_t *partner, double *value, int values, long e, int64_t tag,
+                                                const double *v, int stride)
+{
+  partner[e] = tag;
+  for (int k = 0; k < values; k++) value[(size_t) values * e + k] = v[k * stride];
+}
+
 GRIDDEM_INLINE void griddem_history_put(int64_t *partner, double *value, int values, long e, int64_t tag,
                                         const double *v)
 {
-  partner[e] = tag;
-  for (int k = 0; k < values; k++) value[(size_t) values * e + k] = v[k];
+  griddem_history_put_strided(partner, value, values, e, tag, v, 1);
 }
 
 /* Entry e of a pool as a message entry (GRIDDEM_HISTORY_ENTRY(values) doubles at m, below): the
@@ -304,9 +311,8 @@ static inline int griddem_history_write(griddem_history *h, griddem_history_over
   if (GRIDDEM_RARELY(e < 0 && (e = griddem_history_append(p, row)) < 0))
     return griddem_history_overflow_append(overflow, values, particle, partner, owned_partner, v, stride);
   p->written[row]++;
-  p->partner[e] = partner | h->mark;
+  griddem_history_put_strided(p->partner, p->value, values, e, partner | h->mark, v, stride);
   p->owned_partner[e] = owned_partner;
-  for (int k = 0; k < values; k++) p->value[(size_t) values * e + k] = v[k * stride];
   return 0;
 }
 

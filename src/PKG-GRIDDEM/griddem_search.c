@@ -158,8 +158,8 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     const V narrow = same_radius ? SUB(d2, c->sure2_same) : FNMA(sure, sure, d2);                             \
     passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), hits);                                       \
   }                                                                                                           \
-  /* the own run's head (own_run, a constant) with its lanes masked, then the tests of the rest, each         \
-     stretch of tests that pass no lane in a loop of its own (most: the hit path kept out of its way) */      \
+  /* the own run's head (own_run, a constant) with its lanes masked, then the tests of the rest, the hit     \
+     path out of the way of those that pass no lane (most) */                                                 \
   __attribute__((target(TARGET), always_inline)) static inline void run_##ISA(                               \
       const griddem_spheres *sp, double reach, int i0, const int own_run, int lo, int hi,                     \
       const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
