@@ -1,5 +1,7 @@
 /* Grid geometry and counting-sort binning; see griddem_grid.h. */
 #include "griddem_grid.h"
+#include "griddem_points_avx2.h"
+#include "griddem_search.h"
 #include "griddem_threads.h"
 
 #include <limits.h>
@@ -81,7 +83,7 @@ static long cells_for(const griddem_grid *g, const double *lo, const double *hi,
   } while (0)
 
 /* The reductions are OpenMP's, whose order is free, so the points run in vector lanes. */
-GRIDDEM_VECTOR_COPIES int griddem_box_of(const double *x, int n, double *lo, double *hi)
+GRIDDEM_VECTOR_COPIES static int box_of_plain(const double *x, int n, double *lo, double *hi)
 {
   double l0 = x[0], l1 = x[1], l2 = x[2], h0 = l0, h1 = l1, h2 = l2;
   uint64_t bad = 0;
@@ -95,6 +97,53 @@ GRIDDEM_VECTOR_COPIES int griddem_box_of(const double *x, int n, double *lo, dou
   }
   lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
   return bad != 0;
+}
+
+#ifdef GRIDDEM_POINTS_AVX2
+/* Four points are twelve doubles, three vectors whose lanes hold the coordinates in a period of
+ * three: each lane's minimum and maximum are taken over the points as they lie, with no
+ * reordering, and the lanes of one axis are folded at the end. A coordinate that is not finite
+ * makes v * 0 + bad NaN (min and max pass NaN by, as the plain loop's comparisons do). */
+__attribute__((target("avx2,fma"))) static int box_of_avx2(const double *x, int n, double *lo, double *hi)
+{
+  const __m256d first0 = _mm256_setr_pd(x[0], x[1], x[2], x[0]), first1 = _mm256_setr_pd(x[1], x[2], x[0], x[1]),
+                first2 = _mm256_setr_pd(x[2], x[0], x[1], x[2]), zero = _mm256_setzero_pd();
+  __m256d l0 = first0, l1 = first1, l2 = first2, h0 = first0, h1 = first1, h2 = first2, bad0 = zero, bad1 = zero,
+          bad2 = zero;
+  const int n4 = n & ~3;
+  for (int i = 0; i < n4; i += 4) {
+    const double *p = x + 3 * (size_t) i;
+    const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4), c = _mm256_loadu_pd(p + 8);
+    l0 = _mm256_min_pd(a, l0), l1 = _mm256_min_pd(b, l1), l2 = _mm256_min_pd(c, l2);
+    h0 = _mm256_max_pd(a, h0), h1 = _mm256_max_pd(b, h1), h2 = _mm256_max_pd(c, h2);
+    bad0 = _mm256_fmadd_pd(a, zero, bad0), bad1 = _mm256_fmadd_pd(b, zero, bad1), bad2 = _mm256_fmadd_pd(c, zero, bad2);
+  }
+  double L[12], H[12], B[4];
+  _mm256_storeu_pd(L, l0), _mm256_storeu_pd(L + 4, l1), _mm256_storeu_pd(L + 8, l2);
+  _mm256_storeu_pd(H, h0), _mm256_storeu_pd(H + 4, h1), _mm256_storeu_pd(H + 8, h2);
+  _mm256_storeu_pd(B, _mm256_add_pd(_mm256_add_pd(bad0, bad1), bad2));
+  for (int d = 0; d < 3; d++) {
+    lo[d] = L[d], hi[d] = H[d];
+    for (int k = d + 3; k < 12; k += 3) lo[d] = L[k] < lo[d] ? L[k] : lo[d], hi[d] = H[k] > hi[d] ? H[k] : hi[d];
+  }
+  uint64_t nonfinite = (B[0] != B[0]) | (B[1] != B[1]) | (B[2] != B[2]) | (B[3] != B[3]);
+  for (int i = n4; i < n; i++)
+    for (int d = 0; d < 3; d++) {
+      const double a = x[3 * (size_t) i + d];
+      lo[d] = a < lo[d] ? a : lo[d], hi[d] = a > hi[d] ? a : hi[d];
+      nonfinite |= griddem_nonfinite_bit(a);
+    }
+  return nonfinite != 0;
+}
+#endif
+
+int griddem_box_of(const double *x, int n, double *lo, double *hi)
+{
+#ifdef GRIDDEM_POINTS_AVX2
+  if (!griddem_threaded(n) && griddem_vector_reads())
+    return box_of_avx2(x, n, lo, hi);
+#endif
+  return box_of_plain(x, n, lo, hi);
 }
 #undef BOX_OF_POINT
 
@@ -174,8 +223,8 @@ static inline long cell_index(const griddem_grid *g, double x, double y, double 
 /* The cells of points i0 .. i1 - 1 of x (interleaved) into cell, lanes of points at once where
  * the processor has them: on a grid of fewer than 2^31 cells the index is summed in 32-bit lanes
  * (AVX2 multiplies no 64-bit lanes) */
-GRIDDEM_VECTOR_COPIES static void cells_of(const griddem_grid *restrict g, int i0, int i1, const double *restrict x,
-                                           long *restrict cell)
+GRIDDEM_VECTOR_COPIES static void cells_of_plain(const griddem_grid *restrict g, int i0, int i1,
+                                                 const double *restrict x, long *restrict cell)
 {
   if (g->ncell <= INT_MAX) {
     const int row = g->n[0], layer = g->n[0] * g->n[1];
@@ -184,6 +233,52 @@ GRIDDEM_VECTOR_COPIES static void cells_of(const griddem_grid *restrict g, int i
                 layer * (int) axis_cell(g, 2, x[3 * i + 2]);
   } else
     for (int i = i0; i < i1; i++) cell[i] = cell_index(g, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+}
+
+#ifdef GRIDDEM_POINTS_AVX2
+/* griddem_axis_cell of four coordinates (the clamps as maximum and minimum: the same cells for
+ * every finite coordinate and infinity; a NaN, which the scan reports, goes to cell 0) */
+__attribute__((target("avx2"), always_inline)) static inline __m128i axis_cells_avx2(__m256d x, __m256d anchor,
+                                                                                    __m256d hinv, __m256d k0,
+                                                                                    __m256d last)
+{
+  const __m256d c = _mm256_sub_pd(_mm256_floor_pd(_mm256_mul_pd(_mm256_sub_pd(x, anchor), hinv)), k0);
+  return _mm256_cvttpd_epi32(_mm256_min_pd(_mm256_max_pd(c, _mm256_setzero_pd()), last));
+}
+
+/* Four points a pass on a grid of fewer than 2^31 cells, the rest as cells_of_plain */
+__attribute__((target("avx2"))) static void cells_of_avx2(const griddem_grid *restrict g, int i0, int i1,
+                                                         const double *restrict x, long *restrict cell)
+{
+  __m256d anchor[3], k0[3], last[3];
+  for (int d = 0; d < 3; d++)
+    anchor[d] = _mm256_set1_pd(g->anchor[d]), k0[d] = _mm256_set1_pd((double) g->k0[d]),
+    last[d] = _mm256_set1_pd((double) (g->n[d] - 1));
+  const __m256d hinv = _mm256_set1_pd(g->hinv);
+  const __m128i row = _mm_set1_epi32(g->n[0]), layer = _mm_set1_epi32(g->n[0] * g->n[1]);
+  int i = i0;
+  for (; i + 4 <= i1; i += 4) {
+    __m256d px, py, pz;
+    griddem_points4_avx2(x + 3 * (size_t) i, &px, &py, &pz);
+    const __m128i cx = axis_cells_avx2(px, anchor[0], hinv, k0[0], last[0]);
+    const __m128i cy = axis_cells_avx2(py, anchor[1], hinv, k0[1], last[1]);
+    const __m128i cz = axis_cells_avx2(pz, anchor[2], hinv, k0[2], last[2]);
+    const __m128i c = _mm_add_epi32(_mm_add_epi32(cx, _mm_mullo_epi32(row, cy)), _mm_mullo_epi32(layer, cz));
+    _mm256_storeu_si256((__m256i *) (cell + i), _mm256_cvtepi32_epi64(c));
+  }
+  cells_of_plain(g, i, i1, x, cell);
+}
+#endif
+
+static void cells_of(const griddem_grid *restrict g, int i0, int i1, const double *restrict x, long *restrict cell)
+{
+#ifdef GRIDDEM_POINTS_AVX2
+  if (g->ncell <= INT_MAX && griddem_vector_reads()) {
+    cells_of_avx2(g, i0, i1, x, cell);
+    return;
+  }
+#endif
+  cells_of_plain(g, i0, i1, x, cell);
 }
 
 long griddem_cell_of(const griddem_grid *g, double x, double y, double z)

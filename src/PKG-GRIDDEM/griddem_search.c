@@ -358,11 +358,12 @@ int griddem_touching_use(const char *name)
   return -1;
 }
 
-int griddem_touching_gathers(void)
+int griddem_vector_reads(void)
 {
 #ifdef GRIDDEM_SEARCH_X86
   if (chosen < 0) choose();
-  return strcmp(KERNELS[chosen].name, "scalar") != 0 && __builtin_cpu_supports("avx2");
+  return strcmp(KERNELS[chosen].name, "scalar") != 0 && __builtin_cpu_supports("avx2") &&
+         __builtin_cpu_supports("fma");
 #else
   return 0;
 #endif

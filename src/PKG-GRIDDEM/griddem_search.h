@@ -96,10 +96,11 @@ int griddem_touching_width(void);
  * sweeps), or with "auto" the widest again. 0, or -1 where griddem_touching_kernel(name) is NULL. */
 int griddem_touching_use(const char *name);
 
-/* Whether the CPU engine reads particles into vector lanes with AVX2's gathers (the channels, a
- * batch's inputs, the history rows' room): where the processor has them, except with the plain-C
- * kernel, so that the tests that run each kernel run the plain reads too. */
-int griddem_touching_gathers(void);
+/* Whether the CPU engine reads particles into AVX2 lanes (with FMA) in its passes written for them
+ * (the scan's boxes and speeds, the binning's cells, the channels, a batch's inputs), each the twin
+ * of a plain-C pass that gives the same values: where the processor has them, except with the
+ * plain-C kernel, so that the tests that run each kernel run the plain passes too. */
+int griddem_vector_reads(void);
 
 #ifdef __cplusplus
 }

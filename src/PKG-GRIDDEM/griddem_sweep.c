@@ -136,7 +136,7 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
   ch->keyed_by_image = p->image != NULL;
   fill_range (*fill)(griddem_channels *, const int *, const griddem_particles *, int, int) = fill_plain;
 #ifdef GRIDDEM_SWEEP_GATHER
-  if (griddem_touching_gathers()) fill = fill_avx2;
+  if (griddem_vector_reads()) fill = fill_avx2;
 #endif
   double extent = 0.0, rmin = INFINITY, rmax = 0.0;
   if (griddem_threaded(n)) {
@@ -585,11 +585,11 @@ __attribute__((target("avx2"))) static void gather_avx2(const sweep_context *cx,
 }
 #endif
 
-/* The batch's reading of its inputs (griddem_touching_gathers) */
+/* The batch's reading of its inputs (griddem_vector_reads) */
 static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 {
 #ifdef GRIDDEM_SWEEP_GATHER
-  if (griddem_touching_gathers()) return gather_avx2;
+  if (griddem_vector_reads()) return gather_avx2;
 #endif
   return gather_plain;
 }

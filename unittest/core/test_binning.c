@@ -2,9 +2,10 @@
  * key order (a cell's sort agrees with libc's qsort, for cells of every size and tied tags), occupancy statistics match a direct count, and dilute boxes are coarsened; output
  * grids over a box put points in the cell that holds them; points on and near the cells' faces go to the cells
  * their faces' numbers say; the box of a set of points is the point-by-point one, and flags a non-finite
- * coordinate wherever it is. */
+ * coordinate wherever it is. Each by the AVX2 passes (griddem_vector_reads) and by the plain ones. */
 #include "check.h"
 #include "griddem_grid.h"
+#include "griddem_search.h"
 #include "griddem_threads.h"
 
 #ifdef _OPENMP
@@ -335,13 +336,19 @@ static void check_kept_grid(void)
 
 int main(void)
 {
-  check_kept_grid();
-  check_box_of();
-  check_sparse();
-  check_cell_sort();
-  check_faces();
-  check_moved(3000, 4);
-  check_moved(3000, 8);
+  /* the box and the cells by the AVX2 passes where this processor has them, then by the plain ones */
+  for (int plain = 0; plain < 2; plain++) {
+    griddem_touching_use(plain ? "scalar" : "auto");
+    printf("the %s passes\n", griddem_vector_reads() ? "AVX2" : "plain-C");
+    check_kept_grid();
+    check_box_of();
+    check_sparse();
+    check_cell_sort();
+    check_faces();
+    check_moved(3000, 4);
+    check_moved(3000, 8);
+  }
+  griddem_touching_use("auto");
 #ifdef _OPENMP
   check_threaded();
   omp_set_num_threads(2);

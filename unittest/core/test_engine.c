@@ -2,10 +2,11 @@
  * history it is given; rows travel as messages (count, then tag and values per contact) that
  * put_message takes back unchanged, also across a change of values per contact; the longest
  * message is known; the step's statistics count contacts, the fastest motion and non-finite
- * velocities. */
+ * velocities; the scan's box and speeds by the AVX2 passes (griddem_vector_reads) and the plain ones. */
 #include "check.h"
 #include "complete_history.h"
 #include "griddem_engine.h"
+#include "griddem_search.h"
 #include "griddem_threads.h"
 #include "spec_text.h"
 
@@ -381,6 +382,9 @@ static void size_classes_by_definition(void)
 int main(void)
 {
   scan_lanes();
+  griddem_touching_use("scalar"); /* the plain passes (griddem_vector_reads) */
+  scan_lanes();
+  griddem_touching_use("auto");
   size_classes_by_definition();
 #ifdef _OPENMP
   scan_threaded();
