@@ -596,11 +596,11 @@ static void (*batch_gather(void))(const sweep_context *, contact_batch *)
 
 /* The ends of a batch's evaluated contacts, in the order they were found; virial and energy
  * (whether the sweep tallies each, and the lanes hold their energies) constants of each copy */
-SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, const int virial,
-                                    const int energy)
+SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, const contact_batch *q, int n,
+                                    const int virial, const int energy)
 {
   const griddem_classic_batch *l = &q->lanes;
-  for (int k = 0; k < l->n; k++) {
+  for (int k = 0; k < n; k++) {
     if (!q->kept[k]) continue;
     pair_end(cx, sums, q->a[k], q->b[k], q->ia[k], q->ib[k], q->key_b[k], q->entry_a[k], &l->dx[0][k],
              &l->shear[0][k], &l->f[0][k], &l->ti[0][k], &l->tj[0][k], GRIDDEM_CLASSIC_BATCH,
@@ -610,18 +610,28 @@ SWEEP_SPECIALIZED void finish_lanes(const sweep_context *cx, sweep_sums *sums, c
 
 /* Evaluate the batch's contacts (those that pair_begin keeps, in the order they were found: a
  * coincident pair's fault comes before the contacts' own) and finish each in that order */
-static void flush_batch(const sweep_context *cx, sweep_sums *sums)
+static void flush_batch(const sweep_context *shared, sweep_sums *sums)
 {
   contact_batch *q = sums->batch;
   griddem_classic_batch *l = &q->lanes;
-  if (l->n == 0) return;
-  cx->gather(cx, q);
+  const int n = l->n;
+  if (n == 0) return;
+  shared->gather(shared, q);
+  /* the context, the history's pool and the channels' pointers copied where no store or call of
+     the loops below can reach them (no call takes their address), so that they stay in registers
+     instead of being read through the shared context at every pair (none changes in a sweep) */
+  sweep_context context = *shared;
+  griddem_history hist;
+  griddem_channels channels = *shared->ch;
+  if (shared->hist) hist = *shared->hist, context.hist = &hist;
+  context.ch = &channels;
+  const sweep_context *cx = &context;
   /* exclusions by group bits alone (neigh_modify exclude group, fix griddem/rom's) tested here with
      their bits at hand; a coincident pair still goes on to pair_begin's fault */
   const griddem_exclusions *excl = cx->excl;
   const int by_bits = excl && griddem_exclusions_by_bits(excl);
   const griddem_pair_params *law_of_all = griddem_model_pair(cx->model, 1, 1);
-  for (int k = 0; k < l->n; k++) {
+  for (int k = 0; k < n; k++) {
     const int ma = q->ma[k], mb = q->mb[k];
     if (GRIDDEM_RARELY(q->excluded[k] && l->rsq[k] != 0.0)) {
       q->kept[k] = 0;
@@ -640,8 +650,10 @@ static void flush_batch(const sweep_context *cx, sweep_sums *sums)
   }
   const int energy = (cx->tally & GRIDDEM_TALLY_ENERGY) != 0;
   griddem_classic_batch_eval(griddem_model_pair(cx->model, 1, 1), l, cx->dt, energy);    /* every pair's law */
-  if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom) energy ? finish_lanes(cx, sums, q, 1, 1) : finish_lanes(cx, sums, q, 1, 0);
-  else energy ? finish_lanes(cx, sums, q, 0, 1) : finish_lanes(cx, sums, q, 0, 0);
+  if ((cx->tally & GRIDDEM_TALLY_VIRIAL) || cx->vatom)
+    energy ? finish_lanes(cx, sums, q, n, 1, 1) : finish_lanes(cx, sums, q, n, 1, 0);
+  else
+    energy ? finish_lanes(cx, sums, q, n, 0, 1) : finish_lanes(cx, sums, q, n, 0, 0);
   l->n = 0;
 }
 
