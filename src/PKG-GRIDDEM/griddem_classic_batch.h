@@ -15,7 +15,7 @@ extern "C" {
 #endif
 
 /* Contacts in one batch */
-#define GRIDDEM_CLASSIC_BATCH 32
+#define GRIDDEM_CLASSIC_BATCH 64
 
 /* A batch of n contacts of atoms i and j, each in a lane: the inputs as griddem_contact_setup
  * takes them, the shear history (read, and advanced where the history advances), the outputs as
