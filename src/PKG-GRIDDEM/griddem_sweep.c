@@ -39,21 +39,16 @@ static inline void fill_slot(griddem_channels *ch, int i, const griddem_particle
   ch->ncontact[s] = 0;
 }
 
-/* What a fill learns of its slots: the largest |coordinate| (a NaN is left to the search, whose
- * tests it fails) and the smallest and largest radius */
+/* What a fill learns of its slots: the smallest and largest radius */
 typedef struct fill_range {
-  double extent, rmin, rmax;
+  double rmin, rmax;
 } fill_range;
 
 static fill_range range_of(const griddem_channels *ch, int s0, int s1)
 {
-  fill_range m = {0.0, INFINITY, 0.0};
-  for (int s = s0; s < s1; s++) {
-    const double a = fabs(ch->x[s]), b = fabs(ch->y[s]), c = fabs(ch->z[s]);
-    m.extent = a > m.extent ? a : m.extent, m.extent = b > m.extent ? b : m.extent;
-    m.extent = c > m.extent ? c : m.extent;
+  fill_range m = {INFINITY, 0.0};
+  for (int s = s0; s < s1; s++)
     m.rmin = ch->r[s] < m.rmin ? ch->r[s] : m.rmin, m.rmax = ch->r[s] > m.rmax ? ch->r[s] : m.rmax;
-  }
   return m;
 }
 
@@ -77,8 +72,7 @@ __attribute__((target("avx2"))) static fill_range fill_avx2(griddem_channels *ch
                                                             const griddem_particles *p, int s0, int s1)
 {
   int s = s0;
-  const __m256d sign = _mm256_set1_pd(-0.0);
-  __m256d most = _mm256_setzero_pd(), rmin = _mm256_set1_pd(INFINITY), rmax = _mm256_setzero_pd();
+  __m256d rmin = _mm256_set1_pd(INFINITY), rmax = _mm256_setzero_pd();
   for (; s + 4 <= s1; s += 4) {
     const __m128i i4 = _mm_loadu_si128((const __m128i *) (order + s));
     const __m256i i3 = first_of_three(i4);
@@ -88,8 +82,6 @@ __attribute__((target("avx2"))) static fill_range fill_avx2(griddem_channels *ch
     _mm256_storeu_pd(ch->r + s, r);
     _mm_storeu_ps(ch->xf + s, _mm256_cvtpd_ps(x)), _mm_storeu_ps(ch->yf + s, _mm256_cvtpd_ps(y));
     _mm_storeu_ps(ch->zf + s, _mm256_cvtpd_ps(z)), _mm_storeu_ps(ch->rf + s, _mm256_cvtpd_ps(r));
-    most = _mm256_max_pd(most, _mm256_max_pd(_mm256_andnot_pd(sign, x),
-                                             _mm256_max_pd(_mm256_andnot_pd(sign, y), _mm256_andnot_pd(sign, z))));
     rmin = _mm256_min_pd(rmin, r), rmax = _mm256_max_pd(rmax, r);
     const __m256i tag = p->tag_bytes == 8 ? _mm256_i32gather_epi64((const long long *) p->tag, i4, 8)
                                           : _mm256_cvtepi32_epi64(_mm_i32gather_epi32((const int *) p->tag, i4, 4));
@@ -98,12 +90,10 @@ __attribute__((target("avx2"))) static fill_range fill_avx2(griddem_channels *ch
     _mm_storeu_si128((__m128i *) (ch->ncontact + s), _mm_setzero_si128());
   }
   fill_range m = fill_plain(ch, order, p, s, s1);
-  double lane[3][4];
-  _mm256_storeu_pd(lane[0], most), _mm256_storeu_pd(lane[1], rmin), _mm256_storeu_pd(lane[2], rmax);
-  for (int k = 0; k < 4; k++) {
-    m.extent = lane[0][k] > m.extent ? lane[0][k] : m.extent;
-    m.rmin = lane[1][k] < m.rmin ? lane[1][k] : m.rmin, m.rmax = lane[2][k] > m.rmax ? lane[2][k] : m.rmax;
-  }
+  double lane[2][4];
+  _mm256_storeu_pd(lane[0], rmin), _mm256_storeu_pd(lane[1], rmax);
+  for (int k = 0; k < 4; k++)
+    m.rmin = lane[0][k] < m.rmin ? lane[0][k] : m.rmin, m.rmax = lane[1][k] > m.rmax ? lane[1][k] : m.rmax;
   return m;
 }
 #endif
@@ -138,21 +128,19 @@ int griddem_channels_fill(griddem_channels *ch, const griddem_bins *b, const gri
 #ifdef GRIDDEM_SWEEP_GATHER
   if (griddem_vector_reads()) fill = fill_avx2;
 #endif
-  double extent = 0.0, rmin = INFINITY, rmax = 0.0;
+  double rmin = INFINITY, rmax = 0.0;
   if (griddem_threaded(n)) {
     enum { BLOCK = 4096 };    /* slots a thread fills at once */
     const int nblock = (n + BLOCK - 1) / BLOCK;
-#pragma omp parallel for schedule(static) reduction(max : extent, rmax) reduction(min : rmin)
+#pragma omp parallel for schedule(static) reduction(max : rmax) reduction(min : rmin)
     for (int k = 0; k < nblock; k++) {
       const fill_range m = fill(ch, b->order, p, k * BLOCK, k == nblock - 1 ? n : (k + 1) * BLOCK);
-      extent = m.extent > extent ? m.extent : extent;
       rmin = m.rmin < rmin ? m.rmin : rmin, rmax = m.rmax > rmax ? m.rmax : rmax;
     }
   } else {
     const fill_range m = fill(ch, b->order, p, 0, n);
-    extent = m.extent, rmin = m.rmin, rmax = m.rmax;
+    rmin = m.rmin, rmax = m.rmax;
   }
-  ch->extent = extent;
   ch->same_radius = n > 0 && rmin == rmax;
   for (int s = n; s < n + GRIDDEM_SEARCH_PAD; s++) ch->xf[s] = ch->yf[s] = ch->zf[s] = ch->rf[s] = 0.0f;
   return 0;
@@ -1058,13 +1046,19 @@ static int slab_thickness(int nz, int nthreads, int reach)
   return thick < reach ? reach : thick;
 }
 
+/* A bound on |coordinate| within the cells of g */
+static double grid_extent(const griddem_grid *g)
+{
+  double extent = 0.0;
+  for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
+  return extent;
+}
+
 /* Largest contact distance between spheres of radii up to r1 and r2, with a margin for the
  * rounding of coordinates into the cells of g */
 static double contact_reach(const griddem_grid *g, double r1, double r2, double extra)
 {
-  double extent = 0.0;
-  for (int d = 0; d < 3; d++) extent = fmax(extent, fabs(g->lo[d]) + g->n[d] * g->h);
-  return (r1 + r2 + extra) * (1.0 + 1e-10) + 1e-14 * extent;
+  return (r1 + r2 + extra) * (1.0 + 1e-10) + 1e-14 * grid_extent(g);
 }
 
 /* Slots of the cells x0..x1 of row (y, z) of grid g binned into b, clamped to the grid */
@@ -1265,10 +1259,13 @@ int griddem_sweep(const griddem_class_grid *cls, int ncls, const int *order, gri
                   int history_update, griddem_history *hist, int *row_of, double *f,
                   double *torque, double *vatom, int tally, griddem_sweep_result *result)
 {
-  double rmax = 0.0;
-  for (int kc = 0; kc < ncls; kc++) rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax;
+  /* the float test's slack from the grids' extent, which bounds every binned centre's coordinates
+     (each grid covers its particles) */
+  double rmax = 0.0, extent = 0.0;
+  for (int kc = 0; kc < ncls; kc++)
+    rmax = cls[kc].rmax > rmax ? cls[kc].rmax : rmax, extent = fmax(extent, grid_extent(cls[kc].g));
   griddem_spheres spheres = {ch->x, ch->y, ch->z, ch->r, ch->xf, ch->yf, ch->zf, ch->rf,
-                             (float) griddem_search_slack(ch->extent, rmax, model->reach_extra), 0, 0.0f, 0.0f};
+                             (float) griddem_search_slack(extent, rmax, model->reach_extra), 0, 0.0f, 0.0f};
   if (ch->same_radius) griddem_spheres_one_radius(&spheres, model->reach_extra);
   const griddem_exclusions *excluding =
       excl && (excl->type_pair || excl->ngroup_pairs || excl->nmolecule || excl->both_bit || excl->apart_bit ||

@@ -44,7 +44,6 @@ typedef struct griddem_channels {
   const griddem_particles *p;  /* of the last fill */
   double *x, *y, *z, *r;       /* per slot */
   float *xf, *yf, *zf, *rf;    /* the same rounded to float, for the search's float test */
-  double extent;               /* the largest |coordinate| of the last fill */
   int same_radius;             /* every slot of the last fill has one radius */
   int64_t *tag;
   int *image;                  /* per slot: its particle's image code, if keyed_by_image */
