@@ -129,11 +129,14 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
  * sure (MAX with ZERO). In the own run (own_run, a constant of each inlined copy), the candidates
  * within the cluster (t < i0 + NS, NS spheres a vector) are masked to those after their sphere
  * (mask) before any is looked at again. Where every sphere has one radius (same_radius, a
- * constant of each copy), the cluster holds its contact distances to that radius squared
- * (s2_same, sure2_same: one rounding more, which the slack covers as it covers the others), d2 is
- * compared with them, and no candidate's radius is read. */
-#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, MAX, ZERO, SIGNS, ANY_SIGN, NS, LANES, \
-                           BCAST)                                                                             \
+ * constant of each copy), no candidate's radius is read: the test subtracts the contact distance
+ * to that radius squared (s2_same) in its first multiply (FMS(a, b, c): a b - c, in one rounding),
+ * and the narrowed test adds to that difference the gap of the two squares (gap_same: s2_same -
+ * sure2_same), each a rounding more, which the slack covers as it covers the others. Where no pair
+ * is sure (sure2_same 0), the sum is never negative: every rounding of the test keeps its result at
+ * or above -s2_same. */
+#define GRIDDEM_RUN_KERNEL(ISA, TARGET, V, B, SUB, ADD, MUL, FMA, FNMA, FMS, MAX, ZERO, SIGNS, ANY_SIGN, NS,  \
+                           LANES, BCAST)                                                                      \
   /* the float test of candidates t and t + 1: d2 - s s by lane (d2 the squared distances) */                  \
   __attribute__((target(TARGET), always_inline)) static inline V test_##ISA(                                 \
       const griddem_spheres *sp, int t, const cluster_##ISA *c, const int same_radius, V *d2)                 \
@@ -141,11 +144,13 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     double px, py, pz, pr = 0.0;                                                                              \
     memcpy(&px, sp->xf + t, 8), memcpy(&py, sp->yf + t, 8), memcpy(&pz, sp->zf + t, 8);                      \
     if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
-    const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz)), s = ADD(c->s, B(pr));        \
+    const V dx = SUB(c->x, B(px)), dy = SUB(c->y, B(py)), dz = SUB(c->z, B(pz));                             \
+    if (same_radius) return *d2 = FMA(dz, dz, FMA(dy, dy, FMS(dx, dx, c->s2_same)));    /* d2 - s2_same */    \
+    const V s = ADD(c->s, B(pr));                                                                             \
     *d2 = FMA(dz, dz, FMA(dy, dy, MUL(dx, dx)));                                                              \
-    return same_radius ? SUB(*d2, c->s2_same) : FNMA(s, s, *d2);                                             \
+    return FNMA(s, s, *d2);                                                                                   \
   }                                                                                                           \
-  /* the pairs of a test that some lanes of mask passed (diff, d2: test_ISA's) */                             \
+  /* the pairs of a test that some lanes of mask passed (diff, d2: test_ISA's; one radius: both diff) */     \
   __attribute__((target(TARGET), always_inline)) static inline void hits_of_##ISA(                           \
       const griddem_spheres *sp, double reach, int i0, int t, int hi, unsigned mask, V diff, V d2,            \
       const cluster_##ISA *c, const int same_radius, griddem_cluster_hits *hits)                              \
@@ -155,7 +160,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     double pr = 0.0;                                                                                          \
     if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
     const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                            \
-    const V narrow = same_radius ? SUB(d2, c->sure2_same) : FNMA(sure, sure, d2);                             \
+    const V narrow = same_radius ? ADD(diff, c->gap_same) : FNMA(sure, sure, d2);                             \
     passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), hits);                                       \
   }                                                                                                           \
   /* the own run's head (own_run, a constant) with its lanes masked, then the tests of the rest, the hit     \
@@ -193,8 +198,8 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     for (int q = first; q < nruns; q++) run_##ISA(sp, reach, i0, 0, lo[q], hi[q], c, same_radius, hits);      \
   }                                                                                                           \
   /* the cluster's lanes (LANES: a float lane per sphere as the kernel holds them; BCAST: one float
-     in every lane) and its runs; where every sphere has one radius, the distances squared that the
-     spheres marked hold */                                                                                  \
+     in every lane) and its runs; where every sphere has one radius, the contact distance squared
+     that the spheres marked hold and its gap to the narrowed one */                                          \
   __attribute__((target(TARGET))) static void touching_##ISA(const griddem_spheres *sp, double reach, int i0,  \
                                                            int ni, int own, const int *lo, const int *hi,     \
                                                            int nruns, griddem_cluster_hits *hits)             \
@@ -202,7 +207,7 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
     if (sp->same_radius) {                                                                                    \
       const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni, 0);                                         \
       const cluster_##ISA c = {LANES(l.x), LANES(l.y), LANES(l.z), ZERO, ZERO, BCAST(sp->s2_same),            \
-                               BCAST(sp->sure2_same)};                                                        \
+                               BCAST(sp->s2_same - sp->sure2_same)};                                          \
       runs_##ISA(sp, reach, i0, own, lo, hi, nruns, &c, 1, hits);                                             \
     } else {                                                                                                  \
       const cluster_lanes l = cluster_lanes_of(sp, reach, i0, ni, 1);                                         \
@@ -235,6 +240,7 @@ AVX2X2_OP(avx2x2_mul, _mm256_mul_ps)
 AVX2X2_OP(avx2x2_max, _mm256_max_ps)
 AVX2X2_OP3(avx2x2_fma, _mm256_fmadd_ps)
 AVX2X2_OP3(avx2x2_fnma, _mm256_fnmadd_ps)
+AVX2X2_OP3(avx2x2_fms, _mm256_fmsub_ps)
 __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_pair(double p)
 {
   const __m256 v = _mm256_castpd_ps(_mm256_set1_pd(p));
@@ -258,10 +264,10 @@ __attribute__((target("avx2,fma"), always_inline)) static inline int avx2x2_any_
 
 /* A cluster's lanes as each kernel holds them: lane 2 k + j for sphere k and candidate t + j */
 typedef struct cluster_avx2 {
-  avx2x2 x, y, z, s, sure, s2_same, sure2_same;
+  avx2x2 x, y, z, s, sure, s2_same, gap_same;
 } cluster_avx2;
 typedef struct cluster_avx512 {
-  __m512 x, y, z, s, sure, s2_same, sure2_same;
+  __m512 x, y, z, s, sure, s2_same, gap_same;
 } cluster_avx512;
 
 /* Sphere k's lanes 2 k and 2 k + 1 of a cluster's 8 floats v, as the two AVX2 vectors hold them;
@@ -279,14 +285,14 @@ __attribute__((target("avx2,fma"), always_inline)) static inline avx2x2 avx2x2_o
 }
 
 GRIDDEM_RUN_KERNEL(avx2, "avx2,fma", avx2x2, avx2x2_pair, avx2x2_sub, avx2x2_add, avx2x2_mul, avx2x2_fma, avx2x2_fnma,
-                   avx2x2_max, avx2x2_zero(), avx2x2_signs, avx2x2_any_sign, 8, avx2x2_lanes, avx2x2_one)
+                   avx2x2_fms, avx2x2_max, avx2x2_zero(), avx2x2_signs, avx2x2_any_sign, 8, avx2x2_lanes, avx2x2_one)
 #define AVX512_PAIR(p) _mm512_castpd_ps(_mm512_set1_pd(p))
 #define AVX512_NEGATIVE(v) _mm512_cmp_ps_mask(v, _mm512_setzero_ps(), _CMP_LT_OQ)
 #define AVX512_LANES(v) \
   _mm512_permutexvar_ps(_mm512_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7), _mm512_castps256_ps512(v))
 GRIDDEM_RUN_KERNEL(avx512, "avx512f", __m512, AVX512_PAIR, _mm512_sub_ps, _mm512_add_ps, _mm512_mul_ps,
-                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_max_ps, _mm512_setzero_ps(), AVX512_NEGATIVE,
-                   AVX512_NEGATIVE, 8, AVX512_LANES, _mm512_set1_ps)
+                   _mm512_fmadd_ps, _mm512_fnmadd_ps, _mm512_fmsub_ps, _mm512_max_ps, _mm512_setzero_ps(),
+                   AVX512_NEGATIVE, AVX512_NEGATIVE, 8, AVX512_LANES, _mm512_set1_ps)
 #endif
 
 static const struct {
