@@ -66,25 +66,23 @@ GRIDDEM_VECTOR_COPIES static int speed_of_plain(const double *v, int n, double *
 __attribute__((target("avx2,fma"))) static int speed_of_avx2(const double *v, int n, double *vmax2)
 {
   const __m256d zero = _mm256_setzero_pd();
-  __m256d most = zero, bad = zero;
+  __m256d most4 = zero, bad4 = zero;
   const int n4 = n & ~3;
   for (int i = 0; i < n4; i += 4) {
     __m256d x, y, z;
     griddem_points4_avx2(v + 3 * (size_t) i, &x, &y, &z);
     const __m256d q = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z));
-    most = _mm256_max_pd(q, most), bad = _mm256_fmadd_pd(q, zero, bad);
+    most4 = _mm256_max_pd(q, most4), bad4 = _mm256_fmadd_pd(q, zero, bad4);
   }
   double M[4], B[4];
-  _mm256_storeu_pd(M, most), _mm256_storeu_pd(B, bad);
-  double m = 0.0;
-  uint64_t nonfinite = 0;
-  for (int k = 0; k < 4; k++) m = M[k] > m ? M[k] : m, nonfinite |= B[k] != B[k];
-  for (int i = n4; i < n; i++) {
-    const double *u = v + 3 * (size_t) i, q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    m = q > m ? q : m, nonfinite |= griddem_nonfinite_bit(q);
-  }
-  *vmax2 = m;
-  return nonfinite != 0;
+  _mm256_storeu_pd(M, most4), _mm256_storeu_pd(B, bad4);
+  /* the lanes folded, then the particles past the last four as the plain loop takes them */
+  double most = 0.0;
+  uint64_t bad = 0;
+  for (int k = 0; k < 4; k++) most = M[k] > most ? M[k] : most, bad |= B[k] != B[k];
+  for (int i = n4; i < n; i++) SPEED_OF(i);
+  *vmax2 = most;
+  return bad != 0;
 }
 #endif
 

@@ -108,32 +108,30 @@ __attribute__((target("avx2,fma"))) static int box_of_avx2(const double *x, int 
 {
   const __m256d first0 = _mm256_setr_pd(x[0], x[1], x[2], x[0]), first1 = _mm256_setr_pd(x[1], x[2], x[0], x[1]),
                 first2 = _mm256_setr_pd(x[2], x[0], x[1], x[2]), zero = _mm256_setzero_pd();
-  __m256d l0 = first0, l1 = first1, l2 = first2, h0 = first0, h1 = first1, h2 = first2, bad0 = zero, bad1 = zero,
-          bad2 = zero;
+  __m256d low0 = first0, low1 = first1, low2 = first2, high0 = first0, high1 = first1, high2 = first2, bad0 = zero,
+          bad1 = zero, bad2 = zero;
   const int n4 = n & ~3;
   for (int i = 0; i < n4; i += 4) {
     const double *p = x + 3 * (size_t) i;
     const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4), c = _mm256_loadu_pd(p + 8);
-    l0 = _mm256_min_pd(a, l0), l1 = _mm256_min_pd(b, l1), l2 = _mm256_min_pd(c, l2);
-    h0 = _mm256_max_pd(a, h0), h1 = _mm256_max_pd(b, h1), h2 = _mm256_max_pd(c, h2);
+    low0 = _mm256_min_pd(a, low0), low1 = _mm256_min_pd(b, low1), low2 = _mm256_min_pd(c, low2);
+    high0 = _mm256_max_pd(a, high0), high1 = _mm256_max_pd(b, high1), high2 = _mm256_max_pd(c, high2);
     bad0 = _mm256_fmadd_pd(a, zero, bad0), bad1 = _mm256_fmadd_pd(b, zero, bad1), bad2 = _mm256_fmadd_pd(c, zero, bad2);
   }
   double L[12], H[12], B[4];
-  _mm256_storeu_pd(L, l0), _mm256_storeu_pd(L + 4, l1), _mm256_storeu_pd(L + 8, l2);
-  _mm256_storeu_pd(H, h0), _mm256_storeu_pd(H + 4, h1), _mm256_storeu_pd(H + 8, h2);
+  _mm256_storeu_pd(L, low0), _mm256_storeu_pd(L + 4, low1), _mm256_storeu_pd(L + 8, low2);
+  _mm256_storeu_pd(H, high0), _mm256_storeu_pd(H + 4, high1), _mm256_storeu_pd(H + 8, high2);
   _mm256_storeu_pd(B, _mm256_add_pd(_mm256_add_pd(bad0, bad1), bad2));
-  for (int d = 0; d < 3; d++) {
-    lo[d] = L[d], hi[d] = H[d];
-    for (int k = d + 3; k < 12; k += 3) lo[d] = L[k] < lo[d] ? L[k] : lo[d], hi[d] = H[k] > hi[d] ? H[k] : hi[d];
+  /* the lanes of each axis folded, then the points past the last four as the plain loop takes them */
+  double l0 = L[0], l1 = L[1], l2 = L[2], h0 = H[0], h1 = H[1], h2 = H[2];
+  for (int k = 3; k < 12; k += 3) {
+    l0 = L[k] < l0 ? L[k] : l0, l1 = L[k + 1] < l1 ? L[k + 1] : l1, l2 = L[k + 2] < l2 ? L[k + 2] : l2;
+    h0 = H[k] > h0 ? H[k] : h0, h1 = H[k + 1] > h1 ? H[k + 1] : h1, h2 = H[k + 2] > h2 ? H[k + 2] : h2;
   }
-  uint64_t nonfinite = (B[0] != B[0]) | (B[1] != B[1]) | (B[2] != B[2]) | (B[3] != B[3]);
-  for (int i = n4; i < n; i++)
-    for (int d = 0; d < 3; d++) {
-      const double a = x[3 * (size_t) i + d];
-      lo[d] = a < lo[d] ? a : lo[d], hi[d] = a > hi[d] ? a : hi[d];
-      nonfinite |= griddem_nonfinite_bit(a);
-    }
-  return nonfinite != 0;
+  uint64_t bad = (B[0] != B[0]) | (B[1] != B[1]) | (B[2] != B[2]) | (B[3] != B[3]);
+  for (int i = n4; i < n; i++) BOX_OF_POINT(i);
+  lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
+  return bad != 0;
 }
 #endif
 
