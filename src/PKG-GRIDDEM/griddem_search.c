@@ -157,10 +157,15 @@ static inline void passed(const griddem_spheres *sp, double reach, int i0, int t
   {                                                                                                           \
     const unsigned bits = (unsigned) SIGNS(diff) & mask;                                                      \
     if (!bits) return;                                                                                        \
-    double pr = 0.0;                                                                                          \
-    if (!same_radius) memcpy(&pr, sp->rf + t, 8);                                                             \
-    const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                            \
-    const V narrow = same_radius ? ADD(diff, c->gap_same) : FNMA(sure, sure, d2);                             \
+    V narrow;                                                                                                 \
+    if (same_radius)                                                                                          \
+      narrow = ADD(diff, c->gap_same);                                                                        \
+    else {                                                                                                    \
+      double pr;                                                                                              \
+      memcpy(&pr, sp->rf + t, 8);                                                                             \
+      const V sure = MAX(ADD(c->sure, B(pr)), ZERO);                                                          \
+      narrow = FNMA(sure, sure, d2);                                                                          \
+    }                                                                                                         \
     passed(sp, reach, i0, t, hi, bits, (unsigned) SIGNS(narrow), hits);                                       \
   }                                                                                                           \
   /* the own run's head (own_run, a constant) with its lanes masked, then the tests of the rest, the hit     \
