@@ -64,7 +64,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), kinematic_bit(0), dynamic_bit(0), lagging_bit(0), grid(), frame_grid(), moving(false),
     origin_vars{-1, -1, -1}, origin{0.0, 0.0, 0.0}, ncontrol(0), eps(-1.0),
     v0(-1.0), force_predicted{0.0, 0.0, 0.0}, overlap_max(0.1), cfl(0.5), reach_user(-1.0), reach(0.0), cap(0.0),
-    block_fraction(0.0), freeze(false), drive(DRIVE_MATCH), dense_min(0.0), store_wanted(true), store_active(false),
+    block_fraction(0.0), freeze(false), separate(true), drive(DRIVE_MATCH), dense_min(0.0), store_wanted(true), store_active(false),
     resolved(nullptr), period(1), model_step(1), last_model(0), next_model(-1), umax_far(0.0), nfar(0.0),
     fresh(false), force_each_step(false), track(nullptr), near_grid(), near_bins(), state(nullptr), fpair(nullptr),
     nmax(0), grid3d(nullptr), lo_in(), hi_in(), lo_out(), hi_out(), grid_values(), check_grid(), check_bins(),
@@ -107,6 +107,7 @@ FixGriddemRom::FixGriddemRom(LAMMPS *lmp, int narg, char **arg) :
     }
     else if (word == "block") block_fraction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     else if (word == "freeze") freeze = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+    else if (word == "separate") separate = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
     else if (word == "drive") {
       const std::string how = arg[iarg + 1];
       if (how == "match") drive = DRIVE_MATCH;
@@ -1177,6 +1178,7 @@ void FixGriddemRom::classify()
       mask[i] = (mask[i] & ~(kinematic_bit | lagging_bit)) | dynamic_bit;
   }
   comm->forward_comm(this);
+  if (separate) separate_released(kinematic);
 
   double mine[NCOUNTER] = {}, all[NCOUNTER];
   mine[KINEMATIC] = nkin;
@@ -1202,6 +1204,31 @@ void FixGriddemRom::classify()
   model_step = steps >= period ? period : MAX(1, (int) steps);
   counts[MODEL_STEP] = model_step;
   next_model = update->ntimestep + model_step;
+}
+
+/* The atoms this classification released (kinematic before it, owned or ghost: was_kinematic) start
+   DEM without the overlaps the model made: the field carries kinematic atoms into each other and
+   into dynamic ones, and a soft contact would return such an overlap as a speed of about
+   overlap sqrt(k / m), throwing the atom out of the material (measured on examples/rom-hopper).
+   Up to three passes of griddem_rom_separate, the ghosts brought up to date after each. */
+void FixGriddemRom::separate_released(const std::vector<int> &was_kinematic)
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int *mask = atom->mask;
+  std::vector<int> released(nall);
+  for (int j = 0; j < nall; j++) released[j] = was_kinematic[j] && !(mask[j] & kinematic_bit);
+  std::vector<double> shift(3 * (size_t) nlocal);
+  for (int pass = 0; pass < 3; pass++) {
+    const int moved = nall ? griddem_rom_separate(nlocal, nall, atom->x[0], atom->radius, released.data(),
+                                                  shift.data(), &check_grid, &check_bins)
+                           : 0;
+    if (moved < 0) error->one(FLERR, "Fix griddem/rom: out of memory for the separation of {} atoms", nall);
+    int all = 0;
+    MPI_Allreduce(&moved, &all, 1, MPI_INT, MPI_SUM, world);
+    if (pass == 0) counts[SEPARATED] += all;
+    if (!all) break;
+    comm->forward_comm();
+  }
 }
 
 /* ----------------------------------------------------------------------

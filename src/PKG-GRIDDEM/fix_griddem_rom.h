@@ -88,6 +88,7 @@ class FixGriddemRom : public Fix {
   double reach, cap;        // near: gap to a dynamic atom below reach; cap: the ghost cutoff's bound
   double block_fraction;    // keyword block: share of a voxel's atoms that must qualify (0: per atom)
   bool freeze;              // keyword freeze: kinematic atoms get velocity 0, not the field
+  bool separate;            // keyword separate: released atoms are moved out of their overlaps
   enum Drive { DRIVE_MATCH, DRIVE_BOX, DRIVE_DENSE };
   Drive drive;              // keyword drive: which atoms the model drives (doc/fix_griddem_rom.md)
   double dense_min;         // drive dense: the density from which the model drives an atom
@@ -133,7 +134,8 @@ class FixGriddemRom : public Fix {
   // KINEMATIC, NEAR and MODEL_STEP are values now, the others sums over the run.
   enum Counter {
     KINEMATIC, MADE_KINEMATIC, RELEASED_HIT, RELEASED_OVERLAP, RELEASED_LEFT, RELEASED_FORCE,
-    CLASSIFICATIONS, RELEASED_JUMP, NEAR, MODEL_STEP, REACH_TESTS, HELD_BY_VOXEL, SECONDS, HELD_BY_BOX, NCOUNTER
+    CLASSIFICATIONS, RELEASED_JUMP, NEAR, MODEL_STEP, REACH_TESTS, HELD_BY_VOXEL, SECONDS, HELD_BY_BOX, SEPARATED,
+    NCOUNTER
   };
   double counts[NCOUNTER];
 
@@ -169,6 +171,7 @@ class FixGriddemRom : public Fix {
   void read_model(const char *file);
   void place_grid();
   void classify();
+  void separate_released(const std::vector<int> &was_kinematic);
   void release_by_force();
   void catch_up();
   void migrate_far();

@@ -154,6 +154,49 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
   return griddem_touching_pairs(g, b, &stencil, x, radius, nlocal, next, check_pair, &c);
 }
 
+/* One touching pair of a released particle i: its share of their overlap, away from j */
+typedef struct separation {
+  const double *x, *radius;
+  const int *released;
+  double *shift;
+} separation;
+
+static int push_apart(void *ctx, int i, int j)
+{
+  separation *s = (separation *) ctx;
+  const double *xi = s->x + 3 * (long) i, *xj = s->x + 3 * (long) j;
+  const double dx[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+  const double r = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+  if (r == 0.0) return 0; /* no line of centres: left to the contact law */
+  const double move = (s->radius[i] + s->radius[j] - r) * (s->released[j] ? 0.5 : 1.0) / r;
+  for (int d = 0; d < 3; d++) s->shift[3 * (long) i + d] += move * dx[d];
+  return 0;
+}
+
+int griddem_rom_separate(int nlocal, int nall, double *x, const double *radius, const int *released,
+                         double *shift, griddem_grid *g, griddem_bins *b)
+{
+  int any = 0;
+  for (int i = 0; i < nlocal; i++) any |= released[i] != 0;
+  if (!any) return 0;
+  griddem_stencil stencil;
+  const int binned = griddem_bin_for_contacts(g, b, &stencil, nall, x, radius);
+  if (binned != 0) return binned < 0 ? -1 : 0;
+  for (long k = 0; k < 3L * nlocal; k++) shift[k] = 0.0;
+  separation s = {x, radius, released, shift};
+  if (griddem_touching_pairs(g, b, &stencil, x, radius, nlocal, released, push_apart, &s) != 0) return -1;
+  int moved = 0;
+  for (int i = 0; i < nlocal; i++) {
+    double *si = shift + 3 * (long) i;
+    const double len = sqrt(si[0] * si[0] + si[1] * si[1] + si[2] * si[2]);
+    if (!released[i] || len == 0.0) continue;
+    const double scale = len > radius[i] ? radius[i] / len : 1.0;
+    for (int d = 0; d < 3; d++) x[3 * (long) i + d] += scale * si[d];
+    moved++;
+  }
+  return moved;
+}
+
 int griddem_rom_mark_near(int nlocal, int nall, const double *x, const double *radius,
                           const int *kinematic, double reach, double cap, int *near,
                           double *budget, griddem_grid *g, griddem_bins *b)

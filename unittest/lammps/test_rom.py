@@ -24,6 +24,10 @@
   dynamic one is released and takes up momentum; a kinematic atom carrying a resting dynamic one
   under gravity is not released (contacts and gravity do not count in the force rule); a
   kinematic atom where the field jumps by more than eps v0 is released at rest, not kicked;
+- separate: overlapping kinematic atoms released together (a field jump) each move by half their
+  overlap, one released alone (a resolved region) by all of it from its kinematic partner; they
+  touch without overlap and keep the field's velocity (positions to 1e-12); with separate no the
+  overlap throws them apart;
 - the field and density as grid data (dump grid) on 1 and 2 processes;
 - a resolved region keeps its atoms dynamic, also as its bound moves; a missing one is refused;
 - a moving frame (model line 'frame moving', keyword origin): a field linear in the frame's x is
@@ -1652,6 +1656,59 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
             "released where the field carried it, with the predicted velocity (x %.17g, vx %.17g)" % tuple(final))
 
 
+
+def separation():
+    """A released atom starts DEM without the overlap the model left it (keyword separate, default
+    yes). Unit spheres overlapping by 0.2 (overlap bound 1.0 x 0.5), kinematic from step 60 in the
+    field vx = 0.3 (nothing integrated before: they would repel), released at the classification of
+    step 120 and then in free flight to step 200:
+    two released together (a field jump) are each moved by half the overlap, one released alone
+    (a resolved region grown over it) by all of it from its kinematic partner; either way they
+    touch without overlap and keep vx 0.3: positions x0 + 0.3 x 140 dt, centres 1 apart along the
+    line they overlapped on, f_rom[20] counting the moved atoms. With separate no the overlap
+    throws them apart."""
+    model = os.path.join(WD, "separate.model")
+    t.write_rom_model(model, (3, 3, 3), BOX, bias=(0.3, 0.0, 0.0), controls=1, control_weight=1.0)
+    scenes = {
+        "released together": ((2.0, 3.0, 3.0), (2.8, 3.0, 3.0), "variable on equal step>100",
+                              "control v_on", "x"),
+        "released alone": ((2.0, 3.0, 2.0), (2.0, 3.0, 2.8), """variable on equal 0
+variable zlo equal 10.0-7.6*(step>100)
+region top block INF INF INF INF v_zlo INF""", "control v_on resolved top", "z"),
+    }
+    for name, (a, b, variables, keywords, axis) in scenes.items():
+        for separate in ("yes", "no"):
+            text = resting_spheres(a, b) + PAIR + """{v}
+fix rom all griddem/rom model {m} eps 0.5 v0 1 every 60 overlap 1.0 {k} separate {s}
+thermo_style custom step f_rom[1] f_rom[20]
+thermo 20
+run 60
+fix integrate rom_dynamic nve/sphere
+run 140
+print "FINAL $(x[1]:%.17g) $(y[1]:%.17g) $(z[1]:%.17g) $(x[2]:%.17g) $(y[2]:%.17g) $(z[2]:%.17g) $(vx[1]:%.17g) $(vx[2]:%.17g) $(vz[2]:%.17g)"
+""".format(v=variables, m=model, k=keywords, s=separate)
+            label = "%s, separate %s" % (name, separate)
+            out = t.run_ok(text, WD, name="in.separate_%s_%s" % (axis, separate))
+            kin, moved = t.thermo_values(out, "f_rom[1]"), t.thermo_values(out, "f_rom[20]")
+            f = [float(w) for w in out.split("FINAL")[-1].split()[:9]]
+            x1, x2 = f[0:3], f[3:6]
+            gap = math.dist(x1, x2) - 1.0
+            t.check(kin[3] == 2 and kin[-1] == (0 if axis == "x" else 1),
+                    "%s: both kinematic at step 60, released at 120 (kinematic %s)" % (label, kin))
+            if separate == "yes":
+                d = "xyz".index(axis)
+                expect2 = list(b)
+                expect2[0] += 0.3 * 140 * 0.001
+                expect2[d] += 0.1 if axis == "x" else 0.2
+                worst = max(abs(u - w) for u, w in zip(x2, expect2))
+                t.check(abs(gap) <= 1e-12 and worst <= 1e-12 and max(abs(f[6] - 0.3), abs(f[7] - 0.3), abs(f[8])) <= 1e-12,
+                        "%s: touching without overlap (gap %.3g), atom 2 at %s (worst %.3g), vx 0.3 (%.17g, %.17g)"
+                        % (label, gap, x2, worst, f[6], f[7]))
+                t.check(moved[-1] == (2 if axis == "x" else 1), "%s: %g atoms moved (f_rom[20])" % (label, moved[-1]))
+            else:
+                t.check(gap > 0.01 and moved[-1] == 0, "%s: the overlap throws them apart (gap %.3g)" % (label, gap))
+
+
 model_checks()
 model_file_messages()
 counters()
@@ -1660,6 +1717,7 @@ moving_frame()
 moving_frame(2)
 frame_binning()
 rejoin()
+separation()
 keyword_checks()
 restart_schedule()
 averaged_store()
