@@ -1210,7 +1210,8 @@ void FixGriddemRom::classify()
    DEM without the overlaps the model made: the field carries kinematic atoms into each other and
    into dynamic ones, and a soft contact would return such an overlap as a speed of about
    overlap sqrt(k / m), throwing the atom out of the material (measured on examples/rom-hopper).
-   Up to three passes of griddem_rom_separate, the ghosts brought up to date after each. */
+   One pass of griddem_rom_separate on the contact check's binning (the positions have not moved
+   since), the ghosts brought up to date after it. */
 void FixGriddemRom::separate_released(const std::vector<int> &was_kinematic)
 {
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
@@ -1218,17 +1219,14 @@ void FixGriddemRom::separate_released(const std::vector<int> &was_kinematic)
   std::vector<int> released(nall);
   for (int j = 0; j < nall; j++) released[j] = was_kinematic[j] && !(mask[j] & kinematic_bit);
   std::vector<double> shift(3 * (size_t) nlocal);
-  for (int pass = 0; pass < 3; pass++) {
-    const int moved = nall ? griddem_rom_separate(nlocal, nall, atom->x[0], atom->radius, released.data(),
-                                                  shift.data(), &check_grid, &check_bins)
-                           : 0;
-    if (moved < 0) error->one(FLERR, "Fix griddem/rom: out of memory for the separation of {} atoms", nall);
-    int all = 0;
-    MPI_Allreduce(&moved, &all, 1, MPI_INT, MPI_SUM, world);
-    if (pass == 0) counts[SEPARATED] += all;
-    if (!all) break;
-    comm->forward_comm();
-  }
+  const int moved = nall ? griddem_rom_separate(nlocal, nall, atom->x[0], atom->radius, released.data(), shift.data(),
+                                                &check_grid, &check_bins)
+                         : 0;
+  if (moved < 0) error->one(FLERR, "Fix griddem/rom: out of memory for the separation of {} atoms", nall);
+  int all = 0;
+  MPI_Allreduce(&moved, &all, 1, MPI_INT, MPI_SUM, world);
+  counts[SEPARATED] += all;
+  if (all) comm->forward_comm();
 }
 
 /* ----------------------------------------------------------------------

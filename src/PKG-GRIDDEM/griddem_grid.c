@@ -571,16 +571,29 @@ int griddem_stencil_runs(const griddem_stencil *s, const griddem_grid *g, const 
   return n;
 }
 
-int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *s, int n, const double *x,
-                             const double *radius)
+static double largest_radius(int n, const double *radius)
 {
   double rmax = 0.0;
   for (int j = 0; j < n; j++) rmax = radius[j] > rmax ? radius[j] : rmax;
+  return rmax;
+}
+
+int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *s, int n, const double *x,
+                             const double *radius)
+{
+  const double rmax = largest_radius(n, radius);
   if (n == 0 || rmax == 0.0) return 1;
   const double anchor[3] = {0.0, 0.0, 0.0};
   /* the edge may grow for a dilute set; the stencil of the partners within 2 rmax follows it */
   griddem_grid_cover(g, anchor, n, x, 2.0 * rmax * (1.0 + 1e-12), 8L * n + 1024L);
   if (griddem_bin_points(b, g, n, x, NULL, 0) != 0) return -1;
+  return griddem_stencil_for_contacts(g, s, n, radius);
+}
+
+int griddem_stencil_for_contacts(const griddem_grid *g, griddem_stencil *s, int n, const double *radius)
+{
+  const double rmax = largest_radius(n, radius);
+  if (n == 0 || rmax == 0.0) return 1;
   griddem_stencil_build(s, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
   return 0;
 }

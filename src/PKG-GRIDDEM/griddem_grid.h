@@ -297,6 +297,11 @@ int griddem_stencil_runs(const griddem_stencil *s, const griddem_grid *g, const 
 int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *s, int n, const double *x,
                              const double *radius);
 
+/* The full stencil of the contact distance of n spheres (radii radius) on g, the grid
+ * griddem_bin_for_contacts made for them: its s again, for another search of the same binning.
+ * Returns 0, or 1 where nothing can touch. */
+int griddem_stencil_for_contacts(const griddem_grid *g, griddem_stencil *s, int n, const double *radius);
+
 #ifdef __cplusplus
 }
 #endif

@@ -174,14 +174,12 @@ static int push_apart(void *ctx, int i, int j)
 }
 
 int griddem_rom_separate(int nlocal, int nall, double *x, const double *radius, const int *released,
-                         double *shift, griddem_grid *g, griddem_bins *b)
+                         double *shift, const griddem_grid *g, const griddem_bins *b)
 {
   int any = 0;
   for (int i = 0; i < nlocal; i++) any |= released[i] != 0;
-  if (!any) return 0;
   griddem_stencil stencil;
-  const int binned = griddem_bin_for_contacts(g, b, &stencil, nall, x, radius);
-  if (binned != 0) return binned < 0 ? -1 : 0;
+  if (!any || griddem_stencil_for_contacts(g, &stencil, nall, radius) != 0) return 0;
   for (long k = 0; k < 3L * nlocal; k++) shift[k] = 0.0;
   separation s = {x, radius, released, shift};
   if (griddem_touching_pairs(g, b, &stencil, x, radius, nlocal, released, push_apart, &s) != 0) return -1;

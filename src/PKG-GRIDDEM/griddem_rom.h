@@ -85,11 +85,12 @@ int griddem_rom_check_contacts(int nlocal, int nall, const double *x, const doub
  * owned particle i < nlocal with released[i] != 0 is moved by the sum, over the particles j it
  * touches (0..nall-1, owned first, then ghosts), of their overlap along the line of centres away
  * from j, half of it where released[j] != 0 (j moves too), the sum at most ri long; all moves are
- * computed from the positions on entry (one Jacobi pass). shift: 3 nlocal doubles of scratch. g and
- * b are the caller's scratch (as griddem_rom_check_contacts). Returns the number of particles moved,
- * or -1 without memory. */
+ * computed from the positions on entry (one Jacobi pass). g and b: the particles binned for their
+ * contacts at these positions (griddem_bin_for_contacts, as griddem_rom_check_contacts leaves
+ * them). shift: 3 nlocal doubles of scratch. Returns the number of particles moved, or -1 without
+ * memory. */
 int griddem_rom_separate(int nlocal, int nall, double *x, const double *radius, const int *released,
-                         double *shift, griddem_grid *g, griddem_bins *b);
+                         double *shift, const griddem_grid *g, const griddem_bins *b);
 
 /* The reach test of the kinematic atoms that move only at the model step (a Verlet list's skin
  * rule; doc/fix_griddem_rom.md). Particles 0..nall-1 (owned first, then ghosts); gap(i, j) =
