@@ -1306,6 +1306,7 @@ run 10
              ("reach 5", "rom_dynamic", "keyword reach 5 exceeds the ghost cutoff's bound"),
              ("drive sideways", "rom_dynamic", "keyword drive must be match, box or dense, not sideways"),
              ("drive dense 0", "rom_dynamic", "keyword drive dense needs a density > 0, not 0"),
+             ("separate maybe", "rom_dynamic", "Expected boolean parameter instead of 'maybe'"),
              ("", "all", "fix integrate (nve/sphere) integrates group all, which holds atoms of the fix's group")]
     for kw, grp, expected in cases:
         name = "in.kw_" + (kw or grp).replace(" ", "_")
