@@ -578,6 +578,12 @@ static double largest_radius(int n, const double *radius)
   return rmax;
 }
 
+/* The full stencil of the contact distance 2 rmax on g */
+static void contact_stencil(const griddem_grid *g, griddem_stencil *s, double rmax)
+{
+  griddem_stencil_build(s, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
+}
+
 int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *s, int n, const double *x,
                              const double *radius)
 {
@@ -587,13 +593,14 @@ int griddem_bin_for_contacts(griddem_grid *g, griddem_bins *b, griddem_stencil *
   /* the edge may grow for a dilute set; the stencil of the partners within 2 rmax follows it */
   griddem_grid_cover(g, anchor, n, x, 2.0 * rmax * (1.0 + 1e-12), 8L * n + 1024L);
   if (griddem_bin_points(b, g, n, x, NULL, 0) != 0) return -1;
-  return griddem_stencil_for_contacts(g, s, n, radius);
+  contact_stencil(g, s, rmax);
+  return 0;
 }
 
 int griddem_stencil_for_contacts(const griddem_grid *g, griddem_stencil *s, int n, const double *radius)
 {
   const double rmax = largest_radius(n, radius);
   if (n == 0 || rmax == 0.0) return 1;
-  griddem_stencil_build(s, g->h, 2.0 * rmax, GRIDDEM_STENCIL_FULL);
+  contact_stencil(g, s, rmax);
   return 0;
 }

@@ -142,13 +142,13 @@ static void check_separate(void)
 {
   griddem_grid g;
   griddem_bins b = {0};
-  griddem_stencil unused;
+  griddem_stencil stencil; /* bin_for_contacts's; separate builds its own again */
   double shift[9];
   {
     double x[6] = {0.0, 0.0, 0.0, 0.8, 0.0, 0.0};
     const double r[2] = {0.5, 0.5};
     const int released[2] = {1, 1};
-    CHECK(griddem_bin_for_contacts(&g, &b, &unused, 2, x, r) == 0, "binned");
+    CHECK(griddem_bin_for_contacts(&g, &b, &stencil, 2, x, r) == 0, "binned");
     CHECK(griddem_rom_separate(2, 2, x, r, released, shift, &g, &b) == 2, "two released particles moved");
     CHECK_CLOSE(x[0], -0.1, 1e-15, 0.0);
     CHECK_CLOSE(x[3], 0.9, 1e-15, 0.0);
@@ -157,7 +157,7 @@ static void check_separate(void)
     double x[6] = {0.0, 0.0, 0.0, 0.0, 0.8, 0.0}; /* the partner a ghost, not released */
     const double r[2] = {0.5, 0.5};
     const int released[2] = {1, 0};
-    CHECK(griddem_bin_for_contacts(&g, &b, &unused, 2, x, r) == 0, "binned");
+    CHECK(griddem_bin_for_contacts(&g, &b, &stencil, 2, x, r) == 0, "binned");
     CHECK(griddem_rom_separate(1, 2, x, r, released, shift, &g, &b) == 1, "one released particle moved");
     CHECK_CLOSE(x[1], -0.2, 1e-15, 0.0);
     CHECK(x[0] == 0.0 && x[2] == 0.0 && x[4] == 0.8, "only along the line of centres, the ghost in place");
@@ -167,7 +167,7 @@ static void check_separate(void)
     double x[12] = {0.0, 0.0, 0.0, 0.55, 0.0, 0.0, 0.5, 0.2, 0.0, 0.5, -0.2, 0.0};
     const double r[4] = {0.5, 0.5, 0.5, 0.5};
     const int released[4] = {1, 0, 0, 0};
-    CHECK(griddem_bin_for_contacts(&g, &b, &unused, 4, x, r) == 0, "binned");
+    CHECK(griddem_bin_for_contacts(&g, &b, &stencil, 4, x, r) == 0, "binned");
     CHECK(griddem_rom_separate(1, 4, x, r, released, shift, &g, &b) == 1, "the deep particle moved");
     CHECK_CLOSE(x[0], -0.5, 1e-15, 0.0);
     CHECK(x[1] == 0.0 && x[2] == 0.0, "cut along the sum's direction");
@@ -176,7 +176,7 @@ static void check_separate(void)
     double x[6] = {0.0, 0.0, 0.0, 1.5, 0.0, 0.0};
     const double r[2] = {0.5, 0.5};
     const int released[2] = {1, 1};
-    CHECK(griddem_bin_for_contacts(&g, &b, &unused, 2, x, r) == 0, "binned");
+    CHECK(griddem_bin_for_contacts(&g, &b, &stencil, 2, x, r) == 0, "binned");
     CHECK(griddem_rom_separate(2, 2, x, r, released, shift, &g, &b) == 0 && x[0] == 0.0 && x[3] == 1.5,
           "particles apart stay");
   }
@@ -204,7 +204,7 @@ static void check_separate(void)
     expect_moved++;
     for (int d = 0; d < 3; d++) expect[3 * i + d] += (len > r[i] ? r[i] / len : 1.0) * si[d];
   }
-  CHECK(griddem_bin_for_contacts(&g, &b, &unused, NALL, x, r) == 0, "binned");
+  CHECK(griddem_bin_for_contacts(&g, &b, &stencil, NALL, x, r) == 0, "binned");
   const int moved = griddem_rom_separate(NLOCAL, NALL, x, r, released, big, &g, &b);
   double worst = 0.0;
   for (int k = 0; k < 3 * NALL; k++) worst = fmax(worst, fabs(x[k] - expect[k]));
