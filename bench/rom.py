@@ -3,7 +3,7 @@
 
     /usr/bin/python3 bench/rom.py [--scene pile] [--W 20 --H 26 --fill 9 --inlet 18] [--steps 30000]
                                   [--train 3,4,5,6] [--test 4.5] [--eps 0.1] [--every 10] [--block 0] [--walls rom_dynamic]
-    /usr/bin/python3 bench/rom.py --scene hopper [--seg 4000] [--train-feed R,R,../R,R,../...]
+    /usr/bin/python3 bench/rom.py --scene hopper [--seg 10000] [--train-feed R,R,../R,R,../...]
                                   [--train-outlet J,J,../J,J,../...] [--test-feed R,R,..]
                                   [--test-outlet J,J,..] [--form occupancy|linear] [--components xz]
                                   [--eps 0.3] [--v0 0.36] [--every 50] [--drive match|dense|box]
@@ -35,7 +35,7 @@ what the study could not measure is named with its reason in left_out.
 The errors over time (bench/romfigure.py) go to the example's reference/errors.png.
 
 Scene pile (examples/rom-pile): the outlet width is the control; --steps is the horizon of every
-run. Scene hopper (examples/rom-hopper, the method's paper's pile, up to some 17,000 polydisperse
+run. Scene hopper (examples/rom-hopper, the method's paper's pile, up to some 21,000 polydisperse
 spheres): every run fills the empty container; the controls are the feed rate and the speed of the
 kinematic outlet, histories of --seg-step segments (the test's last outlet speed beyond the
 trained range); the model's form is occupancy (each voxel's velocity its density times a linear
@@ -436,12 +436,12 @@ def main():
     ap.add_argument("--scan-steps", type=int, default=2000, help="steps of each run of the skin scan")
     ap.add_argument("--repeats", type=int, default=3, help="reduced runs (timing repeats)")
     ap.add_argument("--build", help="the build's name in the record (default: git describe of this repository)")
-    ap.add_argument("--seg", type=int, default=4000, help="hopper: steps per control segment")
-    ap.add_argument("--train-feed", default="0.2,0.2,0.1,0.1,0,0/0.15,0.2,0.2,0,0.1,0/0.2,0.1,0.15,0.05,0,0.1",
+    ap.add_argument("--seg", type=int, default=10000, help="hopper: steps per control segment")
+    ap.add_argument("--train-feed", default="0.1,0.1,0.05,0.05,0,0/0.075,0.1,0.1,0,0.05,0/0.1,0.05,0.075,0.025,0,0.05",
                     help="hopper: the training runs' feed-rate histories (segments by commas, runs by /)")
     ap.add_argument("--train-outlet", default="0,0.1,0.2,0.4,0.3,0/0,0,0.3,0.2,0.4,0.1/0.1,0.4,0,0.3,0.2,0.4",
                     help="hopper: the training runs' outlet-speed histories, segment by segment with --train-feed")
-    ap.add_argument("--test-feed", default="0.2,0.2,0.15,0.05,0,0", help="hopper: the test's feed-rate history")
+    ap.add_argument("--test-feed", default="0.1,0.1,0.075,0.025,0,0", help="hopper: the test's feed-rate history")
     ap.add_argument("--test-outlet", default="0,0,0.2,0.3,0.4,0.55",
                     help="hopper: the test's outlet-speed history (the last segment beyond the trained 0-0.4)")
     ap.add_argument("--form", choices=("occupancy", "linear"),
