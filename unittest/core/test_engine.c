@@ -28,7 +28,8 @@ static void candidates(const griddem_model *m)
     for (int d = 0; d < 3; d++) x[3 * i + d] = 6.0 * check_uniform(), v[3 * i + d] = w[3 * i + d] = 0.0;
     rad[i] = 0.1 + 0.4 * check_uniform(), mass[i] = 1.0, tag[i] = i + 1, type[i] = 1, mask[i] = 1;
   }
-  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_particles part = {.nlocal = N, .nall = N, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   griddem_step s;
   memset(&s, 0, sizeof(s));
   s.particles = part, s.model = m, s.rmin = 0.1, s.rmax = 0.5, s.max_cells = 1000000;
@@ -147,7 +148,8 @@ static void ghost_shell(const griddem_model *m, int size_classes)
   const long contacts = direct_hooke(x, rad, NOWN, n, kn, -1, &none, fref);
   griddem_history h;
   griddem_history_init(&h, 3);
-  griddem_particles part = {NOWN, n, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_particles part = {.nlocal = NOWN, .nall = n, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   griddem_step s;
   memset(&s, 0, sizeof(s));
   s.particles = part, s.model = m, s.rmin = rmin, s.rmax = rmax, s.max_cells = 1L << 24, s.size_classes = size_classes;
@@ -198,7 +200,8 @@ static int held_classes(const griddem_model *m, double margin)
   }
   griddem_history h;
   griddem_history_init(&h, 3);
-  griddem_particles part = {NOWN, n, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_particles part = {.nlocal = NOWN, .nall = n, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   griddem_step s;
   memset(&s, 0, sizeof(s));
   s.particles = part, s.model = m, s.rmin = small, s.rmax = big, s.max_cells = 1L << 24, s.size_classes = 1;
@@ -253,7 +256,8 @@ static void scan_threaded(void)
   static double x[3 * N], v[3 * N], rad[N];
   for (int i = 0; i < 3 * N; i++) x[i] = -7.0 + 20.0 * check_uniform(), v[i] = -2.0 + 4.0 * check_uniform();
   for (int i = 0; i < N; i++) rad[i] = 0.1 + check_uniform();
-  griddem_particles part = {N - 1000, N, x, v, NULL, rad, NULL, NULL, 4, NULL, NULL, 0, NULL};
+  griddem_particles part = {.nlocal = N - 1000, .nall = N, .x = x, .v = v, .radius = rad,
+      .tag_bytes = 4};
   griddem_scan one, two;
   omp_set_num_threads(1);
   griddem_engine_scan(&part, 1, &one);
@@ -287,8 +291,9 @@ static void gather_threaded(const griddem_model *m)
     rad[i] = 0.05 * pow(8.0, check_uniform()), mass[i] = 1.0, tag[i] = i % 9000 + 1, type[i] = 1;
     mask[i] = 1 | (i % 5 == 0 ? 2 : 0) | (i % 97 == 0 ? 4 : 0);
   }
-  const griddem_exclusions excl = {NULL, 1, 0, NULL, 2, 4};
-  griddem_particles part = {NLOCAL, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  const griddem_exclusions excl = {.ntypes = 1, .both_bit = 2, .apart_bit = 4};
+  griddem_particles part = {.nlocal = NLOCAL, .nall = N, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   griddem_step s;
   memset(&s, 0, sizeof(s));
   s.particles = part, s.model = m, s.excl = &excl, s.rmin = 0.05, s.rmax = 0.4, s.max_cells = 1L << 26;
@@ -333,7 +338,8 @@ static void scan_lanes(void)
     if (i < NLOCAL) vmax2 = fmax(vmax2, v2);
     rad[i] = 0.5;
   }
-  griddem_particles part = {NLOCAL, N, x, v, NULL, rad, NULL, NULL, 4, NULL, NULL, 0, NULL};
+  griddem_particles part = {.nlocal = NLOCAL, .nall = N, .x = x, .v = v, .radius = rad,
+      .tag_bytes = 4};
   griddem_scan s;
   griddem_engine_scan(&part, 1, &s);
   int same = s.vmax2 == vmax2 && s.first_nonfinite == -1 && !s.nonfinite_velocity;
@@ -411,7 +417,8 @@ int main(void)
   griddem_history_init(&h, 3);
   griddem_step s;
   memset(&s, 0, sizeof(s));
-  griddem_particles part = {2, 4, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_particles part = {.nlocal = 2, .nall = 4, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   s.particles = part;
   s.cell_edge = griddem_cell_edge(GRIDDEM_CELL_AUTO, 0.5, 0.5, 0.0);
   s.max_cells = 100000, s.rmax = 0.5, s.model = &m, s.dt = 1e-2, s.history_update = 1;

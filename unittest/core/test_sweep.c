@@ -122,10 +122,11 @@ static void compare_mode(int mode, const char *law, const griddem_model *m, cons
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
-  griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  griddem_particles part = {.nlocal = N, .nall = N, .x = x, .v = v, .omega = w, .radius = rad,
+      .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   static double heatflow[N], heat_ref[N];
   part.temperature = temp, part.heatflow = heatflow;
-  griddem_exclusions excl = {excluded, 2, 0, NULL, 0, 0};
+  griddem_exclusions excl = {.type_pair = excluded, .ntypes = 2};
 
   griddem_history hist;
   griddem_history_init(&hist, m->history_size);
@@ -308,7 +309,8 @@ static void check_faults(const char *law)
   griddem_grid g;
   griddem_bins b = {0};
   griddem_channels ch = {0};
-  griddem_particles part = {3, 3, px, pv, pw, pr, pm, ptag, 4, ptype, pmask, 0, NULL};
+  griddem_particles part = {.nlocal = 3, .nall = 3, .x = px, .v = pv, .omega = pw, .radius = pr,
+      .rmass = pm, .tag = ptag, .tag_bytes = 4, .type = ptype, .mask = pmask};
   double f[3 * M] = {0}, t[3 * M] = {0};
   int row_of[M];
   for (int i = 0; i < M; i++) row_of[i] = -1;
@@ -388,7 +390,7 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
   const double kinematic_from = idle == 2 ? 0.3 : 0.6;
   for (int i = 0; i < N; i++)
     mask[i] = 1 | (x[3 * i] > kinematic_from ? kinematic_bit : 0) | (x[3 * i] > 0.75 ? lagging_bit : 0);
-  const griddem_exclusions excl = {NULL, 2, 0, NULL, kinematic_bit, lagging_bit};
+  const griddem_exclusions excl = {.ntypes = 2, .both_bit = kinematic_bit, .apart_bit = lagging_bit};
   const griddem_model m = model_of(law);
 #ifdef _OPENMP
   omp_set_num_threads(threads);
@@ -405,7 +407,8 @@ static void engine_against_all_pairs(const char *law, int threads, int sizes, in
   griddem_history_init(&hist, m.history_size);
   griddem_step st;
   memset(&st, 0, sizeof(st));
-  const griddem_particles part = {N, N, x, v, w, rad, mass, tag, 4, type, mask, 0, NULL};
+  const griddem_particles part = {.nlocal = N, .nall = N, .x = x, .v = v, .omega = w,
+      .radius = rad, .rmass = mass, .tag = tag, .tag_bytes = 4, .type = type, .mask = mask};
   st.particles = part;
   st.size_classes = size_classes, st.rmin = 1e30, st.rmax = 0.0;
   for (int i = 0; i < N; i++) st.rmin = fmin(st.rmin, rad[i]), st.rmax = fmax(st.rmax, rad[i]);
@@ -509,7 +512,8 @@ static void check_fill(int threads)
   omp_set_num_threads(threads);
 #endif
   for (int wide = 0; wide < 2; wide++) {
-    griddem_particles part = {M, M, px, NULL, NULL, pr, NULL, NULL, 4, NULL, NULL, 0, pimage};
+    griddem_particles part = {.nlocal = M, .nall = M, .x = px, .radius = pr, .tag_bytes = 4,
+        .image = pimage};
     part.tag = wide ? (const void *) ptag64 : (const void *) ptag32, part.tag_bytes = wide ? 8 : 4;
     griddem_bins b = {0};
     b.n = M, b.order = order;
