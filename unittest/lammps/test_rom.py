@@ -1657,7 +1657,6 @@ print "FINAL $(x[1]:%.17g) $(vx[1]:%.17g)"
             "released where the field carried it, with the predicted velocity (x %.17g, vx %.17g)" % tuple(final))
 
 
-
 def separation():
     """A released atom starts DEM without the overlap the model left it (keyword separate, default
     yes). Unit spheres overlapping by 0.2 (overlap bound 1.0 x 0.5), kinematic from step 60 in the
